@@ -1,0 +1,3 @@
+//! gcu codec cases (none yet).
+
+cases!("gcu":);

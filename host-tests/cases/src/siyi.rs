@@ -1,0 +1,3 @@
+//! siyi codec cases (none yet).
+
+cases!("siyi":);

@@ -1,0 +1,3 @@
+//! viewlink codec cases (none yet).
+
+cases!("viewlink":);

@@ -1,0 +1,17 @@
+//! K40T: deframe, decode every message kind, encode.
+
+use protocol_core::k40t::{CrcCoverage, K40tFraming, MAX_FRAME_LEN, Packet};
+use protocol_core::wire::{Deframer, Event};
+
+pub fn probe(input: &[u8], out: &mut [u8]) -> usize {
+    let mut deframer = Deframer::<K40tFraming, MAX_FRAME_LEN>::new(K40tFraming::any());
+    let mut total = 0;
+    deframer.push(input, |event| {
+        if let Event::Frame(bytes) = event
+            && let Ok(packet) = Packet::decode(bytes, CrcCoverage::ExcludeStx)
+        {
+            total += packet.emit(out, CrcCoverage::ExcludeStx).unwrap_or(0);
+        }
+    });
+    total
+}

@@ -1,0 +1,38 @@
+//! Code-size probe: a minimal thumbv7em binary that feeds opaque bytes through each
+//! enabled protocol's deframer, decodes every message and encodes it again. Built once
+//! per feature set by `scripts/size-report`; the difference to the build without any
+//! protocol is that protocol's code size.
+#![no_std]
+#![no_main]
+
+use core::hint::black_box;
+use panic_halt as _;
+
+#[cfg(feature = "gcu")]
+mod gcu;
+#[cfg(feature = "k40t")]
+mod k40t;
+#[cfg(feature = "siyi")]
+mod siyi;
+#[cfg(feature = "viewlink")]
+mod viewlink;
+
+/// Bytes the optimiser cannot see through.
+static INPUT: [u8; 512] = [0; 512];
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    let mut out = [0u8; 512];
+    loop {
+        let input: &[u8] = black_box(&INPUT[..]);
+        #[cfg(feature = "k40t")]
+        black_box(k40t::probe(input, &mut out));
+        #[cfg(feature = "siyi")]
+        black_box(siyi::probe(input, &mut out));
+        #[cfg(feature = "viewlink")]
+        black_box(viewlink::probe(input, &mut out));
+        #[cfg(feature = "gcu")]
+        black_box(gcu::probe(input, &mut out));
+        black_box((input, &mut out));
+    }
+}

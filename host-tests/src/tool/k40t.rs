@@ -1,0 +1,72 @@
+//! `gimbal` adapter for the K40T pod protocol.
+
+use protocol_core::k40t::{CATALOG, Frame, K40tFraming, Kind, Message, Packet};
+use serde_json::{Value, json};
+
+use super::{Decoded, Item, Protocol, as_object, scan_with, untag};
+
+/// The K40T pod protocol.
+pub struct K40t;
+
+/// Decodes one checksum-valid frame.
+pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
+    let frame = Frame::new_checked(bytes).map_err(|e| e.to_string())?;
+    let packet = Packet::parse(&frame).map_err(|e| e.to_string())?;
+    let id = packet.message.id();
+    let kind = match id.kind {
+        Kind::Request => "request",
+        Kind::Ack => "ack",
+        Kind::Status => "status",
+        Kind::Other(_) => "other",
+    };
+    let payload = match packet.message {
+        Message::Request(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
+        Message::Ack(m) => as_object(
+            untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
+            "code",
+        ),
+        Message::Status(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
+        Message::Raw(r) => json!({ "payload": super::hex(r.payload) }),
+    };
+    let mut fields = json!({
+        "kind": kind,
+        "src": format!("{:02x}:{:02x}", packet.src.system, packet.src.component),
+        "dst": format!("{:02x}:{:02x}", packet.dst.system, packet.dst.component),
+        "seq": packet.seq,
+        "crc": if frame.detect_coverage() == Some(protocol_core::k40t::CrcCoverage::IncludeStx) { "include-stx" } else { "exclude-stx" },
+    });
+    if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
+        f.extend(p);
+    }
+    Ok(Decoded {
+        msg_id: u64::from(id.to_u32()),
+        name: packet.message.name().to_string(),
+        fields,
+    })
+}
+
+impl Protocol for K40t {
+    fn name(&self) -> &'static str {
+        "k40t"
+    }
+
+    fn scan(&self, capture: &[u8]) -> Vec<Item> {
+        scan_with(K40tFraming::any(), capture, decode)
+    }
+
+    fn messages(&self) -> Vec<String> {
+        CATALOG
+            .iter()
+            .map(|e| {
+                let mut kinds = vec![if e.report { "report" } else { "request" }];
+                if e.ack {
+                    kinds.push("ack");
+                }
+                if e.status {
+                    kinds.push("status");
+                }
+                format!("{:#08x} {} {}", e.base, e.name, kinds.join(","))
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,398 @@
+//! Field encodings of K40T payloads (all little-endian except the ACK response code),
+//! the [`Payload`] trait and the macro that declares payload structs.
+
+use crate::macros::WireCode;
+use crate::wire::{Reader, Writer};
+use crate::{Error, Result};
+
+/// A value with a fixed-size K40T wire encoding.
+pub(crate) trait Field: Sized {
+    /// Encoded size in bytes.
+    const LEN: usize;
+    /// Reads the value.
+    fn read(r: &mut Reader<'_>) -> Result<Self>;
+    /// Writes the value.
+    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
+}
+
+macro_rules! le_field {
+    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
+        impl Field for $ty {
+            const LEN: usize = $n;
+            fn read(r: &mut Reader<'_>) -> Result<Self> {
+                r.$get()
+            }
+            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+                w.$put(*self)
+            }
+        }
+    )*};
+}
+
+le_field! {
+    u8: 1, u8, u8;
+    i8: 1, i8, i8;
+    u16: 2, u16_le, u16_le;
+    i16: 2, i16_le, i16_le;
+    u32: 4, u32_le, u32_le;
+    i32: 4, i32_le, i32_le;
+    u64: 8, u64_le, u64_le;
+    i64: 8, i64_le, i64_le;
+}
+
+impl<const N: usize> Field for [u8; N] {
+    const LEN: usize = N;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.array()
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(self)
+    }
+}
+
+impl<T: WireCode<Repr = u8>> Field for T {
+    const LEN: usize = 1;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.u8().map(T::from_repr)
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u8(self.to_repr())
+    }
+}
+
+/// A message payload with a fixed wire length.
+pub trait Payload: Sized {
+    /// Encoded length in bytes (the document's full layout, reserved bytes included).
+    const LEN: usize;
+    /// Reads exactly [`Payload::LEN`] bytes.
+    fn decode(r: &mut Reader<'_>) -> Result<Self>;
+    /// Writes exactly [`Payload::LEN`] bytes.
+    fn encode(&self, w: &mut Writer<'_>) -> Result<()>;
+}
+
+/// Decodes a payload the way the frame carries it.
+///
+/// A payload shorter than the layout is zero-extended: the LEN description of the
+/// document is MAVLink v2's, whose senders drop trailing zero bytes, and several of the
+/// document's layouts disagree by a trailing reserved byte. A longer one is
+/// [`Error::BadLength`].
+pub(crate) fn decode_payload<T: Payload>(payload: &[u8]) -> Result<T> {
+    if payload.len() == T::LEN {
+        let mut r = Reader::new(payload);
+        let v = T::decode(&mut r)?;
+        r.finish()?;
+        return Ok(v);
+    }
+    if payload.len() > T::LEN {
+        return Err(Error::BadLength);
+    }
+    let mut full = [0u8; super::MAX_PAYLOAD_LEN];
+    full.get_mut(..payload.len())
+        .ok_or(Error::BadLength)?
+        .copy_from_slice(payload);
+    let mut r = Reader::new(full.get(..T::LEN).ok_or(Error::BadLength)?);
+    let v = T::decode(&mut r)?;
+    r.finish()?;
+    Ok(v)
+}
+
+/// Declares a payload struct: the fields in wire order, each a [`Field`].
+macro_rules! payload {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+        pub struct $name {
+            $( $(#[$fmeta])* pub $field: $ty, )*
+        }
+
+        impl $crate::k40t::Payload for $name {
+            const LEN: usize = 0 $( + <$ty as $crate::k40t::field::Field>::LEN )*;
+
+            fn decode(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                Ok(Self { $( $field: $crate::k40t::field::Field::read(r)?, )* })
+            }
+
+            fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                $( $crate::k40t::field::Field::write(&self.$field, w)?; )*
+                Ok(())
+            }
+        }
+    };
+}
+
+code_enum! {
+    /// ACK response codes (table 3.3).
+    pub enum AckCode: u16 {
+        /// OK, success.
+        Ok = 0x0000,
+        /// Failure.
+        Failure = 0x0001,
+        /// Unknown error.
+        UnknownError = 0x0002,
+        /// Verification failed.
+        VerificationFailed = 0x0003,
+        /// Timeout.
+        Timeout = 0x0004,
+        /// MD5 verification failed.
+        Md5Failed = 0x0005,
+        /// Insufficient system space.
+        NoSpace = 0x0006,
+        /// The data length does not match the actual length.
+        LengthMismatch = 0x0007,
+        /// In progress, repeated request.
+        InProgress = 0x0008,
+        /// The file does not exist.
+        FileNotFound = 0x0009,
+        /// Error merging files.
+        MergeFailed = 0x000A,
+        /// Recording video.
+        Recording = 0x0201,
+        /// Failed to open the camera.
+        CameraOpenFailed = 0x0202,
+        /// A photo is being taken.
+        PhotoInProgress = 0x0203,
+        /// No SD card is inserted.
+        NoSdCard = 0x0204,
+    }
+}
+
+/// The 2-byte response code of an ACK, kept as the two bytes received.
+///
+/// The document says multi-byte fields are little-endian "except ACK": this crate
+/// encodes the code big-endian. Devices may send either order; every code of table 3.3
+/// is unambiguous in both, so [`ResponseCode::code`] reports the known code for either
+/// order, and re-encoding gives back the bytes received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ResponseCode {
+    /// The two bytes as on the wire.
+    pub raw: [u8; 2],
+}
+
+impl ResponseCode {
+    /// Success (0x0000).
+    pub const OK: ResponseCode = ResponseCode { raw: [0, 0] };
+
+    /// The code, encoded big-endian.
+    pub const fn new(code: AckCode) -> Self {
+        ResponseCode {
+            raw: code.value().to_be_bytes(),
+        }
+    }
+
+    /// The code, read in whichever byte order gives a code of table 3.3 (big-endian
+    /// first); an unknown code is reported big-endian as `Other`.
+    pub const fn code(&self) -> AckCode {
+        let be = AckCode::from_value(u16::from_be_bytes(self.raw));
+        match (be, AckCode::from_value(u16::from_le_bytes(self.raw))) {
+            (AckCode::Other(_), AckCode::Other(_)) => be,
+            (AckCode::Other(_), le) => le,
+            (be, _) => be,
+        }
+    }
+
+    /// True for code 0 (success).
+    pub const fn is_ok(&self) -> bool {
+        matches!(self.code(), AckCode::Ok)
+    }
+}
+
+impl From<AckCode> for ResponseCode {
+    fn from(code: AckCode) -> Self {
+        ResponseCode::new(code)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for ResponseCode {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        self.code().serialize(s)
+    }
+}
+
+impl Field for ResponseCode {
+    const LEN: usize = 2;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.array().map(|raw| ResponseCode { raw })
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(&self.raw)
+    }
+}
+
+/// A three-part version number (major, minor, patch), one byte each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Version {
+    /// Major version.
+    pub major: u8,
+    /// Minor (sub) version.
+    pub minor: u8,
+    /// Patch version.
+    pub patch: u8,
+}
+
+impl Field for Version {
+    const LEN: usize = 3;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        let [major, minor, patch] = r.array()?;
+        Ok(Version {
+            major,
+            minor,
+            patch,
+        })
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(&[self.major, self.minor, self.patch])
+    }
+}
+
+/// A fixed-size text field (folder and file names): `N` bytes, not NUL-terminated,
+/// empty when all bytes are 0x00 or spaces. Kept as the bytes received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Text<const N: usize> {
+    /// The bytes as on the wire.
+    pub raw: [u8; N],
+}
+
+impl<const N: usize> Default for Text<N> {
+    fn default() -> Self {
+        Text { raw: [0; N] }
+    }
+}
+
+impl<const N: usize> Text<N> {
+    /// The text for `s`, padded with 0x00. More than `N` bytes, or a byte that is not
+    /// printable ASCII, is [`Error::OutOfRange`].
+    pub fn new(s: &str) -> Result<Self> {
+        if s.len() > N || !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
+            return Err(Error::OutOfRange);
+        }
+        let mut raw = [0; N];
+        raw.get_mut(..s.len())
+            .ok_or(Error::OutOfRange)?
+            .copy_from_slice(s.as_bytes());
+        Ok(Text { raw })
+    }
+
+    /// The text without trailing 0x00 and spaces; `None` if that is not UTF-8.
+    pub fn as_str(&self) -> Option<&str> {
+        let end = self
+            .raw
+            .iter()
+            .rposition(|&b| b != 0 && b != b' ')
+            .map_or(0, |i| i.saturating_add(1));
+        core::str::from_utf8(self.raw.get(..end)?).ok()
+    }
+
+    /// True when the field is all 0x00 or spaces (the document's "NULL or empty").
+    pub fn is_empty(&self) -> bool {
+        self.raw.iter().all(|&b| b == 0 || b == b' ')
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<const N: usize> serde::Serialize for Text<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        match self.as_str() {
+            Some(text) => s.serialize_str(text),
+            None => s.collect_seq(self.raw.iter()),
+        }
+    }
+}
+
+impl<const N: usize> Field for Text<N> {
+    const LEN: usize = N;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.array().map(|raw| Text { raw })
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(&self.raw)
+    }
+}
+
+/// Implements [`Field`] for one-byte newtypes (`struct Flags(pub u8)`).
+macro_rules! impl_field_newtype {
+    ($($t:ident),* $(,)?) => {$(
+        impl $crate::k40t::field::Field for $t {
+            const LEN: usize = 1;
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                r.u8().map($t)
+            }
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                w.u8(self.0)
+            }
+        }
+    )*};
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn response_code_accepts_both_byte_orders() {
+        for code in [
+            AckCode::Ok,
+            AckCode::Failure,
+            AckCode::MergeFailed,
+            AckCode::Recording,
+            AckCode::NoSdCard,
+        ] {
+            let be = ResponseCode {
+                raw: code.value().to_be_bytes(),
+            };
+            let le = ResponseCode {
+                raw: code.value().to_le_bytes(),
+            };
+            assert_eq!(be.code(), code);
+            assert_eq!(le.code(), code);
+        }
+        assert_eq!(ResponseCode::new(AckCode::Recording).raw, [0x02, 0x01]);
+        assert_eq!(
+            ResponseCode { raw: [0x12, 0x34] }.code(),
+            AckCode::Other(0x1234)
+        );
+        assert!(ResponseCode::OK.is_ok());
+        assert!(!ResponseCode { raw: [1, 0] }.is_ok());
+    }
+
+    #[test]
+    fn text_fields() {
+        let t = Text::<20>::new("flight 7").unwrap();
+        assert_eq!(t.as_str(), Some("flight 7"));
+        assert!(!t.is_empty());
+        assert!(Text::<4>::new("abcde").is_err());
+        assert!(Text::<4>::new("é").is_err());
+        assert!(Text::<4>::new("   ").unwrap().is_empty());
+        let spaces = Text::<4> { raw: *b"ab  " };
+        assert_eq!(spaces.as_str(), Some("ab"));
+    }
+
+    #[test]
+    fn short_payload_is_zero_extended_and_long_one_refused() {
+        #[derive(Debug, PartialEq)]
+        struct Two(u8, u8);
+        impl Payload for Two {
+            const LEN: usize = 2;
+            fn decode(r: &mut Reader<'_>) -> Result<Self> {
+                Ok(Two(r.u8()?, r.u8()?))
+            }
+            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
+                w.put(&[self.0, self.1])
+            }
+        }
+        assert_eq!(decode_payload::<Two>(&[7]), Ok(Two(7, 0)));
+        assert_eq!(decode_payload::<Two>(&[7, 8]), Ok(Two(7, 8)));
+        assert_eq!(decode_payload::<Two>(&[7, 8, 9]), Err(Error::BadLength));
+    }
+}

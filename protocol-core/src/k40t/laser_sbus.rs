@@ -1,0 +1,141 @@
+//! Laser range finder (document section 3.2.5) and SBUS configuration (3.2.6).
+
+use super::field::ResponseCode;
+use super::gimbal::OnOff;
+
+code_enum! {
+    /// Single ranging command of 0x000400.
+    pub enum LaserMode: u8 {
+        /// Disable.
+        Off = 0,
+        /// One measurement.
+        Single = 1,
+    }
+}
+
+payload! {
+    /// 0x000400: laser ranging.
+    pub struct LaserRange {
+        /// Command.
+        pub mode: LaserMode,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}
+
+payload! {
+    /// ACK of 0x000400, and status frame of 0x000406: the measured distance.
+    pub struct LaserDistance {
+        /// Response code.
+        pub code: ResponseCode,
+        /// Distance, 0.1 m (0 = no value).
+        pub distance_dm: u16,
+    }
+}
+
+payload! {
+    /// 0x000406: periodic (1 s) ranging.
+    pub struct LaserPeriodic {
+        /// Switch.
+        pub enable: OnOff,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}
+
+payload! {
+    /// 0x000500: SBUS channel value range (0..=2047; takes effect after a power cycle).
+    pub struct SbusRange {
+        /// Maximum channel value.
+        pub max: u16,
+        /// Minimum channel value (below the maximum).
+        pub min: u16,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}
+
+/// The SBUS channel (0..=15 = channel 1..16) of each function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SbusChannelMap {
+    /// Stream selection (cycles infrared, visible, split).
+    pub stream: u8,
+    /// Zoom (middle stop, maximum out, minimum in).
+    pub zoom: u8,
+    /// Photo.
+    pub photo: u8,
+    /// Video.
+    pub video: u8,
+    /// Gimbal pitch.
+    pub pitch: u8,
+    /// Gimbal yaw.
+    pub yaw: u8,
+    /// Gimbal recentre.
+    pub center: u8,
+}
+
+impl super::field::Field for SbusChannelMap {
+    const LEN: usize = 7;
+    fn read(r: &mut crate::wire::Reader<'_>) -> crate::Result<Self> {
+        let [stream, zoom, photo, video, pitch, yaw, center] = r.array()?;
+        Ok(SbusChannelMap {
+            stream,
+            zoom,
+            photo,
+            video,
+            pitch,
+            yaw,
+            center,
+        })
+    }
+    fn write(&self, w: &mut crate::wire::Writer<'_>) -> crate::Result<()> {
+        w.put(&[
+            self.stream,
+            self.zoom,
+            self.photo,
+            self.video,
+            self.pitch,
+            self.yaw,
+            self.center,
+        ])
+    }
+}
+
+payload! {
+    /// 0x000501: SBUS channel of each function (bytes 1..7; byte 8 reserved; takes
+    /// effect after a power cycle).
+    pub struct SbusChannels {
+        /// The channels.
+        pub channels: SbusChannelMap,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}
+
+payload! {
+    /// 0x000502: get the SBUS configuration (command 0x01); the ACK is [`SbusConfig`].
+    pub struct SbusConfigQuery {
+        /// The command byte.
+        pub command: u8,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}
+
+payload! {
+    /// ACK of 0x000502: range and channel map.
+    pub struct SbusConfig {
+        /// Response code.
+        pub code: ResponseCode,
+        /// Maximum channel value.
+        pub max: u16,
+        /// Minimum channel value.
+        pub min: u16,
+        /// The channels.
+        pub channels: SbusChannelMap,
+        /// Reserved.
+        pub reserved: u8,
+    }
+}

@@ -1,0 +1,55 @@
+//! Encoders and decoders for four gimbal serial protocols: the K40T four-sensor pod,
+//! the SIYI gimbal SDK, Viewlink (Viewpro) and the XF Robot GCU protocol.
+//!
+//! `no_std`, no allocation, no `unsafe`, and no panicking path on any input: every
+//! failure is an [`Error`] value.
+//!
+//! # Shape of every codec (after smoltcp's `wire`)
+//! - A checked zero-copy **frame view** over a byte buffer (`Frame<T: AsRef<[u8]>>`,
+//!   `new_checked`, field accessors, checksum verification).
+//! - A high-level **representation**: a `Message` enum of typed payload structs, with
+//!   `parse` from a frame and `emit` into a buffer. Unknown ids decode to a raw variant
+//!   that carries the payload, so a bridge can forward what it does not understand.
+//! - A [`wire::Framing`] implementation, so the shared streaming [`wire::Deframer`]
+//!   finds the protocol's frames in a byte stream and resynchronises after garbage.
+//!
+//! Units are part of field names (`yaw_cdeg`: 0.01 degree, `zoom_x10`: zoom ratio times
+//! ten, `distance_dm`: decimetres). Enumerations keep values the documents do not list
+//! in an `Other` variant, so decoding never loses information and every decoded frame
+//! re-encodes byte for byte.
+//!
+//! # Cargo features
+//! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `defmt` derives
+//! `defmt::Format` and `serde` derives `serde::Serialize` on the public types.
+#![cfg_attr(not(test), no_std)]
+#![cfg_attr(
+    test,
+    allow(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
+    )
+)]
+
+// Unused only in a build without the codecs that use them.
+#[cfg_attr(not(feature = "k40t"), allow(unused_macros, dead_code))]
+#[macro_use]
+mod macros;
+mod error;
+pub mod wire;
+
+#[cfg(feature = "k40t")]
+pub mod k40t;
+
+#[cfg(feature = "siyi")]
+pub mod siyi;
+
+#[cfg(feature = "viewlink")]
+pub mod viewlink;
+
+#[cfg(feature = "gcu")]
+pub mod gcu;
+
+pub use error::{Error, Result};

@@ -1,0 +1,564 @@
+//! Finding frames in a byte stream.
+//!
+//! Every protocol describes its framing once, by implementing [`Framing`]: its sync
+//! bytes, how many header bytes tell the total length, and how to check a complete
+//! frame. Two scanners share one step function over that description:
+//!
+//! - [`Deframer`]: streaming and bounded (a const-generic buffer of `N` bytes), for
+//!   firmware. Bytes go in with [`Deframer::push`] (a slice of any length) or with
+//!   [`Deframer::feed`] + [`Deframer::poll`]; complete, checksum-valid frames come out.
+//! - [`Scanner`]: over a complete capture held in memory, reporting frames, rejected
+//!   candidates, garbage and a truncated tail with their offsets (the `gimbal` tool).
+//!
+//! Streaming input has no end, so a frame whose length field was corrupted to claim
+//! more bytes keeps the deframer waiting; when the line goes idle (a UART idle
+//! interrupt, a read timeout), call [`Deframer::poll_idle`] or [`Deframer::flush`] to
+//! give up on the incomplete candidate and rescan what follows it.
+//!
+//! Resynchronisation: when a candidate frame fails (bad length field or bad checksum),
+//! scanning resumes at the byte after the failed sync position, not after the claimed
+//! frame. A false sync inside garbage, or a frame cut short by a following frame, can
+//! therefore never hide a valid frame that starts inside the failed candidate.
+
+use crate::Error;
+
+/// The framing rules of one protocol.
+///
+/// Implementations are small values (they may carry configuration, e.g. a maximum
+/// payload length or a CRC coverage). The methods must not panic for any input.
+pub trait Framing {
+    /// The bytes every frame starts with (at least one).
+    fn sync(&self) -> &[u8];
+
+    /// How many bytes, sync included, are needed to know the total frame length.
+    fn header_len(&self) -> usize;
+
+    /// Total length of the frame whose first [`Framing::header_len`] bytes are `header`
+    /// (sync included). An impossible length field is [`Error::BadLength`].
+    /// The returned length must be at least `header_len()`.
+    fn frame_len(&self, header: &[u8]) -> Result<usize, Error>;
+
+    /// Verifies a complete frame of the length [`Framing::frame_len`] gave (normally its
+    /// checksum: [`Error::BadChecksum`]).
+    fn check(&self, frame: &[u8]) -> Result<(), Error>;
+}
+
+/// The outcome of looking at the front of a buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    /// A valid frame of this length starts at the front.
+    Frame(usize),
+    /// The candidate at the front (this many bytes of it) failed.
+    Rejected(Error, usize),
+    /// This many bytes at the front cannot start a frame.
+    Skip(usize),
+    /// The front may be the start of a frame; more bytes are needed.
+    NeedMore,
+}
+
+/// Does `buf` start with (a prefix of) `sync`?
+fn starts_like_sync(buf: &[u8], sync: &[u8]) -> bool {
+    buf.iter().zip(sync).all(|(a, b)| a == b)
+}
+
+/// Looks at the front of `buf`; frames longer than `capacity` are rejected.
+fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
+    let sync = framing.sync();
+    if buf.is_empty() {
+        return Step::NeedMore;
+    }
+    if sync.is_empty() || !starts_like_sync(buf, sync) {
+        // The next position that could start a frame (possibly a partial sync at the end).
+        let next = (1..buf.len())
+            .find(|&i| {
+                buf.get(i..)
+                    .is_some_and(|tail| starts_like_sync(tail, sync))
+            })
+            .unwrap_or(buf.len());
+        return Step::Skip(next.max(1));
+    }
+    let header_len = framing.header_len().max(sync.len());
+    let Some(header) = buf.get(..header_len) else {
+        return Step::NeedMore;
+    };
+    let len = match framing.frame_len(header) {
+        Ok(len) if len < header_len || len > capacity => {
+            return Step::Rejected(Error::BadLength, header_len);
+        }
+        Ok(len) => len,
+        Err(e) => return Step::Rejected(e, header_len),
+    };
+    let Some(frame) = buf.get(..len) else {
+        return Step::NeedMore;
+    };
+    match framing.check(frame) {
+        Ok(()) => Step::Frame(len),
+        Err(e) => Step::Rejected(e, len),
+    }
+}
+
+/// What a [`Deframer`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event<'a> {
+    /// A complete frame whose length and checksum are valid, sync bytes to checksum.
+    Frame(&'a [u8]),
+    /// A candidate that started with the sync bytes but failed: `raw` is the candidate
+    /// (its header, or its full claimed length when the checksum failed). Its first byte
+    /// is discarded and the rest is scanned again.
+    Rejected {
+        /// Why the candidate failed.
+        error: Error,
+        /// The candidate's bytes.
+        raw: &'a [u8],
+    },
+}
+
+/// Counters kept by a [`Deframer`] (saturating).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Stats {
+    /// Valid frames delivered.
+    pub frames_ok: u32,
+    /// Candidates rejected for their checksum.
+    pub checksum_errors: u32,
+    /// Candidates rejected for an impossible length (or longer than the buffer), or
+    /// left incomplete when the line went idle.
+    pub length_errors: u32,
+    /// Bytes that were not part of any delivered frame.
+    pub bytes_discarded: u32,
+}
+
+fn bump(counter: &mut u32, by: usize) {
+    *counter = counter.saturating_add(u32::try_from(by).unwrap_or(u32::MAX));
+}
+
+/// A streaming, bounded frame finder for the protocol described by `F`.
+///
+/// `N` is the buffer size; it should be at least the protocol's largest frame (frames
+/// longer than `N` are rejected as [`Error::BadLength`]). No byte is lost while the
+/// caller drains events: [`Deframer::feed`] only accepts what fits, and a full buffer
+/// always holds a complete candidate.
+///
+/// ```
+/// use protocol_core::wire::{Deframer, Event, Framing};
+/// # struct Demo;
+/// # impl Framing for Demo {
+/// #     fn sync(&self) -> &[u8] { &[0xAA] }
+/// #     fn header_len(&self) -> usize { 2 }
+/// #     fn frame_len(&self, h: &[u8]) -> Result<usize, protocol_core::Error> {
+/// #         Ok(2 + usize::from(h[1]))
+/// #     }
+/// #     fn check(&self, _: &[u8]) -> Result<(), protocol_core::Error> { Ok(()) }
+/// # }
+/// let mut d = Deframer::<_, 64>::new(Demo);
+/// let mut frames = 0;
+/// d.push(&[0x00, 0xAA, 0x01, 0x42, 0xAA], |ev| {
+///     if let Event::Frame(f) = ev {
+///         assert_eq!(f, &[0xAA, 0x01, 0x42]);
+///         frames += 1;
+///     }
+/// });
+/// assert_eq!(frames, 1);
+/// assert_eq!(d.stats().bytes_discarded, 1);
+/// assert_eq!(d.buffered(), 1); // the trailing 0xAA may start the next frame
+/// ```
+#[derive(Debug, Clone)]
+pub struct Deframer<F, const N: usize> {
+    framing: F,
+    buf: [u8; N],
+    len: usize,
+    /// Bytes at the front to drop before the next step (the event last returned).
+    release: usize,
+    stats: Stats,
+}
+
+impl<F: Framing, const N: usize> Deframer<F, N> {
+    /// An empty deframer.
+    pub const fn new(framing: F) -> Self {
+        Deframer {
+            framing,
+            buf: [0; N],
+            len: 0,
+            release: 0,
+            stats: Stats {
+                frames_ok: 0,
+                checksum_errors: 0,
+                length_errors: 0,
+                bytes_discarded: 0,
+            },
+        }
+    }
+
+    /// The framing rules in use.
+    pub const fn framing(&self) -> &F {
+        &self.framing
+    }
+
+    /// Mutable access to the framing rules (e.g. to change a configured coverage).
+    pub fn framing_mut(&mut self) -> &mut F {
+        &mut self.framing
+    }
+
+    /// The counters so far.
+    pub const fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Bytes held, waiting for the rest of a frame.
+    pub const fn buffered(&self) -> usize {
+        self.len.saturating_sub(self.release)
+    }
+
+    /// Drops every buffered byte (counted as discarded) and keeps the counters.
+    pub fn clear(&mut self) {
+        let held = self.buffered();
+        bump(&mut self.stats.bytes_discarded, held);
+        self.len = 0;
+        self.release = 0;
+    }
+
+    fn drop_front(&mut self, n: usize) {
+        let n = n.min(self.len);
+        self.buf.copy_within(n..self.len, 0);
+        self.len = self.len.saturating_sub(n);
+    }
+
+    /// Copies as many bytes of `input` as fit into the buffer and returns how many.
+    /// Call [`Deframer::poll`] until it returns `None`, then feed the rest.
+    pub fn feed(&mut self, input: &[u8]) -> usize {
+        let release = core::mem::take(&mut self.release);
+        self.drop_front(release);
+        let free = self.buf.get_mut(self.len..).unwrap_or_default();
+        let n = free.len().min(input.len());
+        if let (Some(dst), Some(src)) = (free.get_mut(..n), input.get(..n)) {
+            dst.copy_from_slice(src);
+            self.len = self.len.saturating_add(n);
+        }
+        n
+    }
+
+    /// The next event from the buffered bytes, or `None` when more bytes are needed.
+    /// The returned frame stays valid until the next call on the deframer.
+    pub fn poll(&mut self) -> Option<Event<'_>> {
+        self.next_event(false)
+    }
+
+    /// Like [`Deframer::poll`], for when the line has gone idle (e.g. a UART idle
+    /// interrupt or a read timeout): the buffered bytes will not be completed, so an
+    /// incomplete candidate at the front is rejected ([`Error::Truncated`]) and the bytes
+    /// after its sync are scanned again. Without this, a corrupted length field that
+    /// claims a longer frame holds back the valid frames behind it until enough further
+    /// bytes arrive. Returns `None` once the buffer is empty.
+    pub fn poll_idle(&mut self) -> Option<Event<'_>> {
+        self.next_event(true)
+    }
+
+    fn next_event(&mut self, idle: bool) -> Option<Event<'_>> {
+        let release = core::mem::take(&mut self.release);
+        self.drop_front(release);
+        loop {
+            let buffered = self.buf.get(..self.len).unwrap_or_default();
+            let step = match step(&self.framing, buffered, N) {
+                Step::NeedMore if self.len == 0 => return None,
+                Step::NeedMore if idle => Step::Rejected(Error::Truncated, self.len),
+                Step::NeedMore if self.len < N => return None,
+                Step::NeedMore => {
+                    // Only possible if N is smaller than the header: never stall.
+                    Step::Skip(1)
+                }
+                other => other,
+            };
+            match step {
+                Step::NeedMore => return None,
+                Step::Skip(n) => {
+                    bump(&mut self.stats.bytes_discarded, n);
+                    self.drop_front(n);
+                }
+                Step::Rejected(error, n) => {
+                    match error {
+                        Error::BadChecksum { .. } => bump(&mut self.stats.checksum_errors, 1),
+                        _ => bump(&mut self.stats.length_errors, 1),
+                    }
+                    bump(&mut self.stats.bytes_discarded, 1);
+                    self.release = 1;
+                    let raw = self.buf.get(..n.min(self.len)).unwrap_or_default();
+                    return Some(Event::Rejected { error, raw });
+                }
+                Step::Frame(n) => {
+                    bump(&mut self.stats.frames_ok, 1);
+                    self.release = n;
+                    return Some(Event::Frame(self.buf.get(..n).unwrap_or_default()));
+                }
+            }
+        }
+    }
+
+    /// The line is idle: delivers every frame still hidden in the buffer (see
+    /// [`Deframer::poll_idle`]) and empties it.
+    pub fn flush(&mut self, mut sink: impl FnMut(Event<'_>)) {
+        while let Some(event) = self.poll_idle() {
+            sink(event);
+        }
+    }
+
+    /// Feeds all of `input` and hands every resulting event to `sink`, in stream order.
+    pub fn push(&mut self, mut input: &[u8], mut sink: impl FnMut(Event<'_>)) {
+        loop {
+            let n = self.feed(input);
+            input = input.get(n..).unwrap_or_default();
+            while let Some(event) = self.poll() {
+                sink(event);
+            }
+            if input.is_empty() {
+                return;
+            }
+        }
+    }
+}
+
+/// One item found by a [`Scanner`], with its offset in the capture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scanned<'a> {
+    /// A complete, valid frame.
+    Frame {
+        /// Offset of its first sync byte.
+        offset: usize,
+        /// The frame.
+        bytes: &'a [u8],
+    },
+    /// A candidate that failed; scanning resumed at `offset + 1`.
+    Rejected {
+        /// Offset of its first sync byte.
+        offset: usize,
+        /// The candidate's bytes (header only for a bad length).
+        bytes: &'a [u8],
+        /// Why it failed.
+        error: Error,
+    },
+    /// Bytes that cannot start a frame.
+    Garbage {
+        /// Offset of the first byte.
+        offset: usize,
+        /// The bytes.
+        bytes: &'a [u8],
+    },
+    /// The capture ends inside a candidate frame; scanning resumed at `offset + 1`.
+    Truncated {
+        /// Offset of its first sync byte.
+        offset: usize,
+        /// The bytes present.
+        bytes: &'a [u8],
+    },
+}
+
+/// Iterates over the frames, rejected candidates and garbage of a complete capture.
+///
+/// Uses the same rules as [`Deframer`]; consecutive garbage bytes are reported as one
+/// item.
+#[derive(Debug, Clone)]
+pub struct Scanner<'a, F> {
+    framing: F,
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl<'a, F: Framing> Scanner<'a, F> {
+    /// A scanner over `data` from its first byte.
+    pub const fn new(framing: F, data: &'a [u8]) -> Self {
+        Scanner {
+            framing,
+            data,
+            pos: 0,
+        }
+    }
+}
+
+impl<'a, F: Framing> Iterator for Scanner<'a, F> {
+    type Item = Scanned<'a>;
+
+    fn next(&mut self) -> Option<Scanned<'a>> {
+        let offset = self.pos;
+        let rest = self.data.get(offset..).filter(|r| !r.is_empty())?;
+        let (item, advance) = match step(&self.framing, rest, usize::MAX) {
+            Step::Frame(n) => (
+                Scanned::Frame {
+                    offset,
+                    bytes: rest.get(..n)?,
+                },
+                n,
+            ),
+            Step::Rejected(error, n) => {
+                let bytes = rest.get(..n)?;
+                (
+                    Scanned::Rejected {
+                        offset,
+                        bytes,
+                        error,
+                    },
+                    1,
+                )
+            }
+            Step::Skip(n) => (
+                Scanned::Garbage {
+                    offset,
+                    bytes: rest.get(..n)?,
+                },
+                n,
+            ),
+            // The capture ends inside a candidate: report it, then rescan after its sync
+            // (a false length may be hiding frames).
+            Step::NeedMore => (
+                Scanned::Truncated {
+                    offset,
+                    bytes: rest,
+                },
+                1,
+            ),
+        };
+        self.pos = offset.saturating_add(advance);
+        Some(item)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A toy framing: `AA 55 LEN PAYLOAD SUM`, SUM = wrapping sum of the payload.
+    struct Toy;
+    impl Framing for Toy {
+        fn sync(&self) -> &[u8] {
+            &[0xAA, 0x55]
+        }
+        fn header_len(&self) -> usize {
+            3
+        }
+        fn frame_len(&self, h: &[u8]) -> Result<usize, Error> {
+            match h.get(2) {
+                Some(&l) if l <= 8 => Ok(4 + usize::from(l)),
+                _ => Err(Error::BadLength),
+            }
+        }
+        fn check(&self, f: &[u8]) -> Result<(), Error> {
+            let (body, sum) = f.split_at(f.len() - 1);
+            let computed = crate::wire::sum8(&body[3..]);
+            if computed == sum[0] {
+                Ok(())
+            } else {
+                Err(Error::BadChecksum {
+                    computed: computed.into(),
+                    received: sum[0].into(),
+                })
+            }
+        }
+    }
+
+    fn frames_of<const N: usize>(d: &mut Deframer<Toy, N>, input: &[u8]) -> usize {
+        let mut n = 0;
+        d.push(input, |e| n += usize::from(matches!(e, Event::Frame(_))));
+        n
+    }
+
+    #[test]
+    fn frame_inside_a_false_sync_is_found() {
+        // A false sync claims 8 bytes and swallows the start of a real frame.
+        let real = [0xAA, 0x55, 0x01, 0x07, 0x07];
+        let mut input = vec![0xAA, 0x55, 0x08, 0x00];
+        input.extend_from_slice(&real);
+        input.extend_from_slice(&[0, 0, 0]);
+        let mut d = Deframer::<Toy, 16>::new(Toy);
+        let found: usize = input.chunks(1).map(|c| frames_of(&mut d, c)).sum();
+        assert_eq!(found, 1);
+        let mut d = Deframer::<Toy, 16>::new(Toy);
+        let mut seen = vec![];
+        d.push(&input, |e| match e {
+            Event::Frame(f) => seen.push(f.to_vec()),
+            Event::Rejected { error, .. } => {
+                assert!(matches!(error, Error::BadChecksum { .. }))
+            }
+        });
+        assert_eq!(seen, vec![real.to_vec()]);
+        assert_eq!(d.stats().checksum_errors, 1);
+        assert_eq!(d.stats().bytes_discarded, 4 + 3);
+    }
+
+    #[test]
+    fn byte_by_byte_equals_all_at_once() {
+        let input = [
+            0x01, 0xAA, 0x55, 0x00, 0x00, 0xAA, 0xAA, 0x55, 0x02, 1, 2, 3, 0xAA,
+        ];
+        let mut whole = Deframer::<Toy, 12>::new(Toy);
+        let mut a = vec![];
+        whole.push(&input, |e| a.push(format!("{e:?}")));
+        let mut bytes = Deframer::<Toy, 12>::new(Toy);
+        let mut b = vec![];
+        for byte in input {
+            bytes.push(&[byte], |e| b.push(format!("{e:?}")));
+        }
+        assert_eq!(a, b);
+        assert_eq!(whole.stats(), bytes.stats());
+        assert_eq!(whole.stats().frames_ok, 2);
+        assert_eq!(whole.buffered(), 1);
+    }
+
+    #[test]
+    fn bad_length_and_small_buffer_never_stall() {
+        let mut d = Deframer::<Toy, 4>::new(Toy);
+        // LEN 9 is invalid; LEN 2 needs 6 bytes > N = 4.
+        let n = frames_of(
+            &mut d,
+            &[
+                0xAA, 0x55, 0x09, 0xAA, 0x55, 0x02, 0, 0, 0, 0xAA, 0x55, 0x00, 0x00,
+            ],
+        );
+        assert_eq!(n, 1);
+        assert_eq!(d.stats().length_errors, 2);
+        assert_eq!(d.buffered(), 0);
+    }
+
+    #[test]
+    fn idle_flush_finds_a_frame_behind_a_false_length() {
+        // The first candidate claims 8 payload bytes; only a 5-byte frame follows.
+        let input = [0xAA, 0x55, 0x08, 0xAA, 0x55, 0x01, 0x07, 0x07];
+        let mut d = Deframer::<Toy, 16>::new(Toy);
+        assert_eq!(frames_of(&mut d, &input), 0);
+        assert_eq!(d.buffered(), input.len());
+        let mut frames = vec![];
+        d.flush(|e| {
+            if let Event::Frame(f) = e {
+                frames.push(f.to_vec())
+            }
+        });
+        assert_eq!(frames, vec![input[3..].to_vec()]);
+        assert_eq!(d.buffered(), 0);
+        assert_eq!(d.stats().length_errors, 1);
+    }
+
+    #[test]
+    fn scanner_reports_offsets() {
+        let data = [0x00, 0x01, 0xAA, 0x55, 0x00, 0x00, 0xAA, 0x55, 0x03, 0x01];
+        let items: Vec<_> = Scanner::new(Toy, &data).collect();
+        assert_eq!(
+            items,
+            vec![
+                Scanned::Garbage {
+                    offset: 0,
+                    bytes: &data[..2]
+                },
+                Scanned::Frame {
+                    offset: 2,
+                    bytes: &data[2..6]
+                },
+                Scanned::Truncated {
+                    offset: 6,
+                    bytes: &data[6..]
+                },
+                Scanned::Garbage {
+                    offset: 7,
+                    bytes: &data[7..]
+                },
+            ]
+        );
+    }
+}
