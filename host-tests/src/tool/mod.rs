@@ -247,7 +247,7 @@ pub fn render(protocol: &str, item: &Item, as_json: bool) -> String {
             json!({ "protocol": protocol, "offset": offset, "error": e, "raw": hex(raw) }).to_string()
         }
         (Item::Garbage { offset, raw }, true) => json!({
-            "protocol": protocol, "offset": offset, "error": format!("garbage: {} bytes outside any frame", raw.len()),
+            "protocol": protocol, "offset": offset, "error": format!("garbage: {} byte{} outside any frame", raw.len(), if raw.len() == 1 { "" } else { "s" }),
             "raw": hex(raw),
         })
         .to_string(),
@@ -265,7 +265,7 @@ pub fn render(protocol: &str, item: &Item, as_json: bool) -> String {
             format!("@{offset:06} bad frame ({error}): {}", spaced_hex(raw))
         }
         (Item::Garbage { offset, raw }, false) => {
-            format!("@{offset:06} garbage, {} bytes: {}", raw.len(), spaced_hex(raw))
+            format!("@{offset:06} garbage, {} byte{}: {}", raw.len(), if raw.len() == 1 { "" } else { "s" }, spaced_hex(raw))
         }
         (Item::Truncated { offset, raw }, false) => {
             format!("@{offset:06} truncated frame at end of capture: {}", spaced_hex(raw))

@@ -77,20 +77,19 @@ pub trait Payload: Sized {
 /// document's layouts disagree by a trailing reserved byte. A longer one is
 /// [`Error::BadLength`].
 pub(crate) fn decode_payload<T: Payload>(payload: &[u8]) -> Result<T> {
-    if payload.len() == T::LEN {
-        let mut r = Reader::new(payload);
-        let v = T::decode(&mut r)?;
-        r.finish()?;
-        return Ok(v);
-    }
-    if payload.len() > T::LEN {
-        return Err(Error::BadLength);
-    }
-    let mut full = [0u8; super::MAX_PAYLOAD_LEN];
-    full.get_mut(..payload.len())
-        .ok_or(Error::BadLength)?
-        .copy_from_slice(payload);
-    let mut r = Reader::new(full.get(..T::LEN).ok_or(Error::BadLength)?);
+    let mut extended = [0u8; super::MAX_PAYLOAD_LEN];
+    let bytes = match payload.len() {
+        n if n == T::LEN => payload,
+        n if n > T::LEN => return Err(Error::BadLength),
+        n => {
+            extended
+                .get_mut(..n)
+                .ok_or(Error::BadLength)?
+                .copy_from_slice(payload);
+            extended.get(..T::LEN).ok_or(Error::BadLength)?
+        }
+    };
+    let mut r = Reader::new(bytes);
     let v = T::decode(&mut r)?;
     r.finish()?;
     Ok(v)
