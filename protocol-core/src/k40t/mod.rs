@@ -139,27 +139,33 @@ macro_rules! messages {
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        #[allow(missing_docs)]
         pub enum Request {
-            $( $name($req), )*
+            $(
+                #[doc = concat!("Base id ", stringify!($base), ": [`", stringify!($req), "`].")]
+                $name($req),
+            )*
         }
 
         /// Kind 0x01: acknowledgements, with their data where the document gives some.
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        #[allow(missing_docs)]
         pub enum Ack {
-            $( $( $name($ack), )? )*
+            $( $(
+                #[doc = concat!("ACK of ", stringify!($base), ": [`", stringify!($ack), "`].")]
+                $name($ack),
+            )? )*
         }
 
         /// Kind 0x02: status frames sent while a request executes.
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        #[allow(missing_docs)]
         pub enum Status {
-            $( $( $name($status), )? )*
+            $( $(
+                #[doc = concat!("Status frame of ", stringify!($base), ": [`", stringify!($status), "`].")]
+                $name($status),
+            )? )*
         }
 
         impl Request {
