@@ -1,20 +1,98 @@
-//! `gimbal` adapter for the Siyi protocol (codec not implemented yet).
+//! `gimbal` adapter for the SIYI SDK protocol.
+//!
+//! A capture does not say which way each frame travelled, so frames are decoded with
+//! [`Packet::decode_auto`]: the direction the CTRL `is_ack` flag suggests, or the other
+//! one when only that fits the data length. The direction used is in the fields.
 
-use super::{Item, Protocol, not_yet};
+use protocol_core::siyi::{CATALOG, MAX_DATA_LEN, Message, Packet, SiyiFraming};
+use serde_json::{Value, json};
 
-/// The Siyi protocol.
+use super::{Decoded, Item, Protocol, scan_with, untag};
+
+/// The SIYI SDK protocol.
 pub struct Siyi;
+
+/// Decodes one checksum-valid frame.
+pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
+    let packet = Packet::decode_auto(bytes).map_err(|e| e.to_string())?;
+    let message = packet.message;
+    let payload = match message {
+        Message::Request(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
+        Message::Reply(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
+        Message::Raw(r) => json!({ "data": super::hex(r.data) }),
+    };
+    let direction = match message.direction() {
+        protocol_core::siyi::Direction::Request => "request",
+        protocol_core::siyi::Direction::Reply => "reply",
+    };
+    let mut fields = json!({
+        "direction": direction,
+        "ctrl": packet.ctrl.0,
+        "need_ack": packet.ctrl.need_ack(),
+        "is_ack": packet.ctrl.is_ack(),
+        "seq": packet.seq,
+    });
+    if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
+        f.extend(p);
+    }
+    Ok(Decoded {
+        msg_id: u64::from(message.cmd()),
+        name: message.name().to_string(),
+        fields,
+    })
+}
 
 impl Protocol for Siyi {
     fn name(&self) -> &'static str {
         "siyi"
     }
 
-    fn scan(&self, _capture: &[u8]) -> Vec<Item> {
-        not_yet("siyi")
+    fn scan(&self, capture: &[u8]) -> Vec<Item> {
+        // A capture may hold frames of any length the LEN field allows.
+        scan_with(SiyiFraming::new(MAX_DATA_LEN), capture, decode)
     }
 
     fn messages(&self) -> Vec<String> {
-        Vec::new()
+        CATALOG
+            .iter()
+            .map(|e| {
+                let empty = match (e.request_empty, e.reply_empty) {
+                    (true, true) => " (empty: request, reply)",
+                    (true, false) => " (empty: request)",
+                    (false, true) => " (empty: reply)",
+                    (false, false) => "",
+                };
+                format!("0x{:02X} {} request,reply{}", e.cmd, e.name, empty)
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decodes_the_document_heartbeat() {
+        let d = decode(&[
+            0x55, 0x66, 0x01, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x59, 0x8B,
+        ])
+        .unwrap();
+        assert_eq!(d.msg_id, 0);
+        assert_eq!(d.name, "Heartbeat");
+        assert_eq!(
+            d.fields,
+            json!({"direction": "request", "ctrl": 1, "need_ack": true, "is_ack": false, "seq": 0, "byte": 0})
+        );
+    }
+
+    #[test]
+    fn lists_48_ids_with_both_directions() {
+        let lines = Siyi.messages();
+        assert_eq!(lines.len(), 48);
+        assert!(lines.contains(&"0x0D GimbalAttitude request,reply (empty: request)".to_string()));
+        assert!(lines.contains(&"0x22 FcAttitude request,reply (empty: reply)".to_string()));
+        assert!(lines.contains(&"0x80 SoftReboot request,reply".to_string()));
+        assert!(lines.iter().all(|l| l.contains(" request,reply")));
     }
 }

@@ -1,0 +1,303 @@
+//! The SIYI frame: `55 66 CTRL LEN(u16 LE) SEQ(u16 LE) CMD DATA CRC16(LE)`.
+
+use crate::wire::{Framing, crc16_xmodem};
+use crate::{Error, Result};
+
+/// The two start bytes (the document's STX 0x6655, low byte first).
+pub const STX: [u8; 2] = [0x55, 0x66];
+/// Bytes before the data: STX, CTRL, LEN, SEQ, CMD.
+pub const HEADER_LEN: usize = 8;
+/// Bytes after the data (the CRC).
+pub const CRC_LEN: usize = 2;
+/// Smallest frame (no data).
+pub const MIN_FRAME_LEN: usize = HEADER_LEN + CRC_LEN;
+/// Largest data length the LEN field can express.
+pub const MAX_DATA_LEN: usize = u16::MAX as usize;
+/// Default data limit of [`SiyiFraming`]: the longest message of the catalogue (0x3E,
+/// 32 bytes), which is also the most ArduPilot's `AP_Mount_Siyi` accepts (it drops a
+/// frame with more data).
+pub const DEFAULT_MAX_DATA_LEN: usize = 32;
+/// Largest frame under [`DEFAULT_MAX_DATA_LEN`] (42 bytes): a good deframer buffer size.
+pub const DEFAULT_MAX_FRAME_LEN: usize = MIN_FRAME_LEN + DEFAULT_MAX_DATA_LEN;
+
+mod field {
+    pub const STX: core::ops::Range<usize> = 0..2;
+    pub const CTRL: usize = 2;
+    pub const LEN: core::ops::Range<usize> = 3..5;
+    pub const SEQ: core::ops::Range<usize> = 5..7;
+    pub const CMD: usize = 7;
+}
+
+/// The CTRL byte: bit 0 `need_ack`, bit 1 `is_ack` (`ack_pack`), bits 2..7 reserved.
+///
+/// Kept as the byte received (reserved bits included), so re-encoding is exact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Ctrl(pub u8);
+
+impl Ctrl {
+    /// Bit 0: the sender wants an acknowledgement.
+    pub const NEED_ACK_BIT: u8 = 0x01;
+    /// Bit 1: this packet is an acknowledgement.
+    pub const IS_ACK_BIT: u8 = 0x02;
+    /// CTRL = 1, what ArduPilot sends with every request.
+    pub const NEED_ACK: Ctrl = Ctrl(Self::NEED_ACK_BIT);
+    /// CTRL = 2, what SIYI gimbals send with their replies.
+    pub const IS_ACK: Ctrl = Ctrl(Self::IS_ACK_BIT);
+
+    /// A CTRL byte from its two flags (reserved bits zero).
+    pub const fn new(need_ack: bool, is_ack: bool) -> Self {
+        let mut v = 0;
+        if need_ack {
+            v |= Self::NEED_ACK_BIT;
+        }
+        if is_ack {
+            v |= Self::IS_ACK_BIT;
+        }
+        Ctrl(v)
+    }
+
+    /// Bit 0: the sender wants an acknowledgement.
+    pub const fn need_ack(self) -> bool {
+        self.0 & Self::NEED_ACK_BIT != 0
+    }
+
+    /// Bit 1: this packet is an acknowledgement.
+    pub const fn is_ack(self) -> bool {
+        self.0 & Self::IS_ACK_BIT != 0
+    }
+
+    /// Bits 2..7 (reserved; zero in every known sender).
+    pub const fn reserved(self) -> u8 {
+        self.0 >> 2
+    }
+}
+
+/// A read-only or read-write view of a SIYI frame in a byte buffer.
+///
+/// [`Frame::new_checked`] guarantees the buffer starts with STX and holds the whole
+/// frame (header, LEN data bytes, CRC); accessors never panic, even unchecked. Bytes
+/// after the frame are ignored.
+#[derive(Debug, Clone)]
+pub struct Frame<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> Frame<T> {
+    /// A view without checks; accessors of an invalid buffer return zero or empty values.
+    /// Use [`Frame::new_checked`] for received bytes.
+    pub const fn new_unchecked(buffer: T) -> Self {
+        Frame { buffer }
+    }
+
+    /// A view of a buffer that holds a whole frame (the CRC is not verified; see
+    /// [`Frame::verify`]).
+    pub fn new_checked(buffer: T) -> Result<Self> {
+        let frame = Frame { buffer };
+        frame.check_len()?;
+        Ok(frame)
+    }
+
+    /// Checks STX and that the buffer holds the whole frame.
+    pub fn check_len(&self) -> Result<()> {
+        let b = self.buffer.as_ref();
+        let stx = b.get(field::STX);
+        match stx {
+            Some(s) if s == STX => {}
+            _ if b.len() >= 2 || !STX.starts_with(b) => return Err(Error::BadSync),
+            _ => return Err(Error::Truncated),
+        }
+        if b.len() < HEADER_LEN || b.len() < self.total_len() {
+            return Err(Error::Truncated);
+        }
+        Ok(())
+    }
+
+    /// The underlying buffer.
+    pub fn into_inner(self) -> T {
+        self.buffer
+    }
+
+    fn byte(&self, i: usize) -> u8 {
+        self.buffer.as_ref().get(i).copied().unwrap_or(0)
+    }
+
+    fn u16_at(&self, r: core::ops::Range<usize>) -> u16 {
+        u16::from_le_bytes([self.byte(r.start), self.byte(r.start.saturating_add(1))])
+    }
+
+    /// The CTRL byte.
+    pub fn ctrl(&self) -> Ctrl {
+        Ctrl(self.byte(field::CTRL))
+    }
+
+    /// The LEN field: number of data bytes.
+    pub fn data_len(&self) -> u16 {
+        self.u16_at(field::LEN)
+    }
+
+    /// Length of the whole frame, STX to CRC.
+    pub fn total_len(&self) -> usize {
+        MIN_FRAME_LEN.saturating_add(usize::from(self.data_len()))
+    }
+
+    /// The sequence number.
+    pub fn seq(&self) -> u16 {
+        self.u16_at(field::SEQ)
+    }
+
+    /// The command id.
+    pub fn cmd(&self) -> u8 {
+        self.byte(field::CMD)
+    }
+
+    fn data_range(&self) -> core::ops::Range<usize> {
+        HEADER_LEN..HEADER_LEN.saturating_add(usize::from(self.data_len()))
+    }
+
+    /// The data bytes.
+    pub fn data(&self) -> &[u8] {
+        self.buffer
+            .as_ref()
+            .get(self.data_range())
+            .unwrap_or_default()
+    }
+
+    /// The CRC the frame carries.
+    pub fn checksum(&self) -> u16 {
+        let at = self.total_len().saturating_sub(CRC_LEN);
+        u16::from_le_bytes([self.byte(at), self.byte(at.saturating_add(1))])
+    }
+
+    /// CRC-16/XMODEM over STX..data (the whole packet before the CRC).
+    pub fn compute_checksum(&self) -> u16 {
+        let end = self.total_len().saturating_sub(CRC_LEN);
+        crc16_xmodem(self.buffer.as_ref().get(..end).unwrap_or_default())
+    }
+
+    /// Verifies the CRC.
+    pub fn verify(&self) -> Result<()> {
+        let computed = self.compute_checksum();
+        let received = self.checksum();
+        if computed == received {
+            Ok(())
+        } else {
+            Err(Error::BadChecksum { computed, received })
+        }
+    }
+}
+
+impl<'a> Frame<&'a [u8]> {
+    /// The data, borrowed for the lifetime of the underlying buffer.
+    pub fn data_ref(&self) -> &'a [u8] {
+        self.buffer.get(self.data_range()).unwrap_or_default()
+    }
+}
+
+impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
+    fn set_byte(&mut self, i: usize, v: u8) {
+        if let Some(b) = self.buffer.as_mut().get_mut(i) {
+            *b = v;
+        }
+    }
+
+    fn set_u16(&mut self, r: core::ops::Range<usize>, v: u16) {
+        let [lo, hi] = v.to_le_bytes();
+        self.set_byte(r.start, lo);
+        self.set_byte(r.start.saturating_add(1), hi);
+    }
+
+    /// Writes STX and the LEN field.
+    pub fn set_start(&mut self, data_len: u16) {
+        let [a, b] = STX;
+        self.set_byte(0, a);
+        self.set_byte(1, b);
+        self.set_u16(field::LEN, data_len);
+    }
+
+    /// Sets the CTRL byte.
+    pub fn set_ctrl(&mut self, ctrl: Ctrl) {
+        self.set_byte(field::CTRL, ctrl.0);
+    }
+
+    /// Sets the sequence number.
+    pub fn set_seq(&mut self, seq: u16) {
+        self.set_u16(field::SEQ, seq);
+    }
+
+    /// Sets the command id.
+    pub fn set_cmd(&mut self, cmd: u8) {
+        self.set_byte(field::CMD, cmd);
+    }
+
+    /// The data, writable (LEN must be set first).
+    pub fn data_mut(&mut self) -> &mut [u8] {
+        let r = self.data_range();
+        self.buffer.as_mut().get_mut(r).unwrap_or_default()
+    }
+
+    /// Computes and stores the CRC (everything before it must be set first).
+    pub fn fill_checksum(&mut self) {
+        let crc = self.compute_checksum();
+        let at = self.total_len().saturating_sub(CRC_LEN);
+        self.set_u16(at..at.saturating_add(2), crc);
+    }
+}
+
+/// SIYI framing rules for the [`Deframer`](crate::wire::Deframer): sync `55 66`, total
+/// length from LEN, CRC-16/XMODEM check.
+///
+/// A frame whose LEN exceeds `max_data_len` is rejected ([`Error::BadLength`]) without
+/// waiting for its bytes, which bounds the damage of a corrupted LEN field. The default
+/// is [`DEFAULT_MAX_DATA_LEN`] (32); use [`SiyiFraming::new`] to accept longer frames
+/// (up to [`MAX_DATA_LEN`]), with a deframer buffer of `max_data_len + 10` bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SiyiFraming {
+    /// The largest accepted LEN.
+    pub max_data_len: usize,
+}
+
+impl SiyiFraming {
+    /// Framing that accepts up to `max_data_len` data bytes (capped at [`MAX_DATA_LEN`]).
+    pub const fn new(max_data_len: usize) -> Self {
+        SiyiFraming {
+            max_data_len: if max_data_len > MAX_DATA_LEN {
+                MAX_DATA_LEN
+            } else {
+                max_data_len
+            },
+        }
+    }
+}
+
+impl Default for SiyiFraming {
+    fn default() -> Self {
+        SiyiFraming::new(DEFAULT_MAX_DATA_LEN)
+    }
+}
+
+impl Framing for SiyiFraming {
+    fn sync(&self) -> &[u8] {
+        &STX
+    }
+
+    fn header_len(&self) -> usize {
+        field::LEN.end
+    }
+
+    fn frame_len(&self, header: &[u8]) -> Result<usize> {
+        let len = match header.get(field::LEN) {
+            Some(&[lo, hi]) => usize::from(u16::from_le_bytes([lo, hi])),
+            _ => return Err(Error::Truncated),
+        };
+        if len > self.max_data_len {
+            return Err(Error::BadLength);
+        }
+        Ok(MIN_FRAME_LEN.saturating_add(len))
+    }
+
+    fn check(&self, frame: &[u8]) -> Result<()> {
+        Frame::new_checked(frame)?.verify()
+    }
+}
