@@ -134,18 +134,22 @@ macro_rules! messages {
         #[derive(Debug, Clone, Copy, PartialEq)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        #[allow(missing_docs)]
         pub enum Request {
-            $( $name($req), )*
+            $(
+                #[doc = concat!("Command ", stringify!($cmd), ", flight controller to gimbal: [`", stringify!($req), "`].")]
+                $name($req),
+            )*
         }
 
         /// Gimbal to flight controller (replies and pushed data): one variant per id.
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        #[allow(missing_docs)]
         pub enum Reply {
-            $( $name($rep), )*
+            $(
+                #[doc = concat!("Command ", stringify!($cmd), ", gimbal to flight controller: [`", stringify!($rep), "`].")]
+                $name($rep),
+            )*
         }
 
         impl Request {
