@@ -63,14 +63,30 @@ fn bench<F: Framing + Copy, const N: usize>(
 ) {
     let stream: Vec<u8> = frames.concat();
     let budget = Duration::from_millis(300);
-    assert_eq!(deframe_count::<F, N>(framing, &stream), frames.len(), "{protocol}: deframer lost frames");
-    assert!(frames.iter().all(|f| decode(f)), "{protocol}: a frame did not decode");
-    let t = time(budget, || deframe_count::<F, N>(framing, black_box(&stream)));
+    assert_eq!(
+        deframe_count::<F, N>(framing, &stream),
+        frames.len(),
+        "{protocol}: deframer lost frames"
+    );
+    assert!(
+        frames.iter().all(|f| decode(f)),
+        "{protocol}: a frame did not decode"
+    );
+    let t = time(budget, || {
+        deframe_count::<F, N>(framing, black_box(&stream))
+    });
     report(protocol, "deframe", t, frames.len(), stream.len());
-    let t = time(budget, || frames.iter().filter(|f| decode(black_box(f))).count());
+    let t = time(budget, || {
+        frames.iter().filter(|f| decode(black_box(f))).count()
+    });
     report(protocol, "decode", t, frames.len(), stream.len());
     let mut out = vec![0u8; 70_000];
-    let t = time(budget, || frames.iter().map(|f| round_trip(black_box(f), &mut out)).sum());
+    let t = time(budget, || {
+        frames
+            .iter()
+            .map(|f| round_trip(black_box(f), &mut out))
+            .sum()
+    });
     report(protocol, "decode + encode", t, frames.len(), stream.len());
 }
 
@@ -80,15 +96,26 @@ fn k40t() {
     let mut frames = Vec::new();
     for round in 0..8u8 {
         for e in CATALOG {
-            for (kind, has) in [(Kind::Request, true), (Kind::Ack, e.ack), (Kind::Status, e.status)] {
+            for (kind, has) in [
+                (Kind::Request, true),
+                (Kind::Ack, e.ack),
+                (Kind::Status, e.status),
+            ] {
                 if !has {
                     continue;
                 }
                 let id = MsgId::new(kind, e.base);
-                let len = Message::decode(id, &[]).map(|m| m.payload_len()).unwrap_or(0);
+                let len = Message::decode(id, &[])
+                    .map(|m| m.payload_len())
+                    .unwrap_or(0);
                 let payload = rng.fill(len);
                 let message = Message::decode(id, &payload).expect("payload of its own length");
-                let p = Packet { dst: Address::POD, src: Address::FLIGHT_CONTROLLER, seq: round, message };
+                let p = Packet {
+                    dst: Address::POD,
+                    src: Address::FLIGHT_CONTROLLER,
+                    seq: round,
+                    message,
+                };
                 let mut buf = [0u8; MAX_FRAME_LEN];
                 let n = p.emit(&mut buf, CrcCoverage::ExcludeStx).expect("emit");
                 frames.push(buf[..n].to_vec());
@@ -100,7 +127,11 @@ fn k40t() {
         K40tFraming::with(CrcCoverage::ExcludeStx),
         &frames,
         |f| Packet::decode(f, CrcCoverage::ExcludeStx).is_ok(),
-        |f, out| Packet::decode(f, CrcCoverage::ExcludeStx).and_then(|p| p.emit(out, CrcCoverage::ExcludeStx)).unwrap_or(0),
+        |f, out| {
+            Packet::decode(f, CrcCoverage::ExcludeStx)
+                .and_then(|p| p.emit(out, CrcCoverage::ExcludeStx))
+                .unwrap_or(0)
+        },
     );
 }
 
@@ -118,8 +149,16 @@ fn siyi() {
                 }) else {
                     continue;
                 };
-                let ctrl = if direction == Direction::Reply { Ctrl::IS_ACK } else { Ctrl::NEED_ACK };
-                let p = Packet { ctrl, seq: round, message };
+                let ctrl = if direction == Direction::Reply {
+                    Ctrl::IS_ACK
+                } else {
+                    Ctrl::NEED_ACK
+                };
+                let p = Packet {
+                    ctrl,
+                    seq: round,
+                    message,
+                };
                 let mut buf = [0u8; DEFAULT_MAX_FRAME_LEN];
                 let n = p.emit(&mut buf).expect("emit");
                 frames.push(buf[..n].to_vec());
@@ -131,14 +170,21 @@ fn siyi() {
         SiyiFraming::default(),
         &frames,
         |f| Packet::decode_auto(f).is_ok(),
-        |f, out| Packet::decode_auto(f).and_then(|p| p.emit(out)).unwrap_or(0),
+        |f, out| {
+            Packet::decode_auto(f)
+                .and_then(|p| p.emit(out))
+                .unwrap_or(0)
+        },
     );
 }
 
 fn main() {
     // `cargo test --all-targets` runs benches as tests: one quick pass then.
     if std::env::args().any(|a| a == "--bench") {
-        println!("{:<9} {:<24} {:>18} {:>14}", "protocol", "stage", "time", "throughput");
+        println!(
+            "{:<9} {:<24} {:>18} {:>14}",
+            "protocol", "stage", "time", "throughput"
+        );
     }
     k40t();
     siyi();

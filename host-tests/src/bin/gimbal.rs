@@ -66,7 +66,7 @@ fn run(args: &[String]) -> Result<(), String> {
             let capture = read_capture(&hex_args, file)?;
             let items = protocol.scan(&capture);
             for item in &items {
-                writeln!(out, "{}", tool::render(protocol.name(), item, json))
+                writeln!(out, "{}", tool::render(protocol.as_ref(), item, json))
                     .map_err(|e| e.to_string())?;
             }
             eprintln!("{}", tool::summary(&items));

@@ -54,6 +54,10 @@ impl Protocol for K40t {
         scan_with(K40tFraming::any(), capture, decode)
     }
 
+    fn id_digits(&self) -> usize {
+        6
+    }
+
     fn messages(&self) -> Vec<String> {
         CATALOG
             .iter()

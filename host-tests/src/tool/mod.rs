@@ -54,6 +54,10 @@ pub trait Protocol {
     fn scan(&self, capture: &[u8]) -> Vec<Item>;
     /// One line per message id: `0x000304 HybridZoom request,ack,status`.
     fn messages(&self) -> Vec<String>;
+    /// Hex digits of a message id in human-readable output (K40T ids have six).
+    fn id_digits(&self) -> usize {
+        2
+    }
 }
 
 /// The protocols, by command-line name.
@@ -235,7 +239,9 @@ pub fn flat_fields(v: &Value) -> String {
 }
 
 /// One output line for an item.
-pub fn render(protocol: &str, item: &Item, as_json: bool) -> String {
+pub fn render(protocol: &dyn Protocol, item: &Item, as_json: bool) -> String {
+    let digits = protocol.id_digits();
+    let protocol = protocol.name();
     match (item, as_json) {
         (Item::Frame { offset, raw, decoded: Ok(d) }, true) => json!({
             "protocol": protocol, "offset": offset, "msg_id": d.msg_id, "name": d.name,
@@ -256,7 +262,7 @@ pub fn render(protocol: &str, item: &Item, as_json: bool) -> String {
         })
         .to_string(),
         (Item::Frame { offset, decoded: Ok(d), .. }, false) => {
-            format!("@{offset:06} {:#08x} {} {}", d.msg_id, d.name, flat_fields(&d.fields))
+            format!("@{offset:06} 0x{:0digits$x} {} {}", d.msg_id, d.name, flat_fields(&d.fields))
         }
         (Item::Frame { offset, raw, decoded: Err(e) }, false) => {
             format!("@{offset:06} undecodable frame ({e}): {}", spaced_hex(raw))
