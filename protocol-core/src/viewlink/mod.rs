@@ -58,6 +58,14 @@
 //!   emitting writes the one given.
 //! - Sign conventions are the document's: ArduPilot sends pitch angles and rates
 //!   negated (positive down) and reads B1 pitch negated.
+//! - Directions in [`CATALOG`]: section 2.2 lists the handshake (0x00) and heartbeat
+//!   (0x10) as payload to console, but 2.3 c) and ArduPilot send them to the payload
+//!   (which answers with 0x40): the catalogue says console to payload; decoding does
+//!   not depend on the direction.
+//! - A1 0x0E (listed "reserved") has the click-to-track parameters of 3.3.1.7; E1 0x06
+//!   and 0x07 (listed "reserved") the speed parameters of 3.11.1; C2 0x08 and 0x14 the
+//!   parameters of 3.8.1 (whose headings are garbled). Fields the document calls
+//!   unsigned but gives signed ranges (click coordinates, gyro bias) are signed.
 
 #[macro_use]
 mod field;
