@@ -298,7 +298,7 @@ pub struct C1 {
 
 impl C1 {
     /// The 16 bits on the wire; a field that does not fit its bits is
-    /// [`Error::OutOfRange`].
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
     pub fn to_u16(&self) -> Result<u16> {
         let v = put_bits(0, u16::from(self.sensor.value()), 0, 3)?;
         let v = put_bits(v, u16::from(self.zoom_speed), 3, 3)?;
@@ -560,7 +560,7 @@ impl PowerControl {
     pub const fn laser(self) -> PowerSwitch {
         PowerSwitch::from_value(bits_of(self.0, 14, 2) as u8)
     }
-    /// The bits for four switches; a switch value above 3 is [`Error::OutOfRange`].
+    /// The bits for four switches; a switch value above 3 is [`Error::OutOfRange`](crate::Error::OutOfRange).
     pub fn new(
         eo1: PowerSwitch,
         ir: PowerSwitch,
@@ -876,7 +876,7 @@ impl CalibrationSources {
         PitchCalibration::from_value(bits8(self.0, 2, 2))
     }
     /// The byte for two sources (bits 4..7 zero); a source above 3 is
-    /// [`Error::OutOfRange`].
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
     pub fn new(yaw: YawCalibration, pitch: PitchCalibration) -> Result<Self> {
         let b = put_bits8(0, yaw.value(), 0, 2)?;
         put_bits8(b, pitch.value(), 2, 2).map(CalibrationSources)
