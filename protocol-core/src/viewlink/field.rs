@@ -1,0 +1,552 @@
+//! Field encodings of Viewlink blocks (all big-endian), the [`Block`] trait, bit-field
+//! helpers and the macros that declare fixed-layout blocks.
+
+use crate::macros::WireCode;
+use crate::wire::{Reader, Writer};
+use crate::{Error, Result};
+
+/// A value with a fixed-size big-endian wire encoding.
+pub(crate) trait Field: Sized {
+    /// Encoded size in bytes.
+    const LEN: usize;
+    /// Reads the value.
+    fn read(r: &mut Reader<'_>) -> Result<Self>;
+    /// Writes the value.
+    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
+}
+
+macro_rules! be_field {
+    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
+        impl Field for $ty {
+            const LEN: usize = $n;
+            fn read(r: &mut Reader<'_>) -> Result<Self> {
+                r.$get()
+            }
+            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+                w.$put(*self)
+            }
+        }
+    )*};
+}
+
+be_field! {
+    u8: 1, u8, u8;
+    i8: 1, i8, i8;
+    u16: 2, u16_be, u16_be;
+    i16: 2, i16_be, i16_be;
+    u32: 4, u32_be, u32_be;
+    i32: 4, i32_be, i32_be;
+}
+
+impl<const N: usize> Field for [u8; N] {
+    const LEN: usize = N;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.array()
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(self)
+    }
+}
+
+impl<T: WireCode<Repr = u8>> Field for T {
+    const LEN: usize = 1;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.u8().map(T::from_repr)
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u8(self.to_repr())
+    }
+}
+
+/// One packet block (A1, C1, ... M): how it reads from and writes to the data of a frame.
+///
+/// Fixed-size blocks read exactly their length; variable-size blocks (V, M, the AI and
+/// KLV packets, transparent data) are always the last block of their frame and read
+/// every remaining byte.
+pub trait Block<'a>: Sized {
+    /// Reads the block from the front of `r`.
+    fn read_block(r: &mut Reader<'a>) -> Result<Self>;
+    /// Writes the block.
+    fn write_block(&self, w: &mut Writer<'_>) -> Result<()>;
+    /// Encoded length in bytes.
+    fn block_len(&self) -> usize;
+
+    /// Decodes a block from exactly `bytes` (more bytes than the block is
+    /// [`Error::BadLength`]).
+    fn from_bytes(bytes: &'a [u8]) -> Result<Self> {
+        let mut r = Reader::new(bytes);
+        let v = Self::read_block(&mut r)?;
+        r.finish()?;
+        Ok(v)
+    }
+
+    /// Encodes the block into `buf` and returns its length.
+    fn to_bytes(&self, buf: &mut [u8]) -> Result<usize> {
+        let mut w = Writer::new(buf);
+        self.write_block(&mut w)?;
+        Ok(w.finish())
+    }
+}
+
+/// A block with a fixed wire length.
+pub trait FixedBlock {
+    /// Encoded length in bytes.
+    const LEN: usize;
+}
+
+/// `value` masked to `bits` bits, after shifting right by `shift`.
+pub(crate) const fn bits_of(value: u16, shift: u32, bits: u32) -> u16 {
+    let mask = match 1u16.checked_shl(bits) {
+        Some(m) => m.wrapping_sub(1),
+        None => u16::MAX,
+    };
+    value.wrapping_shr(shift) & mask
+}
+
+/// Adds `value` as a `bits`-bit field at `shift` to `acc`; a value that does not fit is
+/// [`Error::OutOfRange`].
+pub(crate) fn put_bits(acc: u16, value: u16, shift: u32, bits: u32) -> Result<u16> {
+    if bits_of(value, 0, bits) != value {
+        return Err(Error::OutOfRange);
+    }
+    Ok(acc | value.wrapping_shl(shift))
+}
+
+/// Byte version of [`bits_of`].
+pub(crate) const fn bits8(value: u8, shift: u32, bits: u32) -> u8 {
+    bits_of(value as u16, shift, bits) as u8
+}
+
+/// Byte version of [`put_bits`].
+pub(crate) fn put_bits8(acc: u8, value: u8, shift: u32, bits: u32) -> Result<u8> {
+    let v = put_bits(u16::from(acc), u16::from(value), shift, bits)?;
+    u8::try_from(v).map_err(|_| Error::OutOfRange)
+}
+
+/// Declares a fixed-layout block struct: the fields in wire order, each a [`Field`].
+/// Generates the struct (with the crate's derives), [`Field`], [`Block`] and
+/// [`FixedBlock`].
+macro_rules! block {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+        pub struct $name {
+            $( $(#[$fmeta])* pub $field: $ty, )*
+        }
+
+        impl $crate::viewlink::field::Field for $name {
+            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field>::LEN )*;
+
+            fn read(_r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                Ok(Self { $( $field: $crate::viewlink::field::Field::read(_r)?, )* })
+            }
+
+            fn write(&self, _w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                $( $crate::viewlink::field::Field::write(&self.$field, _w)?; )*
+                Ok(())
+            }
+        }
+
+        impl_block_via_field!($name);
+    };
+}
+
+/// Implements [`Block`] and [`FixedBlock`] for a type that implements [`Field`].
+macro_rules! impl_block_via_field {
+    ($($t:ty),* $(,)?) => {$(
+        impl<'a> $crate::viewlink::field::Block<'a> for $t {
+            fn read_block(r: &mut $crate::wire::Reader<'a>) -> $crate::Result<Self> {
+                $crate::viewlink::field::Field::read(r)
+            }
+            fn write_block(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                $crate::viewlink::field::Field::write(self, w)
+            }
+            fn block_len(&self) -> usize {
+                <$t as $crate::viewlink::field::Field>::LEN
+            }
+        }
+
+        impl $crate::viewlink::field::FixedBlock for $t {
+            const LEN: usize = <$t as $crate::viewlink::field::Field>::LEN;
+        }
+    )*};
+}
+
+/// Declares newtypes over an integer (bit sets, packed nibbles) with a [`Field`] impl.
+macro_rules! newtype {
+    ($( $(#[$m:meta])* pub struct $t:ident($repr:ty); )*) => {$(
+        $(#[$m])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+        pub struct $t(pub $repr);
+
+        impl $t {
+            /// True when every bit of `mask` is set.
+            pub const fn contains(self, mask: $repr) -> bool {
+                self.0 & mask == mask
+            }
+        }
+
+        impl $crate::viewlink::field::Field for $t {
+            const LEN: usize = <$repr as $crate::viewlink::field::Field>::LEN;
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                <$repr as $crate::viewlink::field::Field>::read(r).map($t)
+            }
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                $crate::viewlink::field::Field::write(&self.0, w)
+            }
+        }
+    )*};
+}
+
+/// Implements [`Field`] for `u16` [`code_enum!`] types.
+macro_rules! u16_code_field {
+    ($($t:ty),* $(,)?) => {$(
+        impl $crate::viewlink::field::Field for $t {
+            const LEN: usize = 2;
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                r.u16_be().map(<$t>::from_value)
+            }
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                w.u16_be(self.value())
+            }
+        }
+    )*};
+}
+
+/// Declares a block whose first byte is a command and whose parameters depend on it: one
+/// variant per command with defined parameters (the command is implied by the variant),
+/// and `Plain` for the other commands (parameters kept as bytes). Every variant's
+/// parameters have the same length, checked at compile time.
+macro_rules! command_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident: $cmd:ident [$plen:literal] {
+            $( $(#[$vm:meta])* $variant:ident($ty:ty) = $code:ident, )*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+        pub enum $name {
+            $( $(#[$vm])* $variant($ty), )*
+            /// A command without parameters of its own (or one the document does not
+            /// list), with the parameter bytes as received.
+            Plain {
+                /// The command.
+                command: $cmd,
+                /// The parameter bytes.
+                params: [u8; $plen],
+            },
+        }
+
+        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field>::LEN == $plen); )*
+
+        impl $name {
+            /// The command byte.
+            pub const fn command(&self) -> $cmd {
+                match self {
+                    $( Self::$variant(_) => $cmd::$code, )*
+                    Self::Plain { command, .. } => *command,
+                }
+            }
+
+            /// A command with all parameter bytes zero (`Plain`, whatever the command).
+            pub const fn plain(command: $cmd) -> Self {
+                Self::Plain { command, params: [0; $plen] }
+            }
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                Self::plain($cmd::from_value(0))
+            }
+        }
+
+        impl $crate::viewlink::field::Field for $name {
+            const LEN: usize = 1 + $plen;
+
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                let command = $cmd::from_value(r.u8()?);
+                Ok(match command {
+                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::read(r)?), )*
+                    command => Self::Plain { command, params: r.array()? },
+                })
+            }
+
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                w.u8(self.command().value())?;
+                match self {
+                    $( Self::$variant(v) => $crate::viewlink::field::Field::write(v, w), )*
+                    Self::Plain { params, .. } => w.put(params),
+                }
+            }
+        }
+
+        impl_block_via_field!($name);
+    };
+}
+
+/// Up to `N` bytes of variable-length data, kept as received.
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Bytes<const N: usize> {
+    len: u8,
+    buf: [u8; N],
+}
+
+impl<const N: usize> Default for Bytes<N> {
+    fn default() -> Self {
+        Bytes {
+            len: 0,
+            buf: [0; N],
+        }
+    }
+}
+
+impl<const N: usize> Bytes<N> {
+    /// The bytes of `data`; more than `N` bytes (or more than 255) is
+    /// [`Error::OutOfRange`].
+    pub fn new(data: &[u8]) -> Result<Self> {
+        let mut b = Bytes::default();
+        b.buf
+            .get_mut(..data.len())
+            .ok_or(Error::OutOfRange)?
+            .copy_from_slice(data);
+        b.len = u8::try_from(data.len()).map_err(|_| Error::OutOfRange)?;
+        Ok(b)
+    }
+
+    /// The bytes held.
+    pub fn as_slice(&self) -> &[u8] {
+        self.buf.get(..usize::from(self.len)).unwrap_or_default()
+    }
+
+    /// Number of bytes held.
+    pub const fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True when no byte is held.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Reads every remaining byte of `r` (more than `N` is [`Error::BadLength`]).
+    pub(crate) fn read_rest(r: &mut Reader<'_>) -> Result<Self> {
+        Bytes::new(r.rest()).map_err(|_| Error::BadLength)
+    }
+}
+
+impl<const N: usize> PartialEq for Bytes<N> {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_slice() == other.as_slice()
+    }
+}
+
+impl<const N: usize> Eq for Bytes<N> {}
+
+impl<const N: usize> core::hash::Hash for Bytes<N> {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.as_slice().hash(state);
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<const N: usize> serde::Serialize for Bytes<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        s.collect_seq(self.as_slice().iter())
+    }
+}
+
+/// A fixed-size text field (firmware version, model, serial number): `N` bytes, not
+/// NUL-terminated, padded with 0x00 or spaces. Kept as the bytes received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Text<const N: usize> {
+    /// The bytes as on the wire.
+    pub raw: [u8; N],
+}
+
+impl<const N: usize> Default for Text<N> {
+    fn default() -> Self {
+        Text { raw: [0; N] }
+    }
+}
+
+impl<const N: usize> Text<N> {
+    /// The text for `s`, padded with 0x00. More than `N` bytes, or a byte that is not
+    /// printable ASCII, is [`Error::OutOfRange`].
+    pub fn new(s: &str) -> Result<Self> {
+        if !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
+            return Err(Error::OutOfRange);
+        }
+        let mut raw = [0; N];
+        raw.get_mut(..s.len())
+            .ok_or(Error::OutOfRange)?
+            .copy_from_slice(s.as_bytes());
+        Ok(Text { raw })
+    }
+
+    /// The text without trailing 0x00 and spaces; `None` if that is not UTF-8.
+    pub fn as_str(&self) -> Option<&str> {
+        let end = self
+            .raw
+            .iter()
+            .rposition(|&b| b != 0 && b != b' ')
+            .map_or(0, |i| i.saturating_add(1));
+        core::str::from_utf8(self.raw.get(..end)?).ok()
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<const N: usize> serde::Serialize for Text<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        match self.as_str() {
+            Some(text) => s.serialize_str(text),
+            None => s.collect_seq(self.raw.iter()),
+        }
+    }
+}
+
+impl<const N: usize> Field for Text<N> {
+    const LEN: usize = N;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.array().map(|raw| Text { raw })
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.put(&self.raw)
+    }
+}
+
+/// A UTC date packed in 16 bits (M and T2 packets): bits 15..11 day, 10..7 month,
+/// 6..0 year minus 2000. Kept as the 16 bits received.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Date(pub u16);
+
+impl Date {
+    /// The date for a day (1..=31), month (1..=12) and year (2000..=2127); a value that
+    /// does not fit its bits is [`Error::OutOfRange`].
+    pub fn new(year: u16, month: u8, day: u8) -> Result<Self> {
+        let y = year.checked_sub(2000).ok_or(Error::OutOfRange)?;
+        let v = put_bits(0, y, 0, 7)?;
+        let v = put_bits(v, u16::from(month), 7, 4)?;
+        put_bits(v, u16::from(day), 11, 5).map(Date)
+    }
+
+    /// Day of the month (bits 15..11).
+    pub const fn day(self) -> u8 {
+        bits_of(self.0, 11, 5) as u8
+    }
+
+    /// Month (bits 10..7).
+    pub const fn month(self) -> u8 {
+        bits_of(self.0, 7, 4) as u8
+    }
+
+    /// Year (bits 6..0, plus 2000).
+    pub const fn year(self) -> u16 {
+        bits_of(self.0, 0, 7).wrapping_add(2000)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for Date {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut st = s.serialize_struct("Date", 3)?;
+        st.serialize_field("year", &self.year())?;
+        st.serialize_field("month", &self.month())?;
+        st.serialize_field("day", &self.day())?;
+        st.end()
+    }
+}
+
+impl Field for Date {
+    const LEN: usize = 2;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.u16_be().map(Date)
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u16_be(self.0)
+    }
+}
+
+/// Time of day in 0.01 s since UTC midnight, 3 bytes big-endian (M and T2 packets).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct TimeCs(pub u32);
+
+impl TimeCs {
+    /// The time for hours, minutes, seconds and hundredths.
+    pub fn new(hour: u8, minute: u8, second: u8, centis: u8) -> Result<Self> {
+        if hour > 23 || minute > 59 || second > 60 || centis > 99 {
+            return Err(Error::OutOfRange);
+        }
+        let s = u32::from(hour)
+            .saturating_mul(3600)
+            .saturating_add(u32::from(minute).saturating_mul(60))
+            .saturating_add(u32::from(second));
+        Ok(TimeCs(
+            s.saturating_mul(100).saturating_add(u32::from(centis)),
+        ))
+    }
+}
+
+impl Field for TimeCs {
+    const LEN: usize = 3;
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        r.u24_be().map(TimeCs)
+    }
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u24_be(self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bit_helpers() {
+        assert_eq!(bits_of(0x0278, 6, 7), 0x09);
+        assert_eq!(bits_of(0x0278, 3, 3), 7);
+        assert_eq!(put_bits(0, 0x09, 6, 7), Ok(0x0240));
+        assert_eq!(put_bits(0, 0x80, 6, 7), Err(Error::OutOfRange));
+        assert_eq!(put_bits8(0x01, 3, 6, 2), Ok(0xC1));
+        assert_eq!(put_bits8(0, 4, 6, 2), Err(Error::OutOfRange));
+        assert_eq!(bits_of(0xFFFF, 0, 16), 0xFFFF);
+    }
+
+    #[test]
+    fn date_and_time() {
+        let d = Date::new(2026, 1, 31).unwrap();
+        assert_eq!((d.year(), d.month(), d.day()), (2026, 1, 31));
+        assert_eq!(d.0, (31 << 11) | (1 << 7) | 26);
+        assert!(Date::new(1999, 1, 1).is_err());
+        assert!(Date::new(2000, 16, 1).is_err());
+        assert_eq!(TimeCs::new(23, 59, 59, 99).unwrap().0, 8_639_999);
+        assert!(TimeCs::new(24, 0, 0, 0).is_err());
+    }
+
+    #[test]
+    fn bytes_and_text() {
+        let b = Bytes::<4>::new(&[1, 2]).unwrap();
+        assert_eq!(b.as_slice(), &[1, 2]);
+        assert!(Bytes::<1>::new(&[1, 2]).is_err());
+        let t = Text::<10>::new("Z40K").unwrap();
+        assert_eq!(t.as_str(), Some("Z40K"));
+        assert!(Text::<2>::new("abc").is_err());
+    }
+}

@@ -1,0 +1,307 @@
+//! The Viewlink serial frame: `55 AA DC LEN ID DATA XOR`.
+//!
+//! LEN bits 0..5 count the bytes from LEN through the checksum (4..=63); bits 6..7 are
+//! a frame counter. The checksum is the XOR of LEN (counter bits included) through the
+//! last data byte.
+
+use crate::wire::{Framing, xor8};
+use crate::{Error, Result};
+
+/// The sync bytes of section 2.1.
+pub const SYNC: [u8; 3] = [0x55, 0xAA, 0xDC];
+/// The sync bytes as the document prints its ACK example (first two swapped).
+pub const SYNC_SWAPPED: [u8; 3] = [0xAA, 0x55, 0xDC];
+/// Smallest body length (LEN, id, one data byte, checksum).
+pub const MIN_BODY_LEN: usize = 4;
+/// Largest body length (6 bits).
+pub const MAX_BODY_LEN: usize = 63;
+/// Most data bytes in a frame.
+pub const MAX_DATA_LEN: usize = MAX_BODY_LEN - 3;
+/// Largest frame, sync to checksum.
+pub const MAX_FRAME_LEN: usize = MAX_BODY_LEN + 3;
+/// Smallest frame.
+pub const MIN_FRAME_LEN: usize = MIN_BODY_LEN + 3;
+
+mod field {
+    pub const LEN: usize = 3;
+    pub const ID: usize = 4;
+    pub const DATA: usize = 5;
+}
+
+/// Which sync bytes a frame starts with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum HeaderOrder {
+    /// `55 AA DC`, as section 2.1 and ArduPilot (the default, and what to send).
+    #[default]
+    Standard,
+    /// `AA 55 DC`, as the document prints its ACK example. Decoded, never chosen by
+    /// this crate unless asked.
+    Swapped,
+}
+
+impl HeaderOrder {
+    /// The three sync bytes.
+    pub const fn bytes(self) -> [u8; 3] {
+        match self {
+            HeaderOrder::Standard => SYNC,
+            HeaderOrder::Swapped => SYNC_SWAPPED,
+        }
+    }
+
+    /// The order of three sync bytes, if they are either.
+    pub fn of(bytes: &[u8]) -> Option<Self> {
+        match bytes.get(..3)? {
+            b if b == SYNC => Some(HeaderOrder::Standard),
+            b if b == SYNC_SWAPPED => Some(HeaderOrder::Swapped),
+            _ => None,
+        }
+    }
+}
+
+/// The LEN byte: a body length (bits 0..5) and a frame counter (bits 6..7).
+pub const fn len_byte(body_len: u8, counter: u8) -> u8 {
+    (body_len & 0x3F) | ((counter & 0x03) << 6)
+}
+
+/// A read-only or read-write view of a Viewlink frame in a byte buffer.
+///
+/// [`Frame::new_checked`] guarantees the buffer starts with either sync order, has a
+/// body length in 4..=63 and holds the whole frame. Accessors never panic, also on an
+/// unchecked view (they return zeros). Bytes after the frame are ignored.
+#[derive(Debug, Clone)]
+pub struct Frame<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> Frame<T> {
+    /// A view without checks.
+    pub const fn new_unchecked(buffer: T) -> Self {
+        Frame { buffer }
+    }
+
+    /// A view of a buffer that holds a whole frame (the checksum is not verified; see
+    /// [`Frame::verify`]).
+    pub fn new_checked(buffer: T) -> Result<Self> {
+        let f = Frame { buffer };
+        f.check_len()?;
+        Ok(f)
+    }
+
+    /// Checks the sync bytes, the body length and that the buffer holds the frame.
+    pub fn check_len(&self) -> Result<()> {
+        let b = self.buffer.as_ref();
+        let sync = b.get(..3).ok_or(Error::Truncated)?;
+        if HeaderOrder::of(sync).is_none() {
+            return Err(Error::BadSync);
+        }
+        let n = usize::from(self.body_len());
+        if b.len() <= field::LEN {
+            return Err(Error::Truncated);
+        }
+        if n < MIN_BODY_LEN {
+            return Err(Error::BadLength);
+        }
+        if b.len() < self.total_len() {
+            return Err(Error::Truncated);
+        }
+        Ok(())
+    }
+
+    /// The underlying buffer.
+    pub fn into_inner(self) -> T {
+        self.buffer
+    }
+
+    fn byte(&self, i: usize) -> u8 {
+        self.buffer.as_ref().get(i).copied().unwrap_or(0)
+    }
+
+    /// The sync order (standard when the view is not a checked frame).
+    pub fn header(&self) -> HeaderOrder {
+        HeaderOrder::of(self.buffer.as_ref()).unwrap_or_default()
+    }
+
+    /// The LEN byte as on the wire.
+    pub fn len_field(&self) -> u8 {
+        self.byte(field::LEN)
+    }
+
+    /// Body length: bytes from LEN through the checksum (LEN bits 0..5).
+    pub fn body_len(&self) -> u8 {
+        self.len_field() & 0x3F
+    }
+
+    /// Frame counter (LEN bits 6..7).
+    pub fn counter(&self) -> u8 {
+        self.len_field() >> 6
+    }
+
+    /// Length of the whole frame, sync to checksum.
+    pub fn total_len(&self) -> usize {
+        usize::from(self.body_len()).saturating_add(3)
+    }
+
+    /// The frame id.
+    pub fn frame_id(&self) -> u8 {
+        self.byte(field::ID)
+    }
+
+    fn data_range(&self) -> core::ops::Range<usize> {
+        field::DATA..self.total_len().saturating_sub(1).max(field::DATA)
+    }
+
+    /// The data bytes (after the id, before the checksum).
+    pub fn data(&self) -> &[u8] {
+        self.buffer
+            .as_ref()
+            .get(self.data_range())
+            .unwrap_or_default()
+    }
+
+    /// The checksum the frame carries.
+    pub fn checksum(&self) -> u8 {
+        self.byte(self.total_len().saturating_sub(1))
+    }
+
+    /// The checksum computed over LEN through the last data byte.
+    pub fn compute_checksum(&self) -> u8 {
+        let end = self.total_len().saturating_sub(1).max(field::LEN);
+        xor8(
+            self.buffer
+                .as_ref()
+                .get(field::LEN..end)
+                .unwrap_or_default(),
+        )
+    }
+
+    /// Verifies the checksum.
+    pub fn verify(&self) -> Result<()> {
+        let computed = self.compute_checksum();
+        let received = self.checksum();
+        if computed == received {
+            Ok(())
+        } else {
+            Err(Error::BadChecksum {
+                computed: computed.into(),
+                received: received.into(),
+            })
+        }
+    }
+}
+
+impl<'a> Frame<&'a [u8]> {
+    /// The data, borrowed for the lifetime of the underlying buffer.
+    pub fn data_ref(&self) -> &'a [u8] {
+        self.buffer.get(self.data_range()).unwrap_or_default()
+    }
+}
+
+impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
+    fn set_byte(&mut self, i: usize, v: u8) {
+        if let Some(b) = self.buffer.as_mut().get_mut(i) {
+            *b = v;
+        }
+    }
+
+    /// Writes the sync bytes.
+    pub fn set_header(&mut self, order: HeaderOrder) {
+        for (i, b) in order.bytes().into_iter().enumerate() {
+            self.set_byte(i, b);
+        }
+    }
+
+    /// Writes the LEN byte (body length 4..=63 and counter 0..=3).
+    pub fn set_len(&mut self, body_len: u8, counter: u8) {
+        self.set_byte(field::LEN, len_byte(body_len, counter));
+    }
+
+    /// Sets the frame id.
+    pub fn set_frame_id(&mut self, id: u8) {
+        self.set_byte(field::ID, id);
+    }
+
+    /// The data, writable (LEN must be set first).
+    pub fn data_mut(&mut self) -> &mut [u8] {
+        let range = self.data_range();
+        self.buffer.as_mut().get_mut(range).unwrap_or_default()
+    }
+
+    /// Computes and stores the checksum (LEN, id and data must be set first).
+    pub fn fill_checksum(&mut self) {
+        let cs = self.compute_checksum();
+        let at = self.total_len().saturating_sub(1);
+        self.set_byte(at, cs);
+    }
+}
+
+/// Viewlink framing rules for the [`Deframer`](crate::wire::Deframer): one sync order
+/// (standard by default; [`ViewlinkFraming::swapped`] for the document's `AA 55 DC`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ViewlinkFraming {
+    /// The sync bytes accepted.
+    pub header: HeaderOrder,
+}
+
+impl ViewlinkFraming {
+    /// Frames starting `55 AA DC`.
+    pub const fn new() -> Self {
+        ViewlinkFraming {
+            header: HeaderOrder::Standard,
+        }
+    }
+
+    /// Frames starting `AA 55 DC`.
+    pub const fn swapped() -> Self {
+        ViewlinkFraming {
+            header: HeaderOrder::Swapped,
+        }
+    }
+}
+
+impl Framing for ViewlinkFraming {
+    fn sync(&self) -> &[u8] {
+        match self.header {
+            HeaderOrder::Standard => &SYNC,
+            HeaderOrder::Swapped => &SYNC_SWAPPED,
+        }
+    }
+
+    fn header_len(&self) -> usize {
+        4
+    }
+
+    fn frame_len(&self, header: &[u8]) -> Result<usize> {
+        let n = usize::from(header.get(field::LEN).copied().ok_or(Error::Truncated)? & 0x3F);
+        if n < MIN_BODY_LEN {
+            return Err(Error::BadLength);
+        }
+        Ok(n.saturating_add(3))
+    }
+
+    fn check(&self, frame: &[u8]) -> Result<()> {
+        Frame::new_checked(frame)?.verify()
+    }
+}
+
+/// The frame counter a sender keeps: 1, 2, 3, 0, 1, ... (ArduPilot increments before
+/// each frame it sends).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FrameCounter {
+    last: u8,
+}
+
+impl FrameCounter {
+    /// A counter whose next value is 1.
+    pub const fn new() -> Self {
+        FrameCounter { last: 0 }
+    }
+
+    /// The counter for the next frame.
+    pub fn next_value(&mut self) -> u8 {
+        self.last = self.last.wrapping_add(1) & 0x03;
+        self.last
+    }
+}
