@@ -34,7 +34,15 @@
 )]
 
 // Unused only in a build without the codecs that use them.
-#[cfg_attr(not(feature = "k40t"), allow(unused_macros, dead_code))]
+#[cfg_attr(
+    not(any(
+        feature = "k40t",
+        feature = "siyi",
+        feature = "viewlink",
+        feature = "gcu"
+    )),
+    allow(unused_macros, dead_code)
+)]
 #[macro_use]
 mod macros;
 mod error;
