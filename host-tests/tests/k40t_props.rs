@@ -76,11 +76,21 @@ fn known_message() -> impl Strategy<Value = (u32, Vec<u8>)> {
         .prop_flat_map(|(id, len)| (Just(id), proptest::collection::vec(any::<u8>(), len)))
 }
 
+/// An id the catalogue does not define (it decodes to `Raw`), mostly near the known ones.
+fn unknown_id() -> impl Strategy<Value = u32> + Clone {
+    prop_oneof![0u32..0x03_0000, 0u32..0x0100_0000].prop_filter("a known id", |&id| {
+        matches!(
+            Message::decode(MsgId::from_u32(id), &[]),
+            Ok(Message::Raw(_))
+        )
+    })
+}
+
 fn any_frame() -> impl Strategy<Value = Vec<u8>> + Clone {
     prop_oneof![
         known_message().prop_map(|(id, p)| frame(id, &p)),
         (
-            0u32..0x03_0000,
+            unknown_id(),
             proptest::collection::vec(any::<u8>(), 0..=243)
         )
             .prop_map(|(id, p)| frame(id, &p)),

@@ -60,7 +60,7 @@ impl CameraSet {
     }
 }
 
-impl Field for CameraSet {
+impl Field<crate::wire::field::Le> for CameraSet {
     const LEN: usize = 1;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u8().map(CameraSet)
@@ -315,7 +315,7 @@ macro_rules! params_len {
         0
     };
     ($ty:ty) => {
-        <$ty as Field>::LEN
+        <$ty as Field<crate::wire::field::Le>>::LEN
     };
 }
 
@@ -334,7 +334,7 @@ macro_rules! encode_arm {
     };
     ($self:ident, $w:ident, $name:ident, $ty:ty) => {
         match $self {
-            Command::$name(p) => Field::write(p, $w),
+            Command::$name(p) => Field::<crate::wire::field::Le>::write(p, $w),
             _ => Ok(()),
         }
     };

@@ -1,65 +1,13 @@
 //! Field encodings of the GCU data frames and parameters (all little-endian; only the
 //! CRC is big-endian) and the macro that declares fixed-layout structs.
 
-use crate::macros::WireCode;
-use crate::wire::{Reader, Writer};
+use crate::wire::Reader;
 use crate::{Error, Result};
 
-/// A value with a fixed-size wire encoding.
-pub(crate) trait Field: Sized {
-    /// Encoded size in bytes.
-    const LEN: usize;
-    /// Reads the value.
-    fn read(r: &mut Reader<'_>) -> Result<Self>;
-    /// Writes the value.
-    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
-}
-
-macro_rules! le_field {
-    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
-        impl Field for $ty {
-            const LEN: usize = $n;
-            fn read(r: &mut Reader<'_>) -> Result<Self> {
-                r.$get()
-            }
-            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-                w.$put(*self)
-            }
-        }
-    )*};
-}
-
-le_field! {
-    u8: 1, u8, u8;
-    i8: 1, i8, i8;
-    u16: 2, u16_le, u16_le;
-    i16: 2, i16_le, i16_le;
-    u32: 4, u32_le, u32_le;
-    i32: 4, i32_le, i32_le;
-}
-
-impl<const N: usize> Field for [u8; N] {
-    const LEN: usize = N;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.array()
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(self)
-    }
-}
-
-impl<T: WireCode<Repr = u8>> Field for T {
-    const LEN: usize = 1;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.u8().map(T::from_repr)
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.u8(self.to_repr())
-    }
-}
+pub(crate) use crate::wire::field::Field;
 
 /// Decodes exactly `T::LEN` bytes; any other length is [`Error::BadLength`].
-pub(crate) fn decode_exact<T: Field>(bytes: &[u8]) -> Result<T> {
+pub(crate) fn decode_exact<T: Field<crate::wire::field::Le>>(bytes: &[u8]) -> Result<T> {
     if bytes.len() != T::LEN {
         return Err(Error::BadLength);
     }
@@ -87,7 +35,7 @@ macro_rules! wire_struct {
 
         impl $name {
             /// Encoded length in bytes.
-            pub const LEN: usize = 0 $( + <$ty as $crate::gcu::field::Field>::LEN )*;
+            pub const LEN: usize = 0 $( + <$ty as $crate::gcu::field::Field<$crate::wire::field::Le>>::LEN )*;
 
             /// Decodes exactly [`Self::LEN`] bytes (any other length is
             /// [`Error::BadLength`](crate::Error::BadLength)).
@@ -98,20 +46,20 @@ macro_rules! wire_struct {
             /// Encodes into the front of `out`; returns [`Self::LEN`].
             pub fn to_bytes(&self, out: &mut [u8]) -> $crate::Result<usize> {
                 let mut w = $crate::wire::Writer::new(out);
-                $crate::gcu::field::Field::write(self, &mut w)?;
+                $crate::gcu::field::Field::<$crate::wire::field::Le>::write(self, &mut w)?;
                 Ok(w.finish())
             }
         }
 
-        impl $crate::gcu::field::Field for $name {
+        impl $crate::gcu::field::Field<$crate::wire::field::Le> for $name {
             const LEN: usize = $name::LEN;
 
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::gcu::field::Field::read(r)?, )* })
+                Ok(Self { $( $field: $crate::gcu::field::Field::<$crate::wire::field::Le>::read(r)?, )* })
             }
 
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::gcu::field::Field::write(&self.$field, w)?; )*
+                $( $crate::gcu::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
                 Ok(())
             }
         }
@@ -159,13 +107,13 @@ macro_rules! bit_set {
             }
         }
 
-        impl $crate::gcu::field::Field for $name {
+        impl $crate::gcu::field::Field<$crate::wire::field::Le> for $name {
             const LEN: usize = core::mem::size_of::<$repr>();
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                <$repr as $crate::gcu::field::Field>::read(r).map(Self)
+                <$repr as $crate::gcu::field::Field<$crate::wire::field::Le>>::read(r).map(Self)
             }
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::gcu::field::Field::write(&self.0, w)
+                $crate::gcu::field::Field::<$crate::wire::field::Le>::write(&self.0, w)
             }
         }
 

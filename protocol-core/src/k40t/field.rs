@@ -1,64 +1,10 @@
 //! Field encodings of K40T payloads (all little-endian except the ACK response code),
 //! the [`Payload`] trait and the macro that declares payload structs.
 
-use crate::macros::WireCode;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-/// A value with a fixed-size K40T wire encoding.
-pub(crate) trait Field: Sized {
-    /// Encoded size in bytes.
-    const LEN: usize;
-    /// Reads the value.
-    fn read(r: &mut Reader<'_>) -> Result<Self>;
-    /// Writes the value.
-    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
-}
-
-macro_rules! le_field {
-    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
-        impl Field for $ty {
-            const LEN: usize = $n;
-            fn read(r: &mut Reader<'_>) -> Result<Self> {
-                r.$get()
-            }
-            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-                w.$put(*self)
-            }
-        }
-    )*};
-}
-
-le_field! {
-    u8: 1, u8, u8;
-    i8: 1, i8, i8;
-    u16: 2, u16_le, u16_le;
-    i16: 2, i16_le, i16_le;
-    u32: 4, u32_le, u32_le;
-    i32: 4, i32_le, i32_le;
-    u64: 8, u64_le, u64_le;
-    i64: 8, i64_le, i64_le;
-}
-
-impl<const N: usize> Field for [u8; N] {
-    const LEN: usize = N;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.array()
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(self)
-    }
-}
-
-impl<T: WireCode<Repr = u8>> Field for T {
-    const LEN: usize = 1;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.u8().map(T::from_repr)
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.u8(self.to_repr())
-    }
-}
+pub(crate) use crate::wire::field::Field;
 
 /// A message payload with a fixed wire length.
 pub trait Payload: Sized {
@@ -112,14 +58,14 @@ macro_rules! payload {
         }
 
         impl $crate::k40t::Payload for $name {
-            const LEN: usize = 0 $( + <$ty as $crate::k40t::field::Field>::LEN )*;
+            const LEN: usize = 0 $( + <$ty as $crate::k40t::field::Field<$crate::wire::field::Le>>::LEN )*;
 
             fn decode(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::k40t::field::Field::read(r)?, )* })
+                Ok(Self { $( $field: $crate::k40t::field::Field::<$crate::wire::field::Le>::read(r)?, )* })
             }
 
             fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::k40t::field::Field::write(&self.$field, w)?; )*
+                $( $crate::k40t::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
                 Ok(())
             }
         }
@@ -216,7 +162,7 @@ impl serde::Serialize for ResponseCode {
     }
 }
 
-impl Field for ResponseCode {
+impl Field<crate::wire::field::Le> for ResponseCode {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| ResponseCode { raw })
@@ -239,7 +185,7 @@ pub struct Version {
     pub patch: u8,
 }
 
-impl Field for Version {
+impl Field<crate::wire::field::Le> for Version {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let [major, minor, patch] = r.array()?;
@@ -309,7 +255,7 @@ impl<const N: usize> serde::Serialize for Text<N> {
     }
 }
 
-impl<const N: usize> Field for Text<N> {
+impl<const N: usize> Field<crate::wire::field::Le> for Text<N> {
     const LEN: usize = N;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| Text { raw })
@@ -322,7 +268,7 @@ impl<const N: usize> Field for Text<N> {
 /// Implements [`Field`] for one-byte newtypes (`struct Flags(pub u8)`).
 macro_rules! impl_field_newtype {
     ($($t:ident),* $(,)?) => {$(
-        impl $crate::k40t::field::Field for $t {
+        impl $crate::k40t::field::Field<$crate::wire::field::Le> for $t {
             const LEN: usize = 1;
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
                 r.u8().map($t)

@@ -76,7 +76,7 @@ pub struct SbusChannelMap {
     pub center: u8,
 }
 
-impl super::field::Field for SbusChannelMap {
+impl super::field::Field<crate::wire::field::Le> for SbusChannelMap {
     const LEN: usize = 7;
     fn read(r: &mut crate::wire::Reader<'_>) -> crate::Result<Self> {
         let [stream, zoom, photo, video, pitch, yaw, center] = r.array()?;

@@ -60,10 +60,10 @@ pub trait AckPayload {
 impl Payload for ResponseCode {
     const LEN: usize = 2;
     fn decode(r: &mut crate::wire::Reader<'_>) -> Result<Self> {
-        field::Field::read(r)
+        field::Field::<crate::wire::field::Le>::read(r)
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        field::Field::write(self, w)
+        field::Field::<crate::wire::field::Le>::write(self, w)
     }
 }
 

@@ -1,67 +1,10 @@
 //! Field encodings of SIYI data (all little-endian), the [`Payload`] trait, the macro
 //! that declares payload structs, and the types several messages share.
 
-use crate::macros::WireCode;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-/// A value with a fixed-size wire encoding.
-pub(crate) trait Field: Sized {
-    /// Encoded size in bytes.
-    const LEN: usize;
-    /// Reads the value.
-    fn read(r: &mut Reader<'_>) -> Result<Self>;
-    /// Writes the value.
-    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
-}
-
-macro_rules! le_field {
-    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
-        impl Field for $ty {
-            const LEN: usize = $n;
-            fn read(r: &mut Reader<'_>) -> Result<Self> {
-                r.$get()
-            }
-            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-                w.$put(*self)
-            }
-        }
-    )*};
-}
-
-le_field! {
-    u8: 1, u8, u8;
-    i8: 1, i8, i8;
-    u16: 2, u16_le, u16_le;
-    i16: 2, i16_le, i16_le;
-    u32: 4, u32_le, u32_le;
-    i32: 4, i32_le, i32_le;
-    u64: 8, u64_le, u64_le;
-    f32: 4, f32_le, f32_le;
-}
-
-impl<const N: usize> Field for [u8; N] {
-    const LEN: usize = N;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.array()
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(self)
-    }
-}
-
-impl<T: WireCode> Field for T
-where
-    T::Repr: Field,
-{
-    const LEN: usize = <T::Repr as Field>::LEN;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        <T::Repr as Field>::read(r).map(T::from_repr)
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        self.to_repr().write(w)
-    }
-}
+pub(crate) use crate::wire::field::Field;
 
 /// The data of one message in one direction.
 ///
@@ -110,7 +53,7 @@ macro_rules! payload {
 
         impl $name {
             /// Encoded length in bytes.
-            pub const LEN: usize = 0 $( + <$ty as $crate::siyi::field::Field>::LEN )*;
+            pub const LEN: usize = 0 $( + <$ty as $crate::siyi::field::Field<$crate::wire::field::Le>>::LEN )*;
         }
 
         impl $crate::siyi::Payload for $name {
@@ -120,7 +63,7 @@ macro_rules! payload {
                 }
                 #[allow(unused_mut, unused_variables)]
                 let mut r = $crate::wire::Reader::new(data);
-                Ok(Self { $( $field: $crate::siyi::field::Field::read(&mut r)?, )* })
+                Ok(Self { $( $field: $crate::siyi::field::Field::<$crate::wire::field::Le>::read(&mut r)?, )* })
             }
 
             fn encoded_len(&self) -> usize {
@@ -129,7 +72,7 @@ macro_rules! payload {
 
             #[allow(unused_variables)]
             fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::siyi::field::Field::write(&self.$field, w)?; )*
+                $( $crate::siyi::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
                 Ok(())
             }
         }
@@ -143,7 +86,7 @@ payload! {
 
 /// Reads the optional trailing fields of a variable-length layout: `Some` while bytes
 /// remain, `None` after. The reader must then be empty.
-pub(crate) fn optional<T: Field>(r: &mut Reader<'_>) -> Result<Option<T>> {
+pub(crate) fn optional<T: Field<crate::wire::field::Le>>(r: &mut Reader<'_>) -> Result<Option<T>> {
     if r.is_empty() {
         Ok(None)
     } else {
@@ -163,7 +106,7 @@ impl<'w, 'b> Trailing<'w, 'b> {
         Trailing { w, ended: false }
     }
 
-    pub(crate) fn field<T: Field>(&mut self, v: &Option<T>) -> Result<()> {
+    pub(crate) fn field<T: Field<crate::wire::field::Le>>(&mut self, v: &Option<T>) -> Result<()> {
         match v {
             Some(v) if self.ended => {
                 let _ = v;
@@ -269,7 +212,7 @@ impl FirmwareVersion {
     }
 }
 
-impl Field for FirmwareVersion {
+impl Field<crate::wire::field::Le> for FirmwareVersion {
     const LEN: usize = 4;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u32_le().map(FirmwareVersion::from_u32)
@@ -442,7 +385,7 @@ impl serde::Serialize for HardwareId {
     }
 }
 
-impl Field for HardwareId {
+impl Field<crate::wire::field::Le> for HardwareId {
     const LEN: usize = 12;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| HardwareId { raw })

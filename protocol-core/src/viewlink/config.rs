@@ -313,7 +313,7 @@ impl<T> Setting2<T> {
     }
 }
 
-impl<T: Field> Field for Setting1<T> {
+impl<T: Field<crate::wire::field::Be>> Field<crate::wire::field::Be> for Setting1<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 1) };
@@ -328,7 +328,7 @@ impl<T: Field> Field for Setting1<T> {
     }
 }
 
-impl<T: Field> Field for Setting2<T> {
+impl<T: Field<crate::wire::field::Be>> Field<crate::wire::field::Be> for Setting2<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 2) };
@@ -845,15 +845,21 @@ impl<'a> super::field::Block<'a> for V {
         }
         let mut p = Reader::new(rest);
         let data = match kind {
-            VKind::ProtocolControl => VData::ProtocolControl(Field::read(&mut p)?),
-            VKind::TimeZone => VData::TimeZone(Field::read(&mut p)?),
-            VKind::Osd => VData::Osd(Field::read(&mut p)?),
-            VKind::BaudRate => VData::BaudRate(Field::read(&mut p)?),
-            VKind::AlarmTemperature => VData::AlarmTemperature(Field::read(&mut p)?),
-            VKind::RcMapping => VData::RcMapping(Field::read(&mut p)?),
-            VKind::Firmware => VData::Firmware(Field::read(&mut p)?),
-            VKind::Model => VData::Model(Field::read(&mut p)?),
-            VKind::SerialNumber => VData::SerialNumber(Field::read(&mut p)?),
+            VKind::ProtocolControl => {
+                VData::ProtocolControl(Field::<crate::wire::field::Be>::read(&mut p)?)
+            }
+            VKind::TimeZone => VData::TimeZone(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::Osd => VData::Osd(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::BaudRate => VData::BaudRate(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::AlarmTemperature => {
+                VData::AlarmTemperature(Field::<crate::wire::field::Be>::read(&mut p)?)
+            }
+            VKind::RcMapping => VData::RcMapping(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::Firmware => VData::Firmware(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::Model => VData::Model(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::SerialNumber => {
+                VData::SerialNumber(Field::<crate::wire::field::Be>::read(&mut p)?)
+            }
             VKind::Other => VData::Other(Bytes::default()),
         };
         Ok(V {
@@ -875,7 +881,7 @@ impl<'a> super::field::Block<'a> for V {
             VData::ProtocolControl(v) => v.write(w)?,
             VData::TimeZone(v) => v.write(w)?,
             VData::Osd(v) => v.write(w)?,
-            VData::BaudRate(v) => v.write(w)?,
+            VData::BaudRate(v) => Field::<crate::wire::field::Be>::write(v, w)?,
             VData::AlarmTemperature(v) => v.write(w)?,
             VData::RcMapping(v) => v.write(w)?,
             VData::Firmware(v) => v.write(w)?,

@@ -1,62 +1,10 @@
 //! Field encodings of Viewlink blocks (all big-endian), the [`Block`] trait, bit-field
 //! helpers and the macros that declare fixed-layout blocks.
 
-use crate::macros::WireCode;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-/// A value with a fixed-size big-endian wire encoding.
-pub(crate) trait Field: Sized {
-    /// Encoded size in bytes.
-    const LEN: usize;
-    /// Reads the value.
-    fn read(r: &mut Reader<'_>) -> Result<Self>;
-    /// Writes the value.
-    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
-}
-
-macro_rules! be_field {
-    ($($ty:ty: $n:literal, $get:ident, $put:ident;)*) => {$(
-        impl Field for $ty {
-            const LEN: usize = $n;
-            fn read(r: &mut Reader<'_>) -> Result<Self> {
-                r.$get()
-            }
-            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-                w.$put(*self)
-            }
-        }
-    )*};
-}
-
-be_field! {
-    u8: 1, u8, u8;
-    i8: 1, i8, i8;
-    u16: 2, u16_be, u16_be;
-    i16: 2, i16_be, i16_be;
-    u32: 4, u32_be, u32_be;
-    i32: 4, i32_be, i32_be;
-}
-
-impl<const N: usize> Field for [u8; N] {
-    const LEN: usize = N;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.array()
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(self)
-    }
-}
-
-impl<T: WireCode<Repr = u8>> Field for T {
-    const LEN: usize = 1;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.u8().map(T::from_repr)
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.u8(self.to_repr())
-    }
-}
+pub(crate) use crate::wire::field::Field;
 
 /// One packet block (A1, C1, ... M): how it reads from and writes to the data of a frame.
 ///
@@ -141,15 +89,15 @@ macro_rules! block {
             $( $(#[$fmeta])* pub $field: $ty, )*
         }
 
-        impl $crate::viewlink::field::Field for $name {
-            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field>::LEN )*;
+        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $name {
+            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN )*;
 
             fn read(_r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::viewlink::field::Field::read(_r)?, )* })
+                Ok(Self { $( $field: $crate::viewlink::field::Field::<$crate::wire::field::Be>::read(_r)?, )* })
             }
 
             fn write(&self, _w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::viewlink::field::Field::write(&self.$field, _w)?; )*
+                $( $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(&self.$field, _w)?; )*
                 Ok(())
             }
         }
@@ -163,18 +111,18 @@ macro_rules! impl_block_via_field {
     ($($t:ty),* $(,)?) => {$(
         impl<'a> $crate::viewlink::field::Block<'a> for $t {
             fn read_block(r: &mut $crate::wire::Reader<'a>) -> $crate::Result<Self> {
-                $crate::viewlink::field::Field::read(r)
+                $crate::viewlink::field::Field::<$crate::wire::field::Be>::read(r)
             }
             fn write_block(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::write(self, w)
+                $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(self, w)
             }
             fn block_len(&self) -> usize {
-                <$t as $crate::viewlink::field::Field>::LEN
+                <$t as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN
             }
         }
 
         impl $crate::viewlink::field::FixedBlock for $t {
-            const LEN: usize = <$t as $crate::viewlink::field::Field>::LEN;
+            const LEN: usize = <$t as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN;
         }
     )*};
 }
@@ -195,28 +143,13 @@ macro_rules! newtype {
             }
         }
 
-        impl $crate::viewlink::field::Field for $t {
-            const LEN: usize = <$repr as $crate::viewlink::field::Field>::LEN;
+        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $t {
+            const LEN: usize = <$repr as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN;
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                <$repr as $crate::viewlink::field::Field>::read(r).map($t)
+                <$repr as $crate::viewlink::field::Field<$crate::wire::field::Be>>::read(r).map($t)
             }
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::write(&self.0, w)
-            }
-        }
-    )*};
-}
-
-/// Implements [`Field`] for `u16` [`code_enum!`] types.
-macro_rules! u16_code_field {
-    ($($t:ty),* $(,)?) => {$(
-        impl $crate::viewlink::field::Field for $t {
-            const LEN: usize = 2;
-            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                r.u16_be().map(<$t>::from_value)
-            }
-            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                w.u16_be(self.value())
+                $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(&self.0, w)
             }
         }
     )*};
@@ -249,7 +182,7 @@ macro_rules! command_enum {
             },
         }
 
-        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field>::LEN == $plen); )*
+        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN == $plen); )*
 
         impl $name {
             /// The command byte.
@@ -272,13 +205,13 @@ macro_rules! command_enum {
             }
         }
 
-        impl $crate::viewlink::field::Field for $name {
+        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $name {
             const LEN: usize = 1 + $plen;
 
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
                 let command = $cmd::from_value(r.u8()?);
                 Ok(match command {
-                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::read(r)?), )*
+                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::<$crate::wire::field::Be>::read(r)?), )*
                     command => Self::Plain { command, params: r.array()? },
                 })
             }
@@ -286,7 +219,7 @@ macro_rules! command_enum {
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
                 w.u8(self.command().value())?;
                 match self {
-                    $( Self::$variant(v) => $crate::viewlink::field::Field::write(v, w), )*
+                    $( Self::$variant(v) => $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(v, w), )*
                     Self::Plain { params, .. } => w.put(params),
                 }
             }
@@ -418,7 +351,7 @@ impl<const N: usize> serde::Serialize for Text<N> {
     }
 }
 
-impl<const N: usize> Field for Text<N> {
+impl<const N: usize> Field<crate::wire::field::Be> for Text<N> {
     const LEN: usize = N;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| Text { raw })
@@ -472,7 +405,7 @@ impl serde::Serialize for Date {
     }
 }
 
-impl Field for Date {
+impl Field<crate::wire::field::Be> for Date {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u16_be().map(Date)
@@ -504,7 +437,7 @@ impl TimeCs {
     }
 }
 
-impl Field for TimeCs {
+impl Field<crate::wire::field::Be> for TimeCs {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u24_be().map(TimeCs)

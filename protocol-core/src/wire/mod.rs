@@ -4,6 +4,7 @@
 mod checksum;
 mod cursor;
 mod deframer;
+pub(crate) mod field;
 
 pub use checksum::{MCRF4XX, XMODEM, crc16_mcrf4xx, crc16_xmodem, sum8, xor8};
 pub use cursor::{Reader, Writer};
