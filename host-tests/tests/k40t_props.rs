@@ -3,22 +3,11 @@
 
 mod common;
 
+use codec_cases::oracle::k40t_crc as doc_crc;
 use common::{Piece, check_stream, piece};
 use proptest::prelude::*;
 use protocol_core::k40t::*;
 use protocol_core::wire::Writer;
-
-/// The document's CRC routine (independent of the crate).
-fn doc_crc(data: &[u8]) -> u16 {
-    let mut acc: u16 = 0xFFFF;
-    for &b in data {
-        let mut tmp = b ^ (acc & 0xFF) as u8;
-        tmp ^= tmp << 4;
-        let t = u16::from(tmp);
-        acc = (acc >> 8) ^ (t << 8) ^ (t << 3) ^ (t >> 4);
-    }
-    acc
-}
 
 /// A frame with the given id and payload, CRC over LEN..payload.
 fn frame(id: u32, payload: &[u8]) -> Vec<u8> {

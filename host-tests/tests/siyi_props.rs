@@ -3,27 +3,12 @@
 
 mod common;
 
+use codec_cases::oracle::xmodem_bitwise as xmodem;
 use common::{Piece, check_stream, piece};
 use proptest::prelude::*;
 use protocol_core::Error;
 use protocol_core::siyi::*;
 use protocol_core::wire::Writer;
-
-/// CRC-16/XMODEM bit by bit (independent of the crate).
-fn xmodem(data: &[u8]) -> u16 {
-    let mut crc: u16 = 0;
-    for &b in data {
-        crc ^= u16::from(b) << 8;
-        for _ in 0..8 {
-            crc = if crc & 0x8000 != 0 {
-                (crc << 1) ^ 0x1021
-            } else {
-                crc << 1
-            };
-        }
-    }
-    crc
-}
 
 /// A frame `55 66 CTRL LEN SEQ CMD DATA CRC`.
 fn frame(ctrl: u8, seq: u16, cmd: u8, data: &[u8]) -> Vec<u8> {

@@ -6,21 +6,10 @@
 //! are built here with the document's own CRC routine, independently of the codec.
 
 use crate::Outcome;
+use crate::oracle::k40t_crc as doc_crc;
 use protocol_core::Error;
 use protocol_core::k40t::*;
 use protocol_core::wire::{Deframer, Event};
-
-/// The document's `crc_calculate` (X25_INIT_CRC 0xFFFF, `crc_accumulate`), transcribed.
-fn doc_crc(data: &[u8]) -> u16 {
-    let mut acc: u16 = 0xFFFF;
-    for &b in data {
-        let mut tmp = b ^ (acc & 0xFF) as u8;
-        tmp ^= tmp << 4;
-        let t = u16::from(tmp);
-        acc = (acc >> 8) ^ (t << 8) ^ (t << 3) ^ (t >> 4);
-    }
-    acc
-}
 
 type Bytes = heapless::Vec<u8, 255>;
 

@@ -189,6 +189,7 @@ pub fn vectors(protocol: &'static str) -> impl Iterator<Item = &'static Vector> 
 
 pub mod gcu;
 pub mod k40t;
+pub mod oracle;
 pub mod siyi;
 pub mod viewlink;
 pub mod wire;

@@ -6,26 +6,11 @@
 //! message it must decode to. Frames around the data are built here with a bit-by-bit
 //! CRC-16/XMODEM written for the tests, independently of the codec.
 
+use crate::oracle::xmodem_bitwise as xmodem;
 use crate::{Failure, Outcome};
 use protocol_core::Error;
 use protocol_core::siyi::*;
 use protocol_core::wire::{Deframer, Event};
-
-/// CRC-16/XMODEM bit by bit (poly 0x1021, init 0, no reflection, no final xor).
-fn xmodem(data: &[u8]) -> u16 {
-    let mut crc: u16 = 0;
-    for &b in data {
-        crc ^= u16::from(b) << 8;
-        for _ in 0..8 {
-            crc = if crc & 0x8000 != 0 {
-                (crc << 1) ^ 0x1021
-            } else {
-                crc << 1
-            };
-        }
-    }
-    crc
-}
 
 type Bytes = heapless::Vec<u8, 64>;
 
