@@ -46,6 +46,8 @@
 #[macro_use]
 mod macros;
 mod error;
+#[cfg(any(feature = "k40t", feature = "viewlink"))]
+mod text;
 pub mod wire;
 
 #[cfg(feature = "k40t")]
@@ -61,3 +63,5 @@ pub mod viewlink;
 pub mod gcu;
 
 pub use error::{Error, Result};
+#[cfg(any(feature = "k40t", feature = "viewlink"))]
+pub use text::Text;

@@ -2,9 +2,10 @@
 //! zoom, stream, storage, time sync, GPS exchange, network, focus, AI and tracking.
 
 use super::camera::{CaptureMode, ImageMode, PhotoMode, StreamBitrate, VideoCodec, ZoomState};
-use super::field::{ResponseCode, Text, Version};
+use super::field::{ResponseCode, Version};
 use super::gimbal::OnOff;
 use super::visible::{PhotoResolution, Toggle};
+use crate::Text;
 
 /// Folder name field (20 bytes).
 pub type Folder = Text<20>;
@@ -313,21 +314,6 @@ payload! {
         /// Reserved.
         pub reserved: u8,
     }
-}
-
-/// Declares the "command byte + reserved" common requests.
-macro_rules! trigger {
-    ($($(#[$m:meta])* $name:ident;)*) => {$(
-        payload! {
-            $(#[$m])*
-            pub struct $name {
-                /// The command byte.
-                pub command: u8,
-                /// Reserved.
-                pub reserved: u8,
-            }
-        }
-    )*};
 }
 
 trigger! {

@@ -185,21 +185,6 @@ payload! {
     }
 }
 
-/// Declares the one-byte "command + reserved" requests.
-macro_rules! trigger {
-    ($($(#[$m:meta])* $name:ident;)*) => {$(
-        payload! {
-            $(#[$m])*
-            pub struct $name {
-                /// The command byte.
-                pub command: u8,
-                /// Reserved.
-                pub reserved: u8,
-            }
-        }
-    )*};
-}
-
 trigger! {
     /// 0x000013: one-key drift calibration (command 0x01 = start).
     DriftCalibration;

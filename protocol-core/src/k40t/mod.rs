@@ -35,9 +35,10 @@ mod ir;
 mod laser_sbus;
 mod visible;
 
+pub use crate::Text;
 pub use camera::*;
 pub use common::*;
-pub use field::{AckCode, Payload, ResponseCode, Text, Version};
+pub use field::{AckCode, Payload, ResponseCode, Version};
 pub use frame::{
     Address, CrcCoverage, Frame, HEADER_LEN, K40tFraming, Kind, MAX_FRAME_LEN, MAX_PAYLOAD_LEN,
     MIN_FRAME_LEN, MsgId, STX,

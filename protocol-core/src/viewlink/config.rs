@@ -2,7 +2,8 @@
 //! with the parameter table of the document's appendix.
 
 use super::enums::OnOff;
-use super::field::{Bytes, Field, Text};
+use super::field::{Bytes, Field};
+use crate::Text;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
@@ -884,9 +885,9 @@ impl<'a> super::field::Block<'a> for V {
             VData::BaudRate(v) => Field::<crate::wire::field::Be>::write(v, w)?,
             VData::AlarmTemperature(v) => v.write(w)?,
             VData::RcMapping(v) => v.write(w)?,
-            VData::Firmware(v) => v.write(w)?,
-            VData::Model(v) => v.write(w)?,
-            VData::SerialNumber(v) => v.write(w)?,
+            VData::Firmware(v) => Field::<crate::wire::field::Be>::write(v, w)?,
+            VData::Model(v) => Field::<crate::wire::field::Be>::write(v, w)?,
+            VData::SerialNumber(v) => Field::<crate::wire::field::Be>::write(v, w)?,
             VData::Other(b) => w.put(b.as_slice())?,
         }
         w.put(self.trailing.as_slice())

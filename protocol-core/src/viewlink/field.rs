@@ -301,66 +301,6 @@ impl<const N: usize> serde::Serialize for Bytes<N> {
     }
 }
 
-/// A fixed-size text field (firmware version, model, serial number): `N` bytes, not
-/// NUL-terminated, padded with 0x00 or spaces. Kept as the bytes received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Text<const N: usize> {
-    /// The bytes as on the wire.
-    pub raw: [u8; N],
-}
-
-impl<const N: usize> Default for Text<N> {
-    fn default() -> Self {
-        Text { raw: [0; N] }
-    }
-}
-
-impl<const N: usize> Text<N> {
-    /// The text for `s`, padded with 0x00. More than `N` bytes, or a byte that is not
-    /// printable ASCII, is [`Error::OutOfRange`].
-    pub fn new(s: &str) -> Result<Self> {
-        if !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
-            return Err(Error::OutOfRange);
-        }
-        let mut raw = [0; N];
-        raw.get_mut(..s.len())
-            .ok_or(Error::OutOfRange)?
-            .copy_from_slice(s.as_bytes());
-        Ok(Text { raw })
-    }
-
-    /// The text without trailing 0x00 and spaces; `None` if that is not UTF-8.
-    pub fn as_str(&self) -> Option<&str> {
-        let end = self
-            .raw
-            .iter()
-            .rposition(|&b| b != 0 && b != b' ')
-            .map_or(0, |i| i.saturating_add(1));
-        core::str::from_utf8(self.raw.get(..end)?).ok()
-    }
-}
-
-#[cfg(feature = "serde")]
-impl<const N: usize> serde::Serialize for Text<N> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
-        match self.as_str() {
-            Some(text) => s.serialize_str(text),
-            None => s.collect_seq(self.raw.iter()),
-        }
-    }
-}
-
-impl<const N: usize> Field<crate::wire::field::Be> for Text<N> {
-    const LEN: usize = N;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        r.array().map(|raw| Text { raw })
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(&self.raw)
-    }
-}
-
 /// A UTC date packed in 16 bits (M and T2 packets): bits 15..11 day, 10..7 month,
 /// 6..0 year minus 2000. Kept as the 16 bits received.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -474,12 +414,9 @@ mod tests {
     }
 
     #[test]
-    fn bytes_and_text() {
+    fn bytes() {
         let b = Bytes::<4>::new(&[1, 2]).unwrap();
         assert_eq!(b.as_slice(), &[1, 2]);
         assert!(Bytes::<1>::new(&[1, 2]).is_err());
-        let t = Text::<10>::new("Z40K").unwrap();
-        assert_eq!(t.as_str(), Some("Z40K"));
-        assert!(Text::<2>::new("abc").is_err());
     }
 }

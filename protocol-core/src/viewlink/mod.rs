@@ -79,11 +79,12 @@ mod misc;
 mod status;
 pub mod tcp;
 
+pub use crate::Text;
 pub use ahrs::*;
 pub use config::*;
 pub use control::*;
 pub use enums::*;
-pub use field::{Block, Bytes, Date, FixedBlock, Text, TimeCs};
+pub use field::{Block, Bytes, Date, FixedBlock, TimeCs};
 pub use frame::{
     Frame, FrameCounter, HeaderOrder, MAX_BODY_LEN, MAX_DATA_LEN, MAX_FRAME_LEN, MIN_BODY_LEN,
     MIN_FRAME_LEN, SYNC, SYNC_SWAPPED, ViewlinkFraming, len_byte,

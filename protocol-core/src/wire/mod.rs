@@ -4,6 +4,12 @@
 mod checksum;
 mod cursor;
 mod deframer;
+#[cfg(any(
+    feature = "k40t",
+    feature = "siyi",
+    feature = "viewlink",
+    feature = "gcu"
+))]
 pub(crate) mod field;
 
 pub use checksum::{MCRF4XX, XMODEM, crc16_mcrf4xx, crc16_xmodem, sum8, xor8};
