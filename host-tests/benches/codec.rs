@@ -1,5 +1,6 @@
-//! Codec throughput on the host: for each protocol, a stream of valid frames covering
-//! its catalogue is deframed (64-byte chunks, as a UART DMA buffer would deliver them),
+//! Codec throughput on the host: for each protocol, a stream of valid frames (K40T and
+//! SIYI: every catalogue message; Viewlink and GCU: the documents' example frames) is
+//! deframed (64-byte chunks, as a UART DMA buffer would deliver them),
 //! decoded, and encoded again. Run with `cargo bench -p host-tests` (release profile,
 //! opt-level z: the code the firmware runs, compiled for the host).
 //!
@@ -178,6 +179,69 @@ fn siyi() {
     );
 }
 
+/// The verified seed vectors of a protocol (the documents' example frames) that start
+/// with `sync`, repeated to make a longer stream.
+fn vectors(protocol: &'static str, sync: &[u8]) -> Vec<Vec<u8>> {
+    let frames: Vec<Vec<u8>> = codec_cases::vectors(protocol)
+        .filter(|v| v.verified && v.bytes.starts_with(sync))
+        .map(|v| v.bytes.to_vec())
+        .collect();
+    assert!(!frames.is_empty(), "no {protocol} vectors");
+    frames
+        .iter()
+        .cycle()
+        .take(frames.len() * 8)
+        .cloned()
+        .collect()
+}
+
+fn viewlink() {
+    use protocol_core::viewlink::*;
+    bench::<_, MAX_FRAME_LEN>(
+        "viewlink",
+        ViewlinkFraming::new(),
+        &vectors("Viewlink", &[0x55, 0xAA, 0xDC]),
+        |f| Packet::decode(f).is_ok(),
+        |f, out| Packet::decode(f).and_then(|p| p.emit(out)).unwrap_or(0),
+    );
+}
+
+fn gcu() {
+    use protocol_core::gcu::*;
+    let host = vectors("GCU", &HOST_SYNC);
+    // The documents print no GCU replies: answer each host package as the GCU would.
+    let replies: Vec<Vec<u8>> = host
+        .iter()
+        .map(|f| {
+            let request = HostPacket::decode(f).expect("host package");
+            let reply = GcuPacket {
+                version: request.version,
+                main: GcuMain {
+                    mode: GimbalMode::from_value(0x11),
+                    ..GcuMain::default()
+                },
+                sub: GcuSub::ABSENT,
+                feedback: Feedback::success(&request.command),
+            };
+            let mut buf = [0u8; MAX_FRAME_LEN];
+            let n = reply.emit(&mut buf).expect("emit reply");
+            buf[..n].to_vec()
+        })
+        .collect();
+    for (name, framing, frames) in [
+        ("gcu host", GcuFraming::host(), &host),
+        ("gcu reply", GcuFraming::gcu(), &replies),
+    ] {
+        bench::<_, MAX_FRAME_LEN>(
+            name,
+            framing,
+            frames,
+            |f| Packet::decode(f).is_ok(),
+            |f, out| Packet::decode(f).and_then(|p| p.emit(out)).unwrap_or(0),
+        );
+    }
+}
+
 fn main() {
     // `cargo test --all-targets` runs benches as tests: one quick pass then.
     if std::env::args().any(|a| a == "--bench") {
@@ -188,4 +252,6 @@ fn main() {
     }
     k40t();
     siyi();
+    viewlink();
+    gcu();
 }
