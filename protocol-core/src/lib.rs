@@ -62,6 +62,9 @@ pub mod viewlink;
 #[cfg(feature = "gcu")]
 pub mod gcu;
 
+#[cfg(feature = "bridge")]
+pub mod bridge;
+
 pub use error::{Error, Result};
 #[cfg(any(feature = "k40t", feature = "viewlink"))]
 pub use text::Text;

@@ -1,0 +1,1 @@
+//! Time as the engine sees it: the caller's monotonic clock.
