@@ -112,13 +112,11 @@ fn k40t() {
                 let payload = rng.fill(len);
                 let message = Message::decode(id, &payload).expect("payload of its own length");
                 let p = Packet {
-                    dst: Address::POD,
-                    src: Address::FLIGHT_CONTROLLER,
-                    seq: round,
+                    header: Header::new(Address::FLIGHT_CONTROLLER, Address::POD, round),
                     message,
                 };
                 let mut buf = [0u8; MAX_FRAME_LEN];
-                let n = p.emit(&mut buf, CrcCoverage::ExcludeStx).expect("emit");
+                let n = p.emit(&mut buf).expect("emit");
                 frames.push(buf[..n].to_vec());
             }
         }
@@ -127,12 +125,8 @@ fn k40t() {
         "k40t",
         K40tFraming::with(CrcCoverage::ExcludeStx),
         &frames,
-        |f| Packet::decode(f, CrcCoverage::ExcludeStx).is_ok(),
-        |f, out| {
-            Packet::decode(f, CrcCoverage::ExcludeStx)
-                .and_then(|p| p.emit(out, CrcCoverage::ExcludeStx))
-                .unwrap_or(0)
-        },
+        |f| Packet::decode(f).is_ok(),
+        |f, out| Packet::decode(f).and_then(|p| p.emit(out)).unwrap_or(0),
     );
 }
 

@@ -82,7 +82,8 @@ fn decode_json_reports_frames_garbage_and_bad_frames() {
     assert_eq!(objs[1]["raw"], ZOOM.replace(' ', "").to_lowercase());
 
     assert_eq!(objs[2]["msg_id"], 0x010304);
-    assert_eq!(objs[2]["fields"]["code"], "Ok");
+    assert_eq!(objs[2]["fields"]["code"]["name"], "Ok");
+    assert_eq!(objs[2]["fields"]["code"]["code"], 0);
 
     assert!(
         objs[3]["error"].as_str().unwrap().contains("checksum"),
@@ -139,7 +140,7 @@ fn decode_reads_binary_and_hex_files_and_stdin() {
         Some(format!("{ZOOM_ACK}\n").as_bytes()),
     );
     let lines = stdout_lines(&o);
-    assert!(lines[0].contains("code=\"Ok\""), "{}", lines[0]);
+    assert!(lines[0].contains("code=Ok(0x00)"), "{}", lines[0]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("1 frames decoded"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

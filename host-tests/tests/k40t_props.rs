@@ -32,6 +32,11 @@ fn frame(id: u32, payload: &[u8]) -> Vec<u8> {
 
 /// Is there a valid frame at the start of `b`? (independent of the crate)
 fn valid(b: &[u8]) -> Option<usize> {
+    valid_with(b, CrcCoverage::ExcludeStx)
+}
+
+/// Is there a frame at the start of `b` whose CRC covers the bytes `coverage` names?
+fn valid_with(b: &[u8], coverage: CrcCoverage) -> Option<usize> {
     if b.first() != Some(&0xFD) || b.len() < 12 {
         return None;
     }
@@ -40,7 +45,11 @@ fn valid(b: &[u8]) -> Option<usize> {
         return None;
     }
     let crc = u16::from_le_bytes([b[len + 10], b[len + 11]]);
-    (doc_crc(&b[1..len + 10]) == crc).then_some(len + 12)
+    let start = match coverage {
+        CrcCoverage::ExcludeStx => 1,
+        CrcCoverage::IncludeStx => 0,
+    };
+    (doc_crc(&b[start..len + 10]) == crc).then_some(len + 12)
 }
 
 /// Every (kind, base) the catalogue defines, with its payload length.
@@ -106,20 +115,20 @@ proptest! {
     /// Whole frames: decode then emit gives the frame back, for known and unknown ids.
     #[test]
     fn any_frame_round_trips(f in any_frame()) {
-        let p = Packet::decode(&f, CrcCoverage::ExcludeStx).unwrap();
+        let p = Packet::decode(&f).unwrap();
+        prop_assert_eq!(p.header.coverage, CrcCoverage::ExcludeStx);
         let mut out = [0u8; MAX_FRAME_LEN];
-        let n = p.emit(&mut out, CrcCoverage::ExcludeStx).unwrap();
+        let n = p.emit(&mut out).unwrap();
         prop_assert_eq!(&out[..n], &f[..]);
     }
 
     /// Arbitrary bytes never panic the decoder, and what it accepts is a valid frame.
     #[test]
     fn arbitrary_bytes_never_panic(b in proptest::collection::vec(any::<u8>(), 0..300)) {
-        if let Ok(p) = Packet::decode(&b, CrcCoverage::ExcludeStx) {
-            prop_assert!(valid(&b).is_some());
+        if let Ok(p) = Packet::decode(&b) {
+            prop_assert!(valid_with(&b, p.header.coverage).is_some());
             prop_assert!(p.buffer_len() <= b.len());
         }
-        let _ = Packet::decode(&b, CrcCoverage::IncludeStx);
     }
 
     /// Noisy streams, cut at random points: exactly the reference scan's frames come out.

@@ -66,5 +66,30 @@ pub mod gcu;
 pub mod bridge;
 
 pub use error::{Error, Result};
+
+wire_derive! {
+    [Eq, Hash]
+    /// Which way a frame travels between a flight controller (or ground station) and a
+    /// gimbal. The SIYI, Viewlink and GCU codecs use it where the same id means different
+    /// things in the two directions (a K40T message id carries its own kind).
+    pub enum Direction {
+        /// Flight controller to gimbal: commands and queries (SIYI requests, GCU host
+        /// packages, Viewlink console and AHRS frames).
+        ToGimbal,
+        /// Gimbal to flight controller: replies, pushed data and status.
+        FromGimbal,
+    }
+}
+
+impl Direction {
+    /// The other direction.
+    #[must_use]
+    pub const fn reverse(self) -> Self {
+        match self {
+            Direction::ToGimbal => Direction::FromGimbal,
+            Direction::FromGimbal => Direction::ToGimbal,
+        }
+    }
+}
 #[cfg(any(feature = "k40t", feature = "viewlink"))]
 pub use text::Text;

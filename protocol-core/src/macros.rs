@@ -1,11 +1,43 @@
-//! Macros shared by the codecs.
+//! The macros every codec declares its types with.
+//!
+//! - [`wire_derive!`]: the derives every public wire type carries (written once).
+//! - [`code_enum!`]: an enumeration carried as an integer code, lossless (`Other`).
+//! - [`wire_struct!`]: a fixed-layout struct, its fields in wire order, for either byte
+//!   order; implements [`Field`](crate::wire::encoding::Field).
+//! - [`wire_newtype!`], [`bit_set!`]: integer newtypes (packed values, flags).
+//!
+//! Each protocol's own payload trait (K40T and GCU read payloads through `Field`
+//! directly, SIYI through `siyi::Payload`, Viewlink through `viewlink::Block`) has a
+//! blanket implementation over `Field<O>`, so one struct macro, parameterised by the
+//! byte order, serves all four.
+
+/// Emits `$item` with the derives every public wire type of the crate carries: `Debug`,
+/// `Clone`, `Copy`, `PartialEq`, the extra ones listed in brackets (`Eq`, `Hash`,
+/// `Default` where the fields allow), `defmt::Format` and `serde::Serialize` behind
+/// their features.
+macro_rules! wire_derive {
+    // `custom_serde`: the type implements `serde::Serialize` by hand.
+    (custom_serde [$($extra:ident),*] $item:item) => {
+        #[derive(Debug, Clone, Copy, PartialEq $(, $extra)*)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        $item
+    };
+    ([$($extra:ident),*] $item:item) => {
+        #[derive(Debug, Clone, Copy, PartialEq $(, $extra)*)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+        $item
+    };
+}
 
 /// An enumeration carried on the wire as an integer, with an `Other` variant that keeps
 /// any value the document does not list (so decoding is lossless).
 ///
-/// Generates the enum (deriving the usual traits, `defmt::Format` and `serde::Serialize`
-/// behind their features), `value()`, `from_value()`, `From` both ways, `Default` (the
-/// variant for 0, or `Other(0)`), and an implementation of [`WireCode`](crate::macros::WireCode).
+/// Generates the enum, `value()`, `from_value()`, `name()`, `From` both ways, `Default`
+/// (the variant for 0, or `Other(0)`) and [`WireCode`](crate::wire::encoding::WireCode)
+/// (hence [`Field`](crate::wire::encoding::Field) in both byte orders). With the `serde`
+/// feature it serialises as `{"name": "ZoomIn", "code": 9}` (`"Other"` for an unlisted
+/// code), so a capture decoder shows both the name and the wire code.
 macro_rules! code_enum {
     (
         $(#[$meta:meta])*
@@ -13,18 +45,19 @@ macro_rules! code_enum {
             $( $(#[$vmeta:meta])* $variant:ident = $value:literal, )*
         }
     ) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        $vis enum $name {
-            $( $(#[$vmeta])* $variant, )*
-            /// A value the document does not list, kept as received.
-            Other($repr),
+        wire_derive! {
+            custom_serde [Eq, Hash]
+            $(#[$meta])*
+            $vis enum $name {
+                $( $(#[$vmeta])* $variant, )*
+                /// A value the document does not list, kept as received.
+                Other($repr),
+            }
         }
 
         impl $name {
             /// The value on the wire.
+            #[must_use]
             pub const fn value(self) -> $repr {
                 match self {
                     $( Self::$variant => $value, )*
@@ -33,10 +66,20 @@ macro_rules! code_enum {
             }
 
             /// The variant for a wire value (`Other` when the document does not list it).
+            #[must_use]
             pub const fn from_value(v: $repr) -> Self {
                 match v {
                     $( $value => Self::$variant, )*
                     other => Self::Other(other),
+                }
+            }
+
+            /// The variant's name (`"Other"` for an unlisted value).
+            #[must_use]
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $( Self::$variant => stringify!($variant), )*
+                    Self::Other(_) => "Other",
                 }
             }
         }
@@ -59,7 +102,7 @@ macro_rules! code_enum {
             }
         }
 
-        impl $crate::macros::WireCode for $name {
+        impl $crate::wire::encoding::WireCode for $name {
             type Repr = $repr;
             fn to_repr(self) -> $repr {
                 self.value()
@@ -68,15 +111,186 @@ macro_rules! code_enum {
                 Self::from_value(v)
             }
         }
+
+        #[cfg(feature = "serde")]
+        impl serde::Serialize for $name {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+                $crate::macros::serialize_code(s, self.name(), self.value())
+            }
+        }
     };
 }
 
-/// Implemented by every [`code_enum!`] type: conversion to and from the wire integer.
-pub(crate) trait WireCode: Copy {
-    /// The integer type on the wire.
-    type Repr;
-    /// The wire value.
-    fn to_repr(self) -> Self::Repr;
-    /// The variant for a wire value.
-    fn from_repr(v: Self::Repr) -> Self;
+/// Serialises an enumeration value as `{"name": .., "code": ..}` (see [`code_enum!`]).
+#[cfg(feature = "serde")]
+pub(crate) fn serialize_code<S: serde::Serializer, C: serde::Serialize>(
+    s: S,
+    name: &'static str,
+    code: C,
+) -> core::result::Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct as _;
+    let mut st = s.serialize_struct("Code", 2)?;
+    st.serialize_field("name", name)?;
+    st.serialize_field("code", &code)?;
+    st.end()
+}
+
+/// Declares a fixed-layout struct: the fields in wire order, each a
+/// [`Field`](crate::wire::encoding::Field) in byte order `Le` or `Be`.
+///
+/// ```ignore
+/// wire_struct! {
+///     Le;
+///     /// 0x000304: hybrid zoom.
+///     pub struct HybridZoom {
+///         /// Start flag.
+///         pub start: u8,
+///         /// Zoom ratio times ten.
+///         pub zoom_x10: u16,
+///     }
+/// }
+/// ```
+///
+/// Generates the struct (with [`wire_derive!`]: `Eq`, `Hash`, `Default` too, unless the
+/// order is followed by `float`, for structs with `f32` fields; more derives may follow
+/// the order in brackets, `Le [PartialOrd, Ord];`), an associated `LEN` and the `Field`
+/// implementation.
+macro_rules! wire_struct {
+    (
+        $order:ident, float;
+        $(#[$meta:meta])*
+        pub struct $name:ident { $($body:tt)* }
+    ) => {
+        wire_struct!(@def $order [Default] $(#[$meta])* $name { $($body)* });
+    };
+    (
+        $order:ident $([$($more:ident),*])?;
+        $(#[$meta:meta])*
+        pub struct $name:ident { $($body:tt)* }
+    ) => {
+        wire_struct!(@def $order [Eq, Hash, Default $($(, $more)*)?] $(#[$meta])* $name { $($body)* });
+    };
+    (
+        @def $order:ident [$($extra:ident),*]
+        $(#[$meta:meta])*
+        $name:ident {
+            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
+        }
+    ) => {
+        wire_derive! {
+            [$($extra),*]
+            $(#[$meta])*
+            pub struct $name {
+                $( $(#[$fmeta])* pub $field: $ty, )*
+            }
+        }
+
+        impl $name {
+            /// Encoded length in bytes.
+            // `0 $(+ ...)*`: the sum of the field lengths, 0 for a struct without fields.
+            pub const LEN: usize = 0 $( + <$ty as $crate::wire::encoding::Field<$crate::wire::encoding::$order>>::LEN )*;
+        }
+
+        impl $crate::wire::encoding::Field<$crate::wire::encoding::$order> for $name {
+            const LEN: usize = $name::LEN;
+
+            // `_r`/`_w`: unused in a struct without fields.
+            fn read(_r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                Ok(Self { $( $field: $crate::wire::encoding::Field::<$crate::wire::encoding::$order>::read(_r)?, )* })
+            }
+
+            fn write(&self, _w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                $( $crate::wire::encoding::Field::<$crate::wire::encoding::$order>::write(&self.$field, _w)?; )*
+                Ok(())
+            }
+        }
+    };
+}
+
+/// Declares newtypes over an integer carried as is (bit sets, packed nibbles), with
+/// [`Field`](crate::wire::encoding::Field) in both byte orders; accessors are written
+/// by hand next to them.
+macro_rules! wire_newtype {
+    ($( $(#[$meta:meta])* pub struct $name:ident($repr:ty); )*) => {$(
+        wire_derive! {
+            [Eq, Hash, Default]
+            $(#[$meta])*
+            pub struct $name(pub $repr);
+        }
+
+        impl<O> $crate::wire::encoding::Field<O> for $name
+        where
+            $repr: $crate::wire::encoding::Field<O>,
+        {
+            const LEN: usize = <$repr as $crate::wire::encoding::Field<O>>::LEN;
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                <$repr as $crate::wire::encoding::Field<O>>::read(r).map(Self)
+            }
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                <$repr as $crate::wire::encoding::Field<O>>::write(&self.0, w)
+            }
+        }
+    )*};
+}
+
+/// Declares a [`wire_newtype!`] whose bits are flags (lossless: every bit is kept, named
+/// or not), with a reader and a `with_*` builder per named bit, `contains(mask)` and
+/// `reserved_bits()`.
+#[allow(unused_macros)] // until the GCU codec moves to it
+macro_rules! bit_set {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident($repr:ty) {
+            $( $(#[$bmeta:meta])* $bit:literal => $get:ident, $set:ident; )*
+        }
+    ) => {
+        wire_newtype! {
+            $(#[$meta])*
+            pub struct $name($repr);
+        }
+
+        impl $name {
+            $(
+                $(#[$bmeta])*
+                #[must_use]
+                pub const fn $get(self) -> bool {
+                    self.0 & (1 << $bit) != 0
+                }
+
+                #[doc = concat!("This set with `", stringify!($get), "` on or off.")]
+                #[must_use]
+                pub const fn $set(self, on: bool) -> Self {
+                    if on {
+                        Self(self.0 | (1 << $bit))
+                    } else {
+                        Self(self.0 & !(1 << $bit))
+                    }
+                }
+            )*
+
+            /// True when every bit of `mask` is set.
+            #[must_use]
+            pub const fn contains(self, mask: $repr) -> bool {
+                self.0 & mask == mask
+            }
+
+            /// The bits no name is given to.
+            #[must_use]
+            pub const fn reserved_bits(self) -> $repr {
+                // `0 $(| ...)*`: the mask of the named bits.
+                self.0 & !(0 $( | (1 << $bit) )*)
+            }
+        }
+    };
+}
+
+/// `true` when a table entry names a type, `false` when it is absent: turns an optional
+/// macro fragment `$($ty)?` into a constant.
+macro_rules! present {
+    () => {
+        false
+    };
+    ($t:ty) => {
+        true
+    };
 }

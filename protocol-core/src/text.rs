@@ -1,6 +1,6 @@
 //! Fixed-size text fields.
 
-use crate::wire::field::Field;
+use crate::wire::encoding::Field;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 

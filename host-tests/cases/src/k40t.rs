@@ -80,7 +80,7 @@ static LAYOUTS: &[Layout] = layouts! {
         roll_rate_cdeg_s: 2, reserved: [0, 0] }));
     0x000010 [0x10, 0x01, 0x02, 0x00] => req(Request::GimbalControl(GimbalControl {
         function: GimbalFunction::Center, yaw: YawMotion::Right, pitch: PitchMotion::Stop, reserved: 0 }));
-    0x010010 [0x00, 0x01] => ack(Ack::GimbalControl(ResponseCode::new(AckCode::Failure)));
+    0x010010 [0x00, 0x01] => ack(Ack::GimbalControl(GimbalControlAck { code: ResponseCode::new(AckCode::Failure) }));
     0x000012 [0x01, 0x28, 0x23, 0x00, 0x50, 0x46, 0x00] => req(Request::GimbalAngle(GimbalAngle {
         pitch_direction: PitchMotion::Down, pitch_cdeg: 9000, yaw_direction: YawMotion::Left,
         yaw_cdeg: 18000, reserved: 0 }));
@@ -182,7 +182,7 @@ static LAYOUTS: &[Layout] = layouts! {
     0x020303 [0x01, 0x01, 0x3C, 0x00, 0x00, 0x00, 0x00] => status(Status::Record(RecordStatus {
         sensors: RecordSensors::Infrared, state: RecordState::Recording, elapsed_s: 60, reserved: [0; 3] }));
     0x000304 [0x00, 0x2D, 0x00] => req(Request::HybridZoom(HybridZoom { start: 0, zoom_x10: 45 }));
-    0x010304 [0x00, 0x00] => ack(Ack::HybridZoom(OK));
+    0x010304 [0x00, 0x00] => ack(Ack::HybridZoom(HybridZoomAck { code: OK }));
     0x020304 [0x01, 0x00] => status(Status::HybridZoom(ZoomStatus { state: ZoomState::Zooming, reserved: 0 }));
     0x000306 [0x03, 0x00] => req(Request::ContinuousZoom(ContinuousZoom { control: ZoomControl::StepIn, reserved: 0 }));
     0x000307 [0x02, 0x17, 0x64, 0x00, 0x10, 0x27,
@@ -243,7 +243,7 @@ static LAYOUTS: &[Layout] = layouts! {
     0x000400 [0x01, 0x00] => req(Request::LaserRange(LaserRange { mode: LaserMode::Single, reserved: 0 }));
     0x010400 [0x00, 0x00, 0x39, 0x30] => ack(Ack::LaserRange(LaserDistance { code: OK, distance_dm: 12345 }));
     0x000406 [0x01, 0x00] => req(Request::LaserPeriodic(LaserPeriodic { enable: OnOff::On, reserved: 0 }));
-    0x020406 [0x00, 0x00, 0xF4, 0x01] => status(Status::LaserPeriodic(LaserDistance { code: OK, distance_dm: 500 }));
+    0x020406 [0x00, 0x00, 0xF4, 0x01] => status(Status::LaserPeriodic(LaserPeriodicStatus(LaserDistance { code: OK, distance_dm: 500 })));
     // ---- 3.2.6 SBUS
     0x000500 [0xFF, 0x07, 0x00, 0x00, 0x00] => req(Request::SbusRange(SbusRange { max: 2047, min: 0, reserved: 0 }));
     0x000501 [0x00, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x00] => req(Request::SbusChannels(SbusChannels {
@@ -254,27 +254,25 @@ static LAYOUTS: &[Layout] = layouts! {
         channels: SbusChannelMap { stream: 0, zoom: 1, photo: 2, video: 3, pitch: 4, yaw: 5, center: 6 }, reserved: 0 }));
 };
 
-const POD_TO_FC: (Address, Address) = (Address::FLIGHT_CONTROLLER, Address::POD);
+const POD_TO_FC: Header = Header::new(Address::POD, Address::FLIGHT_CONTROLLER, 0x2A);
 
 /// Every document layout decodes to its message and the message encodes to the frame.
 fn layouts_decode_and_reencode() -> Outcome {
     for l in LAYOUTS {
         let bytes = frame(l.id, l.payload, CrcCoverage::ExcludeStx);
-        let p = check!(Packet::decode(&bytes, CrcCoverage::ExcludeStx));
+        let p = check!(Packet::decode(&bytes));
         let expected = (l.expected)();
         ensure_eq!((l.id, p.message), (l.id, expected));
         ensure_eq!(p.message.id().to_u32(), l.id);
-        ensure_eq!((p.dst, p.src, p.seq), (POD_TO_FC.0, POD_TO_FC.1, 0x2A));
+        ensure_eq!(p.header, POD_TO_FC);
         ensure_eq!(p.message.payload_len(), l.payload.len());
         let mut out = [0u8; MAX_FRAME_LEN];
         let n = check!(
             Packet {
-                dst: POD_TO_FC.0,
-                src: POD_TO_FC.1,
-                seq: 0x2A,
+                header: POD_TO_FC,
                 message: expected
             }
-            .emit(&mut out, CrcCoverage::ExcludeStx)
+            .emit(&mut out)
         );
         ensure_eq!((l.id, &out[..n]), (l.id, &bytes[..]));
     }
@@ -312,7 +310,7 @@ fn is_plain_ack(base: u16) -> bool {
         &[0x00, 0x00],
         CrcCoverage::ExcludeStx,
     );
-    matches!(Packet::decode(&bytes, CrcCoverage::ExcludeStx), Ok(Packet { message: Message::Ack(a), .. }) if a.payload_len() == 2)
+    matches!(Packet::decode(&bytes), Ok(Packet { message: Message::Ack(a), .. }) if a.payload_len() == 2)
 }
 
 /// Every request of the catalogue has an ACK: a bare code decodes as that id's ACK.
@@ -320,7 +318,7 @@ fn every_request_has_an_ack() -> Outcome {
     for e in CATALOG.iter().filter(|e| e.ack) {
         let id = 0x010000 | u32::from(e.base);
         let bytes = frame(id, &[0x02, 0x04], CrcCoverage::ExcludeStx);
-        let p = check!(Packet::decode(&bytes, CrcCoverage::ExcludeStx));
+        let p = check!(Packet::decode(&bytes));
         let Message::Ack(a) = p.message else {
             return Err(crate::Failure::new(
                 file!(),
@@ -348,10 +346,10 @@ fn spec_notes_reference_frames() -> Outcome {
         0xFD, 0x10, 0x04, 0x01, 0x09, 0x02, 0x01, 0x0E, 0x03, 0x00, 0x00, 0xA8, 0xDA, 0x76, 0x9B,
         0x01, 0x00, 0x00, 0x20, 0xFE, 0xFF, 0xFF, 0x00, 0x00, 0x00, 0x00, 0x7D, 0xE5,
     ];
-    let p = check!(Packet::decode(&zoom, CrcCoverage::ExcludeStx));
+    let p = check!(Packet::decode(&zoom));
     ensure_eq!(
-        (p.dst, p.src, p.seq),
-        (Address::POD, Address::FLIGHT_CONTROLLER, 7)
+        p.header,
+        Header::new(Address::FLIGHT_CONTROLLER, Address::POD, 7)
     );
     ensure_eq!(
         p.message,
@@ -360,17 +358,19 @@ fn spec_notes_reference_frames() -> Outcome {
             zoom_x10: 45
         }))
     );
-    let a = check!(Packet::decode(&zoom_ack, CrcCoverage::ExcludeStx));
+    let a = check!(Packet::decode(&zoom_ack));
     ensure_eq!(
-        (a.dst, a.src, a.seq),
-        (Address::FLIGHT_CONTROLLER, Address::POD, 7)
+        a.header,
+        Header::new(Address::POD, Address::FLIGHT_CONTROLLER, 7)
     );
     ensure_eq!(
         a.message,
-        Message::Ack(Ack::HybridZoom(ResponseCode::new(AckCode::Ok)))
+        Message::Ack(Ack::HybridZoom(HybridZoomAck {
+            code: ResponseCode::new(AckCode::Ok)
+        }))
     );
-    let s = check!(Packet::decode(&sync, CrcCoverage::ExcludeStx));
-    ensure_eq!(s.seq, 9);
+    let s = check!(Packet::decode(&sync));
+    ensure_eq!(s.header.seq, 9);
     ensure_eq!(
         s.message,
         Message::Request(Request::TimeSync(TimeSync {
@@ -380,9 +380,9 @@ fn spec_notes_reference_frames() -> Outcome {
         }))
     );
     for f in [&zoom[..], &zoom_ack[..], &sync[..]] {
-        let p = check!(Packet::decode(f, CrcCoverage::ExcludeStx));
+        let p = check!(Packet::decode(f));
         let mut out = [0u8; MAX_FRAME_LEN];
-        let n = check!(p.emit(&mut out, CrcCoverage::ExcludeStx));
+        let n = check!(p.emit(&mut out));
         ensure_eq!(&out[..n], f);
         ensure_eq!(p.buffer_len(), f.len());
     }
@@ -396,15 +396,13 @@ fn crc_coverage_detector() -> Outcome {
             let bytes = frame(l.id, l.payload, coverage);
             let f = check!(Frame::new_checked(&bytes[..]));
             ensure_eq!(f.detect_coverage(), Some(coverage));
-            ensure!(Packet::decode(&bytes, coverage).is_ok());
+            ensure_eq!(check!(Packet::decode(&bytes)).header.coverage, coverage);
             let other = match coverage {
                 CrcCoverage::ExcludeStx => CrcCoverage::IncludeStx,
                 CrcCoverage::IncludeStx => CrcCoverage::ExcludeStx,
             };
-            ensure!(matches!(
-                Packet::decode(&bytes, other),
-                Err(Error::BadChecksum { .. })
-            ));
+            ensure!(f.verify(coverage).is_ok());
+            ensure!(matches!(f.verify(other), Err(Error::BadChecksum { .. })));
             // A corrupted frame matches neither.
             let mut bad = bytes.clone();
             bad[10] ^= 0x40;
@@ -413,13 +411,14 @@ fn crc_coverage_detector() -> Outcome {
     }
     // Emitting with a coverage produces frames the detector attributes to it.
     let p = Packet {
-        dst: Address::POD,
-        src: Address::FLIGHT_CONTROLLER,
-        seq: 1,
+        header: Header {
+            coverage: CrcCoverage::IncludeStx,
+            ..Header::new(Address::FLIGHT_CONTROLLER, Address::POD, 1)
+        },
         message: (LAYOUTS[0].expected)(),
     };
     let mut out = [0u8; MAX_FRAME_LEN];
-    let n = check!(p.emit(&mut out, CrcCoverage::IncludeStx));
+    let n = check!(p.emit(&mut out));
     ensure_eq!(
         check!(Frame::new_checked(&out[..n])).detect_coverage(),
         Some(CrcCoverage::IncludeStx)
@@ -450,7 +449,7 @@ fn ack_code_byte_order() -> Outcome {
         let v: u16 = value;
         for raw in [v.to_be_bytes(), v.to_le_bytes()] {
             let bytes = frame(0x010304, &raw, CrcCoverage::ExcludeStx);
-            let p = check!(Packet::decode(&bytes, CrcCoverage::ExcludeStx));
+            let p = check!(Packet::decode(&bytes));
             let Message::Ack(a) = p.message else {
                 return Err(crate::Failure::new(
                     file!(),
@@ -462,7 +461,7 @@ fn ack_code_byte_order() -> Outcome {
             ensure_eq!(a.code().code(), code);
             // Lossless: the bytes received are the bytes sent on.
             let mut out = [0u8; MAX_FRAME_LEN];
-            let n = check!(p.emit(&mut out, CrcCoverage::ExcludeStx));
+            let n = check!(p.emit(&mut out));
             ensure_eq!(&out[..n], &bytes[..]);
         }
         ensure_eq!(ResponseCode::new(code).raw, v.to_be_bytes());
@@ -487,7 +486,7 @@ fn unknown_ids_are_raw() -> Outcome {
     ] {
         let payload = [1, 2, 3, 4, 5];
         let bytes = frame(id, &payload, CrcCoverage::ExcludeStx);
-        let p = check!(Packet::decode(&bytes, CrcCoverage::ExcludeStx));
+        let p = check!(Packet::decode(&bytes));
         ensure_eq!(
             p.message,
             Message::Raw(Raw {
@@ -497,7 +496,7 @@ fn unknown_ids_are_raw() -> Outcome {
         );
         ensure_eq!(p.message.name(), "Raw");
         let mut out = [0u8; MAX_FRAME_LEN];
-        let n = check!(p.emit(&mut out, CrcCoverage::ExcludeStx));
+        let n = check!(p.emit(&mut out));
         ensure_eq!(&out[..n], &bytes[..]);
     }
     Ok(())
@@ -511,7 +510,7 @@ fn payload_length_rules() -> Outcome {
         &[0x88, 0x13, 0x18, 0xFC, 0x70, 0x17, 0x00],
         CrcCoverage::ExcludeStx,
     );
-    let p = check!(Packet::decode(&seven, CrcCoverage::ExcludeStx));
+    let p = check!(Packet::decode(&seven));
     ensure_eq!(
         p.message,
         Message::Request(Request::IrTempWarning(IrTempWarning {
@@ -524,7 +523,7 @@ fn payload_length_rules() -> Outcome {
     // Truncated trailing zeros: a 0x000304 request with zoom 0x0100 sent as 2 bytes.
     let short = frame(0x000304, &[0x00, 0x00], CrcCoverage::ExcludeStx);
     ensure_eq!(
-        check!(Packet::decode(&short, CrcCoverage::ExcludeStx)).message,
+        check!(Packet::decode(&short)).message,
         Message::Request(Request::HybridZoom(HybridZoom {
             start: 0,
             zoom_x10: 0
@@ -532,14 +531,11 @@ fn payload_length_rules() -> Outcome {
     );
     let empty_ack = frame(0x010018, &[], CrcCoverage::ExcludeStx);
     ensure_eq!(
-        check!(Packet::decode(&empty_ack, CrcCoverage::ExcludeStx)).message,
+        check!(Packet::decode(&empty_ack)).message,
         Message::Ack(Ack::GimbalVersion(GimbalVersionAck::default()))
     );
     let long = frame(0x000304, &[0x00, 0x2D, 0x00, 0x00], CrcCoverage::ExcludeStx);
-    ensure_eq!(
-        Packet::decode(&long, CrcCoverage::ExcludeStx),
-        Err(Error::BadLength)
-    );
+    ensure_eq!(Packet::decode(&long), Err(Error::BadLength));
     Ok(())
 }
 
@@ -547,43 +543,25 @@ fn payload_length_rules() -> Outcome {
 fn malformed_frames_are_errors() -> Outcome {
     let good = frame(0x00030E, &[0x55; 16], CrcCoverage::ExcludeStx);
     for n in 0..good.len() {
-        ensure!(
-            Packet::decode(&good[..n], CrcCoverage::ExcludeStx).is_err(),
-            "prefix {n} accepted"
-        );
+        ensure!(Packet::decode(&good[..n]).is_err(), "prefix {n} accepted");
     }
-    ensure_eq!(
-        Packet::decode(&good[1..], CrcCoverage::ExcludeStx).err(),
-        Some(Error::BadSync)
-    );
-    ensure_eq!(
-        Packet::decode(&[], CrcCoverage::ExcludeStx).err(),
-        Some(Error::Truncated)
-    );
+    ensure_eq!(Packet::decode(&good[1..]).err(), Some(Error::BadSync));
+    ensure_eq!(Packet::decode(&[]).err(), Some(Error::Truncated));
     let mut too_long = [0u8; 16];
     too_long[0] = 0xFD;
     too_long[1] = 244;
-    ensure_eq!(
-        Packet::decode(&too_long, CrcCoverage::ExcludeStx).err(),
-        Some(Error::BadLength)
-    );
+    ensure_eq!(Packet::decode(&too_long).err(), Some(Error::BadLength));
     for i in 0..good.len() {
         for bit in 0..8 {
             let mut bad = good.clone();
             bad[i] ^= 1 << bit;
-            ensure!(
-                Packet::decode(&bad, CrcCoverage::ExcludeStx).is_err(),
-                "flip {i}.{bit} accepted"
-            );
+            ensure!(Packet::decode(&bad).is_err(), "flip {i}.{bit} accepted");
         }
     }
     // Output buffer too small.
-    let p = check!(Packet::decode(&good, CrcCoverage::ExcludeStx));
+    let p = check!(Packet::decode(&good));
     let mut small = [0u8; 27];
-    ensure_eq!(
-        p.emit(&mut small, CrcCoverage::ExcludeStx),
-        Err(Error::BufferTooSmall)
-    );
+    ensure_eq!(p.emit(&mut small), Err(Error::BufferTooSmall));
     Ok(())
 }
 

@@ -1,6 +1,6 @@
 //! K40T: deframe, decode every message kind, encode.
 
-use protocol_core::k40t::{CrcCoverage, K40tFraming, MAX_FRAME_LEN, Packet};
+use protocol_core::k40t::{K40tFraming, MAX_FRAME_LEN, Packet};
 use protocol_core::wire::{Deframer, Event};
 
 pub fn probe(input: &[u8], out: &mut [u8]) -> usize {
@@ -8,9 +8,9 @@ pub fn probe(input: &[u8], out: &mut [u8]) -> usize {
     let mut total = 0;
     deframer.push(input, |event| {
         if let Event::Frame(bytes) = event
-            && let Ok(packet) = Packet::decode(bytes, CrcCoverage::ExcludeStx)
+            && let Ok(packet) = Packet::decode(bytes)
         {
-            total += packet.emit(out, CrcCoverage::ExcludeStx).unwrap_or(0);
+            total += packet.emit(out).unwrap_or(0);
         }
     });
     total

@@ -1,9 +1,9 @@
 //! `gimbal` adapter for the K40T pod protocol.
 
-use protocol_core::k40t::{CATALOG, Frame, K40tFraming, Kind, Message, Packet};
+use protocol_core::k40t::{CATALOG, CrcCoverage, Frame, K40tFraming, Kind, Message, Packet};
 use serde_json::{Value, json};
 
-use super::{Decoded, Item, Protocol, as_object, scan_with, untag};
+use super::{Decoded, Item, Protocol, scan_with, untag};
 
 /// The K40T pod protocol.
 pub struct K40t;
@@ -21,19 +21,20 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     };
     let payload = match packet.message {
         Message::Request(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
-        Message::Ack(m) => as_object(
-            untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
-            "code",
-        ),
+        Message::Ack(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
         Message::Status(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
         Message::Raw(r) => json!({ "payload": super::hex(r.payload) }),
     };
+    let h = packet.header;
     let mut fields = json!({
         "kind": kind,
-        "src": format!("{:02x}:{:02x}", packet.src.system, packet.src.component),
-        "dst": format!("{:02x}:{:02x}", packet.dst.system, packet.dst.component),
-        "seq": packet.seq,
-        "crc": if frame.detect_coverage() == Some(protocol_core::k40t::CrcCoverage::IncludeStx) { "include-stx" } else { "exclude-stx" },
+        "src": format!("{:02x}:{:02x}", h.src.system, h.src.component),
+        "dst": format!("{:02x}:{:02x}", h.dst.system, h.dst.component),
+        "seq": h.seq,
+        "crc": match h.coverage {
+            CrcCoverage::IncludeStx => "include-stx",
+            CrcCoverage::ExcludeStx => "exclude-stx",
+        },
     });
     if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
         f.extend(p);

@@ -208,9 +208,34 @@ pub fn looks_like_hex(bytes: &[u8]) -> bool {
             .all(|&b| b.is_ascii_hexdigit() || b.is_ascii_whitespace() || b"xX,:-;".contains(&b))
 }
 
+/// An enumeration value as protocol-core serialises it (`{"name": "ZoomIn", "code": 9}`),
+/// shown as `ZoomIn(0x09)`: the name and the wire code, as the documents' tables print
+/// it (two hex digits per byte the code needs).
+pub fn enum_text(v: &Value) -> Option<String> {
+    let Value::Object(m) = v else { return None };
+    let (Some(Value::String(name)), Some(code), 2) = (m.get("name"), m.get("code"), m.len()) else {
+        return None;
+    };
+    let code = code.as_u64()?;
+    let digits = match code {
+        0..=0xFF => 2,
+        0x100..=0xFFFF => 4,
+        _ => 8,
+    };
+    Some(format!("{name}(0x{code:0digits$X})"))
+}
+
 /// Flattens fields to `key=value` pairs for the human-readable line.
 pub fn flat_fields(v: &Value) -> String {
     fn walk(prefix: &str, v: &Value, out: &mut Vec<String>) {
+        if let Some(text) = enum_text(v) {
+            out.push(if prefix.is_empty() {
+                text
+            } else {
+                format!("{prefix}={text}")
+            });
+            return;
+        }
         match v {
             Value::Object(m) => {
                 for (k, v) in m {
@@ -333,5 +358,10 @@ mod tests {
     fn flattening() {
         let v = json!({"a": 1, "b": {"c": "X", "d": [1, 2]}});
         assert_eq!(flat_fields(&v), "a=1 b.c=\"X\" b.d=[1,2]");
+        let v = json!({"op": {"name": "ZoomIn", "code": 9}, "ack": {"name": "Recording", "code": 0x201}});
+        assert_eq!(flat_fields(&v), "op=ZoomIn(0x09) ack=Recording(0x0201)");
+        // An ordinary struct that happens to have a `name` field is not an enumeration.
+        let v = json!({"s": {"name": "x", "code": 1, "more": 2}});
+        assert_eq!(flat_fields(&v), "s.name=\"x\" s.code=1 s.more=2");
     }
 }

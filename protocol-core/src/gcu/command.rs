@@ -60,7 +60,7 @@ impl CameraSet {
     }
 }
 
-impl Field<crate::wire::field::Le> for CameraSet {
+impl Field<crate::wire::encoding::Le> for CameraSet {
     const LEN: usize = 1;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u8().map(CameraSet)
@@ -315,7 +315,7 @@ macro_rules! params_len {
         0
     };
     ($ty:ty) => {
-        <$ty as Field<crate::wire::field::Le>>::LEN
+        <$ty as Field<crate::wire::encoding::Le>>::LEN
     };
 }
 
@@ -334,7 +334,7 @@ macro_rules! encode_arm {
     };
     ($self:ident, $w:ident, $name:ident, $ty:ty) => {
         match $self {
-            Command::$name(p) => Field::<crate::wire::field::Le>::write(p, $w),
+            Command::$name(p) => Field::<crate::wire::encoding::Le>::write(p, $w),
             _ => Ok(()),
         }
     };
@@ -356,14 +356,6 @@ macro_rules! orders {
         }
 
         impl Order {
-            /// The order's name (`"Unknown"` for an unlisted order).
-            pub const fn name(self) -> &'static str {
-                match self {
-                    $( Order::$name => stringify!($name), )*
-                    Order::Other(_) => "Unknown",
-                }
-            }
-
             /// How the feedback of this order reads (unlisted orders: as a status).
             pub const fn feedback_kind(self) -> FeedbackKind {
                 match self {

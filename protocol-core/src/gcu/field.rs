@@ -4,10 +4,10 @@
 use crate::wire::Reader;
 use crate::{Error, Result};
 
-pub(crate) use crate::wire::field::Field;
+pub(crate) use crate::wire::encoding::Field;
 
 /// Decodes exactly `T::LEN` bytes; any other length is [`Error::BadLength`].
-pub(crate) fn decode_exact<T: Field<crate::wire::field::Le>>(bytes: &[u8]) -> Result<T> {
+pub(crate) fn decode_exact<T: Field<crate::wire::encoding::Le>>(bytes: &[u8]) -> Result<T> {
     if bytes.len() != T::LEN {
         return Err(Error::BadLength);
     }
@@ -35,7 +35,7 @@ macro_rules! wire_struct {
 
         impl $name {
             /// Encoded length in bytes.
-            pub const LEN: usize = 0 $( + <$ty as $crate::gcu::field::Field<$crate::wire::field::Le>>::LEN )*;
+            pub const LEN: usize = 0 $( + <$ty as $crate::gcu::field::Field<$crate::wire::encoding::Le>>::LEN )*;
 
             /// Decodes exactly [`Self::LEN`] bytes (any other length is
             /// [`Error::BadLength`](crate::Error::BadLength)).
@@ -46,20 +46,20 @@ macro_rules! wire_struct {
             /// Encodes into the front of `out`; returns [`Self::LEN`].
             pub fn to_bytes(&self, out: &mut [u8]) -> $crate::Result<usize> {
                 let mut w = $crate::wire::Writer::new(out);
-                $crate::gcu::field::Field::<$crate::wire::field::Le>::write(self, &mut w)?;
+                $crate::gcu::field::Field::<$crate::wire::encoding::Le>::write(self, &mut w)?;
                 Ok(w.finish())
             }
         }
 
-        impl $crate::gcu::field::Field<$crate::wire::field::Le> for $name {
+        impl $crate::gcu::field::Field<$crate::wire::encoding::Le> for $name {
             const LEN: usize = $name::LEN;
 
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::gcu::field::Field::<$crate::wire::field::Le>::read(r)?, )* })
+                Ok(Self { $( $field: $crate::gcu::field::Field::<$crate::wire::encoding::Le>::read(r)?, )* })
             }
 
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::gcu::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
+                $( $crate::gcu::field::Field::<$crate::wire::encoding::Le>::write(&self.$field, w)?; )*
                 Ok(())
             }
         }
@@ -107,13 +107,13 @@ macro_rules! bit_set {
             }
         }
 
-        impl $crate::gcu::field::Field<$crate::wire::field::Le> for $name {
+        impl $crate::gcu::field::Field<$crate::wire::encoding::Le> for $name {
             const LEN: usize = core::mem::size_of::<$repr>();
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                <$repr as $crate::gcu::field::Field<$crate::wire::field::Le>>::read(r).map(Self)
+                <$repr as $crate::gcu::field::Field<$crate::wire::encoding::Le>>::read(r).map(Self)
             }
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::gcu::field::Field::<$crate::wire::field::Le>::write(&self.0, w)
+                $crate::gcu::field::Field::<$crate::wire::encoding::Le>::write(&self.0, w)
             }
         }
 

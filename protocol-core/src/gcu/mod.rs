@@ -83,8 +83,8 @@ fn emit_package(
     buf: &mut [u8],
     direction: Direction,
     version: u8,
-    main: &impl Field<crate::wire::field::Le>,
-    sub: &impl Field<crate::wire::field::Le>,
+    main: &impl Field<crate::wire::encoding::Le>,
+    sub: &impl Field<crate::wire::encoding::Le>,
     part_len: usize,
     part: impl FnOnce(&mut Writer<'_>) -> Result<()>,
 ) -> Result<usize> {

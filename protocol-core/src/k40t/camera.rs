@@ -93,7 +93,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000003, report (1 Hz): camera system status. SD capacities are in units of
     /// 10 MB (the document: "MB*10").
     pub struct SystemStatus {
@@ -126,7 +127,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000004, report (5 Hz): infrared measurements. Temperatures in 0.1 °C,
     /// coordinates in image pixels; warning flags 1 = warning active.
     pub struct IrStatus {
@@ -217,7 +219,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000005, report (5 Hz): visible camera parameters.
     pub struct VisibleStatus {
         /// Zoom progress.
@@ -257,7 +260,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000008, report (1 Hz): camera upgrade or repair progress.
     pub struct UpgradeStatus {
         /// State.

@@ -2,8 +2,8 @@
 //! zoom, stream, storage, time sync, GPS exchange, network, focus, AI and tracking.
 
 use super::camera::{CaptureMode, ImageMode, PhotoMode, StreamBitrate, VideoCodec, ZoomState};
-use super::field::{ResponseCode, Version};
 use super::gimbal::OnOff;
+use super::payload::{ResponseCode, Version};
 use super::visible::{PhotoResolution, Toggle};
 use crate::Text;
 
@@ -12,7 +12,8 @@ pub type Folder = Text<20>;
 /// File name field (32 bytes).
 pub type FileName = Text<32>;
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000300: photo or video mode (in photo mode the camera ignores recording
     /// commands, and the reverse).
     pub struct CaptureModeSetting {
@@ -23,7 +24,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000301: photo parameters.
     pub struct PhotoParams {
         /// Photo function.
@@ -61,7 +63,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000302: take a photo. Empty folder = root directory; empty name = default
     /// naming. The pod asks for GPS (0x000310) before it takes the photo.
     pub struct TakePhoto {
@@ -108,7 +111,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x000302 (none for a single shot).
     pub struct PhotoStatus {
         /// Sensors.
@@ -148,7 +152,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000303: record video.
     pub struct Record {
         /// Sensors.
@@ -186,7 +191,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x000303 (1 Hz).
     pub struct RecordStatus {
         /// Sensors.
@@ -200,7 +206,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000304: go to a hybrid zoom ratio (1..=160x).
     pub struct HybridZoom {
         /// Start setting (0).
@@ -210,7 +217,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x000304.
     pub struct ZoomStatus {
         /// Zoom progress.
@@ -236,7 +244,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000306: continuous zoom.
     pub struct ContinuousZoom {
         /// The zoom command.
@@ -246,7 +255,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000307: accurate re-shoot (photo at a given resolution, zoom and focal length).
     pub struct AccurateShoot {
         /// Sensors.
@@ -264,7 +274,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x000307.
     pub struct AccurateShootStatus {
         /// Sensors.
@@ -276,7 +287,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000308: output stream bitrate.
     pub struct StreamBitrateSetting {
         /// Bitrate.
@@ -296,7 +308,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00030A: video output resolution.
     pub struct OutputResolutionSetting {
         /// Resolution.
@@ -306,7 +319,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00030B: video output encoding.
     pub struct OutputCodecSetting {
         /// Encoding.
@@ -343,7 +357,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x00030C.
     pub struct TfUpgradeStatus {
         /// Progress.
@@ -367,7 +382,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Status frame of 0x00030D (5 Hz).
     pub struct FormatStatus {
         /// Progress.
@@ -377,7 +393,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00030E: time sync. Sent immediately after the rising edge of RTC_IO, carrying
     /// the UTC time of that edge; repeated every 10 s.
     pub struct TimeSync {
@@ -390,7 +407,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000310, sent by the pod to the flight controller: GPS wanted for this UTC
     /// time of day. The ACK ([`GpsReply`]) comes from the flight controller.
     pub struct GpsRequest {
@@ -407,7 +425,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000310, sent by the flight controller: position and attitude at the
     /// requested time (echoed).
     pub struct GpsReply {
@@ -448,7 +467,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000311: set the camera's IP configuration (octets in dotted order).
     pub struct SetIp {
         /// Static or dynamic.
@@ -462,7 +482,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000312: the camera's IP configuration.
     pub struct IpConfigAck {
         /// Response code.
@@ -498,7 +519,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000313: focus.
     pub struct Focus {
         /// Focus command.
@@ -516,7 +538,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000314: OSD watermark.
     pub struct Watermark {
         /// Switch.
@@ -526,7 +549,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000317: the camera version.
     pub struct CameraVersionAck {
         /// Response code.
@@ -536,7 +560,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000318: image (stream) mode.
     pub struct ImageModeSetting {
         /// The image.
@@ -546,7 +571,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000319: AI recognition.
     pub struct AiRecognition {
         /// Switch (1 on, 2 off).
@@ -582,7 +608,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000320, flight controller to camera: ask for the GPS position of the laser
     /// target, giving the aircraft's state.
     pub struct TargetGpsRequest {
@@ -619,7 +646,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000320: the target's position.
     pub struct TargetGpsAck {
         /// Response code.
@@ -639,7 +667,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000324: track the target in a box (AI recognition must be on).
     pub struct TrackBox {
         /// Enable (1) or disable (2).

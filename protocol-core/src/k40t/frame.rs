@@ -16,7 +16,8 @@ pub const MIN_FRAME_LEN: usize = HEADER_LEN + CRC_LEN;
 /// Largest frame.
 pub const MAX_FRAME_LEN: usize = MIN_FRAME_LEN + MAX_PAYLOAD_LEN;
 
-mod field {
+/// Byte offsets of the header fields.
+mod offset {
     pub const STX: usize = 0;
     pub const LEN: usize = 1;
     pub const DST_SYS: usize = 2;
@@ -27,15 +28,15 @@ mod field {
     pub const MSG_ID: core::ops::Range<usize> = 7..10;
 }
 
-/// A system/component address pair.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Address {
-    /// System id.
-    pub system: u8,
-    /// Component id.
-    pub component: u8,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// A system/component address pair.
+    pub struct Address {
+        /// System id.
+        pub system: u8,
+        /// Component id.
+        pub component: u8,
+    }
 }
 
 impl Address {
@@ -54,52 +55,27 @@ impl Address {
     }
 }
 
-/// What the high byte of a message id says the frame is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Kind {
-    /// 0x00: a request or setting, or a periodic report.
-    Request,
-    /// 0x01: the acknowledgement of a request.
-    Ack,
-    /// 0x02: a status frame sent while a request executes.
-    Status,
-    /// Any other high byte, kept as received.
-    Other(u8),
-}
-
-impl Kind {
-    /// The high byte of the message id.
-    pub const fn value(self) -> u8 {
-        match self {
-            Kind::Request => 0x00,
-            Kind::Ack => 0x01,
-            Kind::Status => 0x02,
-            Kind::Other(v) => v,
-        }
-    }
-
-    /// The kind for a high byte.
-    pub const fn from_value(v: u8) -> Self {
-        match v {
-            0x00 => Kind::Request,
-            0x01 => Kind::Ack,
-            0x02 => Kind::Status,
-            v => Kind::Other(v),
-        }
+code_enum! {
+    /// What the high byte of a message id says the frame is.
+    pub enum Kind: u8 {
+        /// 0x00: a request or setting, or a periodic report.
+        Request = 0x00,
+        /// 0x01: the acknowledgement of a request.
+        Ack = 0x01,
+        /// 0x02: a status frame sent while a request executes.
+        Status = 0x02,
     }
 }
 
-/// A 24-bit message id, seen as (kind, base id): 0x020304 is the status frame of 0x000304.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct MsgId {
-    /// The high byte.
-    pub kind: Kind,
-    /// The low and middle bytes: the id of the request this frame belongs to.
-    pub base: u16,
+wire_derive! {
+    [Eq, Hash]
+    /// A 24-bit message id, seen as (kind, base id): 0x020304 is the status frame of 0x000304.
+    pub struct MsgId {
+        /// The high byte.
+        pub kind: Kind,
+        /// The low and middle bytes: the id of the request this frame belongs to.
+        pub base: u16,
+    }
 }
 
 impl MsgId {
@@ -137,16 +113,16 @@ impl MsgId {
     }
 }
 
-/// Which bytes the CRC covers. The document does not say (see SPEC-NOTES).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum CrcCoverage {
-    /// LEN through the last payload byte (as MAVLink v2, without CRC_EXTRA). The default.
-    #[default]
-    ExcludeStx,
-    /// STX through the last payload byte.
-    IncludeStx,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Which bytes the CRC covers. The document does not say (see SPEC-NOTES).
+    pub enum CrcCoverage {
+        /// LEN through the last payload byte (as MAVLink v2, without CRC_EXTRA). The default.
+        #[default]
+        ExcludeStx,
+        /// STX through the last payload byte.
+        IncludeStx,
+    }
 }
 
 /// A read-only or read-write view of a K40T frame in a byte buffer.
@@ -182,7 +158,7 @@ impl<T: AsRef<[u8]>> Frame<T> {
             Some(&STX) => {}
             Some(_) => return Err(Error::BadSync),
         }
-        let len = b.get(field::LEN).copied().ok_or(Error::Truncated)?;
+        let len = b.get(offset::LEN).copied().ok_or(Error::Truncated)?;
         if usize::from(len) > MAX_PAYLOAD_LEN {
             return Err(Error::BadLength);
         }
@@ -202,35 +178,35 @@ impl<T: AsRef<[u8]>> Frame<T> {
     }
 
     /// The LEN field: payload length.
-    pub fn payload_len(&self) -> u8 {
-        self.byte(field::LEN)
+    pub fn payload_len(&self) -> usize {
+        usize::from(self.byte(offset::LEN))
     }
 
     /// Length of the whole frame, header to CRC.
     pub fn total_len(&self) -> usize {
-        MIN_FRAME_LEN.saturating_add(usize::from(self.payload_len()))
+        MIN_FRAME_LEN.saturating_add(self.payload_len())
     }
 
     /// Receiver address.
     pub fn dst(&self) -> Address {
-        Address::new(self.byte(field::DST_SYS), self.byte(field::DST_COMP))
+        Address::new(self.byte(offset::DST_SYS), self.byte(offset::DST_COMP))
     }
 
     /// Packet sequence number.
     pub fn seq(&self) -> u8 {
-        self.byte(field::SEQ)
+        self.byte(offset::SEQ)
     }
 
     /// Sender address.
     pub fn src(&self) -> Address {
-        Address::new(self.byte(field::SRC_SYS), self.byte(field::SRC_COMP))
+        Address::new(self.byte(offset::SRC_SYS), self.byte(offset::SRC_COMP))
     }
 
-    /// Message id.
-    pub fn msg_id(&self) -> MsgId {
+    /// The message id.
+    pub fn id(&self) -> MsgId {
         let b = self.buffer.as_ref();
         let id = b
-            .get(field::MSG_ID)
+            .get(offset::MSG_ID)
             .and_then(|s| <[u8; 3]>::try_from(s).ok())
             .unwrap_or_default();
         MsgId::from_bytes(id)
@@ -238,7 +214,7 @@ impl<T: AsRef<[u8]>> Frame<T> {
 
     /// The payload.
     pub fn payload(&self) -> &[u8] {
-        let end = HEADER_LEN.saturating_add(usize::from(self.payload_len()));
+        let end = HEADER_LEN.saturating_add(self.payload_len());
         self.buffer
             .as_ref()
             .get(HEADER_LEN..end)
@@ -254,8 +230,8 @@ impl<T: AsRef<[u8]>> Frame<T> {
     /// The CRC computed over the frame with the given coverage.
     pub fn compute_checksum(&self, coverage: CrcCoverage) -> u16 {
         let start = match coverage {
-            CrcCoverage::ExcludeStx => field::LEN,
-            CrcCoverage::IncludeStx => field::STX,
+            CrcCoverage::ExcludeStx => offset::LEN,
+            CrcCoverage::IncludeStx => offset::STX,
         };
         let end = self.total_len().saturating_sub(CRC_LEN);
         crc16_mcrf4xx(self.buffer.as_ref().get(start..end).unwrap_or_default())
@@ -284,7 +260,7 @@ impl<T: AsRef<[u8]>> Frame<T> {
 impl<'a> Frame<&'a [u8]> {
     /// The payload, borrowed for the lifetime of the underlying buffer.
     pub fn payload_ref(&self) -> &'a [u8] {
-        let end = HEADER_LEN.saturating_add(usize::from(self.payload_len()));
+        let end = HEADER_LEN.saturating_add(self.payload_len());
         self.buffer.get(HEADER_LEN..end).unwrap_or_default()
     }
 }
@@ -298,37 +274,37 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
 
     /// Writes STX and the LEN field.
     pub fn set_start(&mut self, payload_len: u8) {
-        self.set_byte(field::STX, STX);
-        self.set_byte(field::LEN, payload_len);
+        self.set_byte(offset::STX, STX);
+        self.set_byte(offset::LEN, payload_len);
     }
 
     /// Sets the receiver address.
     pub fn set_dst(&mut self, a: Address) {
-        self.set_byte(field::DST_SYS, a.system);
-        self.set_byte(field::DST_COMP, a.component);
+        self.set_byte(offset::DST_SYS, a.system);
+        self.set_byte(offset::DST_COMP, a.component);
     }
 
     /// Sets the sequence number.
     pub fn set_seq(&mut self, seq: u8) {
-        self.set_byte(field::SEQ, seq);
+        self.set_byte(offset::SEQ, seq);
     }
 
     /// Sets the sender address.
     pub fn set_src(&mut self, a: Address) {
-        self.set_byte(field::SRC_SYS, a.system);
-        self.set_byte(field::SRC_COMP, a.component);
+        self.set_byte(offset::SRC_SYS, a.system);
+        self.set_byte(offset::SRC_COMP, a.component);
     }
 
     /// Sets the message id.
-    pub fn set_msg_id(&mut self, id: MsgId) {
-        for (i, b) in field::MSG_ID.zip(id.to_bytes()) {
+    pub fn set_id(&mut self, id: MsgId) {
+        for (i, b) in offset::MSG_ID.zip(id.to_bytes()) {
             self.set_byte(i, b);
         }
     }
 
     /// The payload, writable (LEN must be set first).
     pub fn payload_mut(&mut self) -> &mut [u8] {
-        let end = HEADER_LEN.saturating_add(usize::from(self.payload_len()));
+        let end = HEADER_LEN.saturating_add(self.payload_len());
         self.buffer
             .as_mut()
             .get_mut(HEADER_LEN..end)
@@ -378,7 +354,7 @@ impl Framing for K40tFraming {
     }
 
     fn frame_len(&self, header: &[u8]) -> Result<usize> {
-        let len = usize::from(header.get(field::LEN).copied().ok_or(Error::Truncated)?);
+        let len = usize::from(header.get(offset::LEN).copied().ok_or(Error::Truncated)?);
         if len > MAX_PAYLOAD_LEN {
             return Err(Error::BadLength);
         }

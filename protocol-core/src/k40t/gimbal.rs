@@ -1,6 +1,6 @@
 //! Gimbal messages (document section 3.1, ids 0x000001..0x0000FF).
 
-use super::field::{ResponseCode, Version};
+use super::payload::{ResponseCode, Version};
 
 code_enum! {
     /// Upgrade state of the gimbal (0x000001 byte 2).
@@ -28,11 +28,10 @@ code_enum! {
     }
 }
 
-/// Connection flags (0x000001 byte 1): low nibble gimbal, high nibble camera; 0 = normal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Links(pub u8);
+wire_newtype! {
+    /// Connection flags (0x000001 byte 1): low nibble gimbal, high nibble camera; 0 = normal.
+    pub struct Links(u8);
+}
 
 impl Links {
     /// The gimbal connection is normal.
@@ -45,11 +44,10 @@ impl Links {
     }
 }
 
-/// Self-test bits (0x000001 byte 3): 1 = sensor normal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SelfTest(pub u8);
+wire_newtype! {
+    /// Self-test bits (0x000001 byte 3): 1 = sensor normal.
+    pub struct SelfTest(u8);
+}
 
 impl SelfTest {
     /// Bit 0: infrared sensor normal.
@@ -70,9 +68,8 @@ impl SelfTest {
     }
 }
 
-impl_field_newtype!(Links, SelfTest);
-
-payload! {
+wire_struct! {
+    Le;
     /// 0x000001, report (2 Hz): gimbal status.
     pub struct GimbalStatus {
         /// Connection state of gimbal and camera.
@@ -88,7 +85,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000002, report (10 Hz): gimbal attitude. Angles 0.01°, rates 0.01°/s.
     pub struct GimbalAttitude {
         /// Yaw, joint angle.
@@ -152,7 +150,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000010: gimbal control (quick function and continuous motion).
     pub struct GimbalControl {
         /// Working mode / quick function.
@@ -166,7 +165,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000012: move to an angle. Direction bytes use the codes of [`PitchMotion`] and
     /// [`YawMotion`] (2 = no movement). The document gives no unit for the angles: this
     /// crate assumes 0.01°, like the attitude report (pitch: up to 30° up, 90° down; yaw
@@ -202,7 +202,8 @@ trigger! {
     AccelCalibration;
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000017: maximum dial speed. Range 5..=150 maps to 1..=30 °/s: the unit is
     /// 0.2 °/s (degrees per second times five).
     pub struct DialSpeed {
@@ -215,7 +216,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000018: response code and the hardware and software versions.
     pub struct GimbalVersionAck {
         /// Response code.
@@ -241,7 +243,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00002C: point to aim (point at an image coordinate with a zoom).
     pub struct PointToAim {
         /// Lens the coordinates refer to.
@@ -265,7 +268,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000033: image stabilisation on or off.
     pub struct Stabilization {
         /// Stabilisation switch.

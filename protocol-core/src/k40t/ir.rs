@@ -1,8 +1,8 @@
 //! Infrared camera settings (document section 3.2.2, ids 0x000100..0x0001FF).
 //! Temperatures are in 0.1 °C; −2732 switches a warning off.
 
-use super::field::ResponseCode;
 use super::gimbal::OnOff;
+use super::payload::ResponseCode;
 
 code_enum! {
     /// Thermal palettes 1..=20 (0x000106, 0x000100 ACK).
@@ -72,11 +72,10 @@ code_enum! {
     }
 }
 
-/// Measurement configuration byte of the 0x000100 ACK.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct MeasureConfig(pub u8);
+wire_newtype! {
+    /// Measurement configuration byte of the 0x000100 ACK.
+    pub struct MeasureConfig(u8);
+}
 
 impl MeasureConfig {
     /// Bit 0: measurement on (0 = on).
@@ -97,11 +96,10 @@ impl MeasureConfig {
     }
 }
 
-/// A switch in bit 7 and a level in bits 0..6 (denoising in the 0x000100 ACK).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SwitchLevel(pub u8);
+wire_newtype! {
+    /// A switch in bit 7 and a level in bits 0..6 (denoising in the 0x000100 ACK).
+    pub struct SwitchLevel(u8);
+}
 
 impl SwitchLevel {
     /// Bit 7: on.
@@ -114,12 +112,11 @@ impl SwitchLevel {
     }
 }
 
-impl_field_newtype!(MeasureConfig, SwitchLevel);
-
 /// Declares the "one setting byte + reserved" IR requests.
 macro_rules! ir_setting {
     ($($(#[$m:meta])* $name:ident { $(#[$fm:meta])* $field:ident: $ty:ty };)*) => {$(
-        payload! {
+        wire_struct! {
+    Le;
             $(#[$m])*
             pub struct $name {
                 $(#[$fm])*
@@ -184,7 +181,8 @@ ir_setting! {
     };
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000100: every infrared setting.
     pub struct IrParams {
         /// Response code.
@@ -223,7 +221,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00010D: denoising.
     pub struct IrDenoise {
         /// Switch.
@@ -235,7 +234,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x00010F: point temperature measurement at a cursor (0..=1920 x 0..=1088, black
     /// border included).
     pub struct IrPointMeasure {
@@ -248,7 +248,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000110: rectangular area temperature measurement.
     pub struct IrAreaMeasure {
         /// Frame width.
@@ -264,7 +265,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000124: temperature warnings (−2732 = off). The document's table gives one
     /// reserved byte (7 bytes), its field list two (8 bytes); this crate encodes 8 and
     /// accepts 7.
@@ -280,7 +282,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000126: threshold temperature-difference warning.
     pub struct IrThresholdWarning {
         /// Switch.

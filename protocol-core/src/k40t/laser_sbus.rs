@@ -1,7 +1,7 @@
 //! Laser range finder (document section 3.2.5) and SBUS configuration (3.2.6).
 
-use super::field::ResponseCode;
 use super::gimbal::OnOff;
+use super::payload::ResponseCode;
 
 code_enum! {
     /// Single ranging command of 0x000400.
@@ -13,7 +13,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000400: laser ranging.
     pub struct LaserRange {
         /// Command.
@@ -23,7 +24,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000400, and status frame of 0x000406: the measured distance.
     pub struct LaserDistance {
         /// Response code.
@@ -33,7 +35,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000406: periodic (1 s) ranging.
     pub struct LaserPeriodic {
         /// Switch.
@@ -43,7 +46,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000500: SBUS channel value range (0..=2047; takes effect after a power cycle).
     pub struct SbusRange {
         /// Maximum channel value.
@@ -55,55 +59,29 @@ payload! {
     }
 }
 
-/// The SBUS channel (0..=15 = channel 1..16) of each function.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SbusChannelMap {
-    /// Stream selection (cycles infrared, visible, split).
-    pub stream: u8,
-    /// Zoom (middle stop, maximum out, minimum in).
-    pub zoom: u8,
-    /// Photo.
-    pub photo: u8,
-    /// Video.
-    pub video: u8,
-    /// Gimbal pitch.
-    pub pitch: u8,
-    /// Gimbal yaw.
-    pub yaw: u8,
-    /// Gimbal recentre.
-    pub center: u8,
-}
-
-impl super::field::Field<crate::wire::field::Le> for SbusChannelMap {
-    const LEN: usize = 7;
-    fn read(r: &mut crate::wire::Reader<'_>) -> crate::Result<Self> {
-        let [stream, zoom, photo, video, pitch, yaw, center] = r.array()?;
-        Ok(SbusChannelMap {
-            stream,
-            zoom,
-            photo,
-            video,
-            pitch,
-            yaw,
-            center,
-        })
-    }
-    fn write(&self, w: &mut crate::wire::Writer<'_>) -> crate::Result<()> {
-        w.put(&[
-            self.stream,
-            self.zoom,
-            self.photo,
-            self.video,
-            self.pitch,
-            self.yaw,
-            self.center,
-        ])
+wire_struct! {
+    Le;
+    /// The SBUS channel (0..=15 = channel 1..16) of each function.
+    pub struct SbusChannelMap {
+        /// Stream selection (cycles infrared, visible, split).
+        pub stream: u8,
+        /// Zoom (middle stop, maximum out, minimum in).
+        pub zoom: u8,
+        /// Photo.
+        pub photo: u8,
+        /// Video.
+        pub video: u8,
+        /// Gimbal pitch.
+        pub pitch: u8,
+        /// Gimbal yaw.
+        pub yaw: u8,
+        /// Gimbal recentre.
+        pub center: u8,
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000501: SBUS channel of each function (bytes 1..7; byte 8 reserved; takes
     /// effect after a power cycle).
     pub struct SbusChannels {
@@ -114,7 +92,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000502: get the SBUS configuration (command 0x01); the ACK is [`SbusConfig`].
     pub struct SbusConfigQuery {
         /// The command byte.
@@ -124,7 +103,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000502: range and channel map.
     pub struct SbusConfig {
         /// Response code.

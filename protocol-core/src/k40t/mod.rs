@@ -4,10 +4,37 @@
 //! 115200 8N1. The message id's high byte is the [`Kind`] (0x00 request or report, 0x01
 //! ACK, 0x02 status frame); the low 16 bits are the base id the document lists.
 //!
+//! ```
+//! use protocol_core::k40t::{self, Address, Header, HybridZoom, K40tFraming, Packet};
+//! use protocol_core::wire::{Deframer, Event};
+//!
+//! // Build a message and emit it as a frame.
+//! let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, 7);
+//! let zoom = HybridZoom { start: 0, zoom_x10: 45 };
+//! let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+//! let n = k40t::encode(&zoom, &header, &mut buf)?;
+//! assert_eq!(&buf[..n], &[0xFD, 0x03, 0x04, 0x01, 0x07, 0x02, 0x01, 0x04, 0x03, 0x00,
+//!                         0x00, 0x2D, 0x00, 0xCE, 0x89]);
+//!
+//! // Find it in a byte stream and decode it.
+//! let mut deframer = Deframer::<_, { k40t::MAX_FRAME_LEN }>::new(K40tFraming::any());
+//! let mut found = None;
+//! deframer.push(&buf[..n], |event| {
+//!     if let Event::Frame(bytes) = event {
+//!         found = Packet::decode(bytes).ok().and_then(|p| p.message.get::<HybridZoom>());
+//!     }
+//! });
+//! assert_eq!(found, Some(zoom));
+//! # Ok::<(), protocol_core::Error>(())
+//! ```
+//!
 //! - [`Frame`] is the checked zero-copy view; [`K40tFraming`] plugs the protocol into
 //!   the shared [`Deframer`](crate::wire::Deframer).
-//! - [`Packet`] (addresses, sequence and a [`Message`]) parses from a frame and emits
-//!   into a buffer; [`Message`] is [`Request`], [`Ack`], [`Status`] or [`Raw`].
+//! - [`Packet`] (a [`Header`]: addresses, sequence number, CRC coverage; and a
+//!   [`Message`]) parses from a frame and emits into a buffer; [`Message`] is
+//!   [`Request`], [`Ack`], [`Status`] or [`Raw`].
+//! - Every payload type implements [`MessageData`] (its id, name and length), so one
+//!   message is sent with [`encode`] and recognised with [`Message::get`].
 //! - [`CATALOG`] lists every base id with the kinds it has.
 //!
 //! # Decisions where the document is silent (see the README)
@@ -24,9 +51,9 @@
 //! - Every request has an ACK (a bare response code unless the document gives data);
 //!   periodic reports (0x000001..0x000008) have none.
 
-#[macro_use]
-mod field;
 mod frame;
+#[macro_use]
+mod payload;
 
 mod camera;
 mod common;
@@ -38,7 +65,6 @@ mod visible;
 pub use crate::Text;
 pub use camera::*;
 pub use common::*;
-pub use field::{AckCode, Payload, ResponseCode, Version};
 pub use frame::{
     Address, CrcCoverage, Frame, HEADER_LEN, K40tFraming, Kind, MAX_FRAME_LEN, MAX_PAYLOAD_LEN,
     MIN_FRAME_LEN, MsgId, STX,
@@ -46,32 +72,43 @@ pub use frame::{
 pub use gimbal::*;
 pub use ir::*;
 pub use laser_sbus::*;
+pub use payload::{AckCode, ResponseCode, Version};
 pub use visible::*;
 
 use crate::wire::Writer;
+use crate::wire::encoding::{Field, Le};
 use crate::{Error, Result};
-use field::decode_payload;
+use payload::decode_payload;
+
+/// A typed K40T message: a payload type that knows its message id (after rust-mavlink's
+/// `MessageData`). Every request, report, ACK and status payload implements it, from
+/// the one table that also builds [`CATALOG`].
+///
+/// ```
+/// use protocol_core::k40t::{HybridZoom, MessageData, MsgId, Kind};
+/// assert_eq!(HybridZoom::ID, MsgId::new(Kind::Request, 0x0304));
+/// assert_eq!(HybridZoom::NAME, "HybridZoom");
+/// assert_eq!(HybridZoom::ENCODED_LEN, 3);
+/// ```
+pub trait MessageData: Field<Le> + Copy {
+    /// The message id (kind and base id).
+    const ID: MsgId;
+    /// The message name, as [`CATALOG`] lists it (shared by the kinds of one base id).
+    const NAME: &'static str;
+    /// Encoded payload length in bytes.
+    const ENCODED_LEN: usize;
+
+    /// This payload as a decoded [`Message`].
+    fn into_message(self) -> Message<'static>;
+
+    /// The payload, if `message` is this message.
+    fn from_message(message: &Message<'_>) -> Option<Self>;
+}
 
 /// An ACK payload: a response code, possibly followed by data.
 pub trait AckPayload {
     /// The response code.
     fn code(&self) -> ResponseCode;
-}
-
-impl Payload for ResponseCode {
-    const LEN: usize = 2;
-    fn decode(r: &mut crate::wire::Reader<'_>) -> Result<Self> {
-        field::Field::<crate::wire::field::Le>::read(r)
-    }
-    fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        field::Field::<crate::wire::field::Le>::write(self, w)
-    }
-}
-
-impl AckPayload for ResponseCode {
-    fn code(&self) -> ResponseCode {
-        *self
-    }
 }
 
 macro_rules! ack_with_data {
@@ -111,15 +148,6 @@ pub struct CatalogEntry {
     pub status: bool,
 }
 
-macro_rules! present {
-    () => {
-        false
-    };
-    ($t:ty) => {
-        true
-    };
-}
-
 macro_rules! is_report {
     (report) => {
         true
@@ -129,119 +157,184 @@ macro_rules! is_report {
     };
 }
 
-/// Declares every message: base id, name, the payload of kind 0x00, and the ACK and
-/// status payloads where they exist. Generates [`Request`], [`Ack`], [`Status`] and
-/// [`CATALOG`] from the one table, so they cannot disagree.
-macro_rules! messages {
-    ($(
-        $base:literal $name:ident { $role:ident: $req:ty $(, ack: $ack:ty)? $(, status: $status:ty)? $(,)? }
-    )*) => {
-        /// Kind 0x00: requests and settings, and the periodic reports.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub enum Request {
-            $(
-                #[doc = concat!("Base id ", stringify!($base), ": [`", stringify!($req), "`].")]
-                $name($req),
-            )*
+/// Declares the payload types the message table names but no module defines: an ACK
+/// that is a bare response code (`Name {code}`) or a second message sharing another's
+/// layout (`Name(Inner)`). A type written alone is defined elsewhere.
+macro_rules! k40t_payload_type {
+    ($what:literal $base:literal $name:ident) => {};
+    ($what:literal $base:literal $name:ident {code}) => {
+        wire_struct! {
+            Le;
+            #[doc = concat!($what, " of ", stringify!($base), ": a bare response code.")]
+            pub struct $name {
+                /// The response code.
+                pub code: ResponseCode,
+            }
         }
 
-        /// Kind 0x01: acknowledgements, with their data where the document gives some.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub enum Ack {
-            $( $(
-                #[doc = concat!("ACK of ", stringify!($base), ": [`", stringify!($ack), "`].")]
-                $name($ack),
-            )? )*
+        impl AckPayload for $name {
+            fn code(&self) -> ResponseCode {
+                self.code
+            }
+        }
+    };
+    ($what:literal $base:literal $name:ident ($inner:ty)) => {
+        wire_derive! {
+            [Eq, Hash, Default]
+            #[doc = concat!($what, " of ", stringify!($base), ": the layout of [`", stringify!($inner), "`].")]
+            pub struct $name(pub $inner);
         }
 
-        /// Kind 0x02: status frames sent while a request executes.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub enum Status {
-            $( $(
-                #[doc = concat!("Status frame of ", stringify!($base), ": [`", stringify!($status), "`].")]
-                $name($status),
-            )? )*
+        impl Field<Le> for $name {
+            const LEN: usize = <$inner as Field<Le>>::LEN;
+            fn read(r: &mut crate::wire::Reader<'_>) -> Result<Self> {
+                <$inner as Field<Le>>::read(r).map(Self)
+            }
+            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+                <$inner as Field<Le>>::write(&self.0, w)
+            }
+        }
+    };
+}
+
+/// Implements [`MessageData`] for the payload of one message kind.
+macro_rules! k40t_message_data {
+    ($ty:ty, $kind:ident, $base:literal, $name:ident) => {
+        impl MessageData for $ty {
+            const ID: MsgId = MsgId::new(Kind::$kind, $base);
+            const NAME: &'static str = stringify!($name);
+            const ENCODED_LEN: usize = <$ty as Field<Le>>::LEN;
+
+            fn into_message(self) -> Message<'static> {
+                Message::$kind($kind::$name(self))
+            }
+
+            fn from_message(message: &Message<'_>) -> Option<Self> {
+                match message {
+                    Message::$kind($kind::$name(m)) => Some(*m),
+                    _ => None,
+                }
+            }
         }
 
-        impl Request {
+        impl From<$ty> for Message<'_> {
+            fn from(m: $ty) -> Self {
+                m.into_message()
+            }
+        }
+    };
+}
+
+/// Generates the methods every per-kind enum ([`Request`], [`Ack`], [`Status`]) has.
+macro_rules! k40t_kind_impl {
+    ($kind:ident: $( [$base:literal $name:ident $ty:ty] )*) => {
+        impl $kind {
+            /// The message id.
+            #[must_use]
+            pub const fn id(&self) -> MsgId {
+                MsgId::new(Kind::$kind, self.base())
+            }
             /// The base id.
+            #[must_use]
             pub const fn base(&self) -> u16 {
                 match self { $( Self::$name(_) => $base, )* }
             }
             /// The message name.
+            #[must_use]
             pub const fn name(&self) -> &'static str {
                 match self { $( Self::$name(_) => stringify!($name), )* }
             }
             /// Encoded payload length.
+            #[must_use]
             pub const fn payload_len(&self) -> usize {
-                match self { $( Self::$name(_) => <$req as Payload>::LEN, )* }
+                match self { $( Self::$name(_) => <$ty as Field<Le>>::LEN, )* }
             }
-            fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
+            /// Decodes the payload of a known base id (`None` for an unknown one).
+            ///
+            /// # Errors
+            /// [`Error::BadLength`] when the payload is longer than the layout (a shorter
+            /// one is zero-extended, see the module documentation).
+            pub fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
                 match base {
-                    $( $base => Some(decode_payload::<$req>(payload).map(Self::$name)), )*
+                    $( $base => Some(decode_payload::<$ty>(payload).map(Self::$name)), )*
                     _ => None,
                 }
             }
-            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( Self::$name(m) => m.encode(w), )* }
+            /// Writes the payload.
+            ///
+            /// # Errors
+            /// [`Error::BufferTooSmall`] when `w` has no room for it.
+            pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
+                match self { $( Self::$name(m) => Field::<Le>::write(m, w), )* }
             }
         }
+    };
+}
+
+/// Declares every message: base id, name, the payload of kind 0x00, and the ACK and
+/// status payloads where they exist. Generates [`Request`], [`Ack`], [`Status`],
+/// [`MessageData`] for every payload type, and [`CATALOG`] from the one table, so they
+/// cannot disagree.
+macro_rules! k40t_messages {
+    ($(
+        $base:literal $name:ident {
+            $role:ident: $req:ty
+            // `$ack_def`/`$status_def`: `{code}` or `(Inner)` asks `k40t_payload_type!` to
+            // define the type; one token tree each.
+            $(, ack: $ack:ident $($ack_def:tt)?)?
+            $(, status: $status:ident $($status_def:tt)?)?
+            $(,)?
+        }
+    )*) => {
+        $( $( k40t_payload_type!("ACK" $base $ack $($ack_def)?); )? )*
+        $( $( k40t_payload_type!("Status frame" $base $status $($status_def)?); )? )*
+
+        wire_derive! {
+            [Eq]
+            /// Kind 0x00: requests and settings, and the periodic reports.
+            pub enum Request {
+                $(
+                    #[doc = concat!("Base id ", stringify!($base), ": [`", stringify!($req), "`].")]
+                    $name($req),
+                )*
+            }
+        }
+
+        wire_derive! {
+            [Eq]
+            /// Kind 0x01: acknowledgements, with their data where the document gives some.
+            pub enum Ack {
+                $( $(
+                    #[doc = concat!("ACK of ", stringify!($base), ": [`", stringify!($ack), "`].")]
+                    $name($ack),
+                )? )*
+            }
+        }
+
+        wire_derive! {
+            [Eq]
+            /// Kind 0x02: status frames sent while a request executes.
+            pub enum Status {
+                $( $(
+                    #[doc = concat!("Status frame of ", stringify!($base), ": [`", stringify!($status), "`].")]
+                    $name($status),
+                )? )*
+            }
+        }
+
+        k40t_kind_impl!(Request: $( [$base $name $req] )*);
+        k40t_kind_impl!(Ack: $( $( [$base $name $ack] )? )*);
+        k40t_kind_impl!(Status: $( $( [$base $name $status] )? )*);
+
+        $( k40t_message_data!($req, Request, $base, $name); )*
+        $( $( k40t_message_data!($ack, Ack, $base, $name); )? )*
+        $( $( k40t_message_data!($status, Status, $base, $name); )? )*
 
         impl Ack {
-            /// The base id of the request acknowledged.
-            pub const fn base(&self) -> u16 {
-                match self { $( $( Self::$name(_) => { let _ = stringify!($ack); $base } )? )* }
-            }
-            /// The message name (of the request acknowledged).
-            pub const fn name(&self) -> &'static str {
-                match self { $( $( Self::$name(_) => { let _ = stringify!($ack); stringify!($name) } )? )* }
-            }
-            /// Encoded payload length.
-            pub const fn payload_len(&self) -> usize {
-                match self { $( $( Self::$name(_) => <$ack as Payload>::LEN, )? )* }
-            }
             /// The response code.
+            #[must_use]
             pub fn code(&self) -> ResponseCode {
                 match self { $( $( Self::$name(m) => AckPayload::code(m as &$ack), )? )* }
-            }
-            fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
-                match base {
-                    $( $( $base => Some(decode_payload::<$ack>(payload).map(Self::$name)), )? )*
-                    _ => None,
-                }
-            }
-            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( $( Self::$name(m) => (m as &$ack).encode(w), )? )* }
-            }
-        }
-
-        impl Status {
-            /// The base id of the request this status belongs to.
-            pub const fn base(&self) -> u16 {
-                match self { $( $( Self::$name(_) => { let _ = stringify!($status); $base } )? )* }
-            }
-            /// The message name (of the request).
-            pub const fn name(&self) -> &'static str {
-                match self { $( $( Self::$name(_) => { let _ = stringify!($status); stringify!($name) } )? )* }
-            }
-            /// Encoded payload length.
-            pub const fn payload_len(&self) -> usize {
-                match self { $( $( Self::$name(_) => <$status as Payload>::LEN, )? )* }
-            }
-            fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
-                match base {
-                    $( $( $base => Some(decode_payload::<$status>(payload).map(Self::$name)), )? )*
-                    _ => None,
-                }
-            }
-            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( $( Self::$name(m) => (m as &$status).encode(w), )? )* }
             }
         }
 
@@ -258,22 +351,22 @@ macro_rules! messages {
     };
 }
 
-messages! {
+k40t_messages! {
     // 3.1 gimbal
     0x0001 GimbalStatus { report: GimbalStatus }
     0x0002 GimbalAttitude { report: GimbalAttitude }
-    0x0010 GimbalControl { request: GimbalControl, ack: ResponseCode }
-    0x0012 GimbalAngle { request: GimbalAngle, ack: ResponseCode }
-    0x0013 DriftCalibration { request: DriftCalibration, ack: ResponseCode }
-    0x0017 DialSpeed { request: DialSpeed, ack: ResponseCode }
+    0x0010 GimbalControl { request: GimbalControl, ack: GimbalControlAck {code} }
+    0x0012 GimbalAngle { request: GimbalAngle, ack: GimbalAngleAck {code} }
+    0x0013 DriftCalibration { request: DriftCalibration, ack: DriftCalibrationAck {code} }
+    0x0017 DialSpeed { request: DialSpeed, ack: DialSpeedAck {code} }
     0x0018 GimbalVersion { request: GimbalVersionQuery, ack: GimbalVersionAck }
-    0x002C PointToAim { request: PointToAim, ack: ResponseCode }
-    0x002D ServoOff { request: ServoOff, ack: ResponseCode }
-    0x002E LinearCalibration { request: LinearCalibration, ack: ResponseCode }
-    0x002F SoftRestart { request: SoftRestart, ack: ResponseCode }
-    0x0030 UseFcAttitude { request: UseFcAttitude, ack: ResponseCode }
-    0x0031 AccelCalibration { request: AccelCalibration, ack: ResponseCode }
-    0x0033 Stabilization { request: Stabilization, ack: ResponseCode }
+    0x002C PointToAim { request: PointToAim, ack: PointToAimAck {code} }
+    0x002D ServoOff { request: ServoOff, ack: ServoOffAck {code} }
+    0x002E LinearCalibration { request: LinearCalibration, ack: LinearCalibrationAck {code} }
+    0x002F SoftRestart { request: SoftRestart, ack: SoftRestartAck {code} }
+    0x0030 UseFcAttitude { request: UseFcAttitude, ack: UseFcAttitudeAck {code} }
+    0x0031 AccelCalibration { request: AccelCalibration, ack: AccelCalibrationAck {code} }
+    0x0033 Stabilization { request: Stabilization, ack: StabilizationAck {code} }
     // 3.2.1 camera reports
     0x0003 SystemStatus { report: SystemStatus }
     0x0004 IrStatus { report: IrStatus }
@@ -281,98 +374,100 @@ messages! {
     0x0008 UpgradeStatus { report: UpgradeStatus }
     // 3.2.2 infrared
     0x0100 IrParams { request: IrParamsQuery, ack: IrParams }
-    0x0105 IrDigitalZoom { request: IrDigitalZoom, ack: ResponseCode }
-    0x0106 IrPalette { request: IrPalette, ack: ResponseCode }
-    0x0108 IrMeasurement { request: IrMeasurement, ack: ResponseCode }
-    0x010A IrSharpness { request: IrSharpness, ack: ResponseCode }
-    0x010B IrBrightness { request: IrBrightness, ack: ResponseCode }
-    0x010C IrContrast { request: IrContrast, ack: ResponseCode }
-    0x010D IrDenoise { request: IrDenoise, ack: ResponseCode }
-    0x010E IrEnhancement { request: IrEnhancement, ack: ResponseCode }
-    0x010F IrPointMeasure { request: IrPointMeasure, ack: ResponseCode }
-    0x0110 IrAreaMeasure { request: IrAreaMeasure, ack: ResponseCode }
-    0x0123 IrGainMode { request: IrGainMode, ack: ResponseCode }
-    0x0124 IrTempWarning { request: IrTempWarning, ack: ResponseCode }
-    0x0125 IrTempOverlay { request: IrTempOverlay, ack: ResponseCode }
-    0x0126 IrThresholdWarning { request: IrThresholdWarning, ack: ResponseCode }
+    0x0105 IrDigitalZoom { request: IrDigitalZoom, ack: IrDigitalZoomAck {code} }
+    0x0106 IrPalette { request: IrPalette, ack: IrPaletteAck {code} }
+    0x0108 IrMeasurement { request: IrMeasurement, ack: IrMeasurementAck {code} }
+    0x010A IrSharpness { request: IrSharpness, ack: IrSharpnessAck {code} }
+    0x010B IrBrightness { request: IrBrightness, ack: IrBrightnessAck {code} }
+    0x010C IrContrast { request: IrContrast, ack: IrContrastAck {code} }
+    0x010D IrDenoise { request: IrDenoise, ack: IrDenoiseAck {code} }
+    0x010E IrEnhancement { request: IrEnhancement, ack: IrEnhancementAck {code} }
+    0x010F IrPointMeasure { request: IrPointMeasure, ack: IrPointMeasureAck {code} }
+    0x0110 IrAreaMeasure { request: IrAreaMeasure, ack: IrAreaMeasureAck {code} }
+    0x0123 IrGainMode { request: IrGainMode, ack: IrGainModeAck {code} }
+    0x0124 IrTempWarning { request: IrTempWarning, ack: IrTempWarningAck {code} }
+    0x0125 IrTempOverlay { request: IrTempOverlay, ack: IrTempOverlayAck {code} }
+    0x0126 IrThresholdWarning { request: IrThresholdWarning, ack: IrThresholdWarningAck {code} }
     // 3.2.3 visible
     0x0200 VisibleParams { request: VisibleParamsQuery, ack: VisibleParams }
-    0x0201 VideoResolution { request: VideoResolutionSetting, ack: ResponseCode }
-    0x0202 PhotoResolution { request: PhotoResolutionSetting, ack: ResponseCode }
-    0x0203 Iso { request: IsoSetting, ack: ResponseCode }
-    0x0204 Shutter { request: ShutterSetting, ack: ResponseCode }
-    0x0205 Ev { request: EvSetting, ack: ResponseCode }
-    0x0206 WhiteBalance { request: WhiteBalanceSetting, ack: ResponseCode }
-    0x0207 AntiFlicker { request: AntiFlickerSetting, ack: ResponseCode }
-    0x0208 StrongLight { request: StrongLightSetting, ack: ResponseCode }
-    0x0209 Backlight { request: BacklightSetting, ack: ResponseCode }
-    0x020A AeLock { request: AeLockSetting, ack: ResponseCode }
-    0x020B Metering { request: MeteringSetting, ack: ResponseCode }
+    0x0201 VideoResolution { request: VideoResolutionSetting, ack: VideoResolutionAck {code} }
+    0x0202 PhotoResolution { request: PhotoResolutionSetting, ack: PhotoResolutionAck {code} }
+    0x0203 Iso { request: IsoSetting, ack: IsoAck {code} }
+    0x0204 Shutter { request: ShutterSetting, ack: ShutterAck {code} }
+    0x0205 Ev { request: EvSetting, ack: EvAck {code} }
+    0x0206 WhiteBalance { request: WhiteBalanceSetting, ack: WhiteBalanceAck {code} }
+    0x0207 AntiFlicker { request: AntiFlickerSetting, ack: AntiFlickerAck {code} }
+    0x0208 StrongLight { request: StrongLightSetting, ack: StrongLightAck {code} }
+    0x0209 Backlight { request: BacklightSetting, ack: BacklightAck {code} }
+    0x020A AeLock { request: AeLockSetting, ack: AeLockAck {code} }
+    0x020B Metering { request: MeteringSetting, ack: MeteringAck {code} }
     // 3.2.4 common
-    0x0300 CaptureMode { request: CaptureModeSetting, ack: ResponseCode }
-    0x0301 PhotoParams { request: PhotoParams, ack: ResponseCode }
-    0x0302 TakePhoto { request: TakePhoto, ack: ResponseCode, status: PhotoStatus }
-    0x0303 Record { request: Record, ack: ResponseCode, status: RecordStatus }
-    0x0304 HybridZoom { request: HybridZoom, ack: ResponseCode, status: ZoomStatus }
-    0x0306 ContinuousZoom { request: ContinuousZoom, ack: ResponseCode }
-    0x0307 AccurateShoot { request: AccurateShoot, ack: ResponseCode, status: AccurateShootStatus }
-    0x0308 StreamBitrate { request: StreamBitrateSetting, ack: ResponseCode }
-    0x030A OutputResolution { request: OutputResolutionSetting, ack: ResponseCode }
-    0x030B OutputCodec { request: OutputCodecSetting, ack: ResponseCode }
-    0x030C TfUpgrade { request: TfUpgrade, ack: ResponseCode, status: TfUpgradeStatus }
-    0x030D FormatSd { request: FormatSd, ack: ResponseCode, status: FormatStatus }
-    0x030E TimeSync { request: TimeSync, ack: ResponseCode }
-    0x030F FactoryReset { request: FactoryReset, ack: ResponseCode }
+    0x0300 CaptureMode { request: CaptureModeSetting, ack: CaptureModeAck {code} }
+    0x0301 PhotoParams { request: PhotoParams, ack: PhotoParamsAck {code} }
+    0x0302 TakePhoto { request: TakePhoto, ack: TakePhotoAck {code}, status: PhotoStatus }
+    0x0303 Record { request: Record, ack: RecordAck {code}, status: RecordStatus }
+    0x0304 HybridZoom { request: HybridZoom, ack: HybridZoomAck {code}, status: ZoomStatus }
+    0x0306 ContinuousZoom { request: ContinuousZoom, ack: ContinuousZoomAck {code} }
+    0x0307 AccurateShoot { request: AccurateShoot, ack: AccurateShootAck {code}, status: AccurateShootStatus }
+    0x0308 StreamBitrate { request: StreamBitrateSetting, ack: StreamBitrateAck {code} }
+    0x030A OutputResolution { request: OutputResolutionSetting, ack: OutputResolutionAck {code} }
+    0x030B OutputCodec { request: OutputCodecSetting, ack: OutputCodecAck {code} }
+    0x030C TfUpgrade { request: TfUpgrade, ack: TfUpgradeAck {code}, status: TfUpgradeStatus }
+    0x030D FormatSd { request: FormatSd, ack: FormatSdAck {code}, status: FormatStatus }
+    0x030E TimeSync { request: TimeSync, ack: TimeSyncAck {code} }
+    0x030F FactoryReset { request: FactoryReset, ack: FactoryResetAck {code} }
     0x0310 GpsRequest { request: GpsRequest, ack: GpsReply }
-    0x0311 SetIp { request: SetIp, ack: ResponseCode }
+    0x0311 SetIp { request: SetIp, ack: SetIpAck {code} }
     0x0312 GetIp { request: IpQuery, ack: IpConfigAck }
-    0x0313 Focus { request: Focus, ack: ResponseCode }
-    0x0314 Watermark { request: Watermark, ack: ResponseCode }
-    0x0316 Shutdown { request: Shutdown, ack: ResponseCode }
+    0x0313 Focus { request: Focus, ack: FocusAck {code} }
+    0x0314 Watermark { request: Watermark, ack: WatermarkAck {code} }
+    0x0316 Shutdown { request: Shutdown, ack: ShutdownAck {code} }
     0x0317 CameraVersion { request: CameraVersionQuery, ack: CameraVersionAck }
-    0x0318 ImageMode { request: ImageModeSetting, ack: ResponseCode }
-    0x0319 AiRecognition { request: AiRecognition, ack: ResponseCode }
+    0x0318 ImageMode { request: ImageModeSetting, ack: ImageModeAck {code} }
+    0x0319 AiRecognition { request: AiRecognition, ack: AiRecognitionAck {code} }
     0x0320 TargetGps { request: TargetGpsRequest, ack: TargetGpsAck }
-    0x0324 TrackBox { request: TrackBox, ack: ResponseCode }
+    0x0324 TrackBox { request: TrackBox, ack: TrackBoxAck {code} }
     // 3.2.5 laser
     0x0400 LaserRange { request: LaserRange, ack: LaserDistance }
-    0x0406 LaserPeriodic { request: LaserPeriodic, ack: ResponseCode, status: LaserDistance }
+    0x0406 LaserPeriodic { request: LaserPeriodic, ack: LaserPeriodicAck {code}, status: LaserPeriodicStatus(LaserDistance) }
     // 3.2.6 SBUS
-    0x0500 SbusRange { request: SbusRange, ack: ResponseCode }
-    0x0501 SbusChannels { request: SbusChannels, ack: ResponseCode }
+    0x0500 SbusRange { request: SbusRange, ack: SbusRangeAck {code} }
+    0x0501 SbusChannels { request: SbusChannels, ack: SbusChannelsAck {code} }
     0x0502 SbusConfig { request: SbusConfigQuery, ack: SbusConfig }
 }
 
-/// A message this codec does not know (unknown base id, or a kind the document does not
-/// define for it), with its payload.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Raw<'a> {
-    /// The message id.
-    pub id: MsgId,
-    /// The payload bytes.
-    pub payload: &'a [u8],
+wire_derive! {
+    [Eq]
+    /// A message this codec does not know (unknown base id, or a kind the document does not
+    /// define for it), with its payload.
+    pub struct Raw<'a> {
+        /// The message id.
+        pub id: MsgId,
+        /// The payload bytes.
+        pub payload: &'a [u8],
+    }
 }
 
-/// A decoded message: what the payload of a frame means.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Message<'a> {
-    /// Kind 0x00.
-    Request(Request),
-    /// Kind 0x01.
-    Ack(Ack),
-    /// Kind 0x02.
-    Status(Status),
-    /// Unknown id or kind.
-    Raw(Raw<'a>),
+wire_derive! {
+    [Eq]
+    /// A decoded message: what the payload of a frame means.
+    pub enum Message<'a> {
+        /// Kind 0x00.
+        Request(Request),
+        /// Kind 0x01.
+        Ack(Ack),
+        /// Kind 0x02.
+        Status(Status),
+        /// Unknown id or kind.
+        Raw(Raw<'a>),
+    }
 }
 
 impl<'a> Message<'a> {
-    /// Decodes a payload. Unknown ids give [`Message::Raw`]; a known id whose payload is
-    /// longer than its layout is [`Error::BadLength`].
+    /// Decodes a payload. Unknown ids give [`Message::Raw`].
+    ///
+    /// # Errors
+    /// [`Error::BadLength`] when a known id's payload is longer than its layout.
     pub fn decode(id: MsgId, payload: &'a [u8]) -> Result<Self> {
         let known = match id.kind {
             Kind::Request => Request::decode(id.base, payload).map(|r| r.map(Message::Request)),
@@ -384,16 +479,18 @@ impl<'a> Message<'a> {
     }
 
     /// The message id.
+    #[must_use]
     pub const fn id(&self) -> MsgId {
         match self {
-            Message::Request(m) => MsgId::new(Kind::Request, m.base()),
-            Message::Ack(m) => MsgId::new(Kind::Ack, m.base()),
-            Message::Status(m) => MsgId::new(Kind::Status, m.base()),
+            Message::Request(m) => m.id(),
+            Message::Ack(m) => m.id(),
+            Message::Status(m) => m.id(),
             Message::Raw(r) => r.id,
         }
     }
 
     /// The message name (`"Raw"` for unknown ids).
+    #[must_use]
     pub const fn name(&self) -> &'static str {
         match self {
             Message::Request(m) => m.name(),
@@ -404,6 +501,7 @@ impl<'a> Message<'a> {
     }
 
     /// Encoded payload length.
+    #[must_use]
     pub const fn payload_len(&self) -> usize {
         match self {
             Message::Request(m) => m.payload_len(),
@@ -414,6 +512,9 @@ impl<'a> Message<'a> {
     }
 
     /// Writes the payload.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when `w` has no room for it.
     pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
         match self {
             Message::Request(m) => m.encode(w),
@@ -421,6 +522,13 @@ impl<'a> Message<'a> {
             Message::Status(m) => m.encode(w),
             Message::Raw(r) => w.put(r.payload),
         }
+    }
+
+    /// The typed payload, if this is message `M`:
+    /// `message.get::<HybridZoom>()`.
+    #[must_use]
+    pub fn get<M: MessageData>(&self) -> Option<M> {
+        M::from_message(self)
     }
 }
 
@@ -442,68 +550,138 @@ impl From<Status> for Message<'_> {
     }
 }
 
-/// A whole K40T packet: addressing, sequence number and message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Packet<'a> {
-    /// Receiver.
-    pub dst: Address,
-    /// Sender.
-    pub src: Address,
-    /// Sequence number.
-    pub seq: u8,
-    /// The message.
-    pub message: Message<'a>,
+wire_derive! {
+    [Eq, Hash]
+    /// Everything of a frame but its message: addresses, sequence number, CRC coverage.
+    pub struct Header {
+        /// Receiver.
+        pub dst: Address,
+        /// Sender.
+        pub src: Address,
+        /// Sequence number.
+        pub seq: u8,
+        /// Which bytes the CRC covers (found when parsing, used when emitting).
+        pub coverage: CrcCoverage,
+    }
+}
+
+impl Header {
+    /// A header from `src` to `dst` with sequence number `seq` and the default CRC
+    /// coverage.
+    #[must_use]
+    pub const fn new(src: Address, dst: Address, seq: u8) -> Self {
+        Header {
+            dst,
+            src,
+            seq,
+            coverage: CrcCoverage::ExcludeStx,
+        }
+    }
+}
+
+wire_derive! {
+    [Eq]
+    /// A whole K40T packet: the header and the message.
+    pub struct Packet<'a> {
+        /// Addresses, sequence number and CRC coverage.
+        pub header: Header,
+        /// The message.
+        pub message: Message<'a>,
+    }
 }
 
 impl<'a> Packet<'a> {
-    /// Parses a frame view (its CRC is not verified here: the deframer or
-    /// [`Frame::verify`] does that).
+    /// Parses a frame view. The CRC is verified under both coverages and the one that
+    /// matches is recorded in the header.
+    ///
+    /// # Errors
+    /// [`Error::BadChecksum`] when neither coverage matches (reported for the default
+    /// one), the frame's own length errors, and those of [`Message::decode`].
     pub fn parse(frame: &Frame<&'a [u8]>) -> Result<Self> {
         frame.check_len()?;
+        let Some(coverage) = frame.detect_coverage() else {
+            return Err(Error::BadChecksum {
+                computed: frame.compute_checksum(CrcCoverage::default()),
+                received: frame.checksum(),
+            });
+        };
         Ok(Packet {
-            dst: frame.dst(),
-            src: frame.src(),
-            seq: frame.seq(),
-            message: Message::decode(frame.msg_id(), frame.payload_ref())?,
+            header: Header {
+                dst: frame.dst(),
+                src: frame.src(),
+                seq: frame.seq(),
+                coverage,
+            },
+            message: Message::decode(frame.id(), frame.payload_ref())?,
         })
     }
 
-    /// Checks, verifies (with `coverage`) and parses a complete frame.
-    pub fn decode(bytes: &'a [u8], coverage: CrcCoverage) -> Result<Self> {
-        let frame = Frame::new_checked(bytes)?;
-        frame.verify(coverage)?;
-        Packet::parse(&frame)
+    /// Checks and parses a complete frame (bytes after it are ignored).
+    ///
+    /// # Errors
+    /// As [`Frame::new_checked`] and [`Packet::parse`].
+    pub fn decode(bytes: &'a [u8]) -> Result<Self> {
+        Packet::parse(&Frame::new_checked(bytes)?)
     }
 
     /// Length of the encoded frame.
+    #[must_use]
     pub const fn buffer_len(&self) -> usize {
         MIN_FRAME_LEN.saturating_add(self.message.payload_len())
     }
 
     /// Encodes the frame into `buf` and returns its length.
-    pub fn emit(&self, buf: &mut [u8], coverage: CrcCoverage) -> Result<usize> {
-        let payload_len = u8::try_from(self.message.payload_len())
-            .ok()
-            .filter(|&l| usize::from(l) <= MAX_PAYLOAD_LEN)
-            .ok_or(Error::BadLength)?;
-        let total = self.buffer_len();
-        let buf = buf.get_mut(..total).ok_or(Error::BufferTooSmall)?;
-        let mut frame = Frame::new_unchecked(&mut *buf);
-        frame.set_start(payload_len);
-        frame.set_dst(self.dst);
-        frame.set_seq(self.seq);
-        frame.set_src(self.src);
-        frame.set_msg_id(self.message.id());
-        let mut w = Writer::new(frame.payload_mut());
-        self.message.encode(&mut w)?;
-        if w.len() != usize::from(payload_len) {
-            return Err(Error::BadLength);
-        }
-        frame.fill_checksum(coverage);
-        Ok(total)
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when `buf` is shorter than [`Packet::buffer_len`];
+    /// [`Error::BadLength`] for a payload longer than 243 bytes.
+    pub fn emit(&self, buf: &mut [u8]) -> Result<usize> {
+        emit_frame(
+            &self.header,
+            self.message.id(),
+            self.message.payload_len(),
+            buf,
+            |w| self.message.encode(w),
+        )
     }
+}
+
+/// Encodes one typed message as a whole frame into `buf` and returns its length:
+/// `k40t::encode(&HybridZoom { start: 0, zoom_x10: 45 }, &header, &mut buf)`.
+///
+/// # Errors
+/// [`Error::BufferTooSmall`] when `buf` cannot hold the frame.
+pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
+    emit_frame(header, M::ID, M::ENCODED_LEN, buf, |w| message.write(w))
+}
+
+/// Writes header, payload (through `payload`) and CRC.
+fn emit_frame(
+    header: &Header,
+    id: MsgId,
+    payload_len: usize,
+    buf: &mut [u8],
+    payload: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+) -> Result<usize> {
+    let len_field = u8::try_from(payload_len)
+        .ok()
+        .filter(|&l| usize::from(l) <= MAX_PAYLOAD_LEN)
+        .ok_or(Error::BadLength)?;
+    let total = MIN_FRAME_LEN.saturating_add(payload_len);
+    let buf = buf.get_mut(..total).ok_or(Error::BufferTooSmall)?;
+    let mut frame = Frame::new_unchecked(&mut *buf);
+    frame.set_start(len_field);
+    frame.set_dst(header.dst);
+    frame.set_seq(header.seq);
+    frame.set_src(header.src);
+    frame.set_id(id);
+    let mut w = Writer::new(frame.payload_mut());
+    payload(&mut w)?;
+    if w.len() != payload_len {
+        return Err(Error::BadLength);
+    }
+    frame.fill_checksum(header.coverage);
+    Ok(total)
 }
 
 #[cfg(test)]
@@ -519,10 +697,11 @@ mod tests {
 
     #[test]
     fn spec_notes_reference_frames() {
-        let p = Packet::decode(&ZOOM, CrcCoverage::ExcludeStx).unwrap();
-        assert_eq!(p.dst, Address::POD);
-        assert_eq!(p.src, Address::FLIGHT_CONTROLLER);
-        assert_eq!(p.seq, 7);
+        let p = Packet::decode(&ZOOM).unwrap();
+        assert_eq!(p.header.dst, Address::POD);
+        assert_eq!(p.header.src, Address::FLIGHT_CONTROLLER);
+        assert_eq!(p.header.seq, 7);
+        assert_eq!(p.header.coverage, CrcCoverage::ExcludeStx);
         assert_eq!(
             p.message,
             Message::Request(Request::HybridZoom(HybridZoom {
@@ -531,10 +710,10 @@ mod tests {
             }))
         );
         let mut buf = [0u8; MAX_FRAME_LEN];
-        let n = p.emit(&mut buf, CrcCoverage::ExcludeStx).unwrap();
+        let n = p.emit(&mut buf).unwrap();
         assert_eq!(&buf[..n], &ZOOM);
 
-        let a = Packet::decode(&ZOOM_ACK, CrcCoverage::ExcludeStx).unwrap();
+        let a = Packet::decode(&ZOOM_ACK).unwrap();
         assert_eq!(a.message.id().to_u32(), 0x010304);
         match a.message {
             Message::Ack(ack) => assert_eq!(ack.code().code(), AckCode::Ok),
@@ -544,6 +723,54 @@ mod tests {
             Frame::new_checked(&ZOOM[..]).unwrap().detect_coverage(),
             Some(CrcCoverage::ExcludeStx)
         );
+    }
+
+    #[test]
+    fn typed_messages_know_their_ids() {
+        let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, 7);
+        let zoom = HybridZoom {
+            start: 0,
+            zoom_x10: 45,
+        };
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode(&zoom, &header, &mut buf).unwrap();
+        assert_eq!(&buf[..n], &ZOOM);
+        let p = Packet::decode(&buf[..n]).unwrap();
+        assert_eq!(p.message.get::<HybridZoom>(), Some(zoom));
+        assert_eq!(p.message.get::<HybridZoomAck>(), None);
+        assert_eq!(p.message.get::<ContinuousZoom>(), None);
+
+        let ack = Packet::decode(&ZOOM_ACK).unwrap();
+        assert_eq!(
+            ack.message.get::<HybridZoomAck>(),
+            Some(HybridZoomAck {
+                code: ResponseCode::OK
+            })
+        );
+        assert_eq!(HybridZoomAck::ID.to_u32(), 0x010304);
+        assert_eq!(ZoomStatus::ID.to_u32(), 0x020304);
+        assert_eq!(LaserPeriodicStatus::ID.to_u32(), 0x020406);
+        assert_eq!(LaserDistance::ID.to_u32(), 0x010400);
+        assert_eq!(TimeSync::ENCODED_LEN, 16);
+        assert_eq!(Message::from(zoom), p.message);
+
+        // The other CRC coverage is found when parsing and kept when re-encoding.
+        let include = Header {
+            coverage: CrcCoverage::IncludeStx,
+            ..header
+        };
+        let n = encode(&zoom, &include, &mut buf).unwrap();
+        let p = Packet::decode(&buf[..n]).unwrap();
+        assert_eq!(p.header, include);
+        let mut again = [0u8; MAX_FRAME_LEN];
+        assert_eq!(p.emit(&mut again), Ok(n));
+        assert_eq!(again[..n], buf[..n]);
+        // A CRC valid under neither coverage is an error.
+        buf[n - 1] ^= 0x01;
+        assert!(matches!(
+            Packet::decode(&buf[..n]),
+            Err(Error::BadChecksum { .. })
+        ));
     }
 
     #[test]

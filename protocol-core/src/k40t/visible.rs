@@ -2,7 +2,7 @@
 //! Every setting request starts with a "start setting" byte (0x00).
 
 use super::camera::{AeLock, Ev};
-use super::field::ResponseCode;
+use super::payload::ResponseCode;
 
 code_enum! {
     /// Photo resolution (0x000202, 0x000307, 0x000200 ACK).
@@ -147,11 +147,10 @@ code_enum! {
     }
 }
 
-/// Byte 16 of the 0x000200 ACK: watermark switch (bits 0..3) and anti-flicker (4..7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct OsdFlicker(pub u8);
+wire_newtype! {
+    /// Byte 16 of the 0x000200 ACK: watermark switch (bits 0..3) and anti-flicker (4..7).
+    pub struct OsdFlicker(u8);
+}
 
 impl OsdFlicker {
     /// Watermark switch (bits 0..3).
@@ -164,9 +163,8 @@ impl OsdFlicker {
     }
 }
 
-impl_field_newtype!(OsdFlicker);
-
-payload! {
+wire_struct! {
+    Le;
     /// 0x000200: read all visible-camera parameters (command 0x01); the ACK is
     /// [`VisibleParams`].
     pub struct VisibleParamsQuery {
@@ -177,7 +175,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// ACK of 0x000200: every visible-camera setting.
     pub struct VisibleParams {
         /// Response code.
@@ -216,7 +215,8 @@ payload! {
 /// Declares the "start byte + one setting" visible requests.
 macro_rules! visible_setting {
     ($($(#[$m:meta])* $name:ident { $(#[$fm:meta])* $field:ident: $ty:ty };)*) => {$(
-        payload! {
+        wire_struct! {
+    Le;
             $(#[$m])*
             pub struct $name {
                 /// Start setting (0x00).
@@ -271,7 +271,8 @@ visible_setting! {
     };
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000206: white balance.
     pub struct WhiteBalanceSetting {
         /// Start setting (0x00).
@@ -283,7 +284,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000208: strong-light suppression (cannot be on with backlight compensation).
     pub struct StrongLightSetting {
         /// Start setting (0x00).
@@ -295,7 +297,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x000209: backlight compensation (cannot be on with strong-light suppression).
     pub struct BacklightSetting {
         /// Start setting (0x00).

@@ -248,11 +248,11 @@ impl Payload for CodecSpecs {
         }
         let mut r = Reader::new(data);
         let v = CodecSpecs {
-            stream: Field::<crate::wire::field::Le>::read(&mut r)?,
-            encoding: Field::<crate::wire::field::Le>::read(&mut r)?,
-            width: Field::<crate::wire::field::Le>::read(&mut r)?,
-            height: Field::<crate::wire::field::Le>::read(&mut r)?,
-            bitrate_kbps: Field::<crate::wire::field::Le>::read(&mut r)?,
+            stream: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            encoding: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            width: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            height: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            bitrate_kbps: Field::<crate::wire::encoding::Le>::read(&mut r)?,
             fps: optional(&mut r)?,
         };
         r.finish()?;
@@ -262,11 +262,11 @@ impl Payload for CodecSpecs {
         8usize.saturating_add(trailing_len(&[(self.fps.is_some(), 1)]))
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        Field::<crate::wire::field::Le>::write(&self.stream, w)?;
-        Field::<crate::wire::field::Le>::write(&self.encoding, w)?;
-        Field::<crate::wire::field::Le>::write(&self.width, w)?;
-        Field::<crate::wire::field::Le>::write(&self.height, w)?;
-        Field::<crate::wire::field::Le>::write(&self.bitrate_kbps, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.stream, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.encoding, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.width, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.height, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.bitrate_kbps, w)?;
         Trailing::new(w).field(&self.fps)
     }
 }

@@ -4,7 +4,7 @@
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-pub(crate) use crate::wire::field::Field;
+pub(crate) use crate::wire::encoding::Field;
 
 /// The data of one message in one direction.
 ///
@@ -53,7 +53,7 @@ macro_rules! payload {
 
         impl $name {
             /// Encoded length in bytes.
-            pub const LEN: usize = 0 $( + <$ty as $crate::siyi::field::Field<$crate::wire::field::Le>>::LEN )*;
+            pub const LEN: usize = 0 $( + <$ty as $crate::siyi::field::Field<$crate::wire::encoding::Le>>::LEN )*;
         }
 
         impl $crate::siyi::Payload for $name {
@@ -63,7 +63,7 @@ macro_rules! payload {
                 }
                 #[allow(unused_mut, unused_variables)]
                 let mut r = $crate::wire::Reader::new(data);
-                Ok(Self { $( $field: $crate::siyi::field::Field::<$crate::wire::field::Le>::read(&mut r)?, )* })
+                Ok(Self { $( $field: $crate::siyi::field::Field::<$crate::wire::encoding::Le>::read(&mut r)?, )* })
             }
 
             fn encoded_len(&self) -> usize {
@@ -72,7 +72,7 @@ macro_rules! payload {
 
             #[allow(unused_variables)]
             fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::siyi::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
+                $( $crate::siyi::field::Field::<$crate::wire::encoding::Le>::write(&self.$field, w)?; )*
                 Ok(())
             }
         }
@@ -86,7 +86,9 @@ payload! {
 
 /// Reads the optional trailing fields of a variable-length layout: `Some` while bytes
 /// remain, `None` after. The reader must then be empty.
-pub(crate) fn optional<T: Field<crate::wire::field::Le>>(r: &mut Reader<'_>) -> Result<Option<T>> {
+pub(crate) fn optional<T: Field<crate::wire::encoding::Le>>(
+    r: &mut Reader<'_>,
+) -> Result<Option<T>> {
     if r.is_empty() {
         Ok(None)
     } else {
@@ -106,7 +108,10 @@ impl<'w, 'b> Trailing<'w, 'b> {
         Trailing { w, ended: false }
     }
 
-    pub(crate) fn field<T: Field<crate::wire::field::Le>>(&mut self, v: &Option<T>) -> Result<()> {
+    pub(crate) fn field<T: Field<crate::wire::encoding::Le>>(
+        &mut self,
+        v: &Option<T>,
+    ) -> Result<()> {
         match v {
             Some(v) if self.ended => {
                 let _ = v;
@@ -212,7 +217,7 @@ impl FirmwareVersion {
     }
 }
 
-impl Field<crate::wire::field::Le> for FirmwareVersion {
+impl Field<crate::wire::encoding::Le> for FirmwareVersion {
     const LEN: usize = 4;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u32_le().map(FirmwareVersion::from_u32)
@@ -385,7 +390,7 @@ impl serde::Serialize for HardwareId {
     }
 }
 
-impl Field<crate::wire::field::Le> for HardwareId {
+impl Field<crate::wire::encoding::Le> for HardwareId {
     const LEN: usize = 12;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| HardwareId { raw })

@@ -131,11 +131,11 @@ impl Payload for GimbalConfig {
         }
         let mut r = Reader::new(data);
         let v = GimbalConfig {
-            reserved0: Field::<crate::wire::field::Le>::read(&mut r)?,
-            hdr: Field::<crate::wire::field::Le>::read(&mut r)?,
-            reserved2: Field::<crate::wire::field::Le>::read(&mut r)?,
-            record: Field::<crate::wire::field::Le>::read(&mut r)?,
-            motion: Field::<crate::wire::field::Le>::read(&mut r)?,
+            reserved0: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            hdr: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            reserved2: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            record: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            motion: Field::<crate::wire::encoding::Le>::read(&mut r)?,
             mount: optional(&mut r)?,
             video_output: optional(&mut r)?,
             zoom_linkage: optional(&mut r)?,
@@ -151,11 +151,11 @@ impl Payload for GimbalConfig {
         ]))
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        Field::<crate::wire::field::Le>::write(&self.reserved0, w)?;
-        Field::<crate::wire::field::Le>::write(&self.hdr, w)?;
-        Field::<crate::wire::field::Le>::write(&self.reserved2, w)?;
-        Field::<crate::wire::field::Le>::write(&self.record, w)?;
-        Field::<crate::wire::field::Le>::write(&self.motion, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.reserved0, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.hdr, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.reserved2, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.record, w)?;
+        Field::<crate::wire::encoding::Le>::write(&self.motion, w)?;
         let mut t = Trailing::new(w);
         t.field(&self.mount)?;
         t.field(&self.video_output)?;

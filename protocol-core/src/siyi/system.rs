@@ -64,8 +64,8 @@ impl Payload for FirmwareVersions {
         }
         let mut r = Reader::new(data);
         let v = FirmwareVersions {
-            camera: super::field::Field::<crate::wire::field::Le>::read(&mut r)?,
-            gimbal: super::field::Field::<crate::wire::field::Le>::read(&mut r)?,
+            camera: super::field::Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            gimbal: super::field::Field::<crate::wire::encoding::Le>::read(&mut r)?,
             zoom: optional(&mut r)?,
         };
         r.finish()?;
@@ -75,8 +75,8 @@ impl Payload for FirmwareVersions {
         8usize.saturating_add(trailing_len(&[(self.zoom.is_some(), 4)]))
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        super::field::Field::<crate::wire::field::Le>::write(&self.camera, w)?;
-        super::field::Field::<crate::wire::field::Le>::write(&self.gimbal, w)?;
+        super::field::Field::<crate::wire::encoding::Le>::write(&self.camera, w)?;
+        super::field::Field::<crate::wire::encoding::Le>::write(&self.gimbal, w)?;
         Trailing::new(w).field(&self.zoom)
     }
 }

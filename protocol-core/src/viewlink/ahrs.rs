@@ -144,10 +144,10 @@ impl<'a> Block<'a> for M {
     fn block_len(&self) -> usize {
         let mut n = Self::MIN_LEN;
         if self.attitude.is_some() {
-            n = n.saturating_add(<MAttitude as Field<crate::wire::field::Be>>::LEN);
+            n = n.saturating_add(<MAttitude as Field<crate::wire::encoding::Be>>::LEN);
         }
         if self.gps.is_some() {
-            n = n.saturating_add(<MGps as Field<crate::wire::field::Be>>::LEN);
+            n = n.saturating_add(<MGps as Field<crate::wire::encoding::Be>>::LEN);
         }
         n
     }

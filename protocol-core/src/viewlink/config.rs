@@ -314,7 +314,7 @@ impl<T> Setting2<T> {
     }
 }
 
-impl<T: Field<crate::wire::field::Be>> Field<crate::wire::field::Be> for Setting1<T> {
+impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for Setting1<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 1) };
@@ -329,7 +329,7 @@ impl<T: Field<crate::wire::field::Be>> Field<crate::wire::field::Be> for Setting
     }
 }
 
-impl<T: Field<crate::wire::field::Be>> Field<crate::wire::field::Be> for Setting2<T> {
+impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for Setting2<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 2) };
@@ -847,19 +847,19 @@ impl<'a> super::field::Block<'a> for V {
         let mut p = Reader::new(rest);
         let data = match kind {
             VKind::ProtocolControl => {
-                VData::ProtocolControl(Field::<crate::wire::field::Be>::read(&mut p)?)
+                VData::ProtocolControl(Field::<crate::wire::encoding::Be>::read(&mut p)?)
             }
-            VKind::TimeZone => VData::TimeZone(Field::<crate::wire::field::Be>::read(&mut p)?),
-            VKind::Osd => VData::Osd(Field::<crate::wire::field::Be>::read(&mut p)?),
-            VKind::BaudRate => VData::BaudRate(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::TimeZone => VData::TimeZone(Field::<crate::wire::encoding::Be>::read(&mut p)?),
+            VKind::Osd => VData::Osd(Field::<crate::wire::encoding::Be>::read(&mut p)?),
+            VKind::BaudRate => VData::BaudRate(Field::<crate::wire::encoding::Be>::read(&mut p)?),
             VKind::AlarmTemperature => {
-                VData::AlarmTemperature(Field::<crate::wire::field::Be>::read(&mut p)?)
+                VData::AlarmTemperature(Field::<crate::wire::encoding::Be>::read(&mut p)?)
             }
-            VKind::RcMapping => VData::RcMapping(Field::<crate::wire::field::Be>::read(&mut p)?),
-            VKind::Firmware => VData::Firmware(Field::<crate::wire::field::Be>::read(&mut p)?),
-            VKind::Model => VData::Model(Field::<crate::wire::field::Be>::read(&mut p)?),
+            VKind::RcMapping => VData::RcMapping(Field::<crate::wire::encoding::Be>::read(&mut p)?),
+            VKind::Firmware => VData::Firmware(Field::<crate::wire::encoding::Be>::read(&mut p)?),
+            VKind::Model => VData::Model(Field::<crate::wire::encoding::Be>::read(&mut p)?),
             VKind::SerialNumber => {
-                VData::SerialNumber(Field::<crate::wire::field::Be>::read(&mut p)?)
+                VData::SerialNumber(Field::<crate::wire::encoding::Be>::read(&mut p)?)
             }
             VKind::Other => VData::Other(Bytes::default()),
         };
@@ -882,12 +882,12 @@ impl<'a> super::field::Block<'a> for V {
             VData::ProtocolControl(v) => v.write(w)?,
             VData::TimeZone(v) => v.write(w)?,
             VData::Osd(v) => v.write(w)?,
-            VData::BaudRate(v) => Field::<crate::wire::field::Be>::write(v, w)?,
+            VData::BaudRate(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
             VData::AlarmTemperature(v) => v.write(w)?,
             VData::RcMapping(v) => v.write(w)?,
-            VData::Firmware(v) => Field::<crate::wire::field::Be>::write(v, w)?,
-            VData::Model(v) => Field::<crate::wire::field::Be>::write(v, w)?,
-            VData::SerialNumber(v) => Field::<crate::wire::field::Be>::write(v, w)?,
+            VData::Firmware(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
+            VData::Model(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
+            VData::SerialNumber(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
             VData::Other(b) => w.put(b.as_slice())?,
         }
         w.put(self.trailing.as_slice())

@@ -255,7 +255,7 @@ pub struct A2 {
     pub adjustment_mdeg: i8,
 }
 
-impl Field<crate::wire::field::Be> for A2 {
+impl Field<crate::wire::encoding::Be> for A2 {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -315,7 +315,7 @@ impl C1 {
     }
 }
 
-impl Field<crate::wire::field::Be> for C1 {
+impl Field<crate::wire::encoding::Be> for C1 {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u16_be().map(C1::from_u16)
@@ -472,7 +472,7 @@ pub struct Reboot {
     pub reserved: u16,
 }
 
-impl Field<crate::wire::field::Be> for Reboot {
+impl Field<crate::wire::encoding::Be> for Reboot {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let v = r.u16_be()?;
@@ -676,7 +676,7 @@ impl E1 {
     }
 }
 
-impl Field<crate::wire::field::Be> for E1 {
+impl Field<crate::wire::encoding::Be> for E1 {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;

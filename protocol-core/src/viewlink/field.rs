@@ -4,7 +4,7 @@
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-pub(crate) use crate::wire::field::Field;
+pub(crate) use crate::wire::encoding::Field;
 
 /// One packet block (A1, C1, ... M): how it reads from and writes to the data of a frame.
 ///
@@ -89,15 +89,15 @@ macro_rules! block {
             $( $(#[$fmeta])* pub $field: $ty, )*
         }
 
-        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $name {
-            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN )*;
+        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $name {
+            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN )*;
 
             fn read(_r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::viewlink::field::Field::<$crate::wire::field::Be>::read(_r)?, )* })
+                Ok(Self { $( $field: $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(_r)?, )* })
             }
 
             fn write(&self, _w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(&self.$field, _w)?; )*
+                $( $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(&self.$field, _w)?; )*
                 Ok(())
             }
         }
@@ -111,18 +111,18 @@ macro_rules! impl_block_via_field {
     ($($t:ty),* $(,)?) => {$(
         impl<'a> $crate::viewlink::field::Block<'a> for $t {
             fn read_block(r: &mut $crate::wire::Reader<'a>) -> $crate::Result<Self> {
-                $crate::viewlink::field::Field::<$crate::wire::field::Be>::read(r)
+                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(r)
             }
             fn write_block(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(self, w)
+                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(self, w)
             }
             fn block_len(&self) -> usize {
-                <$t as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN
+                <$t as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN
             }
         }
 
         impl $crate::viewlink::field::FixedBlock for $t {
-            const LEN: usize = <$t as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN;
+            const LEN: usize = <$t as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN;
         }
     )*};
 }
@@ -143,13 +143,13 @@ macro_rules! newtype {
             }
         }
 
-        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $t {
-            const LEN: usize = <$repr as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN;
+        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $t {
+            const LEN: usize = <$repr as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN;
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                <$repr as $crate::viewlink::field::Field<$crate::wire::field::Be>>::read(r).map($t)
+                <$repr as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::read(r).map($t)
             }
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(&self.0, w)
+                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(&self.0, w)
             }
         }
     )*};
@@ -182,7 +182,7 @@ macro_rules! command_enum {
             },
         }
 
-        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field<$crate::wire::field::Be>>::LEN == $plen); )*
+        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN == $plen); )*
 
         impl $name {
             /// The command byte.
@@ -205,13 +205,13 @@ macro_rules! command_enum {
             }
         }
 
-        impl $crate::viewlink::field::Field<$crate::wire::field::Be> for $name {
+        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $name {
             const LEN: usize = 1 + $plen;
 
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
                 let command = $cmd::from_value(r.u8()?);
                 Ok(match command {
-                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::<$crate::wire::field::Be>::read(r)?), )*
+                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(r)?), )*
                     command => Self::Plain { command, params: r.array()? },
                 })
             }
@@ -219,7 +219,7 @@ macro_rules! command_enum {
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
                 w.u8(self.command().value())?;
                 match self {
-                    $( Self::$variant(v) => $crate::viewlink::field::Field::<$crate::wire::field::Be>::write(v, w), )*
+                    $( Self::$variant(v) => $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(v, w), )*
                     Self::Plain { params, .. } => w.put(params),
                 }
             }
@@ -345,7 +345,7 @@ impl serde::Serialize for Date {
     }
 }
 
-impl Field<crate::wire::field::Be> for Date {
+impl Field<crate::wire::encoding::Be> for Date {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u16_be().map(Date)
@@ -377,7 +377,7 @@ impl TimeCs {
     }
 }
 
-impl Field<crate::wire::field::Be> for TimeCs {
+impl Field<crate::wire::encoding::Be> for TimeCs {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u24_be().map(TimeCs)

@@ -50,7 +50,7 @@ impl B1 {
     }
 }
 
-impl Field<crate::wire::field::Be> for B1 {
+impl Field<crate::wire::encoding::Be> for B1 {
     const LEN: usize = 6;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let [hi, lo] = r.array()?;
@@ -106,7 +106,7 @@ impl B2 {
     }
 }
 
-impl Field<crate::wire::field::Be> for B2 {
+impl Field<crate::wire::encoding::Be> for B2 {
     const LEN: usize = 11;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -197,7 +197,7 @@ pub struct D1 {
     pub zoom_x10: u16,
 }
 
-impl Field<crate::wire::field::Be> for D1 {
+impl Field<crate::wire::encoding::Be> for D1 {
     const LEN: usize = 12;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;
@@ -306,7 +306,7 @@ pub struct D2 {
     pub extend_value: i16,
 }
 
-impl Field<crate::wire::field::Be> for D2 {
+impl Field<crate::wire::encoding::Be> for D2 {
     const LEN: usize = 5;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;
@@ -347,7 +347,7 @@ pub struct F1 {
     pub reserved: u8,
 }
 
-impl Field<crate::wire::field::Be> for F1 {
+impl Field<crate::wire::encoding::Be> for F1 {
     const LEN: usize = 1;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -466,7 +466,7 @@ pub struct T1 {
     pub target_alt_m: i16,
 }
 
-impl Field<crate::wire::field::Be> for T1 {
+impl Field<crate::wire::encoding::Be> for T1 {
     const LEN: usize = 22;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;

@@ -140,6 +140,16 @@ fn bump(counter: &mut u32, by: usize) {
 /// caller drains events: [`Deframer::feed`] only accepts what fits, and a full buffer
 /// always holds a complete candidate.
 ///
+/// Three ways in, all giving the same events in the same order:
+/// - [`Deframer::push`]: a slice of any length; frames lying whole in the slice are
+///   found in place (no copy), only an incomplete tail is buffered.
+/// - [`Deframer::feed`] + [`Deframer::poll`]: copy what fits, then drain events.
+/// - [`Deframer::spare_capacity_mut`] + [`Deframer::commit`] + [`Deframer::poll`]: a
+///   UART or DMA driver writes received bytes straight into the deframer's buffer.
+///
+/// The buffer is read through a moving start index; bytes are moved to the front only
+/// when the free space at the end has become smaller than the space already consumed.
+///
 /// ```
 /// use protocol_core::wire::{Deframer, Event, Framing};
 /// # struct Demo;
@@ -162,15 +172,58 @@ fn bump(counter: &mut u32, by: usize) {
 /// assert_eq!(frames, 1);
 /// assert_eq!(d.stats().bytes_discarded, 1);
 /// assert_eq!(d.buffered(), 1); // the trailing 0xAA may start the next frame
+///
+/// // A driver receiving straight into the buffer:
+/// let spare = d.spare_capacity_mut();
+/// spare[..2].copy_from_slice(&[0x00, 0x07]);
+/// d.commit(2);
+/// assert_eq!(d.poll(), Some(Event::Frame(&[0xAA, 0x00])));
 /// ```
 #[derive(Debug, Clone)]
 pub struct Deframer<F, const N: usize> {
     framing: F,
     buf: [u8; N],
-    len: usize,
-    /// Bytes at the front to drop before the next step (the event last returned).
+    /// First byte not yet consumed.
+    start: usize,
+    /// One past the last byte received.
+    end: usize,
+    /// Bytes after `start` to consume before the next step (the event last returned).
     release: usize,
     stats: Stats,
+}
+
+/// Takes the counters of a step.
+fn account(stats: &mut Stats, step: Step) -> Outcome {
+    match step {
+        Step::NeedMore => Outcome::NeedMore,
+        Step::Skip(n) => {
+            bump(&mut stats.bytes_discarded, n);
+            Outcome::Skip(n)
+        }
+        Step::Rejected(error, n) => {
+            match error {
+                Error::BadChecksum { .. } => bump(&mut stats.checksum_errors, 1),
+                _ => bump(&mut stats.length_errors, 1),
+            }
+            bump(&mut stats.bytes_discarded, 1);
+            Outcome::Rejected(error, n)
+        }
+        Step::Frame(n) => {
+            bump(&mut stats.frames_ok, 1);
+            Outcome::Frame(n)
+        }
+    }
+}
+
+/// A step after its counters were taken.
+#[derive(Debug, Clone, Copy)]
+enum Outcome {
+    NeedMore,
+    Skip(usize),
+    /// Reported with this many bytes; consumes one.
+    Rejected(Error, usize),
+    /// Reported and consumed.
+    Frame(usize),
 }
 
 impl<F: Framing, const N: usize> Deframer<F, N> {
@@ -179,7 +232,8 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
         Deframer {
             framing,
             buf: [0; N],
-            len: 0,
+            start: 0,
+            end: 0,
             release: 0,
             stats: Stats {
                 frames_ok: 0,
@@ -207,34 +261,61 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
 
     /// Bytes held, waiting for the rest of a frame.
     pub const fn buffered(&self) -> usize {
-        self.len.saturating_sub(self.release)
+        self.end
+            .saturating_sub(self.start)
+            .saturating_sub(self.release)
     }
 
     /// Drops every buffered byte (counted as discarded) and keeps the counters.
     pub fn clear(&mut self) {
         let held = self.buffered();
         bump(&mut self.stats.bytes_discarded, held);
-        self.len = 0;
+        self.start = 0;
+        self.end = 0;
         self.release = 0;
     }
 
-    fn drop_front(&mut self, n: usize) {
-        let n = n.min(self.len);
-        self.buf.copy_within(n..self.len, 0);
-        self.len = self.len.saturating_sub(n);
+    /// Consumes the bytes of the event last returned.
+    fn apply_release(&mut self) {
+        let release = core::mem::take(&mut self.release);
+        self.start = self.start.saturating_add(release).min(self.end);
+        if self.start == self.end {
+            self.start = 0;
+            self.end = 0;
+        }
+    }
+
+    /// The free space at the end of the buffer, for a driver to receive into; call
+    /// [`Deframer::commit`] with the number of bytes written. Bytes already buffered are
+    /// moved to the front first when that gives more room than it costs (the free space
+    /// at the end is smaller than the consumed space at the front). Empty only when the
+    /// buffer holds `N` bytes of one incomplete candidate, which cannot happen while
+    /// events are drained with [`Deframer::poll`] (a full buffer always yields one).
+    pub fn spare_capacity_mut(&mut self) -> &mut [u8] {
+        self.apply_release();
+        if self.start > N.saturating_sub(self.end) {
+            self.buf.copy_within(self.start..self.end, 0);
+            self.end = self.end.saturating_sub(self.start);
+            self.start = 0;
+        }
+        self.buf.get_mut(self.end..).unwrap_or_default()
+    }
+
+    /// Marks `n` bytes written into [`Deframer::spare_capacity_mut`] as received (at
+    /// most the spare capacity). Then call [`Deframer::poll`] until it returns `None`.
+    pub fn commit(&mut self, n: usize) {
+        self.end = self.end.saturating_add(n).min(N);
     }
 
     /// Copies as many bytes of `input` as fit into the buffer and returns how many.
     /// Call [`Deframer::poll`] until it returns `None`, then feed the rest.
     pub fn feed(&mut self, input: &[u8]) -> usize {
-        let release = core::mem::take(&mut self.release);
-        self.drop_front(release);
-        let free = self.buf.get_mut(self.len..).unwrap_or_default();
-        let n = free.len().min(input.len());
-        if let (Some(dst), Some(src)) = (free.get_mut(..n), input.get(..n)) {
+        let spare = self.spare_capacity_mut();
+        let n = spare.len().min(input.len());
+        if let (Some(dst), Some(src)) = (spare.get_mut(..n), input.get(..n)) {
             dst.copy_from_slice(src);
-            self.len = self.len.saturating_add(n);
         }
+        self.commit(n);
         n
     }
 
@@ -255,42 +336,39 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     }
 
     fn next_event(&mut self, idle: bool) -> Option<Event<'_>> {
-        let release = core::mem::take(&mut self.release);
-        self.drop_front(release);
-        loop {
-            let buffered = self.buf.get(..self.len).unwrap_or_default();
-            let step = match step(&self.framing, buffered, N) {
-                Step::NeedMore if self.len == 0 => return None,
-                Step::NeedMore if idle => Step::Rejected(Error::Truncated, self.len),
-                Step::NeedMore if self.len < N => return None,
-                Step::NeedMore => {
-                    // Only possible if N is smaller than the header: never stall.
-                    Step::Skip(1)
-                }
+        self.apply_release();
+        let outcome = loop {
+            let held = self.end.saturating_sub(self.start);
+            let window = self.buf.get(self.start..self.end).unwrap_or_default();
+            let step = match step(&self.framing, window, N) {
+                Step::NeedMore if held == 0 => return None,
+                Step::NeedMore if idle => Step::Rejected(Error::Truncated, held),
+                Step::NeedMore if held < N => return None,
+                // Only possible if N is smaller than the header: never stall.
+                Step::NeedMore => Step::Skip(1),
                 other => other,
             };
-            match step {
-                Step::NeedMore => return None,
-                Step::Skip(n) => {
-                    bump(&mut self.stats.bytes_discarded, n);
-                    self.drop_front(n);
-                }
-                Step::Rejected(error, n) => {
-                    match error {
-                        Error::BadChecksum { .. } => bump(&mut self.stats.checksum_errors, 1),
-                        _ => bump(&mut self.stats.length_errors, 1),
-                    }
-                    bump(&mut self.stats.bytes_discarded, 1);
-                    self.release = 1;
-                    let raw = self.buf.get(..n.min(self.len)).unwrap_or_default();
-                    return Some(Event::Rejected { error, raw });
-                }
-                Step::Frame(n) => {
-                    bump(&mut self.stats.frames_ok, 1);
+            match account(&mut self.stats, step) {
+                Outcome::NeedMore => return None,
+                Outcome::Skip(n) => {
                     self.release = n;
-                    return Some(Event::Frame(self.buf.get(..n).unwrap_or_default()));
+                    self.apply_release();
                 }
+                reported => break reported,
             }
+        };
+        let window = self.buf.get(self.start..self.end).unwrap_or_default();
+        match outcome {
+            Outcome::Rejected(error, n) => {
+                self.release = 1;
+                let raw = window.get(..n).unwrap_or(window);
+                Some(Event::Rejected { error, raw })
+            }
+            Outcome::Frame(n) => {
+                self.release = n;
+                Some(Event::Frame(window.get(..n).unwrap_or(window)))
+            }
+            Outcome::NeedMore | Outcome::Skip(_) => None,
         }
     }
 
@@ -303,8 +381,15 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     }
 
     /// Feeds all of `input` and hands every resulting event to `sink`, in stream order.
+    ///
+    /// While nothing is buffered, frames are found in `input` itself (no copy); only
+    /// bytes that may start an incomplete frame are copied into the buffer.
     pub fn push(&mut self, mut input: &[u8], mut sink: impl FnMut(Event<'_>)) {
         loop {
+            if self.buffered() == 0 {
+                self.apply_release();
+                input = self.scan_in_place(input, &mut sink);
+            }
             let n = self.feed(input);
             input = input.get(n..).unwrap_or_default();
             while let Some(event) = self.poll() {
@@ -312,6 +397,33 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
             }
             if input.is_empty() {
                 return;
+            }
+        }
+    }
+
+    /// Delivers the events of `input` found without buffering and returns the tail that
+    /// needs more bytes (at most one candidate, shorter than `N`).
+    fn scan_in_place<'i>(
+        &mut self,
+        mut input: &'i [u8],
+        sink: &mut impl FnMut(Event<'_>),
+    ) -> &'i [u8] {
+        loop {
+            match account(&mut self.stats, step(&self.framing, input, N)) {
+                Outcome::NeedMore => return input,
+                Outcome::Skip(n) => input = input.get(n..).unwrap_or_default(),
+                Outcome::Rejected(error, n) => {
+                    sink(Event::Rejected {
+                        error,
+                        raw: input.get(..n).unwrap_or_default(),
+                    });
+                    input = input.get(1..).unwrap_or_default();
+                }
+                Outcome::Frame(n) => {
+                    let (frame, rest) = input.split_at_checked(n).unwrap_or((input, &[]));
+                    sink(Event::Frame(frame));
+                    input = rest;
+                }
             }
         }
     }

@@ -10,7 +10,7 @@ mod deframer;
     feature = "viewlink",
     feature = "gcu"
 ))]
-pub(crate) mod field;
+pub mod encoding;
 
 pub use checksum::{MCRF4XX, XMODEM, crc16_mcrf4xx, crc16_xmodem, sum8, xor8};
 pub use cursor::{Reader, Writer};

@@ -1,18 +1,37 @@
-//! Fixed-size field encodings, shared by the payload and block macros of every codec:
-//! a value's bytes in a byte order chosen by a marker type ([`Le`] or [`Be`]).
+//! Fixed-size field encodings: how one value (an integer, a byte array, an enumeration
+//! code, a whole fixed-layout struct) is laid out on the wire, in a byte order chosen by
+//! a marker type ([`Le`] or [`Be`]).
+//!
+//! Every payload struct of the four codecs is declared field by field with the crate's
+//! `wire_struct!` macro, which implements [`Field`] for it; the codecs read and write
+//! payloads through this one trait. It is public so that firmware can declare its own
+//! payload types the same way.
 
 use crate::Result;
-use crate::macros::WireCode;
 use crate::wire::{Reader, Writer};
 
-/// Little-endian fields (K40T, SIYI, GCU).
-pub(crate) enum Le {}
+/// Byte-order marker: little-endian fields (K40T, SIYI, GCU).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Le {}
 
-/// Big-endian fields (Viewlink).
-pub(crate) enum Be {}
+/// Byte-order marker: big-endian fields (Viewlink).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Be {}
+
+/// A value carried on the wire as an integer code (every enumeration of the codecs).
+///
+/// Implemented by the crate's `code_enum!` types; [`Field`] follows from it.
+pub trait WireCode: Copy {
+    /// The integer type on the wire.
+    type Repr;
+    /// The wire value.
+    fn to_repr(self) -> Self::Repr;
+    /// The variant for a wire value (lossless: unlisted values are kept).
+    fn from_repr(v: Self::Repr) -> Self;
+}
 
 /// A value with a fixed-size wire encoding in byte order `O`.
-pub(crate) trait Field<O>: Sized {
+pub trait Field<O>: Sized {
     /// Encoded size in bytes.
     const LEN: usize;
     /// Reads the value.

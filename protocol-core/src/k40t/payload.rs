@@ -1,20 +1,10 @@
-//! Field encodings of K40T payloads (all little-endian except the ACK response code),
-//! the [`Payload`] trait and the macro that declares payload structs.
+//! Types several K40T payloads share (the ACK response code, versions), the decoding
+//! rule for payload lengths, and the declaration helpers of the K40T payload structs.
+//! Payload fields are little-endian (except the ACK response code).
 
+use crate::wire::encoding::{Field, Le};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
-
-pub(crate) use crate::wire::field::Field;
-
-/// A message payload with a fixed wire length.
-pub trait Payload: Sized {
-    /// Encoded length in bytes (the document's full layout, reserved bytes included).
-    const LEN: usize;
-    /// Reads exactly [`Payload::LEN`] bytes.
-    fn decode(r: &mut Reader<'_>) -> Result<Self>;
-    /// Writes exactly [`Payload::LEN`] bytes.
-    fn encode(&self, w: &mut Writer<'_>) -> Result<()>;
-}
 
 /// Decodes a payload the way the frame carries it.
 ///
@@ -22,7 +12,7 @@ pub trait Payload: Sized {
 /// document is MAVLink v2's, whose senders drop trailing zero bytes, and several of the
 /// document's layouts disagree by a trailing reserved byte. A longer one is
 /// [`Error::BadLength`].
-pub(crate) fn decode_payload<T: Payload>(payload: &[u8]) -> Result<T> {
+pub(crate) fn decode_payload<T: Field<Le>>(payload: &[u8]) -> Result<T> {
     let mut extended = [0u8; super::MAX_PAYLOAD_LEN];
     let bytes = match payload.len() {
         n if n == T::LEN => payload,
@@ -36,40 +26,9 @@ pub(crate) fn decode_payload<T: Payload>(payload: &[u8]) -> Result<T> {
         }
     };
     let mut r = Reader::new(bytes);
-    let v = T::decode(&mut r)?;
+    let v = T::read(&mut r)?;
     r.finish()?;
     Ok(v)
-}
-
-/// Declares a payload struct: the fields in wire order, each a [`Field`].
-macro_rules! payload {
-    (
-        $(#[$meta:meta])*
-        pub struct $name:ident {
-            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
-        }
-    ) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub struct $name {
-            $( $(#[$fmeta])* pub $field: $ty, )*
-        }
-
-        impl $crate::k40t::Payload for $name {
-            const LEN: usize = 0 $( + <$ty as $crate::k40t::field::Field<$crate::wire::field::Le>>::LEN )*;
-
-            fn decode(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::k40t::field::Field::<$crate::wire::field::Le>::read(r)?, )* })
-            }
-
-            fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::k40t::field::Field::<$crate::wire::field::Le>::write(&self.$field, w)?; )*
-                Ok(())
-            }
-        }
-    };
 }
 
 code_enum! {
@@ -108,17 +67,18 @@ code_enum! {
     }
 }
 
-/// The 2-byte response code of an ACK, kept as the two bytes received.
-///
-/// The document says multi-byte fields are little-endian "except ACK": this crate
-/// encodes the code big-endian. Devices may send either order; every code of table 3.3
-/// is unambiguous in both, so [`ResponseCode::code`] reports the known code for either
-/// order, and re-encoding gives back the bytes received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ResponseCode {
-    /// The two bytes as on the wire.
-    pub raw: [u8; 2],
+wire_derive! {
+    custom_serde [Eq, Hash, Default]
+    /// The 2-byte response code of an ACK, kept as the two bytes received.
+    ///
+    /// The document says multi-byte fields are little-endian "except ACK": this crate
+    /// encodes the code big-endian. Devices may send either order; every code of table 3.3
+    /// is unambiguous in both, so [`ResponseCode::code`] reports the known code for either
+    /// order, and re-encoding gives back the bytes received.
+    pub struct ResponseCode {
+        /// The two bytes as on the wire.
+        pub raw: [u8; 2],
+    }
 }
 
 impl ResponseCode {
@@ -162,7 +122,7 @@ impl serde::Serialize for ResponseCode {
     }
 }
 
-impl Field<crate::wire::field::Le> for ResponseCode {
+impl Field<Le> for ResponseCode {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| ResponseCode { raw })
@@ -172,31 +132,16 @@ impl Field<crate::wire::field::Le> for ResponseCode {
     }
 }
 
-/// A three-part version number (major, minor, patch), one byte each.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Version {
-    /// Major version.
-    pub major: u8,
-    /// Minor (sub) version.
-    pub minor: u8,
-    /// Patch version.
-    pub patch: u8,
-}
-
-impl Field<crate::wire::field::Le> for Version {
-    const LEN: usize = 3;
-    fn read(r: &mut Reader<'_>) -> Result<Self> {
-        let [major, minor, patch] = r.array()?;
-        Ok(Version {
-            major,
-            minor,
-            patch,
-        })
-    }
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(&[self.major, self.minor, self.patch])
+wire_struct! {
+    Le [PartialOrd, Ord];
+    /// A three-part version number (major, minor, patch), one byte each.
+    pub struct Version {
+        /// Major version.
+        pub major: u8,
+        /// Minor (sub) version.
+        pub minor: u8,
+        /// Patch version.
+        pub patch: u8,
     }
 }
 
@@ -204,28 +149,14 @@ impl Field<crate::wire::field::Le> for Version {
 /// restart, format, ...).
 macro_rules! trigger {
     ($($(#[$m:meta])* $name:ident;)*) => {$(
-        payload! {
+        wire_struct! {
+            Le;
             $(#[$m])*
             pub struct $name {
                 /// The command byte.
                 pub command: u8,
                 /// Reserved.
                 pub reserved: u8,
-            }
-        }
-    )*};
-}
-
-/// Implements [`Field`] for one-byte newtypes (`struct Flags(pub u8)`).
-macro_rules! impl_field_newtype {
-    ($($t:ident),* $(,)?) => {$(
-        impl $crate::k40t::field::Field<$crate::wire::field::Le> for $t {
-            const LEN: usize = 1;
-            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                r.u8().map($t)
-            }
-            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                w.u8(self.0)
             }
         }
     )*};
@@ -264,16 +195,19 @@ mod tests {
 
     #[test]
     fn short_payload_is_zero_extended_and_long_one_refused() {
-        #[derive(Debug, PartialEq)]
-        struct Two(u8, u8);
-        impl Payload for Two {
-            const LEN: usize = 2;
-            fn decode(r: &mut Reader<'_>) -> Result<Self> {
-                Ok(Two(r.u8()?, r.u8()?))
+        wire_struct! {
+            Le;
+            /// Two bytes.
+            pub struct Two {
+                /// First.
+                pub a: u8,
+                /// Second.
+                pub b: u8,
             }
-            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                w.put(&[self.0, self.1])
-            }
+        }
+        #[allow(non_snake_case)]
+        fn Two(a: u8, b: u8) -> Two {
+            Two { a, b }
         }
         assert_eq!(decode_payload::<Two>(&[7]), Ok(Two(7, 0)));
         assert_eq!(decode_payload::<Two>(&[7, 8]), Ok(Two(7, 8)));
