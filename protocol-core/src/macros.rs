@@ -236,7 +236,6 @@ macro_rules! wire_newtype {
 /// Declares a [`wire_newtype!`] whose bits are flags (lossless: every bit is kept, named
 /// or not), with a reader and a `with_*` builder per named bit, `contains(mask)` and
 /// `reserved_bits()`.
-#[allow(unused_macros)] // until the GCU codec moves to it
 macro_rules! bit_set {
     (
         $(#[$meta:meta])*

@@ -2,6 +2,6 @@
 //! SIYI, Viewlink, GCU or K40T on the other.
 //!
 //! No I/O, no clock reads, no allocation: the caller feeds bytes and the current
-//! [`Instant`](time::Instant), and drains bytes, pin actions and events.
+//! instant, and drains bytes, pin actions and events.
 
 pub mod time;
