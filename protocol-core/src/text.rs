@@ -23,6 +23,9 @@ impl<const N: usize> Default for Text<N> {
 impl<const N: usize> Text<N> {
     /// The text for `s`, padded with 0x00. More than `N` bytes, or a byte that is not
     /// printable ASCII, is [`Error::OutOfRange`].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] when `s` is longer than `N` bytes or not printable ASCII.
     pub fn new(s: &str) -> Result<Self> {
         if s.len() > N || !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
             return Err(Error::OutOfRange);
@@ -35,6 +38,7 @@ impl<const N: usize> Text<N> {
     }
 
     /// The text without trailing 0x00 and spaces; `None` if that is not UTF-8.
+    #[must_use]
     pub fn as_str(&self) -> Option<&str> {
         let end = self
             .raw
@@ -45,6 +49,7 @@ impl<const N: usize> Text<N> {
     }
 
     /// True when the field is all 0x00 or spaces (the document's "NULL or empty").
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.raw.iter().all(|&b| b == 0 || b == b' ')
     }

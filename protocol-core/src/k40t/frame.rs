@@ -50,6 +50,7 @@ impl Address {
     pub const POD: Address = Address::new(0x04, 0x01);
 
     /// An address from its two bytes.
+    #[must_use]
     pub const fn new(system: u8, component: u8) -> Self {
         Address { system, component }
     }
@@ -80,30 +81,36 @@ wire_derive! {
 
 impl MsgId {
     /// A message id from its parts.
+    #[must_use]
     pub const fn new(kind: Kind, base: u16) -> Self {
         MsgId { kind, base }
     }
 
     /// The id as the 24-bit number the document prints (0x010304).
+    #[must_use]
     pub const fn to_u32(self) -> u32 {
         ((self.kind.value() as u32) << 16) | self.base as u32
     }
 
     /// The id from a 24-bit number; bits above 23 are ignored.
+    #[must_use]
     pub const fn from_u32(id: u32) -> Self {
+        let [lo, mid, hi, _] = id.to_le_bytes();
         MsgId {
-            kind: Kind::from_value((id >> 16) as u8),
-            base: id as u16,
+            kind: Kind::from_value(hi),
+            base: u16::from_le_bytes([lo, mid]),
         }
     }
 
     /// The three bytes on the wire (low, middle, high).
+    #[must_use]
     pub const fn to_bytes(self) -> [u8; 3] {
         let [lo, mid] = self.base.to_le_bytes();
         [lo, mid, self.kind.value()]
     }
 
     /// The id from its three wire bytes (low, middle, high).
+    #[must_use]
     pub const fn from_bytes(b: [u8; 3]) -> Self {
         let [lo, mid, hi] = b;
         MsgId {
@@ -144,6 +151,9 @@ impl<T: AsRef<[u8]>> Frame<T> {
 
     /// A view of a buffer that holds a whole frame (the CRC is not verified; see
     /// [`Frame::verify`]).
+    ///
+    /// # Errors
+    /// As [`Frame::check_len`].
     pub fn new_checked(buffer: T) -> Result<Self> {
         let frame = Frame { buffer };
         frame.check_len()?;
@@ -151,6 +161,11 @@ impl<T: AsRef<[u8]>> Frame<T> {
     }
 
     /// Checks STX, the LEN limit and that the buffer holds the whole frame.
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] for a buffer shorter than the frame (or empty),
+    /// [`Error::BadSync`] when it does not start with STX, [`Error::BadLength`] for a LEN
+    /// above 243.
     pub fn check_len(&self) -> Result<()> {
         let b = self.buffer.as_ref();
         match b.first() {
@@ -238,6 +253,9 @@ impl<T: AsRef<[u8]>> Frame<T> {
     }
 
     /// Verifies the CRC with the given coverage.
+    ///
+    /// # Errors
+    /// [`Error::BadChecksum`] when the carried CRC differs from the computed one.
     pub fn verify(&self, coverage: CrcCoverage) -> Result<()> {
         let computed = self.compute_checksum(coverage);
         let received = self.checksum();
@@ -259,6 +277,7 @@ impl<T: AsRef<[u8]>> Frame<T> {
 
 impl<'a> Frame<&'a [u8]> {
     /// The payload, borrowed for the lifetime of the underlying buffer.
+    #[must_use]
     pub fn payload_ref(&self) -> &'a [u8] {
         let end = HEADER_LEN.saturating_add(self.payload_len());
         self.buffer.get(HEADER_LEN..end).unwrap_or_default()
@@ -332,6 +351,7 @@ pub struct K40tFraming {
 
 impl K40tFraming {
     /// Accept only frames with the given coverage.
+    #[must_use]
     pub const fn with(coverage: CrcCoverage) -> Self {
         K40tFraming {
             coverage: Some(coverage),
@@ -339,6 +359,7 @@ impl K40tFraming {
     }
 
     /// Accept frames with either coverage.
+    #[must_use]
     pub const fn any() -> Self {
         K40tFraming { coverage: None }
     }

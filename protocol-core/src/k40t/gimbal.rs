@@ -35,10 +35,12 @@ wire_newtype! {
 
 impl Links {
     /// The gimbal connection is normal.
+    #[must_use]
     pub const fn gimbal_ok(self) -> bool {
-        self.0 & 0x0F == 0
+        self.0.trailing_zeros() >= 4
     }
     /// The camera connection is normal.
+    #[must_use]
     pub const fn camera_ok(self) -> bool {
         self.0 >> 4 == 0
     }
@@ -51,18 +53,22 @@ wire_newtype! {
 
 impl SelfTest {
     /// Bit 0: infrared sensor normal.
+    #[must_use]
     pub const fn infrared_ok(self) -> bool {
         self.0 & 0x01 != 0
     }
     /// Bit 1: telephoto visible sensor normal.
+    #[must_use]
     pub const fn telephoto_ok(self) -> bool {
         self.0 & 0x02 != 0
     }
     /// Bit 2: wide-angle visible sensor normal.
+    #[must_use]
     pub const fn wide_ok(self) -> bool {
         self.0 & 0x04 != 0
     }
     /// Bit 3: laser normal.
+    #[must_use]
     pub const fn laser_ok(self) -> bool {
         self.0 & 0x08 != 0
     }

@@ -79,18 +79,22 @@ wire_newtype! {
 
 impl MeasureConfig {
     /// Bit 0: measurement on (0 = on).
+    #[must_use]
     pub const fn measuring(self) -> bool {
         self.0 & 0x01 == 0
     }
     /// Bit 1: area measurement (else point).
+    #[must_use]
     pub const fn area(self) -> bool {
         self.0 & 0x02 != 0
     }
     /// Bit 2: radiometric core (else sighting core).
+    #[must_use]
     pub const fn radiometric(self) -> bool {
         self.0 & 0x04 != 0
     }
     /// Bits 3..7: electronic zoom.
+    #[must_use]
     pub const fn digital_zoom(self) -> u8 {
         self.0 >> 3
     }
@@ -103,10 +107,12 @@ wire_newtype! {
 
 impl SwitchLevel {
     /// Bit 7: on.
+    #[must_use]
     pub const fn on(self) -> bool {
         self.0 & 0x80 != 0
     }
     /// Bits 0..6: level.
+    #[must_use]
     pub const fn level(self) -> u8 {
         self.0 & 0x7F
     }

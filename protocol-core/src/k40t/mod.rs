@@ -637,7 +637,7 @@ impl<'a> Packet<'a> {
     /// [`Error::BadLength`] for a payload longer than 243 bytes.
     pub fn emit(&self, buf: &mut [u8]) -> Result<usize> {
         emit_frame(
-            &self.header,
+            self.header,
             self.message.id(),
             self.message.payload_len(),
             buf,
@@ -652,12 +652,12 @@ impl<'a> Packet<'a> {
 /// # Errors
 /// [`Error::BufferTooSmall`] when `buf` cannot hold the frame.
 pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
-    emit_frame(header, M::ID, M::ENCODED_LEN, buf, |w| message.write(w))
+    emit_frame(*header, M::ID, M::ENCODED_LEN, buf, |w| message.write(w))
 }
 
 /// Writes header, payload (through `payload`) and CRC.
 fn emit_frame(
-    header: &Header,
+    header: Header,
     id: MsgId,
     payload_len: usize,
     buf: &mut [u8],
@@ -714,7 +714,7 @@ mod tests {
         assert_eq!(&buf[..n], &ZOOM);
 
         let a = Packet::decode(&ZOOM_ACK).unwrap();
-        assert_eq!(a.message.id().to_u32(), 0x010304);
+        assert_eq!(a.message.id().to_u32(), 0x01_0304);
         match a.message {
             Message::Ack(ack) => assert_eq!(ack.code().code(), AckCode::Ok),
             other => panic!("{other:?}"),
@@ -747,10 +747,10 @@ mod tests {
                 code: ResponseCode::OK
             })
         );
-        assert_eq!(HybridZoomAck::ID.to_u32(), 0x010304);
-        assert_eq!(ZoomStatus::ID.to_u32(), 0x020304);
-        assert_eq!(LaserPeriodicStatus::ID.to_u32(), 0x020406);
-        assert_eq!(LaserDistance::ID.to_u32(), 0x010400);
+        assert_eq!(HybridZoomAck::ID.to_u32(), 0x01_0304);
+        assert_eq!(ZoomStatus::ID.to_u32(), 0x02_0304);
+        assert_eq!(LaserPeriodicStatus::ID.to_u32(), 0x02_0406);
+        assert_eq!(LaserDistance::ID.to_u32(), 0x01_0400);
         assert_eq!(TimeSync::ENCODED_LEN, 16);
         assert_eq!(Message::from(zoom), p.message);
 

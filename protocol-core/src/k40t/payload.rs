@@ -86,6 +86,7 @@ impl ResponseCode {
     pub const OK: ResponseCode = ResponseCode { raw: [0, 0] };
 
     /// The code, encoded big-endian.
+    #[must_use]
     pub const fn new(code: AckCode) -> Self {
         ResponseCode {
             raw: code.value().to_be_bytes(),
@@ -94,6 +95,7 @@ impl ResponseCode {
 
     /// The code, read in whichever byte order gives a code of table 3.3 (big-endian
     /// first); an unknown code is reported big-endian as `Other`.
+    #[must_use]
     pub const fn code(&self) -> AckCode {
         let be = AckCode::from_value(u16::from_be_bytes(self.raw));
         match (be, AckCode::from_value(u16::from_le_bytes(self.raw))) {
@@ -104,6 +106,7 @@ impl ResponseCode {
     }
 
     /// True for code 0 (success).
+    #[must_use]
     pub const fn is_ok(&self) -> bool {
         matches!(self.code(), AckCode::Ok)
     }

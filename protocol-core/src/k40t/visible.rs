@@ -154,10 +154,12 @@ wire_newtype! {
 
 impl OsdFlicker {
     /// Watermark switch (bits 0..3).
+    #[must_use]
     pub const fn watermark(self) -> u8 {
         self.0 & 0x0F
     }
     /// Anti-flicker state (bits 4..7).
+    #[must_use]
     pub const fn anti_flicker(self) -> AntiFlicker {
         AntiFlicker::from_value(self.0 >> 4)
     }

@@ -13,21 +13,25 @@ pub const MCRF4XX: Crc<u16> = Crc::<u16>::new(&CRC_16_MCRF4XX);
 pub const XMODEM: Crc<u16> = Crc::<u16>::new(&CRC_16_XMODEM);
 
 /// CRC-16/MCRF4XX of `data`.
+#[must_use]
 pub fn crc16_mcrf4xx(data: &[u8]) -> u16 {
     MCRF4XX.checksum(data)
 }
 
 /// CRC-16/XMODEM of `data`.
+#[must_use]
 pub fn crc16_xmodem(data: &[u8]) -> u16 {
     XMODEM.checksum(data)
 }
 
 /// XOR of all bytes (Viewlink serial frames).
+#[must_use]
 pub fn xor8(data: &[u8]) -> u8 {
     data.iter().fold(0, |acc, b| acc ^ b)
 }
 
 /// Sum of all bytes modulo 256 (Viewlink TCP envelope).
+#[must_use]
 pub fn sum8(data: &[u8]) -> u8 {
     data.iter().fold(0u8, |acc, b| acc.wrapping_add(*b))
 }

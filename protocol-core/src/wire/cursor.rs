@@ -15,6 +15,9 @@ pub struct Reader<'a> {
 macro_rules! read_int {
     ($($(#[$m:meta])* $name:ident -> $ty:ty, $n:literal, $conv:ident;)*) => {$(
         $(#[$m])*
+        ///
+        /// # Errors
+        /// [`Error::Truncated`] when too few bytes remain.
         #[inline]
         pub fn $name(&mut self) -> Result<$ty> {
             Ok(<$ty>::$conv(self.array::<$n>()?))
@@ -24,21 +27,27 @@ macro_rules! read_int {
 
 impl<'a> Reader<'a> {
     /// A reader positioned at the first byte of `buf`.
+    #[must_use]
     pub const fn new(buf: &'a [u8]) -> Self {
         Reader { rest: buf }
     }
 
     /// Bytes not yet read.
+    #[must_use]
     pub const fn remaining(&self) -> usize {
         self.rest.len()
     }
 
     /// True when every byte has been read.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.rest.is_empty()
     }
 
     /// The next `n` bytes.
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when fewer than `n` bytes remain.
     pub fn take(&mut self, n: usize) -> Result<&'a [u8]> {
         let (head, tail) = self.rest.split_at_checked(n).ok_or(Error::Truncated)?;
         self.rest = tail;
@@ -46,11 +55,17 @@ impl<'a> Reader<'a> {
     }
 
     /// Skips `n` bytes (reserved fields).
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when fewer than `n` bytes remain.
     pub fn skip(&mut self, n: usize) -> Result<()> {
         self.take(n).map(|_| ())
     }
 
     /// The next `N` bytes as an array.
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when fewer than `N` bytes remain.
     pub fn array<const N: usize>(&mut self) -> Result<[u8; N]> {
         let (head, tail) = self.rest.split_first_chunk::<N>().ok_or(Error::Truncated)?;
         self.rest = tail;
@@ -64,6 +79,9 @@ impl<'a> Reader<'a> {
 
     /// Succeeds only when every byte has been read: a payload longer than its
     /// message defines is [`Error::BadLength`].
+    ///
+    /// # Errors
+    /// [`Error::BadLength`] when bytes remain.
     pub fn finish(self) -> Result<()> {
         if self.rest.is_empty() {
             Ok(())
@@ -108,12 +126,18 @@ impl<'a> Reader<'a> {
     }
 
     /// Unsigned 24-bit integer, little-endian (low, mid, high byte).
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when fewer than 3 bytes remain.
     pub fn u24_le(&mut self) -> Result<u32> {
         let [a, b, c] = self.array::<3>()?;
         Ok(u32::from_le_bytes([a, b, c, 0]))
     }
 
     /// Unsigned 24-bit integer, big-endian (high, mid, low byte).
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when fewer than 3 bytes remain.
     pub fn u24_be(&mut self) -> Result<u32> {
         let [a, b, c] = self.array::<3>()?;
         Ok(u32::from_be_bytes([0, a, b, c]))
@@ -130,6 +154,9 @@ pub struct Writer<'a> {
 macro_rules! write_int {
     ($($(#[$m:meta])* $name:ident($ty:ty), $conv:ident;)*) => {$(
         $(#[$m])*
+        ///
+        /// # Errors
+        /// [`Error::BufferTooSmall`] when the buffer has no room.
         #[inline]
         pub fn $name(&mut self, v: $ty) -> Result<()> {
             self.put(&v.$conv())
@@ -144,21 +171,27 @@ impl<'a> Writer<'a> {
     }
 
     /// Bytes written so far.
+    #[must_use]
     pub const fn len(&self) -> usize {
         self.len
     }
 
     /// True when nothing has been written.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// The bytes written so far.
+    #[must_use]
     pub fn written(&self) -> &[u8] {
         self.buf.get(..self.len).unwrap_or_default()
     }
 
     /// Appends `bytes`.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when the buffer has no room for them.
     pub fn put(&mut self, bytes: &[u8]) -> Result<()> {
         let end = self
             .len
@@ -174,6 +207,9 @@ impl<'a> Writer<'a> {
     }
 
     /// Appends `n` zero bytes (reserved fields).
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when the buffer has no room for them.
     pub fn zeros(&mut self, n: usize) -> Result<()> {
         let end = self.len.checked_add(n).ok_or(Error::BufferTooSmall)?;
         let dst = self
@@ -187,6 +223,9 @@ impl<'a> Writer<'a> {
 
     /// Overwrites one already-written byte at `index` (e.g. a length field known only
     /// after the payload is written).
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when `index` was not written yet.
     pub fn set_u8(&mut self, index: usize, v: u8) -> Result<()> {
         if index >= self.len {
             return Err(Error::BufferTooSmall);
@@ -197,6 +236,7 @@ impl<'a> Writer<'a> {
     }
 
     /// Consumes the writer and returns the number of bytes written.
+    #[must_use]
     pub const fn finish(self) -> usize {
         self.len
     }
@@ -237,6 +277,10 @@ impl<'a> Writer<'a> {
     }
 
     /// Unsigned 24-bit integer, little-endian. Values above 0xFF_FFFF are [`Error::OutOfRange`].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a value above 24 bits, [`Error::BufferTooSmall`]
+    /// when the buffer has no room.
     pub fn u24_le(&mut self, v: u32) -> Result<()> {
         let [a, b, c, hi] = v.to_le_bytes();
         if hi != 0 {
@@ -246,6 +290,10 @@ impl<'a> Writer<'a> {
     }
 
     /// Unsigned 24-bit integer, big-endian. Values above 0xFF_FFFF are [`Error::OutOfRange`].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a value above 24 bits, [`Error::BufferTooSmall`]
+    /// when the buffer has no room.
     pub fn u24_be(&mut self, v: u32) -> Result<()> {
         let [hi, a, b, c] = v.to_be_bytes();
         if hi != 0 {

@@ -36,10 +36,16 @@ pub trait Framing {
     /// Total length of the frame whose first [`Framing::header_len`] bytes are `header`
     /// (sync included). An impossible length field is [`Error::BadLength`].
     /// The returned length must be at least `header_len()`.
+    ///
+    /// # Errors
+    /// [`Error::BadLength`] for an impossible length field.
     fn frame_len(&self, header: &[u8]) -> Result<usize, Error>;
 
     /// Verifies a complete frame of the length [`Framing::frame_len`] gave (normally its
     /// checksum: [`Error::BadChecksum`]).
+    ///
+    /// # Errors
+    /// Why the frame is not valid (normally [`Error::BadChecksum`]).
     fn check(&self, frame: &[u8]) -> Result<(), Error>;
 }
 
@@ -587,7 +593,7 @@ mod tests {
         d.push(&input, |e| match e {
             Event::Frame(f) => seen.push(f.to_vec()),
             Event::Rejected { error, .. } => {
-                assert!(matches!(error, Error::BadChecksum { .. }))
+                assert!(matches!(error, Error::BadChecksum { .. }));
             }
         });
         assert_eq!(seen, vec![real.to_vec()]);
@@ -639,7 +645,7 @@ mod tests {
         let mut frames = vec![];
         d.flush(|e| {
             if let Event::Frame(f) = e {
-                frames.push(f.to_vec())
+                frames.push(f.to_vec());
             }
         });
         assert_eq!(frames, vec![input[3..].to_vec()]);

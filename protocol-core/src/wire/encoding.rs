@@ -35,8 +35,16 @@ pub trait Field<O>: Sized {
     /// Encoded size in bytes.
     const LEN: usize;
     /// Reads the value.
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when the reader holds fewer than `LEN` bytes (or the
+    /// value's own error, e.g. a bit field out of range).
     fn read(r: &mut Reader<'_>) -> Result<Self>;
     /// Writes the value.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when the writer has no room, [`Error::OutOfRange`]
+    /// when the value cannot be encoded.
     fn write(&self, w: &mut Writer<'_>) -> Result<()>;
 }
 
