@@ -1,0 +1,147 @@
+//! The flight-controller sides of the bridge, one per FC protocol. Each owns its
+//! deframer, decodes what the FC sends, turns commands into [`Command`]s for the pod
+//! driver, feeds the time discipline and the fix history, and answers the FC at once
+//! from the pod's cached state.
+
+use super::discipline::TimeDiscipline;
+use super::event::Event;
+use super::fixes::FixHistory;
+use super::pod::{PodDriver, PodNotice, PodState};
+use super::time::Instant;
+use super::{Config, FcProtocol, Outputs};
+use crate::gimbal::Command;
+use crate::k40t::{GpsRequest, Header, Packet};
+use crate::wire::Stats;
+
+/// What an FC side may use of the engine during one call.
+pub(crate) struct Ctx<'a> {
+    /// The local instant of the call.
+    pub(crate) now: Instant,
+    pub(crate) config: &'a Config,
+    pub(crate) pod: &'a mut PodDriver,
+    pub(crate) time: &'a mut TimeDiscipline,
+    pub(crate) fixes: &'a mut FixHistory,
+    pub(crate) out: &'a mut Outputs,
+    /// Set when a valid FC frame was seen (the FC link is up).
+    pub(crate) fc_seen: bool,
+}
+
+impl Ctx<'_> {
+    /// A valid frame came from the FC.
+    pub(crate) fn seen(&mut self) {
+        self.fc_seen = true;
+        self.out.counters.fc_frames = self.out.counters.fc_frames.saturating_add(1);
+    }
+
+    /// A valid FC frame the side could not use.
+    pub(crate) fn ignored(&mut self) {
+        self.out.counters.fc_ignored = self.out.counters.fc_ignored.saturating_add(1);
+    }
+
+    /// Sends `cmd` to the pod; `fc_id` is the FC protocol's id of the command (for the
+    /// event). Returns the K40T base id used, `None` when the pod has no equivalent.
+    pub(crate) fn command(&mut self, fc_id: u16, cmd: Command) -> Option<u16> {
+        let base = self.pod.command(self.now, cmd, self.out)?;
+        self.out.event(Event::Translated {
+            fc_id,
+            pod_base: base,
+        });
+        Some(base)
+    }
+
+    /// Queues a frame for the FC.
+    pub(crate) fn reply(&mut self, frame: &[u8]) -> bool {
+        self.out.to_fc(frame, false)
+    }
+
+    /// The pod's state.
+    pub(crate) fn pod(&self) -> &PodState {
+        self.pod.state()
+    }
+}
+
+/// The FC side in use.
+#[derive(Debug, Clone)]
+pub(crate) enum FcSide {
+    /// The configured protocol is not compiled in: FC bytes are ignored.
+    Disabled,
+}
+
+impl FcSide {
+    pub(crate) fn new(config: &Config) -> Self {
+        match config.fc {
+            FcProtocol::Siyi | FcProtocol::Viewlink | FcProtocol::Gcu | FcProtocol::K40t => {
+                FcSide::Disabled
+            }
+        }
+    }
+
+    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
+        match self {
+            FcSide::Disabled => {
+                let _ = (ctx, bytes);
+            }
+        }
+    }
+
+    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
+        match self {
+            FcSide::Disabled => {
+                let _ = ctx;
+            }
+        }
+    }
+
+    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        match self {
+            FcSide::Disabled => {
+                let _ = ctx;
+            }
+        }
+    }
+
+    pub(crate) fn poll_at(&self) -> Option<Instant> {
+        match self {
+            FcSide::Disabled => None,
+        }
+    }
+
+    /// Every valid frame from the pod (the K40T side forwards them).
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
+        match self {
+            FcSide::Disabled => {
+                let _ = (ctx, bytes, packet);
+            }
+        }
+    }
+
+    pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
+        match self {
+            FcSide::Disabled => {
+                let _ = (ctx, notice);
+            }
+        }
+    }
+
+    /// The pod asks for GPS: true when this side handles it (the K40T side forwards it
+    /// to the FC); else the engine answers from its fix history.
+    pub(crate) fn gps_request(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        header: Header,
+        request: GpsRequest,
+    ) -> bool {
+        match self {
+            FcSide::Disabled => {
+                let _ = (ctx, header, request);
+                false
+            }
+        }
+    }
+
+    pub(crate) fn deframer_stats(&self) -> Stats {
+        match self {
+            FcSide::Disabled => Stats::default(),
+        }
+    }
+}
