@@ -4,4 +4,7 @@
 //! No I/O, no clock reads, no allocation: the caller feeds bytes and the current
 //! [`Instant`](time::Instant), and drains bytes, pin actions and events.
 
+pub mod discipline;
+pub mod fixes;
+pub mod sync;
 pub mod time;
