@@ -18,12 +18,10 @@
 //!
 //! Edges are measured from 60 s after the first sample.
 
-use protocol_core::bridge::discipline::{
-    DisciplineConfig, DisciplineState, Sample, TimeDiscipline, serial_time,
-};
+use protocol_core::bridge::discipline::{DisciplineConfig, Sample, TimeDiscipline, serial_time};
 use protocol_core::bridge::fixes::FixHistory;
 use protocol_core::bridge::sync::{SyncEdge, SyncScheduler};
-use protocol_core::bridge::time::{Duration, Instant, UtcTime};
+use protocol_core::bridge::time::{Duration, Instant};
 
 /// SplitMix64: small, seeded, deterministic.
 struct Rng(u64);
@@ -183,7 +181,7 @@ impl Sender {
                 let v = (epoch / 1e3).round() as u64 * 1_000;
                 out.push(Frame {
                     bytes: 72,
-                    kind: Kind::Utc(v, 1_000, true),
+                    kind: Kind::Utc(v, 20_000, true),
                 });
             }
             Model::Siyi { .. } => {
@@ -289,14 +287,7 @@ fn fly(model: Model, seed: u64) -> Stats {
         } => fl.gps_utc(t),
         _ => fl.fc_utc(t),
     };
-    let mut cfg = DisciplineConfig::default();
-    if let Ok(v) = std::env::var("BIN_S") {
-        cfg.bin_len = Duration::from_secs(v.parse().unwrap());
-    }
-    if let Ok(v) = std::env::var("ANCHOR") {
-        cfg.anchor_bins = v.parse().unwrap();
-    }
-    let mut disc = TimeDiscipline::new(cfg);
+    let mut disc = TimeDiscipline::new(DisciplineConfig::default());
     let mut sched = SyncScheduler::default();
     let lead = sched.config().lead;
     let mut planned: Option<SyncEdge> = None;
@@ -344,10 +335,6 @@ fn fly(model: Model, seed: u64) -> Stats {
                     planned = None;
                     let te = fl.t_of_local(e.at.as_micros() as f64);
                     let err = e.utc.as_unix_micros() as f64 - reference(te);
-                    if std::env::var("DBG").is_ok() {
-                        if err.abs() > 10_000.0 { println!("{:?}", disc); }
-                        println!("t {:.0}s err {:.0} state {:?} drift_ppb {:?} true_ppb {:.0}", te / 1e6, err, disc.state(), disc.drift_ppb(), (fl.eb - fl.efc) * 1e9);
-                    }
                     match first_sample {
                         Some(t0) if te >= t0 + WARMUP_US => {
                             stats.errors.push(err.abs());
@@ -359,7 +346,7 @@ fn fly(model: Model, seed: u64) -> Stats {
                 }
             }
 
-            let transit = if std::env::var("OWN").is_ok() { serial_time(fr.bytes, 115_200) } else { serial_time(contiguous_bytes, 115_200) };
+            let transit = serial_time(contiguous_bytes, 115_200);
             match fr.kind {
                 Kind::Other => {}
                 Kind::Utc(v, res, held) => {
@@ -405,111 +392,125 @@ fn fly(model: Model, seed: u64) -> Stats {
     stats
 }
 
+/// Runs `seeds` flights and prints the figures.
 fn run(name: &str, model: Model, seeds: std::ops::Range<u64>) -> Stats {
     let mut all = Stats::default();
     let mut worst = Vec::new();
     for seed in seeds {
         let s = fly(model, seed);
-        worst.push(format!("{:.0}", s.max()));
+        worst.push(format!("{:.1}", s.max() / 1e3));
         all.merge(s);
     }
     let mean = all.signed.iter().sum::<f64>() / all.signed.len().max(1) as f64;
+    let goal = all.quantile(0.99) < 1_000.0 && all.max() < 2_000.0;
     println!(
-        "{name:<44} edges {:>5}  p50 {:>7.0} µs  p99 {:>7.0} µs  max {:>7.0} µs  mean signed {:>7.0} µs  missed {}  per-flight max [{}]",
+        "{name:<40} edges {:>5} missed {}  |err| p50 {:>6.3} ms  p99 {:>6.3} ms  max {:>6.3} ms  \
+         mean signed {:>7.3} ms  goal (p99<1, max<2 ms) {}  per-flight max ms [{}]",
         all.errors.len(),
-        all.quantile(0.5),
-        all.quantile(0.99),
-        all.max(),
-        mean,
         all.missed,
+        all.quantile(0.5) / 1e3,
+        all.quantile(0.99) / 1e3,
+        all.max() / 1e3,
+        mean / 1e3,
+        if goal { "met" } else { "NOT met" },
         worst.join(" "),
     );
+    assert_eq!(all.missed, 0, "{name}: an edge every 10 s once valid");
+    assert!(!all.errors.is_empty());
     all
 }
 
+/// Eight deterministic flights per case.
+const SEEDS: std::ops::Range<u64> = 0..8;
+
 #[test]
 fn sizes() {
-    println!(
-        "size_of: TimeDiscipline {} B, FixHistory {} B, SyncScheduler {} B",
-        core::mem::size_of::<TimeDiscipline>(),
-        core::mem::size_of::<FixHistory>(),
-        core::mem::size_of::<SyncScheduler>(),
-    );
-    assert!(core::mem::size_of::<TimeDiscipline>() <= 1536);
+    let d = core::mem::size_of::<TimeDiscipline>();
+    let f = core::mem::size_of::<FixHistory>();
+    let s = core::mem::size_of::<SyncScheduler>();
+    println!("size_of: TimeDiscipline {d} B, FixHistory {f} B, SyncScheduler {s} B");
+    assert!(d <= 1536);
+    assert!(d + f + s <= 6 * 1024);
 }
 
+/// Viewlink under ArduPilot: M_AHRS carries AP_RTC's UTC truncated to 10 ms, read on
+/// the FC loop, which is paced by the same crystal as AP_RTC: the read phase is constant
+/// for the flight, the truncation cannot be averaged out, and the discipline centres it:
+/// the error is a per-flight constant within ±5 ms. The goal (p99 < 1 ms) is out of reach
+/// for any estimator with this input; the test asserts the ±5 ms bound.
 #[test]
 fn viewlink() {
     let s = run(
-        "Viewlink (AP_RTC FC UTC)",
+        "Viewlink (ArduPilot, AP_RTC UTC)",
         Model::Viewlink {
             fc_utc_is_gps: false,
         },
-        0..8,
+        SEEDS,
     );
-    let _ = s;
-    run(
-        "Viewlink (idealised GPS-locked FC UTC)",
+    assert!(s.max() < 5_500.0);
+    // An FC whose UTC follows GPS: the read phase slides by the FC crystal's error, the
+    // centring then costs up to 5 ms when the phase is near a boundary.
+    let s = run(
+        "Viewlink (FC UTC locked to GPS)",
         Model::Viewlink {
             fc_utc_is_gps: true,
         },
-        0..8,
+        SEEDS,
     );
+    assert!(s.max() < 10_000.0);
 }
 
+/// GCU: the GPS time of the last fix, read by the 50 Hz FC loop: the first frame after a
+/// fix was read 0..20 ms after it, a phase that slides only by the FC crystal's error
+/// against GPS. Centred (resolution 20 ms): within about ±10 ms. A receiver latency is a
+/// constant bias the bridge cannot see (second case: −40 ms).
 #[test]
 fn gcu() {
-    run(
-        "GCU 10 Hz GPS, latency 0",
-        Model::Gcu {
-            gps_hz: 10,
-            latency_ms: 0.0,
-        },
-        0..8,
-    );
-    run(
-        "GCU 5 Hz GPS, latency 0",
-        Model::Gcu {
-            gps_hz: 5,
-            latency_ms: 0.0,
-        },
-        0..8,
-    );
-    run(
-        "GCU 10 Hz GPS, latency 40 ms",
+    for (name, hz) in [
+        ("GCU, 10 Hz GPS, latency 0", 10),
+        ("GCU, 5 Hz GPS, latency 0", 5),
+    ] {
+        let s = run(
+            name,
+            Model::Gcu {
+                gps_hz: hz,
+                latency_ms: 0.0,
+            },
+            SEEDS,
+        );
+        assert!(s.max() < 15_000.0);
+    }
+    let s = run(
+        "GCU, 10 Hz GPS, latency 40 ms",
         Model::Gcu {
             gps_hz: 10,
             latency_ms: 40.0,
         },
-        0..8,
+        SEEDS,
     );
+    let mean = s.signed.iter().sum::<f64>() / s.signed.len() as f64;
+    assert!((mean + 40_000.0).abs() < 5_000.0, "a -40 ms bias: {mean}");
 }
 
+/// SIYI: the FC clock at 10 Hz, UTC five times at start (some of them paired with a
+/// 0x22 of the same update). Reference: the FC's UTC.
 #[test]
 fn siyi() {
-    run(
+    let s = run(
         "SIYI, per-update jitter",
         Model::Siyi {
             per_frame_jitter: false,
         },
-        0..8,
+        SEEDS,
     );
-    run(
+    assert!(s.quantile(0.5) < 500.0);
+    assert!(s.max() < 10_000.0);
+    let s = run(
         "SIYI, per-frame jitter",
         Model::Siyi {
             per_frame_jitter: true,
         },
-        0..8,
+        SEEDS,
     );
-}
-
-#[allow(dead_code)]
-fn _unused(_: DisciplineState, _: UtcTime) {}
-
-#[test]
-#[ignore]
-fn debug_flight() {
-    let s = fly(if std::env::var("VL").is_ok() { Model::Viewlink { fc_utc_is_gps: false } } else { Model::Siyi { per_frame_jitter: std::env::var("PF").is_ok() } }, 5);
-    let v: Vec<String> = s.signed.iter().step_by(6).map(|e| format!("{:.0}", e)).collect();
-    println!("{}", v.join(" "));
+    assert!(s.max() < 50_000.0);
 }

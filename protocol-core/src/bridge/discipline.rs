@@ -14,14 +14,20 @@
 //! # Estimator (per clock)
 //! Minimum-delay filtering, then a skew fit, after Moon, Skelly and Towsley ("Estimation
 //! and removal of clock skew from network delay measurements", 1999):
-//! - Samples are grouped in bins of [`DisciplineConfig::bin_len`] of local time (4 s by
+//! - Samples are grouped in bins of [`DisciplineConfig::bin_len`] of local time (8 s by
 //!   default); each bin keeps only its least-delayed point (the minimum of `y`).
-//! - The last [`BINS`] bins (128 s by default) form the window. The offset line is the
+//! - The last [`BINS`] bins (256 s by default) form the window. The rate is that of the
 //!   solution of Moon's linear programme over the bin minima: the line under all points
 //!   that minimises the summed distance to them, i.e. the edge of their lower convex hull
-//!   above their mean local time. Integer arithmetic only (`i64`, `i128` products); the
-//!   fit is recomputed only when a bin minimum changes (a few times per bin), not per
-//!   sample.
+//!   above their mean local time. The line is then moved to touch the lowest of the last
+//!   [`DisciplineConfig::anchor_bins`] bins (4), so that a rate error is extrapolated
+//!   over a few bins, not over half the window. Integer arithmetic only (`i64`, `i128`
+//!   products); the fit is recomputed only when a bin minimum changes (a few times per
+//!   bin), not per sample.
+//! - The window length is a trade-off measured in the simulation (`host-tests/tests/
+//!   timesync_sim.rs`): 4 s bins (128 s) gave rate errors of tens of ppm when the
+//!   least delays are noisy (SIYI's 0x22 behind other frames); 8 s bins (256 s) assume
+//!   the crystals' rates stay stable over about four minutes.
 //! - The state is fixed-size: [`BINS`] points of 16 bytes per clock.
 //!
 //! # Truncation
@@ -30,9 +36,12 @@
 //! its UTC on a 50 Hz loop paced by the same crystal as that UTC), so the minimum over
 //! samples does **not** remove the truncation error: it stays a constant in `[0, r)` for
 //! the whole flight. With [`DisciplineConfig::center_truncation`] (default on) the
-//! discipline reads a non-held value as `value + r/2`, halving the worst case to `±r/2`
-//! (Viewlink, 10 ms resolution: ±5 ms). Held values ([`Sample::held`]) are the exact times
-//! of discrete events (GPS fixes) and are never centred.
+//! discipline reads a value as `value + r/2`, halving the worst case to `±r/2`
+//! (Viewlink, 10 ms resolution: ±5 ms). The same holds for a held value (GCU: the time
+//! of the last GPS fix): the first sample after a fix was read up to one sender update
+//! after the fix, so its "resolution" is the sender's update period (ArduPilot: 20 ms),
+//! read phase-locked too (the FC loop against the GPS epochs slides only by the FC
+//! crystal's error): ±10 ms.
 //!
 //! # Sources
 //! - Direct UTC ([`TimeDiscipline::utc_sample`]): Viewlink M_AHRS, GCU GPS week and time of
@@ -115,7 +124,9 @@ pub struct Sample {
     pub value_us: u64,
     /// Truncation step of the value: the true remote time at reading was in
     /// `[value, value + resolution)`. 1 µs for SIYI 0x30, 1000 for `time_boot_ms` and
-    /// millisecond fields (GCU, K40T), 10 000 for Viewlink's hundredths of a second.
+    /// millisecond fields (K40T), 10 000 for Viewlink's hundredths of a second. For a
+    /// held value: the sender's update period (GCU under ArduPilot: 20 000), the most by
+    /// which the first sample after an event was read late.
     pub resolution_us: u32,
     /// The sender holds this value between events and repeats it (GCU: the time of the
     /// last GPS fix, sent at 50 Hz, stepping at 5-10 Hz). Such a value is the exact time
@@ -173,8 +184,8 @@ pub const fn serial_time(bytes: u32, baud: u32) -> Duration {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct DisciplineConfig {
-    /// Local time covered by one bin of the estimator (default 4 s; the window is
-    /// [`BINS`] bins, 128 s).
+    /// Local time covered by one bin of the estimator (default 8 s; the window is
+    /// [`BINS`] bins, 256 s).
     pub bin_len: Duration,
     /// Bins needed before a clock estimate is trusted (default 5).
     pub min_bins: u8,
@@ -213,7 +224,7 @@ pub struct DisciplineConfig {
 impl DisciplineConfig {
     /// The documented defaults.
     pub const DEFAULT: Self = Self {
-        bin_len: Duration::from_secs(4),
+        bin_len: Duration::from_secs(8),
         min_bins: 5,
         min_span: Duration::from_secs(16),
         max_drift_ppm: 300,
@@ -322,7 +333,8 @@ impl Line {
 
     /// The offset at local `x`.
     fn offset_at(&self, x: i64) -> Option<i64> {
-        let num = i128::from(self.dy).checked_mul(i128::from(x).checked_sub(i128::from(self.x0))?)?;
+        let num =
+            i128::from(self.dy).checked_mul(i128::from(x).checked_sub(i128::from(self.x0))?)?;
         let q = num.checked_div_euclid(i128::from(self.dx))?;
         i64::try_from(i128::from(self.y0).checked_add(q)?).ok()
     }
@@ -455,8 +467,7 @@ impl ClockEstimator {
         if self.len < cfg.min_bins.max(2) || !line.rate_within(cfg.max_drift_ppm) {
             return false;
         }
-        let (Some(first), Some(last)) = (self.bin(0), self.bin(self.len.saturating_sub(1)))
-        else {
+        let (Some(first), Some(last)) = (self.bin(0), self.bin(self.len.saturating_sub(1))) else {
             return false;
         };
         let span = last.x.saturating_sub(first.x);
@@ -468,7 +479,10 @@ impl ClockEstimator {
         if let Some(line) = self.line {
             let threshold = i64::try_from(cfg.step_threshold.as_micros()).unwrap_or(i64::MAX);
             let outlier = match line.offset_at(p.x) {
-                Some(pred) => p.y.checked_sub(pred).is_none_or(|r| r.saturating_abs() > threshold),
+                Some(pred) => {
+                    p.y.checked_sub(pred)
+                        .is_none_or(|r| r.saturating_abs() > threshold)
+                }
                 None => true,
             };
             if outlier {
@@ -502,7 +516,8 @@ impl ClockEstimator {
 
     fn push_bin(&mut self, p: Point) {
         if usize::from(self.len) >= BINS {
-            self.start = u8::try_from((usize::from(self.start).saturating_add(1)) % BINS).unwrap_or(0);
+            self.start =
+                u8::try_from((usize::from(self.start).saturating_add(1)) % BINS).unwrap_or(0);
         } else {
             self.len = self.len.saturating_add(1);
         }
@@ -519,15 +534,18 @@ impl ClockEstimator {
             self.push_bin(p);
             self.refit(cfg);
         } else if let Some(last) = self.bin_mut(self.len.saturating_sub(1))
-            && p.y < last.y {
-                *last = p;
-                self.refit(cfg);
-            }
+            && p.y < last.y
+        {
+            *last = p;
+            self.refit(cfg);
+        }
     }
 
     /// Moon's LP over the bin minima: the lower-hull edge above the mean local time.
     fn refit(&mut self, cfg: &DisciplineConfig) {
-        self.line = self.fit().map(|l| self.anchor(l, cfg.anchor_bins).unwrap_or(l));
+        self.line = self
+            .fit()
+            .map(|l| self.anchor(l, cfg.anchor_bins).unwrap_or(l));
     }
 
     /// The line with the same rate, moved to touch the lowest of the last `k` bins.
@@ -763,7 +781,7 @@ impl TimeDiscipline {
             }
             self.direct.last_held = Some(s.value_us);
         }
-        let center = if self.config.center_truncation && !s.held {
+        let center = if self.config.center_truncation {
             s.resolution_us / 2
         } else {
             0
@@ -860,9 +878,10 @@ impl TimeDiscipline {
         };
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
         if let Some(bound) = self.fc.line.as_ref().and_then(|l| self.link.lower_bound(l))
-            && m < bound.saturating_sub(tol) {
-                return Verdict::Rejected;
-            }
+            && m < bound.saturating_sub(tol)
+        {
+            return Verdict::Rejected;
+        }
         self.link.push_pair(m);
         let now = self.now;
         self.refresh_via_fc(now);
@@ -879,11 +898,12 @@ impl TimeDiscipline {
             return;
         };
         if let Some(c) = self.link.offset(Some(&line), tol)
-            && let Some(out) = line.shifted(c) {
-                self.output = Some(out);
-                self.source = Some(Path::ViaFc);
-                self.last_fresh = Some(local);
-            }
+            && let Some(out) = line.shifted(c)
+        {
+            self.output = Some(out);
+            self.source = Some(Path::ViaFc);
+            self.last_fresh = Some(local);
+        }
     }
 
     /// The output comes from the direct path, which is fresh.
@@ -1006,7 +1026,6 @@ impl TimeDiscipline {
     }
 }
 
-
 /// Local time of a sample with its known transit removed, as `i64`.
 fn local_x(s: Sample) -> Option<i64> {
     i64::try_from(s.local.as_micros().checked_sub(s.transit.as_micros())?).ok()
@@ -1015,9 +1034,267 @@ fn local_x(s: Sample) -> Option<i64> {
 /// The estimator point of a sample: `(x, x − (value + center))`.
 fn point(s: Sample, center: u32) -> Option<Point> {
     let x = local_x(s)?;
-    let r = i64::try_from(s.value_us).ok()?.checked_add(i64::from(center))?;
+    let r = i64::try_from(s.value_us)
+        .ok()?
+        .checked_add(i64::from(center))?;
     Some(Point {
         x,
         y: x.checked_sub(r)?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 2026-01-01T00:00:00Z in µs.
+    const U0: u64 = 1_767_225_600_000_000;
+
+    /// Local clock 20 ppm fast, starting at 5 s: local = 5e6 + t·(1 + 20e-6).
+    fn local(t_us: u64) -> Instant {
+        Instant::from_micros(5_000_000 + t_us + t_us / 50_000)
+    }
+
+    /// Exact UTC samples every 100 ms from `from` to `to` (µs of true time).
+    fn feed_exact(d: &mut TimeDiscipline, from: u64, to: u64) {
+        let mut t = from;
+        while t < to {
+            let v = d.utc_sample(Sample::new(local(t), U0 + t, 1));
+            assert_eq!(v, Verdict::Accepted, "at {t}");
+            t += 100_000;
+        }
+    }
+
+    fn err_us(d: &TimeDiscipline, t: u64) -> i64 {
+        let utc = d.utc(local(t)).expect("usable");
+        utc.signed_micros_since(UtcTime::from_unix_micros(U0 + t))
+            .unwrap()
+    }
+
+    #[test]
+    fn converges_then_valid_with_the_rate() {
+        let mut d = TimeDiscipline::default();
+        assert_eq!(d.state(), DisciplineState::Unknown);
+        assert_eq!(d.utc(local(0)), None);
+        feed_exact(&mut d, 0, 20_000_000);
+        // 20 s: fewer than 5 bins of 8 s: still converging, no UTC.
+        assert_eq!(d.state(), DisciplineState::Converging);
+        assert_eq!(d.utc(local(20_000_000)), None);
+        let t = d.poll(local(20_000_000)).unwrap();
+        assert_eq!(t.to, DisciplineState::Converging);
+        assert!(!t.utc_became_valid());
+        feed_exact(&mut d, 20_000_000, 60_000_000);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        let t = d.poll(local(60_000_000)).unwrap();
+        assert!(t.utc_became_valid());
+        assert_eq!(d.poll(local(60_000_000)), None, "reported once");
+        // Exact samples: the mapping is exact to a few µs, also 2 s ahead.
+        assert!(err_us(&d, 59_900_000).abs() <= 2);
+        assert!(err_us(&d, 62_000_000).abs() <= 2);
+        // Local runs 20 ppm fast.
+        let ppb = d.drift_ppb().unwrap();
+        assert!((19_900..=20_100).contains(&ppb), "{ppb}");
+        // The inverse.
+        let want = UtcTime::from_unix_micros(U0 + 61_000_000);
+        let at = d.local_of(want).unwrap();
+        assert!(at.as_micros().abs_diff(local(61_000_000).as_micros()) <= 2);
+    }
+
+    #[test]
+    fn minimum_delay_wins_and_truncation_is_centred() {
+        let mut d = TimeDiscipline::default();
+        // Viewlink-like: 10 ms truncation, read phase 3 ms after the boundary, delays
+        // cycling 0..9 ms, plus 57 bytes of known transit.
+        let transit = serial_time(57, 115_200);
+        assert_eq!(transit.as_micros(), 4_948);
+        for i in 0..600u64 {
+            let t = 3_000 + i * 100_000;
+            let v = (U0 + t) / 10_000 * 10_000;
+            let arrival = t + (i % 10) * 1_000 + transit.as_micros();
+            let s = Sample::new(local(arrival), v, 10_000).with_transit(transit);
+            assert_eq!(d.utc_sample(s), Verdict::Accepted);
+        }
+        assert_eq!(d.state(), DisciplineState::Valid);
+        // Read 3 ms after the boundary, centred at 5 ms: 2 ms ahead, the delays gone.
+        let e = err_us(&d, 60_000_000);
+        assert!((1_990..=2_010).contains(&e), "{e}");
+    }
+
+    #[test]
+    fn holdover_then_lost() {
+        let mut d = TimeDiscipline::default();
+        feed_exact(&mut d, 0, 60_000_000);
+        d.poll(local(60_000_000));
+        let last = local(59_900_000);
+        assert_eq!(
+            d.poll_at(),
+            Some(last.saturating_add(Duration::from_secs(3)))
+        );
+        assert_eq!(d.poll(local(62_000_000)), None);
+        let t = d.poll(local(63_000_000)).unwrap();
+        assert_eq!(t.to, DisciplineState::Holdover);
+        assert!(!t.utc_lost());
+        // Extrapolated with the rate: still exact.
+        assert!(err_us(&d, 100_000_000).abs() <= 3);
+        assert_eq!(
+            d.poll_at(),
+            Some(last.saturating_add(Duration::from_secs(60)))
+        );
+        // Beyond the horizon, even in holdover: no UTC.
+        assert_eq!(d.utc(local(121_000_000)), None);
+        let t = d.poll(local(120_000_000)).unwrap();
+        assert_eq!(t.to, DisciplineState::Lost);
+        assert!(t.utc_lost());
+        assert_eq!(d.utc(local(120_000_000)), None);
+        assert_eq!(
+            d.local_of(UtcTime::from_unix_micros(U0 + 120_000_000)),
+            None
+        );
+        // Samples again: converging, then valid.
+        feed_exact(&mut d, 130_000_000, 140_000_000);
+        assert_eq!(d.state(), DisciplineState::Converging);
+        feed_exact(&mut d, 140_000_000, 180_000_000);
+        assert_eq!(d.state(), DisciplineState::Valid);
+    }
+
+    #[test]
+    fn outliers_ignored_steps_restart() {
+        let mut d = TimeDiscipline::default();
+        feed_exact(&mut d, 0, 60_000_000);
+        assert!(d.poll(local(60_000_000)).unwrap().utc_became_valid());
+        // One frame 10 s behind: ignored.
+        let s = Sample::new(local(60_000_000), U0 + 50_000_000, 1);
+        assert_eq!(d.utc_sample(s), Verdict::Outlier);
+        assert!(err_us(&d, 60_000_000).abs() <= 2);
+        // UTC jumps by 10 s for good: 4 outliers, the 5th is a step.
+        for i in 1..=5u64 {
+            let t = 60_000_000 + i * 100_000;
+            let v = d.utc_sample(Sample::new(local(t), U0 + t + 10_000_000, 1));
+            let want = if i < 5 {
+                Verdict::Outlier
+            } else {
+                Verdict::Step
+            };
+            assert_eq!(v, want);
+        }
+        assert_eq!(d.state(), DisciplineState::Converging);
+        assert_eq!(d.utc(local(60_600_000)), None);
+        assert!(d.poll(local(60_600_000)).unwrap().utc_lost());
+    }
+
+    #[test]
+    fn rejects_and_repeats() {
+        let mut d = TimeDiscipline::default();
+        // Year 2000 (an FC without time).
+        let s = Sample::new(local(0), 946_684_800_000_000, 10_000);
+        assert_eq!(d.utc_sample(s), Verdict::Rejected);
+        assert_eq!(d.state(), DisciplineState::Unknown);
+        // Held values: only changes count.
+        let s = Sample::new(local(0), U0, 20_000).held();
+        assert_eq!(d.utc_sample(s), Verdict::Accepted);
+        let s = Sample::new(local(20_000), U0, 20_000).held();
+        assert_eq!(d.utc_sample(s), Verdict::Repeated);
+        let s = Sample::new(local(100_000), U0 + 100_000, 20_000).held();
+        assert_eq!(d.utc_sample(s), Verdict::Accepted);
+    }
+
+    #[test]
+    fn held_value_that_stops_changing_is_not_fresh() {
+        let mut d = TimeDiscipline::default();
+        // GCU-like: 50 Hz, fix every 100 ms, read 4 ms after the fix.
+        let mut t = 0u64;
+        while t < 60_000_000 {
+            let fix = t / 100_000 * 100_000;
+            d.utc_sample(Sample::new(local(t + 4_000), U0 + fix, 20_000).held());
+            t += 20_000;
+        }
+        assert_eq!(d.state(), DisciplineState::Valid);
+        // Read 4 ms after the fix, centred at 10 ms: 6 ms early.
+        let e = err_us(&d, 60_000_000);
+        assert!((5_990..=6_010).contains(&e), "{e}");
+        // GPS lost: the same fix repeated for 5 s: holdover.
+        while t < 65_000_000 {
+            d.utc_sample(Sample::new(local(t), U0 + 59_900_000, 20_000).held());
+            t += 20_000;
+        }
+        assert_eq!(d.state(), DisciplineState::Holdover);
+    }
+
+    /// SIYI: FC clock (boot 30 s before, 30 ppm slow against true time), UTC = FC + C.
+    fn fc_ms(t: u64) -> u32 {
+        u32::try_from((30_000_000 + t - t * 3 / 100_000) / 1000).unwrap()
+    }
+
+    const C: u64 = U0 - 30_000_000;
+
+    fn fc_us(t: u64) -> u64 {
+        30_000_000 + t - t * 3 / 100_000
+    }
+
+    #[test]
+    fn siyi_pairs_and_fc_reboot() {
+        let mut d = TimeDiscipline::default();
+        let mut t = 0u64;
+        while t < 60_000_000 {
+            let ms = fc_ms(t);
+            let s = Sample::new(local(t), u64::from(ms) * 1000, 1000);
+            assert_eq!(d.fc_clock_sample(s), Verdict::Accepted);
+            if t < 5_000_000 && t % 1_000_000 == 0 {
+                let utc = C + fc_us(t);
+                let s = Sample::new(local(t), utc, 1);
+                assert_eq!(d.utc_via_fc_sample(s), Verdict::Accepted);
+                assert_eq!(d.utc_fc_pair(utc, ms), Verdict::Accepted);
+            }
+            t += 100_000;
+        }
+        assert_eq!(d.state(), DisciplineState::Valid);
+        // The FC's UTC: FC clock + C.
+        let want = C + fc_us(60_000_000);
+        let got = d.utc(local(60_000_000)).unwrap().as_unix_micros();
+        assert!(got.abs_diff(want) <= 1_000, "{got} {want}");
+        // A pair 5 ms below the unpaired bound: rejected.
+        assert_eq!(
+            d.utc_fc_pair(C + fc_us(0) - 5_000, fc_ms(0)),
+            Verdict::Rejected
+        );
+        // FC reboot: time_boot_ms restarts near 0.
+        let mut verdicts = [Verdict::Accepted; 5];
+        for (i, v) in verdicts.iter_mut().enumerate() {
+            let i = i as u64;
+            let tt = 60_000_000 + i * 100_000;
+            *v = d.fc_clock_sample(Sample::new(local(tt), 1_000_000 + i * 100_000, 1000));
+        }
+        assert_eq!(verdicts[..4], [Verdict::Outlier; 4]);
+        assert_eq!(verdicts[4], Verdict::Step);
+        // The local→UTC mapping did not change: still usable in holdover.
+        d.poll(local(64_000_000));
+        assert_eq!(d.state(), DisciplineState::Holdover);
+        let want = C + fc_us(64_000_000);
+        let got = d.utc(local(64_000_000)).unwrap().as_unix_micros();
+        assert!(got.abs_diff(want) <= 1_000);
+    }
+
+    #[test]
+    fn serial_times() {
+        assert_eq!(serial_time(1, 115_200).as_micros(), 87);
+        assert_eq!(serial_time(72, 115_200).as_micros(), 6_250);
+        assert_eq!(serial_time(10, 0), Duration::ZERO);
+    }
+
+    #[test]
+    fn line_inverse_round_trips() {
+        let l = Line {
+            x0: 1_000_000,
+            y0: -1_767_225_599_000_000,
+            dy: 37,
+            dx: 1_000_000,
+        };
+        for x in [0i64, 1_000_000, 3_600_000_000, 86_400_000_000] {
+            let r = l.remote_at(x).unwrap();
+            let back = l.local_at(r).unwrap();
+            assert!((back - x).abs() <= 1, "{x} {back}");
+        }
+        assert!(l.rate_within(37));
+        assert!(!l.rate_within(36));
+    }
 }

@@ -272,9 +272,7 @@ impl FixHistory {
     pub fn at(&self, at: Instant) -> Result<Fix, GeotagError> {
         let n = self.len();
         let first = self.get(0).ok_or(GeotagError::NoFix)?;
-        let last = self
-            .get(n.saturating_sub(1))
-            .ok_or(GeotagError::NoFix)?;
+        let last = self.get(n.saturating_sub(1)).ok_or(GeotagError::NoFix)?;
         if at <= first.at {
             return self.hold(first, at);
         }
@@ -329,7 +327,10 @@ fn lerp(a: i64, diff: i64, num: i64, den: i64) -> Option<i64> {
 /// `v` wrapped into `(−half, half]` for a circle of `2·half` units.
 fn wrap(v: i64, half: i64) -> Option<i64> {
     let full = half.checked_mul(2)?;
-    let r = v.checked_add(half)?.checked_rem_euclid(full)?.checked_sub(half)?;
+    let r = v
+        .checked_add(half)?
+        .checked_rem_euclid(full)?
+        .checked_sub(half)?;
     // rem_euclid gives [−half, half); move −half to +half.
     if r == half.checked_neg()? {
         Some(half)
@@ -375,4 +376,109 @@ fn interpolate(a: &Fix, b: &Fix, at: Instant) -> Option<Fix> {
         roll_cdeg: angle_i16(a.roll_cdeg, b.roll_cdeg)?,
         pitch_cdeg: angle_i16(a.pitch_cdeg, b.pitch_cdeg)?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fix(ms: u64, lat: i32, lon: i32, yaw: i16) -> Fix {
+        Fix {
+            at: Instant::from_millis(ms),
+            lat_e7: lat,
+            lon_e7: lon,
+            alt_msl_dm: 1000,
+            rel_alt_dm: 500,
+            yaw_cdeg: yaw,
+            roll_cdeg: 0,
+            pitch_cdeg: -100,
+        }
+    }
+
+    #[test]
+    fn empty_history() {
+        let h = FixHistory::default();
+        assert!(h.is_empty());
+        assert_eq!(h.at(Instant::from_millis(5)), Err(GeotagError::NoFix));
+    }
+
+    #[test]
+    fn interpolates_and_wraps_angles() {
+        let mut h = FixHistory::default();
+        assert!(h.push(fix(1_000, 100, 1_799_999_990, 17_900)));
+        assert!(h.push(fix(1_100, 200, -1_799_999_990, -17_900)));
+        let f = h.at(Instant::from_millis(1_050)).unwrap();
+        assert_eq!(f.at, Instant::from_millis(1_050));
+        assert_eq!(f.lat_e7, 150);
+        // Across the antimeridian and the ±180° yaw wrap: through 180°, not 0°.
+        assert_eq!(f.lon_e7, 1_800_000_000);
+        assert_eq!(f.yaw_cdeg, 18_000);
+        assert_eq!(f.alt_msl_dm, 1000);
+        assert_eq!(f.pitch_cdeg, -100);
+        let f = h.at(Instant::from_millis(1_075)).unwrap();
+        assert_eq!(f.yaw_cdeg, -17_950);
+        assert_eq!(f.lon_e7, -1_799_999_995);
+        // Exactly on a fix.
+        assert_eq!(h.at(Instant::from_millis(1_000)).unwrap().lat_e7, 100);
+        // Rounded to nearest: 1/3 of the way from 100 to 200.
+        let f = h.at(Instant::from_micros(1_033_333)).unwrap();
+        assert_eq!(f.lat_e7, 133);
+    }
+
+    #[test]
+    fn holds_within_a_second_beyond_the_ends() {
+        let mut h = FixHistory::default();
+        h.push(fix(10_000, 1, 2, 3));
+        h.push(fix(10_100, 5, 6, 7));
+        let f = h.at(Instant::from_millis(11_100)).unwrap();
+        assert_eq!((f.at, f.lat_e7), (Instant::from_millis(10_100), 5));
+        assert_eq!(
+            h.at(Instant::from_millis(11_101)),
+            Err(GeotagError::OutOfRange)
+        );
+        let f = h.at(Instant::from_millis(9_000)).unwrap();
+        assert_eq!(f.lat_e7, 1);
+        assert_eq!(
+            h.at(Instant::from_millis(8_999)),
+            Err(GeotagError::OutOfRange)
+        );
+    }
+
+    #[test]
+    fn does_not_interpolate_across_gaps() {
+        let mut h = FixHistory::default();
+        h.push(fix(0, 0, 0, 0));
+        h.push(fix(5_000, 5_000, 0, 0));
+        assert_eq!(h.at(Instant::from_millis(800)).unwrap().lat_e7, 0);
+        assert_eq!(h.at(Instant::from_millis(4_500)).unwrap().lat_e7, 5_000);
+        assert_eq!(
+            h.at(Instant::from_millis(2_500)),
+            Err(GeotagError::OutOfRange)
+        );
+    }
+
+    #[test]
+    fn decimates_and_keeps_twenty_seconds() {
+        let mut h = FixHistory::default();
+        // 50 Hz for 30 s; latitude = time in ms.
+        for i in 0..1_500u64 {
+            let ms = i * 20;
+            assert!(h.push(fix(ms, ms as i32, 0, 0)));
+        }
+        // 201 stored (every 100 ms) plus the newest aside.
+        assert_eq!(h.len(), CAPACITY + 1);
+        assert_eq!(h.latest().unwrap().at, Instant::from_millis(29_980));
+        let oldest = h.get(0).unwrap();
+        assert_eq!(oldest.at, Instant::from_millis(9_900));
+        // Interpolated between stored fixes 100 ms apart: exact for a linear input.
+        assert_eq!(h.at(Instant::from_millis(15_030)).unwrap().lat_e7, 15_030);
+        // Between the last stored and the newest aside.
+        assert_eq!(h.at(Instant::from_millis(29_950)).unwrap().lat_e7, 29_950);
+        // An older fix is refused; one at the same instant replaces the newest.
+        assert!(!h.push(fix(29_000, 0, 0, 0)));
+        assert!(h.push(fix(29_980, 7, 0, 0)));
+        assert_eq!(h.latest().unwrap().lat_e7, 7);
+        h.clear();
+        assert!(h.is_empty());
+    }
 }

@@ -102,9 +102,10 @@ impl SyncScheduler {
         let utc_earliest = discipline.utc(earliest)?;
         let mut target = utc_earliest.next_multiple_of(self.config.period)?;
         if let Some(last) = self.last
-            && target <= last {
-                target = last.checked_add(self.config.period)?;
-            }
+            && target <= last
+        {
+            target = last.checked_add(self.config.period)?;
+        }
         // Two tries: local_of may round the edge a microsecond before `earliest`.
         for _ in 0..2 {
             let at = discipline.local_of(target)?;
@@ -143,5 +144,69 @@ impl SyncScheduler {
         } else {
             discipline.utc(raised_at)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bridge::discipline::{DisciplineConfig, Sample};
+
+    const U0: u64 = 1_767_225_603_250_000; // …:03.250
+
+    /// A discipline fed exact UTC (local = t + 1 s, no drift) for 60 s.
+    fn valid() -> TimeDiscipline {
+        let mut d = TimeDiscipline::new(DisciplineConfig::DEFAULT);
+        let mut t = 0u64;
+        while t < 60_000_000 {
+            d.utc_sample(Sample::new(Instant::from_micros(1_000_000 + t), U0 + t, 1));
+            t += 100_000;
+        }
+        d
+    }
+
+    #[test]
+    fn no_edge_without_utc() {
+        let d = TimeDiscipline::new(DisciplineConfig::DEFAULT);
+        let s = SyncScheduler::default();
+        assert_eq!(s.next_edge(Instant::from_micros(1), &d), None);
+    }
+
+    #[test]
+    fn edges_on_the_utc_grid() {
+        let d = valid();
+        let mut s = SyncScheduler::default();
+        // Now: local 61 s = UTC …:03.250 + 60 s = …:63.250 → next multiple …:70.000.
+        let now = Instant::from_micros(61_000_000);
+        let e = s.next_edge(now, &d).unwrap();
+        assert_eq!(e.utc.as_unix_micros() % 10_000_000, 0);
+        assert_eq!(e.utc.as_unix_micros(), 1_767_225_670_000_000);
+        assert_eq!(e.at.as_micros(), 1_000_000 + 1_767_225_670_000_000 - U0);
+        assert_eq!(e.low_at.as_micros(), e.at.as_micros() + 50_000);
+        // Asked again before firing: the same edge; after firing: 10 s later.
+        assert_eq!(s.next_edge(now, &d), Some(e));
+        s.fired(&e);
+        assert_eq!(s.last_fired(), Some(e.utc));
+        let e2 = s.next_edge(e.at, &d).unwrap();
+        assert_eq!(e2.utc.as_unix_micros(), e.utc.as_unix_micros() + 10_000_000);
+        // Stamping: on time → the planned value; 1 ms late → re-stamped.
+        assert_eq!(s.stamp(&e, e.at, &d), Some(e.utc));
+        let late = e.at.checked_add(Duration::from_millis(1)).unwrap();
+        assert_eq!(
+            s.stamp(&e, late, &d).map(|u| u.as_unix_micros()),
+            Some(e.utc.as_unix_micros() + 1_000)
+        );
+    }
+
+    #[test]
+    fn edge_respects_the_lead() {
+        let d = valid();
+        let s = SyncScheduler::default();
+        // 1 ms before an edge (…:70.000 at local 1 s + 66.75 s): too close, the next one.
+        let at70 = 1_000_000 + 1_767_225_670_000_000 - U0;
+        let e = s.next_edge(Instant::from_micros(at70 - 1_000), &d).unwrap();
+        assert_eq!(e.utc.as_unix_micros(), 1_767_225_680_000_000);
+        let e = s.next_edge(Instant::from_micros(at70 - 2_000), &d).unwrap();
+        assert_eq!(e.utc.as_unix_micros(), 1_767_225_670_000_000);
     }
 }

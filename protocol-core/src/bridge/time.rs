@@ -419,7 +419,11 @@ fn days_from_civil(year: u16, month: u8, day: u8) -> Option<u64> {
     let era = y / 400;
     let yoe = y % 400;
     let m = u64::from(month);
-    let mp = if m > 2 { m.checked_sub(3)? } else { m.checked_add(9)? };
+    let mp = if m > 2 {
+        m.checked_sub(3)?
+    } else {
+        m.checked_add(9)?
+    };
     let doy = mp
         .checked_mul(153)?
         .checked_add(2)?
@@ -431,7 +435,9 @@ fn days_from_civil(year: u16, month: u8, day: u8) -> Option<u64> {
         .checked_add(yoe / 4)?
         .checked_sub(yoe / 100)?
         .checked_add(doy)?;
-    era.checked_mul(146_097)?.checked_add(doe)?.checked_sub(719_468)
+    era.checked_mul(146_097)?
+        .checked_add(doe)?
+        .checked_sub(719_468)
 }
 
 #[cfg(test)]
@@ -514,7 +520,10 @@ mod tests {
         assert_eq!(Some(t), expected);
         let t = UtcTime::from_gps(2400, 86_400_123, 18).unwrap();
         assert_eq!(t.time_of_day(), TimeOfDay::new(23, 59, 42, 123).unwrap());
-        assert_eq!(UtcTime::from_gps(0, 0, 0).unwrap().as_unix_millis(), 315_964_800_000);
+        assert_eq!(
+            UtcTime::from_gps(0, 0, 0).unwrap().as_unix_millis(),
+            315_964_800_000
+        );
     }
 
     #[test]
@@ -536,9 +545,7 @@ mod tests {
     #[test]
     fn nearest_time_of_day_across_midnight() {
         let midnight = UtcTime::from_date_time(2026, 1, 2, TimeOfDay::MIDNIGHT).unwrap();
-        let now = midnight
-            .checked_add(Duration::from_millis(300))
-            .unwrap();
+        let now = midnight.checked_add(Duration::from_millis(300)).unwrap();
         // Asked just after midnight for a time just before it: yesterday.
         let t = now
             .nearest_with_time_of_day(TimeOfDay::new(23, 59, 59, 900).unwrap())
