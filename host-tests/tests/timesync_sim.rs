@@ -152,7 +152,7 @@ impl Sender {
         out.clear();
         match model {
             Model::Viewlink { fc_utc_is_gps } => {
-                if k % 5 != 0 {
+                if !k.is_multiple_of(5) {
                     return;
                 }
                 let utc = if fc_utc_is_gps {
@@ -329,20 +329,20 @@ fn fly(model: Model, seed: u64) -> Stats {
             last_arrival = end;
 
             // Fire the planned edge if its time has come.
-            if let Some(e) = planned {
-                if e.at <= local {
-                    sched.fired(&e);
-                    planned = None;
-                    let te = fl.t_of_local(e.at.as_micros() as f64);
-                    let err = e.utc.as_unix_micros() as f64 - reference(te);
-                    match first_sample {
-                        Some(t0) if te >= t0 + WARMUP_US => {
-                            stats.errors.push(err.abs());
-                            stats.signed.push(err);
-                            fired_measured += 1;
-                        }
-                        _ => stats.early += 1,
+            if let Some(e) = planned
+                && e.at <= local
+            {
+                sched.fired(&e);
+                planned = None;
+                let te = fl.t_of_local(e.at.as_micros() as f64);
+                let err = e.utc.as_unix_micros() as f64 - reference(te);
+                match first_sample {
+                    Some(t0) if te >= t0 + WARMUP_US => {
+                        stats.errors.push(err.abs());
+                        stats.signed.push(err);
+                        fired_measured += 1;
                     }
+                    _ => stats.early += 1,
                 }
             }
 
