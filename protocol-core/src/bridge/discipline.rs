@@ -707,7 +707,7 @@ impl FcLink {
 
 /// The local clock ↔ UTC mapping: see the [module documentation](self).
 ///
-/// Fixed size, no allocation; about 1.2 KiB (`size_of::<TimeDiscipline>()`).
+/// Fixed size, no allocation: 1504 bytes on a 64-bit host (`size_of::<TimeDiscipline>()`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TimeDiscipline {
     config: DisciplineConfig,
@@ -865,7 +865,8 @@ impl TimeDiscipline {
     /// A SIYI 0x30 UTC value and a 0x22/0x3E `time_boot_ms` written in the same FC
     /// update (the same burst on the wire): `C ∈ (utc − fc_ms·1000 − 1000, utc −
     /// fc_ms·1000]`. Rejected if it contradicts the unpaired lower bound (pairs are
-    /// checked again each time `C` is computed).
+    /// checked again each time `C` is computed). Feed the same 0x30 to
+    /// [`utc_via_fc_sample`](Self::utc_via_fc_sample) too: it gives the bound.
     pub fn utc_fc_pair(&mut self, utc_us: u64, fc_ms: u32) -> Verdict {
         if utc_us < self.config.min_utc.as_unix_micros() {
             return Verdict::Rejected;
