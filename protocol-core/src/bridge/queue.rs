@@ -202,7 +202,15 @@ mod tests {
         assert!(q.push_back(&[1; 4], true).queued); // 6 bytes, critical
         assert!(q.push_back(&[2; 2], false).queued); // 4
         assert!(q.push_back(&[3; 2], false).queued); // 4 -> 14 used
-        let p = q.push_back(&[4; 4], false); // needs 6: drops [2;2] and [3;2]
+        let p = q.push_back(&[4; 4], false); // needs 6, 2 free: drops [2;2] only
+        assert_eq!(
+            p,
+            Pushed {
+                queued: true,
+                dropped: 1
+            }
+        );
+        let p = q.push_front(&[5; 6], true); // needs 8, 0 free: drops [3;2] and [4;4]
         assert_eq!(
             p,
             Pushed {
@@ -210,7 +218,7 @@ mod tests {
                 dropped: 2
             }
         );
-        assert_eq!(drain(&mut q), vec![vec![1; 4], vec![4; 4]]);
+        assert_eq!(drain(&mut q), vec![vec![5; 6], vec![1; 4]]);
 
         // Only critical frames left: a frame that does not fit is refused.
         let mut q = FrameQueue::<12>::new();
