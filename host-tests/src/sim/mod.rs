@@ -1,4 +1,6 @@
 //! Simulated peers of the bridge, sans-IO and in simulated time, for the host tests and
 //! the demo.
 
+pub mod line;
 pub mod pod;
+pub mod scenario;
