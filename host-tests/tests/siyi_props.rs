@@ -160,6 +160,49 @@ proptest! {
         prop_assert_eq!(encoded(&again), data);
     }
 
+    /// The header is written as given, whatever the message's direction: any CTRL and
+    /// SEQ around any known message give the frame built independently.
+    #[test]
+    fn any_header_is_emitted_as_given(
+        (dir, cmd, data) in known_message(),
+        ctrl in any::<u8>(),
+        seq in any::<u16>(),
+    ) {
+        let message = Message::decode(cmd, &data, dir).unwrap();
+        let p = Packet { header: Header::new(Ctrl(ctrl), seq), message };
+        let mut out = [0u8; 64];
+        let n = p.emit(&mut out).unwrap();
+        prop_assert_eq!(&out[..n], &frame(ctrl, seq, cmd, &data)[..]);
+    }
+
+    /// The bridge's reply path: `encode` of a typed attitude with any header gives the
+    /// frame built from the fields (little-endian i16s), and decodes back to it.
+    #[test]
+    fn typed_attitude_reply_encodes(
+        angles in proptest::array::uniform6(any::<i16>()),
+        ctrl in any::<u8>(),
+        seq in any::<u16>(),
+    ) {
+        let [yaw, pitch, roll, yaw_rate, pitch_rate, roll_rate] = angles;
+        let attitude = GimbalAttitude {
+            yaw_deg_x10: yaw,
+            pitch_deg_x10: pitch,
+            roll_deg_x10: roll,
+            yaw_rate_dps_x10: yaw_rate,
+            pitch_rate_dps_x10: pitch_rate,
+            roll_rate_dps_x10: roll_rate,
+        };
+        let header = Header::new(Ctrl(ctrl), seq);
+        let mut out = [0u8; 64];
+        let n = encode(&attitude, &header, &mut out).unwrap();
+        let data: Vec<u8> = angles.iter().flat_map(|a| a.to_le_bytes()).collect();
+        prop_assert_eq!(&out[..n], &frame(ctrl, seq, 0x0D, &data)[..]);
+        let p = Packet::decode(&out[..n], Direction::FromGimbal).unwrap();
+        prop_assert_eq!(p.header, header);
+        prop_assert_eq!(p.message.get::<GimbalAttitude>(), Some(attitude));
+        prop_assert_eq!(p.message.get::<GimbalAttitudeQuery>(), None);
+    }
+
     /// Whole frames: decode (with the direction of the CTRL flag, falling back to the
     /// other) then emit gives the frame back, for known and unknown ids.
     #[test]

@@ -304,6 +304,131 @@ fn layouts_cover_the_catalog() -> Outcome {
     Ok(())
 }
 
+/// The typed payload of every command in each direction, written from the document (id,
+/// request, reply), not taken from the codec's table.
+macro_rules! typed {
+    ($($id:literal $req:ident $rep:ident;)*) => {
+        /// How many of the typed payloads `m` is (`get::<T>()` hits): exactly one for a
+        /// known message, none for a raw one.
+        fn typed_hits(m: &Message<'_>) -> usize {
+            0 $( + usize::from(m.get::<$req>().is_some()) + usize::from(m.get::<$rep>().is_some()) )*
+        }
+
+        /// Every typed payload knows its id, direction and name, and matches the layouts
+        /// of its (id, direction).
+        fn typed_messages() -> Outcome {
+            let ids = [$($id),*];
+            ensure_eq!(ids.len(), CATALOG.len());
+            for (e, id) in CATALOG.iter().zip(ids) {
+                ensure_eq!(e.id, id);
+            }
+            $(
+                check_typed::<$req, $rep>($id, Direction::ToGimbal)?;
+                check_typed::<$rep, $req>($id, Direction::FromGimbal)?;
+            )*
+            Ok(())
+        }
+    };
+}
+
+#[rustfmt::skip]
+typed! {
+    0x00 Heartbeat HeartbeatReply;
+    0x01 FirmwareVersionQuery FirmwareVersions;
+    0x02 HardwareIdQuery HardwareId;
+    0x04 AutoFocus AutoFocusAck;
+    0x05 ManualZoom ZoomRatio;
+    0x06 ManualFocus ManualFocusAck;
+    0x07 GimbalRotation GimbalRotationAck;
+    0x08 Center CenterAck;
+    0x0A GimbalConfigQuery GimbalConfig;
+    0x0B FunctionFeedbackRequest FunctionFeedback;
+    0x0C CameraFunction CameraFunctionReply;
+    0x0D GimbalAttitudeQuery GimbalAttitude;
+    0x0E SetAngles SetAnglesAck;
+    0x0F AbsoluteZoom AbsoluteZoomAck;
+    0x10 GetStitching Stitching;
+    0x11 SetStitching SetStitchingAck;
+    0x12 PointTemperatureRequest PointTemperature;
+    0x13 BoxTemperatureRequest BoxTemperature;
+    0x14 GlobalTemperatureRequest GlobalTemperature;
+    0x15 LaserDistanceQuery LaserDistance;
+    0x16 MaxZoomQuery MaxZoom;
+    0x17 LaserTargetQuery LaserTarget;
+    0x18 CurrentZoomQuery CurrentZoom;
+    0x19 GimbalModeQuery GimbalMode;
+    0x1A GetThermalPalette ThermalPalette;
+    0x1B SetThermalPalette SetThermalPaletteAck;
+    0x20 CodecQuery CodecSpecs;
+    0x21 SetCodec SetCodecAck;
+    0x22 FcAttitude FcAttitudeReply;
+    0x24 FcStreamRequest FcStreamAck;
+    0x25 GimbalStreamRequest GimbalStreamAck;
+    0x26 MagneticEncoderQuery MagneticEncoder;
+    0x30 UtcTime TimeAck;
+    0x31 GetLaserState LaserState;
+    0x32 SetLaserState SetLaserStateAck;
+    0x33 GetThermalOutput ThermalOutputMode;
+    0x34 SetThermalOutput SetThermalOutputAck;
+    0x35 TemperatureFrame TemperatureFrameAck;
+    0x37 GetThermalGain ThermalGain;
+    0x38 SetThermalGain SetThermalGainAck;
+    0x39 GetThermalEnvironment ThermalEnvironment;
+    0x3A SetThermalEnvironment SetThermalEnvironmentAck;
+    0x3B GetEnvCorrection EnvCorrection;
+    0x3C SetEnvCorrection SetEnvCorrectionAck;
+    0x3E FcPosition FcPositionReply;
+    0x41 SingleAxisAngle SingleAxisAngleAck;
+    0x48 FormatSd FormatSdAck;
+    0x80 SoftReboot SoftRebootAck;
+}
+
+/// Checks payload type `T` of command `id` in `dir` (`O`: the other direction's type):
+/// its constants, and for every layout of (`id`, `dir`): `get::<T>()` hits (and no
+/// other type does), `encode` of the typed value gives the layout's frame, byte for
+/// byte the enum path's, and `ENCODED_LEN` is the longest layout.
+fn check_typed<T: MessageData, O: MessageData>(id: u8, dir: Direction) -> Outcome {
+    ensure_eq!((id, T::ID, T::DIRECTION), (id, id, dir));
+    ensure_eq!((id, O::ID, O::DIRECTION), (id, id, dir.reverse()));
+    let entry = check!(CATALOG.iter().find(|e| e.id == id));
+    ensure_eq!((id, T::NAME), (id, entry.name));
+    let mut longest = None;
+    for (i, l) in LAYOUTS.iter().enumerate() {
+        if l.cmd != id || l.dir != dir {
+            continue;
+        }
+        let header = Header::new(Ctrl(ctrl_of(dir)), 0x0200 + i as u16);
+        let bytes = frame(header.ctrl.0, header.seq, id, l.data);
+        let pk = check!(Packet::decode(&bytes, dir));
+        let value = check!(pk.message.get::<T>());
+        ensure!(pk.message.get::<O>().is_none(), "{id:#04x} {dir:?}");
+        ensure_eq!((id, typed_hits(&pk.message)), (id, 1));
+        ensure_eq!(value.into_message(), (l.expected)());
+        ensure_eq!(value.into_message(), pk.message);
+        ensure_eq!((id, Payload::encoded_len(&value)), (id, l.data.len()));
+        let mut typed = [0u8; 64];
+        let n = check!(encode(&value, &header, &mut typed));
+        ensure_eq!((id, &typed[..n]), (id, &bytes[..]));
+        let mut via_enum = [0u8; 64];
+        let m = check!(
+            Packet {
+                header,
+                message: (l.expected)()
+            }
+            .emit(&mut via_enum)
+        );
+        ensure_eq!(&typed[..n], &via_enum[..m]);
+        // Too small a buffer is an error, not a panic.
+        ensure_eq!(
+            encode(&value, &header, &mut typed[..n - 1]),
+            Err(Error::BufferTooSmall)
+        );
+        longest = longest.max(Some(l.data.len()));
+    }
+    ensure_eq!((id, dir, Some(T::ENCODED_LEN)), (id, dir, longest));
+    Ok(())
+}
+
 /// Expected fields of one seed vector (from its `decoded` object in the fixture).
 struct Expect {
     name: &'static str,
@@ -885,6 +1010,7 @@ cases!("siyi":
     seed_vectors,
     layouts_decode_and_reencode,
     layouts_cover_the_catalog,
+    typed_messages,
     captured_gimbal_replies,
     direction_selects_the_layout,
     variable_lengths_round_trip,
