@@ -131,29 +131,25 @@ fn k40t() {
 }
 
 fn siyi() {
+    use protocol_core::Direction;
     use protocol_core::siyi::*;
     let mut rng = Bytes(0x5349_5949);
     let mut frames = Vec::new();
     for round in 0..8u16 {
         for e in CATALOG {
-            for direction in [Direction::Request, Direction::Reply] {
-                // The shortest data length the command accepts in this direction.
-                let Some(message) = (0..=DEFAULT_MAX_DATA_LEN).find_map(|len| {
-                    let data: &'static [u8] = rng.fill(len).leak();
-                    Message::decode(direction, e.cmd, data).ok()
+            for direction in [Direction::ToGimbal, Direction::FromGimbal] {
+                // The shortest payload length the command accepts in this direction.
+                let Some(message) = (0..=DEFAULT_MAX_PAYLOAD_LEN).find_map(|len| {
+                    let payload: &'static [u8] = rng.fill(len).leak();
+                    Message::decode(e.id, payload, direction).ok()
                 }) else {
                     continue;
                 };
-                let ctrl = if direction == Direction::Reply {
-                    Ctrl::IS_ACK
-                } else {
-                    Ctrl::NEED_ACK
+                let header = match direction {
+                    Direction::ToGimbal => Header::request(round),
+                    Direction::FromGimbal => Header::reply(round),
                 };
-                let p = Packet {
-                    ctrl,
-                    seq: round,
-                    message,
-                };
+                let p = Packet { header, message };
                 let mut buf = [0u8; DEFAULT_MAX_FRAME_LEN];
                 let n = p.emit(&mut buf).expect("emit");
                 frames.push(buf[..n].to_vec());

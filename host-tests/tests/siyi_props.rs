@@ -6,9 +6,9 @@ mod common;
 use codec_cases::oracle::xmodem_bitwise as xmodem;
 use common::{Piece, check_stream, piece};
 use proptest::prelude::*;
-use protocol_core::Error;
 use protocol_core::siyi::*;
 use protocol_core::wire::Writer;
+use protocol_core::{Direction, Error};
 
 /// A frame `55 66 CTRL LEN SEQ CMD DATA CRC`.
 fn frame(ctrl: u8, seq: u16, cmd: u8, data: &[u8]) -> Vec<u8> {
@@ -62,8 +62,8 @@ const LENGTHS: &[(u8, &[usize], &[usize])] = &[
 fn known() -> Vec<(Direction, u8, usize)> {
     let mut v = Vec::new();
     for &(cmd, req, rep) in LENGTHS {
-        v.extend(req.iter().map(|&n| (Direction::Request, cmd, n)));
-        v.extend(rep.iter().map(|&n| (Direction::Reply, cmd, n)));
+        v.extend(req.iter().map(|&n| (Direction::ToGimbal, cmd, n)));
+        v.extend(rep.iter().map(|&n| (Direction::FromGimbal, cmd, n)));
     }
     v
 }
@@ -80,8 +80,8 @@ fn known_message() -> impl Strategy<Value = (Direction, u8, Vec<u8>)> {
 
 fn ctrl_of(dir: Direction) -> u8 {
     match dir {
-        Direction::Request => 1,
-        Direction::Reply => 2,
+        Direction::ToGimbal => 1,
+        Direction::FromGimbal => 2,
     }
 }
 
@@ -116,7 +116,7 @@ fn encoded(msg: &Message<'_>) -> Vec<u8> {
 fn the_length_table_matches_the_catalog() {
     assert_eq!(LENGTHS.len(), CATALOG.len());
     for (&(cmd, req, rep), e) in LENGTHS.iter().zip(CATALOG) {
-        assert_eq!(cmd, e.cmd);
+        assert_eq!(cmd, e.id);
         assert_eq!(req == [0], e.request_empty, "{cmd:#04x}");
         assert_eq!(rep == [0], e.reply_empty, "{cmd:#04x}");
     }
@@ -125,14 +125,14 @@ fn the_length_table_matches_the_catalog() {
 #[test]
 fn every_other_length_is_refused() {
     for &(cmd, req, rep) in LENGTHS {
-        for (dir, ok) in [(Direction::Request, req), (Direction::Reply, rep)] {
+        for (dir, ok) in [(Direction::ToGimbal, req), (Direction::FromGimbal, rep)] {
             for n in 0..=40 {
                 let data = vec![0u8; n];
-                let got = Message::decode(dir, cmd, &data);
+                let got = Message::decode(cmd, &data, dir);
                 if ok.contains(&n) {
                     let m = got.unwrap();
                     assert_eq!(m.direction(), dir);
-                    assert_eq!(m.data_len(), n, "{cmd:#04x}");
+                    assert_eq!(m.payload_len(), n, "{cmd:#04x}");
                 } else {
                     assert_eq!(got, Err(Error::BadLength), "{cmd:#04x} {dir:?} {n}");
                 }
@@ -149,15 +149,58 @@ proptest! {
     /// the wrong test).
     #[test]
     fn any_data_round_trips((dir, cmd, data) in known_message()) {
-        let msg = Message::decode(dir, cmd, &data).unwrap();
+        let msg = Message::decode(cmd, &data, dir).unwrap();
         prop_assert!(!matches!(msg, Message::Raw(_)), "{cmd:#04x} decoded as Raw");
-        prop_assert_eq!(msg.cmd(), cmd);
+        prop_assert_eq!(msg.id(), cmd);
         prop_assert_eq!(msg.direction(), dir);
-        prop_assert_eq!(msg.data_len(), data.len());
+        prop_assert_eq!(msg.payload_len(), data.len());
         let bytes = encoded(&msg);
         prop_assert_eq!(&bytes, &data);
-        let again = Message::decode(dir, cmd, &bytes).unwrap();
+        let again = Message::decode(cmd, &bytes, dir).unwrap();
         prop_assert_eq!(encoded(&again), data);
+    }
+
+    /// The header is written as given, whatever the message's direction: any CTRL and
+    /// SEQ around any known message give the frame built independently.
+    #[test]
+    fn any_header_is_emitted_as_given(
+        (dir, cmd, data) in known_message(),
+        ctrl in any::<u8>(),
+        seq in any::<u16>(),
+    ) {
+        let message = Message::decode(cmd, &data, dir).unwrap();
+        let p = Packet { header: Header::new(Ctrl(ctrl), seq), message };
+        let mut out = [0u8; 64];
+        let n = p.emit(&mut out).unwrap();
+        prop_assert_eq!(&out[..n], &frame(ctrl, seq, cmd, &data)[..]);
+    }
+
+    /// The bridge's reply path: `encode` of a typed attitude with any header gives the
+    /// frame built from the fields (little-endian i16s), and decodes back to it.
+    #[test]
+    fn typed_attitude_reply_encodes(
+        angles in proptest::array::uniform6(any::<i16>()),
+        ctrl in any::<u8>(),
+        seq in any::<u16>(),
+    ) {
+        let [yaw, pitch, roll, yaw_rate, pitch_rate, roll_rate] = angles;
+        let attitude = GimbalAttitude {
+            yaw_deg_x10: yaw,
+            pitch_deg_x10: pitch,
+            roll_deg_x10: roll,
+            yaw_rate_dps_x10: yaw_rate,
+            pitch_rate_dps_x10: pitch_rate,
+            roll_rate_dps_x10: roll_rate,
+        };
+        let header = Header::new(Ctrl(ctrl), seq);
+        let mut out = [0u8; 64];
+        let n = encode(&attitude, &header, &mut out).unwrap();
+        let data: Vec<u8> = angles.iter().flat_map(|a| a.to_le_bytes()).collect();
+        prop_assert_eq!(&out[..n], &frame(ctrl, seq, 0x0D, &data)[..]);
+        let p = Packet::decode(&out[..n], Direction::FromGimbal).unwrap();
+        prop_assert_eq!(p.header, header);
+        prop_assert_eq!(p.message.get::<GimbalAttitude>(), Some(attitude));
+        prop_assert_eq!(p.message.get::<GimbalAttitudeQuery>(), None);
     }
 
     /// Whole frames: decode (with the direction of the CTRL flag, falling back to the
@@ -174,7 +217,7 @@ proptest! {
             // A known id with random data of a length neither direction allows.
             Err(e) => {
                 prop_assert_eq!(e, Error::BadLength);
-                prop_assert!(CATALOG.iter().any(|c| c.cmd == f[7]));
+                prop_assert!(CATALOG.iter().any(|c| c.id == f[7]));
             }
         }
     }
@@ -183,8 +226,8 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(b in proptest::collection::vec(any::<u8>(), 0..80)) {
         let accepted = [
-            Packet::decode(&b, Direction::Request),
-            Packet::decode(&b, Direction::Reply),
+            Packet::decode(&b, Direction::ToGimbal),
+            Packet::decode(&b, Direction::FromGimbal),
             Packet::decode_auto(&b),
         ];
         for p in accepted.into_iter().flatten() {

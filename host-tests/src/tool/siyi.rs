@@ -4,7 +4,8 @@
 //! [`Packet::decode_auto`]: the direction the CTRL `is_ack` flag suggests, or the other
 //! one when only that fits the data length. The direction used is in the fields.
 
-use protocol_core::siyi::{CATALOG, MAX_DATA_LEN, Message, Packet, SiyiFraming};
+use protocol_core::Direction;
+use protocol_core::siyi::{CATALOG, MAX_PAYLOAD_LEN, Message, Packet, SiyiFraming};
 use serde_json::{Value, json};
 
 use super::{Decoded, Item, Protocol, scan_with, untag};
@@ -19,24 +20,25 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     let payload = match message {
         Message::Request(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
         Message::Reply(m) => untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1,
-        Message::Raw(r) => json!({ "data": super::hex(r.data) }),
+        Message::Raw(r) => json!({ "data": super::hex(r.payload) }),
     };
     let direction = match message.direction() {
-        protocol_core::siyi::Direction::Request => "request",
-        protocol_core::siyi::Direction::Reply => "reply",
+        Direction::ToGimbal => "request",
+        Direction::FromGimbal => "reply",
     };
+    let h = packet.header;
     let mut fields = json!({
         "direction": direction,
-        "ctrl": packet.ctrl.0,
-        "need_ack": packet.ctrl.need_ack(),
-        "is_ack": packet.ctrl.is_ack(),
-        "seq": packet.seq,
+        "ctrl": h.ctrl.0,
+        "need_ack": h.ctrl.need_ack(),
+        "is_ack": h.ctrl.is_ack(),
+        "seq": h.seq,
     });
     if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
         f.extend(p);
     }
     Ok(Decoded {
-        msg_id: u64::from(message.cmd()),
+        msg_id: u64::from(message.id()),
         name: message.name().to_string(),
         fields,
     })
@@ -49,7 +51,7 @@ impl Protocol for Siyi {
 
     fn scan(&self, capture: &[u8]) -> Vec<Item> {
         // A capture may hold frames of any length the LEN field allows.
-        scan_with(SiyiFraming::new(MAX_DATA_LEN), capture, decode)
+        scan_with(SiyiFraming::new(MAX_PAYLOAD_LEN), capture, decode)
     }
 
     fn messages(&self) -> Vec<String> {
@@ -62,7 +64,7 @@ impl Protocol for Siyi {
                     (false, true) => " (empty: reply)",
                     (false, false) => "",
                 };
-                format!("0x{:02X} {} request,reply{}", e.cmd, e.name, empty)
+                format!("0x{:02X} {} request,reply{}", e.id, e.name, empty)
             })
             .collect()
     }

@@ -1,12 +1,13 @@
 //! Camera messages: focus and zoom (0x04..0x06, 0x0F, 0x16, 0x18), photo and record
 //! functions (0x0B, 0x0C), video stitching (0x10, 0x11) and codec settings (0x20, 0x21).
 
-use super::Payload;
-use super::field::{Field, Trailing, optional, trailing_len};
+use super::payload::{AckStatus, Payload, Trailing, optional, trailing_len};
+use crate::wire::encoding::{Field, Le};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x04: auto focus once at a point of the image (optical-zoom models).
     pub struct AutoFocus {
         /// 1: start one auto focus.
@@ -30,7 +31,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x05: manual zoom (with auto focus on optical-zoom models).
     pub struct ManualZoom {
         /// Zoom in, out or stop.
@@ -38,7 +40,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x05: the current (hybrid) zoom ratio.
     pub struct ZoomRatio {
         /// Zoom ratio times ten (45 = 4.5x).
@@ -58,7 +61,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x06: manual focus.
     pub struct ManualFocus {
         /// Far, near or stop.
@@ -66,9 +70,11 @@ payload! {
     }
 }
 
-payload! {
-    /// A zoom ratio as integer and tenths: 0x0F request (absolute zoom, integer
-    /// 0x01..0x1E, tenths 0..9), 0x16 reply (maximum zoom) and 0x18 reply (current zoom).
+wire_struct! {
+    Le;
+    /// A zoom ratio as integer and tenths: the layout of [`AbsoluteZoom`](super::AbsoluteZoom)
+    /// (0x0F request, integer 0x01..0x1E, tenths 0..9), [`MaxZoom`](super::MaxZoom) (0x16 reply)
+    /// and [`CurrentZoom`](super::CurrentZoom) (0x18 reply).
     pub struct ZoomLevel {
         /// Integer part.
         pub integer: u8,
@@ -79,14 +85,17 @@ payload! {
 
 impl ZoomLevel {
     /// The ratio times ten (4.5x is 45).
+    #[must_use]
     pub const fn zoom_x10(self) -> u16 {
         (self.integer as u16)
             .saturating_mul(10)
             .saturating_add(self.tenths as u16)
     }
 
-    /// The level for a ratio times ten (45 is 4 and 5); ratios above 255.9x are
-    /// [`Error::OutOfRange`].
+    /// The level for a ratio times ten (45 is 4 and 5).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a ratio above 255.9x.
     pub fn from_zoom_x10(zoom_x10: u16) -> Result<Self> {
         let integer = u8::try_from(zoom_x10 / 10).map_err(|_| Error::OutOfRange)?;
         let tenths = u8::try_from(zoom_x10 % 10).map_err(|_| Error::OutOfRange)?;
@@ -114,7 +123,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply (push) of 0x0B: function feedback.
     pub struct FunctionFeedback {
         /// The event.
@@ -150,7 +160,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x0C: photo, record, motion mode and video output functions (no reply).
     pub struct CameraFunction {
         /// The function.
@@ -183,8 +194,10 @@ code_enum! {
     }
 }
 
-payload! {
-    /// Reply of 0x10, request and reply of 0x11: the video stitching mode.
+wire_struct! {
+    Le;
+    /// Reply of 0x10: the video stitching mode (also the layout of 0x11,
+    /// [`SetStitching`](super::SetStitching) and [`SetStitchingAck`](super::SetStitchingAck)).
     pub struct Stitching {
         /// The mode (`vdisp_mode`).
         pub mode: StitchingMode,
@@ -213,7 +226,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x20: get the codec settings of a stream.
     pub struct CodecQuery {
         /// The stream.
@@ -221,57 +235,63 @@ payload! {
     }
 }
 
-/// Reply of 0x20: codec settings of a stream. 9 bytes; 8-byte replies without the
-/// frame rate (which ArduPilot also accepts) decode with `fps: None` and re-encode to 8.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct CodecSpecs {
-    /// The stream.
-    pub stream: StreamType,
-    /// Encoding.
-    pub encoding: VideoEncoding,
-    /// Width, pixels.
-    pub width: u16,
-    /// Height, pixels.
-    pub height: u16,
-    /// Bit rate, kbit/s.
-    pub bitrate_kbps: u16,
-    /// Frame rate, frames per second.
-    pub fps: Option<u8>,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Reply of 0x20: codec settings of a stream. 9 bytes; 8-byte replies without the
+    /// frame rate (which ArduPilot also accepts) decode with `fps: None` and re-encode to 8.
+    pub struct CodecSpecs {
+        /// The stream.
+        pub stream: StreamType,
+        /// Encoding.
+        pub encoding: VideoEncoding,
+        /// Width, pixels.
+        pub width: u16,
+        /// Height, pixels.
+        pub height: u16,
+        /// Bit rate, kbit/s.
+        pub bitrate_kbps: u16,
+        /// Frame rate, frames per second.
+        pub fps: Option<u8>,
+    }
 }
 
+/// 0x20 reply without the frame rate.
+const CODEC_SPECS_MIN_LEN: usize = 8;
+
 impl Payload for CodecSpecs {
+    const MAX_LEN: usize = 9;
+
     fn decode(data: &[u8]) -> Result<Self> {
-        if data.len() != 8 && data.len() != 9 {
+        if data.len() != CODEC_SPECS_MIN_LEN && data.len() != Self::MAX_LEN {
             return Err(Error::BadLength);
         }
         let mut r = Reader::new(data);
         let v = CodecSpecs {
-            stream: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            encoding: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            width: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            height: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            bitrate_kbps: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            stream: Field::<Le>::read(&mut r)?,
+            encoding: Field::<Le>::read(&mut r)?,
+            width: Field::<Le>::read(&mut r)?,
+            height: Field::<Le>::read(&mut r)?,
+            bitrate_kbps: Field::<Le>::read(&mut r)?,
             fps: optional(&mut r)?,
         };
         r.finish()?;
         Ok(v)
     }
     fn encoded_len(&self) -> usize {
-        8usize.saturating_add(trailing_len(&[(self.fps.is_some(), 1)]))
+        CODEC_SPECS_MIN_LEN.saturating_add(trailing_len(&[(self.fps.is_some(), 1)]))
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        Field::<crate::wire::encoding::Le>::write(&self.stream, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.encoding, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.width, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.height, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.bitrate_kbps, w)?;
-        Trailing::new(w).field(&self.fps)
+        Field::<Le>::write(&self.stream, w)?;
+        Field::<Le>::write(&self.encoding, w)?;
+        Field::<Le>::write(&self.width, w)?;
+        Field::<Le>::write(&self.height, w)?;
+        Field::<Le>::write(&self.bitrate_kbps, w)?;
+        Trailing::new(w).field(self.fps.as_ref())
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x21: set the codec of a stream.
     pub struct SetCodec {
         /// The stream.
@@ -289,12 +309,13 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x21.
     pub struct SetCodecAck {
         /// The stream.
         pub stream: StreamType,
         /// Result.
-        pub status: super::field::AckStatus,
+        pub status: AckStatus,
     }
 }

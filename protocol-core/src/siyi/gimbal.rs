@@ -5,12 +5,13 @@
 //! Angles are i16 in 0.1° (`_deg_x10`), rates in 0.1 °/s (`_dps_x10`), in the SIYI
 //! convention (ArduPilot negates yaw and yaw rate when it reads 0x0D).
 
-use super::Payload;
-use super::field::{Field, OnOff, Trailing, optional, trailing_len};
+use super::payload::{OnOff, Payload, Trailing, optional, trailing_len};
+use crate::wire::encoding::{Field, Le};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x07: rotate at a speed (-100..=100 each; 0 stops). Yaw positive to the right,
     /// pitch positive up.
     pub struct GimbalRotation {
@@ -35,7 +36,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x08: centre the gimbal.
     pub struct Center {
         /// Where to.
@@ -91,30 +93,30 @@ code_enum! {
     }
 }
 
-/// Reply of 0x0A: gimbal configuration. 8 bytes in full; models send 5 to 8, so the
-/// trailing fields are optional (`None` from the first missing one on) and the reply
-/// re-encodes to the length it was decoded from. Encoding a `Some` after a `None` is
-/// [`Error::OutOfRange`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct GimbalConfig {
-    /// Byte 0, reserved.
-    pub reserved0: u8,
-    /// Byte 1, HDR state.
-    pub hdr: OnOff,
-    /// Byte 2, reserved.
-    pub reserved2: u8,
-    /// Byte 3, recording state.
-    pub record: RecordStatus,
-    /// Byte 4, motion mode.
-    pub motion: MotionMode,
-    /// Byte 5, mounting direction.
-    pub mount: Option<MountDirection>,
-    /// Byte 6, video output.
-    pub video_output: Option<VideoOutput>,
-    /// Byte 7, zoom linkage.
-    pub zoom_linkage: Option<u8>,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Reply of 0x0A: gimbal configuration. 8 bytes in full; models send 5 to 8, so the
+    /// trailing fields are optional (`None` from the first missing one on) and the reply
+    /// re-encodes to the length it was decoded from. Encoding a `Some` after a `None` is
+    /// [`Error::OutOfRange`].
+    pub struct GimbalConfig {
+        /// Byte 0, reserved.
+        pub reserved0: u8,
+        /// Byte 1, HDR state.
+        pub hdr: OnOff,
+        /// Byte 2, reserved.
+        pub reserved2: u8,
+        /// Byte 3, recording state.
+        pub record: RecordStatus,
+        /// Byte 4, motion mode.
+        pub motion: MotionMode,
+        /// Byte 5, mounting direction.
+        pub mount: Option<MountDirection>,
+        /// Byte 6, video output.
+        pub video_output: Option<VideoOutput>,
+        /// Byte 7, zoom linkage.
+        pub zoom_linkage: Option<u8>,
+    }
 }
 
 impl GimbalConfig {
@@ -125,17 +127,19 @@ impl GimbalConfig {
 }
 
 impl Payload for GimbalConfig {
+    const MAX_LEN: usize = GimbalConfig::MAX_LEN;
+
     fn decode(data: &[u8]) -> Result<Self> {
         if !(Self::MIN_LEN..=Self::MAX_LEN).contains(&data.len()) {
             return Err(Error::BadLength);
         }
         let mut r = Reader::new(data);
         let v = GimbalConfig {
-            reserved0: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            hdr: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            reserved2: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            record: Field::<crate::wire::encoding::Le>::read(&mut r)?,
-            motion: Field::<crate::wire::encoding::Le>::read(&mut r)?,
+            reserved0: Field::<Le>::read(&mut r)?,
+            hdr: Field::<Le>::read(&mut r)?,
+            reserved2: Field::<Le>::read(&mut r)?,
+            record: Field::<Le>::read(&mut r)?,
+            motion: Field::<Le>::read(&mut r)?,
             mount: optional(&mut r)?,
             video_output: optional(&mut r)?,
             zoom_linkage: optional(&mut r)?,
@@ -151,19 +155,20 @@ impl Payload for GimbalConfig {
         ]))
     }
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        Field::<crate::wire::encoding::Le>::write(&self.reserved0, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.hdr, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.reserved2, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.record, w)?;
-        Field::<crate::wire::encoding::Le>::write(&self.motion, w)?;
+        Field::<Le>::write(&self.reserved0, w)?;
+        Field::<Le>::write(&self.hdr, w)?;
+        Field::<Le>::write(&self.reserved2, w)?;
+        Field::<Le>::write(&self.record, w)?;
+        Field::<Le>::write(&self.motion, w)?;
         let mut t = Trailing::new(w);
-        t.field(&self.mount)?;
-        t.field(&self.video_output)?;
-        t.field(&self.zoom_linkage)
+        t.field(self.mount.as_ref())?;
+        t.field(self.video_output.as_ref())?;
+        t.field(self.zoom_linkage.as_ref())
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x0D (also pushed at the rate set by 0x25): attitude and rates.
     pub struct GimbalAttitude {
         /// Yaw, 0.1°.
@@ -181,7 +186,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x0E: go to angles (yaw -135.0..=135.0°, pitch -90.0..=25.0°).
     pub struct SetAngles {
         /// Target yaw, 0.1°.
@@ -191,9 +197,11 @@ payload! {
     }
 }
 
-payload! {
-    /// Three angles: reply of 0x0E and 0x41 (current attitude) and of 0x26 (magnetic
-    /// encoder angles).
+wire_struct! {
+    Le;
+    /// Three angles: the layout of [`SetAnglesAck`](super::SetAnglesAck) (0x0E) and
+    /// [`SingleAxisAngleAck`](super::SingleAxisAngleAck) (0x41), the current attitude, and of
+    /// [`MagneticEncoder`](super::MagneticEncoder) (0x26 reply), the magnetic encoder angles.
     pub struct Angles {
         /// Yaw, 0.1°.
         pub yaw_deg_x10: i16,
@@ -204,7 +212,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x19: the motion mode.
     pub struct GimbalMode {
         /// The mode.
@@ -212,8 +221,8 @@ payload! {
     }
 }
 
-payload! {
-    #[float]
+wire_struct! {
+    Le, float;
     /// 0x22: the flight controller's attitude, sent to the gimbal (no reply).
     pub struct FcAttitude {
         /// Milliseconds since the flight controller booted.
@@ -265,7 +274,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x24: the gimbal asks the flight controller for a data stream.
     pub struct FcStreamRequest {
         /// The data.
@@ -275,7 +285,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x24.
     pub struct FcStreamAck {
         /// The data.
@@ -297,7 +308,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x25: ask the gimbal to push a data stream.
     pub struct GimbalStreamRequest {
         /// The data.
@@ -307,7 +319,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x25.
     pub struct GimbalStreamAck {
         /// The data.
@@ -315,7 +328,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x3E: the flight controller's position and velocity, sent to the gimbal (no
     /// reply).
     pub struct FcPosition {
@@ -348,7 +362,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x41: move one axis to an angle (A8 mini).
     pub struct SingleAxisAngle {
         /// Target angle, 0.1°.

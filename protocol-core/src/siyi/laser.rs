@@ -1,9 +1,10 @@
 //! Laser rangefinder messages (ZT30): distance (0x15), target position (0x17) and the
 //! laser switch (0x31, 0x32).
 
-use super::field::OnOff;
+use super::payload::OnOff;
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x15: laser distance.
     pub struct LaserDistance {
         /// Distance in decimetres (minimum 50; 0 = no valid reading).
@@ -11,7 +12,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x17: position of the laser target (longitude first).
     pub struct LaserTarget {
         /// Longitude, 1e-7 degree (WGS84).
@@ -21,8 +23,10 @@ payload! {
     }
 }
 
-payload! {
-    /// Reply of 0x31 and request of 0x32: laser ranging on or off.
+wire_struct! {
+    Le;
+    /// Reply of 0x31: laser ranging on or off (also the layout of the 0x32 request,
+    /// [`SetLaserState`](super::SetLaserState)).
     pub struct LaserState {
         /// The switch.
         pub state: OnOff,

@@ -4,7 +4,7 @@
 //!
 //! Temperatures are u16 in 0.01 °C, as the document types them (`_c_x100`).
 
-use super::field::OnOff;
+use super::payload::OnOff;
 
 code_enum! {
     /// Measurement flag of 0x12..0x14.
@@ -18,7 +18,8 @@ code_enum! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x12: temperature at a point.
     pub struct PointTemperatureRequest {
         /// X coordinate.
@@ -30,7 +31,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x12.
     pub struct PointTemperature {
         /// Temperature, 0.01 °C.
@@ -42,7 +44,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x13: maximum and minimum temperature in a box.
     pub struct BoxTemperatureRequest {
         /// Start corner X.
@@ -58,7 +61,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x13.
     pub struct BoxTemperature {
         /// Start corner X.
@@ -84,7 +88,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// 0x14: maximum and minimum temperature of the whole image.
     pub struct GlobalTemperatureRequest {
         /// Measurement.
@@ -92,7 +97,8 @@ payload! {
     }
 }
 
-payload! {
+wire_struct! {
+    Le;
     /// Reply of 0x14.
     pub struct GlobalTemperature {
         /// Maximum temperature, 0.01 °C.
@@ -138,8 +144,11 @@ code_enum! {
     }
 }
 
-payload! {
-    /// Reply of 0x1A, request and reply of 0x1B: the thermal palette.
+wire_struct! {
+    Le;
+    /// Reply of 0x1A: the thermal palette (also the layout of 0x1B,
+    /// [`SetThermalPalette`](super::SetThermalPalette) and
+    /// [`SetThermalPaletteAck`](super::SetThermalPaletteAck)).
     pub struct ThermalPalette {
         /// The palette.
         pub palette: Palette,
@@ -156,8 +165,11 @@ code_enum! {
     }
 }
 
-payload! {
-    /// Reply of 0x33, request and reply of 0x34: the thermal output mode.
+wire_struct! {
+    Le;
+    /// Reply of 0x33: the thermal output mode (also the layout of 0x34,
+    /// [`SetThermalOutput`](super::SetThermalOutput) and
+    /// [`SetThermalOutputAck`](super::SetThermalOutputAck)).
     pub struct ThermalOutputMode {
         /// The mode.
         pub mode: ThermalOutput,
@@ -174,17 +186,21 @@ code_enum! {
     }
 }
 
-payload! {
-    /// Reply of 0x37, request and reply of 0x38: the thermal gain.
+wire_struct! {
+    Le;
+    /// Reply of 0x37: the thermal gain (also the layout of 0x38,
+    /// [`SetThermalGain`](super::SetThermalGain) and
+    /// [`SetThermalGainAck`](super::SetThermalGainAck)).
     pub struct ThermalGain {
         /// The gain.
         pub gain: Gain,
     }
 }
 
-payload! {
-    /// Reply of 0x39 and request of 0x3A: thermal environment parameters, each times
-    /// 100.
+wire_struct! {
+    Le;
+    /// Reply of 0x39: thermal environment parameters, each times 100 (also the layout
+    /// of the 0x3A request, [`SetThermalEnvironment`](super::SetThermalEnvironment)).
     pub struct ThermalEnvironment {
         /// Distance to the target, 0.01 m.
         pub distance_m_x100: u16,
@@ -199,8 +215,11 @@ payload! {
     }
 }
 
-payload! {
-    /// Reply of 0x3B, request and reply of 0x3C: thermal environment correction on/off.
+wire_struct! {
+    Le;
+    /// Reply of 0x3B: thermal environment correction on/off (also the layout of 0x3C,
+    /// [`SetEnvCorrection`](super::SetEnvCorrection) and
+    /// [`SetEnvCorrectionAck`](super::SetEnvCorrectionAck)).
     pub struct EnvCorrection {
         /// The switch.
         pub state: OnOff,

@@ -1,94 +1,60 @@
-//! Field encodings of SIYI data (all little-endian), the [`Payload`] trait, the macro
-//! that declares payload structs, and the types several messages share.
+//! The [`Payload`] trait (how one message's data is decoded and encoded, with the
+//! length rules), the helpers of the few variable-length layouts, and the types several
+//! messages share. All SIYI payload fields are little-endian.
 
+use crate::wire::encoding::{Field, Le};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-pub(crate) use crate::wire::encoding::Field;
-
 /// The data of one message in one direction.
 ///
-/// Most layouts have a fixed length (an associated `LEN` constant on the type); the
-/// few that vary in the wild (0x00, 0x01, 0x0A, 0x20 replies) remember the length they
-/// were decoded from and encode to it again.
+/// Every fixed-layout type (a [`Field<Le>`]: the structs declared with the crate's
+/// struct macro) is a payload of exactly its length; the message types over a shared
+/// layout (`GimbalRotationAck(SetStatus)`) are the payload of the layout they wrap; the
+/// few layouts that vary in the wild (0x00 request, 0x01, 0x0A and 0x20 replies)
+/// implement it by hand, remember the length they were decoded from and encode to it
+/// again.
 pub trait Payload: Sized {
-    /// Decodes all of `data`; a length the layout does not allow is [`Error::BadLength`].
+    /// The longest encoding (the only one for a fixed layout).
+    const MAX_LEN: usize;
+    /// Decodes all of `data`.
+    ///
+    /// # Errors
+    /// [`Error::BadLength`] for a length the layout does not allow.
     fn decode(data: &[u8]) -> Result<Self>;
     /// Length of the encoded data.
     fn encoded_len(&self) -> usize;
     /// Writes the data.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when `w` has no room for it; [`Error::OutOfRange`] for a
+    /// variable-length value that has a trailing field after a missing one.
     fn encode(&self, w: &mut Writer<'_>) -> Result<()>;
 }
 
-/// Declares a fixed-length payload struct: the fields in wire order, each a [`Field`].
-/// `#[float]` first drops `Eq`, `Hash` (for structs with `f32` fields).
-macro_rules! payload {
-    (
-        #[float]
-        $(#[$meta:meta])*
-        pub struct $name:ident { $($body:tt)* }
-    ) => {
-        payload!(@def [Debug, Clone, Copy, PartialEq, Default] $(#[$meta])* $name { $($body)* });
-    };
-    (
-        $(#[$meta:meta])*
-        pub struct $name:ident { $($body:tt)* }
-    ) => {
-        payload!(@def [Debug, Clone, Copy, PartialEq, Eq, Hash, Default] $(#[$meta])* $name { $($body)* });
-    };
-    (
-        @def [$($derive:ident),*]
-        $(#[$meta:meta])*
-        $name:ident {
-            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
+impl<T: Field<Le>> Payload for T {
+    const MAX_LEN: usize = T::LEN;
+
+    fn decode(data: &[u8]) -> Result<Self> {
+        if data.len() != T::LEN {
+            return Err(Error::BadLength);
         }
-    ) => {
-        $(#[$meta])*
-        #[derive($($derive),*)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub struct $name {
-            $( $(#[$fmeta])* pub $field: $ty, )*
-        }
+        // The length is exact, so reading the layout consumes all of `data`.
+        T::read(&mut Reader::new(data))
+    }
 
-        impl $name {
-            /// Encoded length in bytes.
-            pub const LEN: usize = 0 $( + <$ty as $crate::siyi::field::Field<$crate::wire::encoding::Le>>::LEN )*;
-        }
+    fn encoded_len(&self) -> usize {
+        T::LEN
+    }
 
-        impl $crate::siyi::Payload for $name {
-            fn decode(data: &[u8]) -> $crate::Result<Self> {
-                if data.len() != Self::LEN {
-                    return Err($crate::Error::BadLength);
-                }
-                #[allow(unused_mut, unused_variables)]
-                let mut r = $crate::wire::Reader::new(data);
-                Ok(Self { $( $field: $crate::siyi::field::Field::<$crate::wire::encoding::Le>::read(&mut r)?, )* })
-            }
-
-            fn encoded_len(&self) -> usize {
-                Self::LEN
-            }
-
-            #[allow(unused_variables)]
-            fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::siyi::field::Field::<$crate::wire::encoding::Le>::write(&self.$field, w)?; )*
-                Ok(())
-            }
-        }
-    };
-}
-
-payload! {
-    /// No data (a request that only asks, or a direction the command does not use).
-    pub struct Empty {}
+    fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
+        self.write(w)
+    }
 }
 
 /// Reads the optional trailing fields of a variable-length layout: `Some` while bytes
 /// remain, `None` after. The reader must then be empty.
-pub(crate) fn optional<T: Field<crate::wire::encoding::Le>>(
-    r: &mut Reader<'_>,
-) -> Result<Option<T>> {
+pub(crate) fn optional<T: Field<Le>>(r: &mut Reader<'_>) -> Result<Option<T>> {
     if r.is_empty() {
         Ok(None)
     } else {
@@ -108,15 +74,9 @@ impl<'w, 'b> Trailing<'w, 'b> {
         Trailing { w, ended: false }
     }
 
-    pub(crate) fn field<T: Field<crate::wire::encoding::Le>>(
-        &mut self,
-        v: &Option<T>,
-    ) -> Result<()> {
+    pub(crate) fn field<T: Field<Le>>(&mut self, v: Option<&T>) -> Result<()> {
         match v {
-            Some(v) if self.ended => {
-                let _ = v;
-                Err(Error::OutOfRange)
-            }
+            Some(_) if self.ended => Err(Error::OutOfRange),
             Some(v) => v.write(self.w),
             None => {
                 self.ended = true;
@@ -144,8 +104,10 @@ code_enum! {
     }
 }
 
-payload! {
-    /// A one-byte result (`sta`, `ack`, `format_sta`...): 1 success, 0 failure.
+wire_struct! {
+    Le;
+    /// A one-byte result (`sta`, `ack`, `format_sta`...): 1 success, 0 failure. The
+    /// layout of the `...Ack` replies of the setting commands.
     pub struct SetStatus {
         /// The result.
         pub status: AckStatus,
@@ -173,24 +135,26 @@ code_enum! {
     }
 }
 
-/// One firmware version word of 0x01: a little-endian u32 whose bytes 0, 1, 2 are
-/// patch, minor, major ("0x6E030203 is v3.2.3"); byte 3 is ignored by readers and kept.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct FirmwareVersion {
-    /// Byte 0.
-    pub patch: u8,
-    /// Byte 1.
-    pub minor: u8,
-    /// Byte 2.
-    pub major: u8,
-    /// Byte 3 (ignored, "high byte").
-    pub ignored: u8,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// One firmware version word of 0x01: a little-endian u32 whose bytes 0, 1, 2 are
+    /// patch, minor, major ("0x6E030203 is v3.2.3"); byte 3 is ignored by readers and
+    /// kept.
+    pub struct FirmwareVersion {
+        /// Byte 0.
+        pub patch: u8,
+        /// Byte 1.
+        pub minor: u8,
+        /// Byte 2.
+        pub major: u8,
+        /// Byte 3 (ignored, "high byte").
+        pub ignored: u8,
+    }
 }
 
 impl FirmwareVersion {
     /// A version with the ignored byte zero.
+    #[must_use]
     pub const fn new(major: u8, minor: u8, patch: u8) -> Self {
         FirmwareVersion {
             patch,
@@ -201,6 +165,7 @@ impl FirmwareVersion {
     }
 
     /// The version from its u32 value (`0x6E030203` is v3.2.3).
+    #[must_use]
     pub const fn from_u32(v: u32) -> Self {
         let [patch, minor, major, ignored] = v.to_le_bytes();
         FirmwareVersion {
@@ -212,12 +177,14 @@ impl FirmwareVersion {
     }
 
     /// The u32 value.
+    #[must_use]
     pub const fn to_u32(self) -> u32 {
         u32::from_le_bytes([self.patch, self.minor, self.major, self.ignored])
     }
 }
 
-impl Field<crate::wire::encoding::Le> for FirmwareVersion {
+// Read and written as one u32 (smaller code than four byte fields).
+impl Field<Le> for FirmwareVersion {
     const LEN: usize = 4;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u32_le().map(FirmwareVersion::from_u32)
@@ -227,30 +194,31 @@ impl Field<crate::wire::encoding::Le> for FirmwareVersion {
     }
 }
 
-/// The product a [`HardwareId`] names (its first two characters, the product id in hex
-/// text).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Product {
-    /// ZR10 ("6B").
-    Zr10,
-    /// A8 mini ("73").
-    A8Mini,
-    /// A2 mini ("75").
-    A2Mini,
-    /// ZR30 ("78").
-    Zr30,
-    /// ZT6 ("82" in the document, "83" in ArduPilot's table; both are accepted).
-    Zt6,
-    /// ZT30 ("7A").
-    Zt30,
-    /// Any other id, or a prefix that is not two hex digits.
-    Unknown,
+wire_derive! {
+    [Eq, Hash]
+    /// The product a [`HardwareId`] names (its first two characters, the product id in
+    /// hex text). Not a wire code: two ids name the ZT6.
+    pub enum Product {
+        /// ZR10 ("6B").
+        Zr10,
+        /// A8 mini ("73").
+        A8Mini,
+        /// A2 mini ("75").
+        A2Mini,
+        /// ZR30 ("78").
+        Zr30,
+        /// ZT6 ("82" in the document, "83" in ArduPilot's table; both are accepted).
+        Zt6,
+        /// ZT30 ("7A").
+        Zt30,
+        /// Any other id, or a prefix that is not two hex digits.
+        Unknown,
+    }
 }
 
 impl Product {
     /// The product for a product id.
+    #[must_use]
     pub const fn from_id(id: u8) -> Self {
         match id {
             0x6B => Product::Zr10,
@@ -265,6 +233,7 @@ impl Product {
 
     /// The product id a bridge should announce: for ZT6 0x83, the one ArduPilot's
     /// `AP_Mount_Siyi` recognises. `None` for [`Product::Unknown`].
+    #[must_use]
     pub const fn id(self) -> Option<u8> {
         match self {
             Product::Zr10 => Some(0x6B),
@@ -278,6 +247,7 @@ impl Product {
     }
 
     /// The product's name ("ZT30", "A8 mini", "unknown").
+    #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
             Product::Zr10 => "ZR10",
@@ -291,14 +261,15 @@ impl Product {
     }
 }
 
-/// The hardware id of 0x02: 12 ASCII bytes (a 10-character id, usually NUL-padded)
-/// whose first two characters are the product id in hex text ("7A..." is a ZT30).
-/// Kept as the bytes received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct HardwareId {
-    /// The 12 bytes as on the wire.
-    pub raw: [u8; 12],
+wire_derive! {
+    custom_serde [Eq, Hash, Default]
+    /// The hardware id of 0x02: 12 ASCII bytes (a 10-character id, usually NUL-padded)
+    /// whose first two characters are the product id in hex text ("7A..." is a ZT30).
+    /// Kept as the bytes received; serialises as its text and product name.
+    pub struct HardwareId {
+        /// The 12 bytes as on the wire.
+        pub raw: [u8; 12],
+    }
 }
 
 /// Hex digit value of an ASCII character.
@@ -315,8 +286,10 @@ impl HardwareId {
     /// Encoded length.
     pub const LEN: usize = 12;
 
-    /// The id for `text` (at most 12 printable ASCII characters, NUL-padded); anything
-    /// else is [`Error::OutOfRange`].
+    /// The id for `text` (at most 12 printable ASCII characters, NUL-padded).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a longer text or one with other characters.
     pub fn from_text(text: &str) -> Result<Self> {
         if text.len() > Self::LEN || !text.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
             return Err(Error::OutOfRange);
@@ -330,7 +303,9 @@ impl HardwareId {
 
     /// An id for `product`: its two upper-case hex digits (as ArduPilot matches them)
     /// followed by `serial` (at most 10 printable ASCII characters), NUL-padded.
-    /// [`Product::Unknown`] or a bad serial is [`Error::OutOfRange`].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for [`Product::Unknown`] or a bad serial.
     pub fn for_product(product: Product, serial: &str) -> Result<Self> {
         const DIGITS: &[u8; 16] = b"0123456789ABCDEF";
         let id = product.id().ok_or(Error::OutOfRange)?;
@@ -349,6 +324,7 @@ impl HardwareId {
     }
 
     /// The product id: the first two characters read as hex (either case).
+    #[must_use]
     pub const fn product_id(&self) -> Option<u8> {
         let [a, b, ..] = self.raw;
         match (hex_digit(a), hex_digit(b)) {
@@ -358,6 +334,7 @@ impl HardwareId {
     }
 
     /// The product.
+    #[must_use]
     pub const fn product(&self) -> Product {
         match self.product_id() {
             Some(id) => Product::from_id(id),
@@ -366,6 +343,7 @@ impl HardwareId {
     }
 
     /// The text without trailing NULs and spaces; `None` if it is not UTF-8.
+    #[must_use]
     pub fn as_str(&self) -> Option<&str> {
         let end = self
             .raw
@@ -390,25 +368,12 @@ impl serde::Serialize for HardwareId {
     }
 }
 
-impl Field<crate::wire::encoding::Le> for HardwareId {
-    const LEN: usize = 12;
+impl Field<Le> for HardwareId {
+    const LEN: usize = HardwareId::LEN;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.array().map(|raw| HardwareId { raw })
     }
     fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(&self.raw)
-    }
-}
-
-impl Payload for HardwareId {
-    fn decode(data: &[u8]) -> Result<Self> {
-        let raw = <[u8; 12]>::try_from(data).map_err(|_| Error::BadLength)?;
-        Ok(HardwareId { raw })
-    }
-    fn encoded_len(&self) -> usize {
-        Self::LEN
-    }
-    fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
         w.put(&self.raw)
     }
 }
@@ -451,6 +416,31 @@ mod tests {
         let v = FirmwareVersion::from_u32(0x6E03_0203);
         assert_eq!((v.major, v.minor, v.patch, v.ignored), (3, 2, 3, 0x6E));
         assert_eq!(v.to_u32(), 0x6E03_0203);
+        // The word is little-endian on the wire: byte 0 is the patch.
+        let mut buf = [0u8; 4];
+        let mut w = Writer::new(&mut buf);
+        Field::<Le>::write(&v, &mut w).unwrap();
+        assert_eq!(buf, 0x6E03_0203u32.to_le_bytes());
+        assert_eq!(<FirmwareVersion as Payload>::decode(&buf), Ok(v));
+    }
+
+    #[test]
+    fn fixed_layouts_are_payloads_of_exactly_their_length() {
+        assert_eq!(<SetStatus as Payload>::decode(&[1]), Ok(SetStatus::SUCCESS));
+        assert_eq!(<SetStatus as Payload>::decode(&[]), Err(Error::BadLength));
+        assert_eq!(
+            <SetStatus as Payload>::decode(&[1, 0]),
+            Err(Error::BadLength)
+        );
+        assert_eq!(<HardwareId as Payload>::MAX_LEN, 12);
+        assert_eq!(
+            <HardwareId as Payload>::decode(b"7A0123456789").map(|h| h.product()),
+            Ok(Product::Zt30)
+        );
+        assert_eq!(
+            <HardwareId as Payload>::decode(b"7A012345678"),
+            Err(Error::BadLength)
+        );
     }
 
     #[test]
