@@ -1,6 +1,7 @@
 //! Simulated peers of the bridge, sans-IO and in simulated time, for the host tests and
 //! the demo.
 
+pub mod ap_siyi;
 pub mod line;
 pub mod pod;
 pub mod scenario;

@@ -266,6 +266,7 @@ impl Engine {
         fc.receive(&mut ctx, bytes);
         let seen = ctx.fc_seen;
         core.fc_frame_seen(now, seen);
+        core.after_input(now);
     }
 
     /// The FC line has gone idle (a UART idle interrupt, a read time-out): frames are
@@ -277,6 +278,7 @@ impl Engine {
         fc.idle(&mut ctx);
         let seen = ctx.fc_seen;
         core.fc_frame_seen(now, seen);
+        core.after_input(now);
     }
 
     /// Bytes from the pod; `now` is the local instant the last of them arrived.
@@ -287,6 +289,7 @@ impl Engine {
                 core.pod_frame(now, f);
             }
         });
+        core.after_input(now);
     }
 
     /// The pod line has gone idle.
@@ -297,6 +300,7 @@ impl Engine {
                 core.pod_frame(now, f);
             }
         });
+        core.after_input(now);
     }
 
     /// Does the work due at `now`: retries and time-outs, link supervision, the FC
@@ -420,7 +424,14 @@ impl Core {
         fc.pod_notice(&mut ctx, n);
     }
 
-    fn poll(&mut self, now: Instant) {
+    /// Reports a change of the UTC discipline's state (samples arrive with the input)
+    /// and plans the next edge.
+    fn after_input(&mut self, now: Instant) {
+        self.utc_transition(now);
+        self.plan_sync(now);
+    }
+
+    fn utc_transition(&mut self, now: Instant) {
         if let Some(t) = self.time.poll(now) {
             if t.utc_became_valid() {
                 self.out.event(Event::UtcValid);
@@ -429,6 +440,10 @@ impl Core {
                 self.out.event(Event::UtcLost);
             }
         }
+    }
+
+    fn poll(&mut self, now: Instant) {
+        self.utc_transition(now);
         let notices = self
             .pod
             .poll(now, self.config.fc_silence_stop, &mut self.out);

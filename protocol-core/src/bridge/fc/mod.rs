@@ -60,67 +60,73 @@ impl Ctx<'_> {
     }
 }
 
+#[cfg(feature = "siyi")]
+mod siyi;
+
 /// The FC side in use.
 #[derive(Debug, Clone)]
 pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
+    /// SIYI.
+    #[cfg(feature = "siyi")]
+    Siyi(siyi::SiyiSide),
+}
+
+/// Calls `$method` on the side in use; `Disabled` gives `$default`.
+macro_rules! fc_dispatch {
+    ($self:ident, $side:ident => $call:expr, $default:expr) => {
+        match $self {
+            FcSide::Disabled => $default,
+            #[cfg(feature = "siyi")]
+            FcSide::Siyi($side) => $call,
+        }
+    };
 }
 
 impl FcSide {
     pub(crate) fn new(config: &Config) -> Self {
         match config.fc {
-            FcProtocol::Siyi | FcProtocol::Viewlink | FcProtocol::Gcu | FcProtocol::K40t => {
-                FcSide::Disabled
+            #[cfg(feature = "siyi")]
+            FcProtocol::Siyi => {
+                FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
+            _ => FcSide::Disabled,
         }
     }
 
     pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        match self {
-            FcSide::Disabled => {
-                let _ = (ctx, bytes);
-            }
-        }
+        fc_dispatch!(self, side => side.receive(ctx, bytes), {
+            let _ = (ctx, bytes);
+        });
     }
 
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        match self {
-            FcSide::Disabled => {
-                let _ = ctx;
-            }
-        }
+        fc_dispatch!(self, side => side.idle(ctx), {
+            let _ = ctx;
+        });
     }
 
     pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        match self {
-            FcSide::Disabled => {
-                let _ = ctx;
-            }
-        }
+        fc_dispatch!(self, side => side.poll(ctx), {
+            let _ = ctx;
+        });
     }
 
     pub(crate) fn poll_at(&self) -> Option<Instant> {
-        match self {
-            FcSide::Disabled => None,
-        }
+        fc_dispatch!(self, side => side.poll_at(), None)
     }
 
     /// Every valid frame from the pod (the K40T side forwards them).
     pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
-        match self {
-            FcSide::Disabled => {
-                let _ = (ctx, bytes, packet);
-            }
-        }
+        // Only the K40T side forwards pod frames.
+        let _ = (self, ctx, bytes, packet);
     }
 
     pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
-        match self {
-            FcSide::Disabled => {
-                let _ = (ctx, notice);
-            }
-        }
+        fc_dispatch!(self, side => side.pod_notice(ctx, notice), {
+            let _ = (ctx, notice);
+        });
     }
 
     /// The pod asks for GPS: true when this side handles it (the K40T side forwards it
@@ -131,17 +137,12 @@ impl FcSide {
         header: Header,
         request: GpsRequest,
     ) -> bool {
-        match self {
-            FcSide::Disabled => {
-                let _ = (ctx, header, request);
-                false
-            }
-        }
+        // Only the K40T side forwards GPS requests.
+        let _ = (self, ctx, header, request);
+        false
     }
 
     pub(crate) fn deframer_stats(&self) -> Stats {
-        match self {
-            FcSide::Disabled => Stats::default(),
-        }
+        fc_dispatch!(self, side => side.deframer_stats(), Stats::default())
     }
 }

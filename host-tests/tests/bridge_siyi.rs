@@ -1,0 +1,417 @@
+//! The bridge between a simulated ArduPilot SIYI driver and a simulated K40T pod: the
+//! scenarios of the bridge engine issue, in simulated time.
+
+use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
+use host_tests::sim::pod::{MotionCommand, PodSimConfig, SimPod};
+use host_tests::sim::scenario::Scenario;
+use protocol_core::bridge::{Config, Event, FcProtocol, Level};
+use protocol_core::k40t::{
+    self, AckCode, ContinuousZoom, DialSpeed, GimbalControl, HybridZoom, ImageModeSetting,
+    IrGainMode, IrPalette, LaserPeriodic, MessageData, PitchMotion, Record, RecordAction,
+    TakePhoto, YawMotion, ZoomControl,
+};
+use protocol_core::siyi::FeedbackInfo;
+
+const S: u64 = 1_000_000;
+
+fn scenario(ap: ApSiyiConfig, pod: PodSimConfig, bridge_ppm: i64) -> Scenario<ApSiyi> {
+    Scenario::new(
+        Config::for_fc(FcProtocol::Siyi),
+        ApSiyi::new(ap),
+        SimPod::new(pod),
+        bridge_ppm,
+    )
+}
+
+fn healthy_scenario() -> Scenario<ApSiyi> {
+    let mut s = scenario(ApSiyiConfig::default(), PodSimConfig::default(), 30);
+    s.run_until(5 * S);
+    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
+    s
+}
+
+#[test]
+fn ardupilot_reaches_healthy_through_the_start_up_gates() {
+    let mut s = scenario(ApSiyiConfig::default(), PodSimConfig::default(), -40);
+    s.run_until(6 * S);
+    let ap = &s.fc;
+    assert_eq!(ap.model, Some(*b"7A"), "ZT30 identity");
+    assert!(ap.initialised());
+    // Healthy within the start-up: hardware id (1 Hz), firmware (1 Hz), codec specs, then
+    // attitude at 20 Hz.
+    let (t, up) = ap.health_log[0];
+    assert!(up);
+    assert!(t < 4 * S, "healthy at {t} us");
+    assert!(ap.healthy());
+    // Replies come in the order of the gates.
+    let first = |id: u8| ap.received.iter().find(|r| r.id == id).map(|r| r.at_us);
+    assert!(first(0x02) < first(0x01));
+    assert!(first(0x01) < first(0x20));
+    assert!(first(0x20) < first(0x0D));
+    // Firmware: 12 bytes, camera version non-zero.
+    let fw = ap.received.iter().find(|r| r.id == 0x01).unwrap();
+    assert_eq!(fw.data.len(), 12);
+    assert_ne!(&fw.data[..3], &[0, 0, 0]);
+    // Every 0x0D is answered with exactly 12 bytes while the pod reports.
+    let asked = ap
+        .sent
+        .iter()
+        .filter(|(t, id)| *id == 0x0D && *t < 5_900_000)
+        .count();
+    let answered = ap.received.iter().filter(|r| r.id == 0x0D).count();
+    assert!(asked > 30, "{asked}");
+    assert!(answered + 1 >= asked, "{answered} of {asked}");
+    assert!(
+        ap.received
+            .iter()
+            .filter(|r| r.id == 0x0D)
+            .all(|r| r.data.len() == 12)
+    );
+    // No reply longer than ArduPilot's 32 data bytes, none dropped by its parser.
+    assert!(ap.received.iter().all(|r| r.data.len() <= 32));
+    assert_eq!(ap.parse_errors, 0);
+    // And it stays healthy.
+    s.run_until(60 * S);
+    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+}
+
+#[test]
+fn rates_reach_the_pod_as_direction_and_dial_speed_and_come_back_in_0x0d() {
+    let mut s = healthy_scenario();
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 18.0,
+        pitch_dps: -9.0,
+        yaw_is_ef: false,
+    });
+    s.run_for(S);
+    // 18 deg/s -> SIYI 20 -> 18 deg/s = dial 90 (0.2 deg/s units); -9 -> -10 -> 9 deg/s.
+    let dial = s.pod.received_of::<DialSpeed>();
+    let (_, _, d) = dial.last().expect("a dial speed");
+    assert_eq!((d.yaw_dps_x5, d.pitch_dps_x5), (90, 45));
+    let ctl = s.pod.received_of::<GimbalControl>();
+    let (_, _, c) = ctl.last().unwrap();
+    assert_eq!((c.yaw, c.pitch), (YawMotion::Right, PitchMotion::Down));
+    // The pod turns; ArduPilot sees it turn right and down, in its own convention.
+    s.run_for(S);
+    let (_, yaw, pitch, _) = s.fc.attitude.unwrap();
+    let g = s.pod.gimbal();
+    assert!(yaw > 20.0, "AP yaw {yaw}, pod {g:?}");
+    assert!(pitch < -10.0, "AP pitch {pitch}");
+    assert!((yaw - g.yaw_deg).abs() < 3.0, "AP {yaw} pod {}", g.yaw_deg);
+    // ArduPilot repeats the same rates at 50 Hz; the pod gets no flood: at most a
+    // refresh a second plus the changes.
+    let before = s.pod.received_count(GimbalControl::ID.to_u32());
+    s.run_for(5 * S);
+    let during = s.pod.received_count(GimbalControl::ID.to_u32()) - before;
+    assert!(during <= 6, "{during} motion frames in 5 s");
+    // Stop: the rates go to zero and the pod stops.
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 0.0,
+        pitch_dps: 0.0,
+        yaw_is_ef: false,
+    });
+    s.run_for(S);
+    let (_, _, c) = s
+        .pod
+        .received_of::<GimbalControl>()
+        .last()
+        .copied()
+        .unwrap();
+    assert_eq!((c.yaw, c.pitch), (YawMotion::Stop, PitchMotion::Stop));
+}
+
+#[test]
+fn an_angle_target_converges_through_ardupilots_p_controller() {
+    let mut s = healthy_scenario();
+    s.fc.target = Some(MountTarget::Angle {
+        yaw_deg: 30.0,
+        pitch_deg: -45.0,
+    });
+    s.run_for(15 * S);
+    let g = s.pod.gimbal();
+    assert!(
+        (g.yaw_deg - 30.0).abs() < 3.0 && (g.pitch_deg + 45.0).abs() < 3.0,
+        "pod at {g:?}"
+    );
+}
+
+#[test]
+fn fc_silence_stops_the_pod() {
+    let mut s = healthy_scenario();
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 20.0,
+        pitch_dps: 0.0,
+        yaw_is_ef: false,
+    });
+    s.run_for(2 * S);
+    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
+    // The FC cable is cut while the pod turns.
+    s.fc_cut = true;
+    let cut = s.now_us;
+    s.run_for(2 * S);
+    let stop = s
+        .pod
+        .motions()
+        .iter()
+        .find(|m| {
+            m.at_us > cut
+                && matches!(m.command, MotionCommand::Control(c)
+                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
+        })
+        .expect("a stop")
+        .at_us;
+    assert!(
+        stop - cut <= 600_000,
+        "stopped {} ms after the cut",
+        (stop - cut) / 1000
+    );
+    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
+    assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);
+}
+
+#[test]
+fn camera_commands_reach_the_pod_with_the_right_fields() {
+    let mut s = healthy_scenario();
+    s.fc.take_picture();
+    s.run_for(S);
+    let photo = s.pod.received_of::<TakePhoto>();
+    assert_eq!(photo.len(), 1);
+    assert_eq!(photo[0].2.action, k40t::ShootAction::Start);
+    // Record: ArduPilot toggles only after reading the state from 0x0A.
+    s.fc.record_video(true);
+    s.run_for(3 * S);
+    let rec = s.pod.received_of::<Record>();
+    assert_eq!(rec.last().unwrap().2.action, RecordAction::Start);
+    assert_eq!(s.fc.record_status, protocol_core::siyi::RecordStatus::On);
+    s.fc.record_video(true); // already on: no toggle
+    s.run_for(2 * S);
+    assert_eq!(s.pod.received_of::<Record>().len(), 1);
+    s.fc.record_video(false);
+    s.run_for(3 * S);
+    assert_eq!(
+        s.pod.received_of::<Record>().last().unwrap().2.action,
+        RecordAction::Stop
+    );
+    assert_eq!(s.fc.record_status, protocol_core::siyi::RecordStatus::Off);
+    // Zoom rate, repeated by ArduPilot at 1 Hz: continuous zoom in, then stop.
+    s.fc.set_zoom_rate(1);
+    s.run_for(S + S / 2);
+    s.fc.set_zoom_rate(0);
+    s.run_for(S);
+    let z: Vec<_> = s
+        .pod
+        .received_of::<ContinuousZoom>()
+        .into_iter()
+        .map(|(_, _, z)| z.control)
+        .collect();
+    assert_eq!(z.first(), Some(&ZoomControl::In));
+    assert_eq!(z.last(), Some(&ZoomControl::Stop));
+    assert!(
+        s.fc.zoom_mult.unwrap() > 1.0,
+        "zoom reply from the pod: {:?}",
+        s.fc.zoom_mult
+    );
+    // Absolute zoom: 50 % of the ZT30's 30x = 15.5x.
+    s.fc.set_zoom_pct(50.0);
+    s.run_for(S);
+    let (_, _, hz) = s.pod.received_of::<HybridZoom>().last().copied().unwrap();
+    assert_eq!(hz.zoom_x10, 155);
+    // Lens 2 on a ZT30 = thermal main.
+    s.fc.set_lens(2);
+    s.fc.set_thermal_palette(3); // ironbow
+    s.fc.set_thermal_gain(1);
+    s.run_for(S);
+    assert_eq!(
+        s.pod
+            .received_of::<ImageModeSetting>()
+            .last()
+            .unwrap()
+            .2
+            .mode,
+        k40t::ImageMode::Infrared
+    );
+    assert_eq!(
+        s.pod.received_of::<IrPalette>().last().unwrap().2.palette,
+        k40t::Palette::IronRed
+    );
+    assert_eq!(
+        s.pod.received_of::<IrGainMode>().last().unwrap().2.gain,
+        k40t::IrGain::High
+    );
+    // ArduPilot's 0x15 polling (ZT30) keeps the laser ranging; distances come back in dm.
+    assert!(
+        s.pod
+            .received_of::<LaserPeriodic>()
+            .iter()
+            .any(|(_, _, l)| l.enable == k40t::OnOff::On)
+    );
+    let (_, d) = s.fc.rangefinder.unwrap();
+    assert_eq!(d, s.pod.camera().laser_distance_dm);
+}
+
+#[test]
+fn a_refused_photo_comes_back_as_function_feedback() {
+    let mut pod = PodSimConfig::default();
+    pod.nak.insert(0x0302, AckCode::NoSdCard);
+    let mut s = scenario(ApSiyiConfig::default(), pod, 0);
+    s.run_until(5 * S);
+    s.fc.take_picture();
+    s.run_for(S);
+    assert_eq!(
+        s.fc.feedback.iter().map(|(_, f)| *f).collect::<Vec<_>>(),
+        vec![FeedbackInfo::PhotoFailed]
+    );
+    assert!(
+        s.events_where(|e| matches!(
+            e,
+            Event::PodRefused {
+                base: 0x0302,
+                code: AckCode::NoSdCard
+            }
+        ))
+        .len()
+            == 1
+    );
+}
+
+#[test]
+fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
+    let mut s = healthy_scenario();
+    s.pod.set_silent(true);
+    let cut = s.now_us;
+    s.run_for(4 * S);
+    let down =
+        s.fc.health_log
+            .iter()
+            .find(|(t, h)| *t > cut && !h)
+            .expect("unhealthy")
+            .0;
+    assert!(down - cut <= 2_500_000, "{} ms", (down - cut) / 1000);
+    assert!(!s.engine.pod_state().link);
+    s.pod.set_silent(false);
+    let back = s.now_us;
+    s.run_for(4 * S);
+    let up =
+        s.fc.health_log
+            .iter()
+            .find(|(t, h)| *t > back && *h)
+            .expect("healthy again")
+            .0;
+    assert!(up - back <= 2 * S);
+}
+
+#[test]
+fn time_syncs_follow_the_fc_utc_and_photos_are_geotagged() {
+    let mut s = scenario(
+        ApSiyiConfig {
+            ppm: 35.0,
+            ..ApSiyiConfig::default()
+        },
+        PodSimConfig::default(),
+        -25,
+    );
+    s.run_until(120 * S);
+    let highs: Vec<_> = s
+        .pin_edges
+        .iter()
+        .filter(|e| e.level == Level::High)
+        .copied()
+        .collect();
+    assert!(highs.len() >= 6, "{} edges", highs.len());
+    // Every edge is on a whole 10 s of UTC, followed by its 0x00030E, applied by the pod.
+    let syncs = s.pod.syncs();
+    assert_eq!(syncs.len(), highs.len());
+    for (edge, sync) in highs.iter().zip(syncs) {
+        assert_eq!(sync.unix_ms % 10_000, 0);
+        let truth_us = s.fc.fc_utc_us(edge.at_us) as i64;
+        let err_us = sync.unix_ms as i64 * 1000 - truth_us;
+        assert!(
+            err_us.abs() < 20_000,
+            "edge at {} us: error {err_us} us",
+            edge.at_us
+        );
+        assert_eq!(
+            sync.outcome,
+            host_tests::sim::pod::SyncOutcome::Applied,
+            "{sync:?}"
+        );
+    }
+    // Pulses are 50 ms wide.
+    let lows: Vec<_> = s
+        .pin_edges
+        .iter()
+        .filter(|e| e.level == Level::Low)
+        .copied()
+        .collect();
+    for (h, l) in highs.iter().zip(&lows) {
+        assert!((l.at_us - h.at_us).abs_diff(50_000) < 100);
+    }
+    // A photo: the pod asks for GPS at the photo's time of day; the answer is the
+    // aircraft's position then.
+    s.fc.take_picture();
+    s.run_for(2 * S);
+    let replies = s.pod.gps_replies();
+    assert_eq!(replies.len(), 1, "{replies:?}");
+    let r = &replies[0];
+    assert_eq!(r.reply.code.code(), AckCode::Ok);
+    let photo_t = s.pod.photos()[0].at_us;
+    let (lat, lon) = s.fc.aircraft.position_e7(photo_t);
+    // 8 m/s: 1e-7 deg ~ 1.1 cm; allow 0.5 m.
+    assert!(
+        (r.reply.lat_e7 - lat).abs() < 50,
+        "{} vs {lat}",
+        r.reply.lat_e7
+    );
+    assert!(
+        (r.reply.lon_e7 - lon).abs() < 70,
+        "{} vs {lon}",
+        r.reply.lon_e7
+    );
+    assert_eq!(r.reply.yaw_cdeg, 4500);
+    assert_eq!(s.engine.counters().geotags, 1);
+}
+
+#[test]
+fn debug_time() {
+    for seed in 1..6 {
+        let mut s = scenario(
+            ApSiyiConfig {
+                ppm: 35.0,
+                seed,
+                ..ApSiyiConfig::default()
+            },
+            PodSimConfig::default(),
+            -25,
+        );
+        s.run_until(600 * S);
+        let highs: Vec<_> = s
+            .pin_edges
+            .iter()
+            .filter(|e| e.level == Level::High)
+            .copied()
+            .collect();
+        let errs: Vec<i64> = highs
+            .iter()
+            .zip(s.pod.syncs())
+            .map(|(e, sy)| sy.unix_ms as i64 * 1000 - s.fc.fc_utc_us(e.at_us) as i64)
+            .collect();
+        let delays: Vec<u64> = s.pod.syncs().iter().filter_map(|x| x.delay_us).collect();
+        let t30: Vec<u64> =
+            s.fc.sent
+                .iter()
+                .filter(|(_, id)| *id == 0x30)
+                .map(|(t, _)| *t)
+                .collect();
+        let paired = t30
+            .iter()
+            .filter(|t| s.fc.sent.iter().any(|(t2, id)| *id == 0x22 && t2 == *t))
+            .count();
+        println!("paired {paired} of {}", t30.len());
+        println!(
+            "seed {seed}: {} edges, err us {:?} delays {:?}",
+            highs.len(),
+            &errs[errs.len() - 5..],
+            &delays[..5]
+        );
+    }
+}
