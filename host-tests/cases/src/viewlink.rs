@@ -794,11 +794,17 @@ fn bit_fields() -> Outcome {
     let osd = OsdWord(0x8105);
     ensure_eq!(osd.osd1(), OsdFlags(0x05));
     ensure_eq!(osd.osd2(), OsdTypeFlags(0x81));
+    let hide_all_angles = OsdFlags::default()
+        .with_hide_all(true)
+        .with_hide_angles(true);
+    ensure_eq!(hide_all_angles, OsdFlags(0x05));
+    ensure!(osd.osd1().contains(hide_all_angles.0));
+    ensure!(osd.osd1().hide_all() && osd.osd1().hide_angles());
+    ensure!(!osd.osd1().hide_cross());
     ensure!(
-        osd.osd1()
-            .contains(OsdFlags::HIDE_ALL | OsdFlags::HIDE_ANGLES)
+        !osd.osd1()
+            .contains(OsdFlags::default().with_hide_cross(true).0)
     );
-    ensure!(!osd.osd1().contains(OsdFlags::HIDE_CROSS));
     let power = PowerControl(0x4009);
     ensure_eq!(
         (power.eo1(), power.ir(), power.eo2(), power.laser()),

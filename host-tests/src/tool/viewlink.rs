@@ -16,7 +16,7 @@ pub const TCP_MSG_ID: u64 = 0xEB90;
 fn fields_of(packet: &Packet<'_>) -> Result<Value, String> {
     let body = match packet.message {
         Message::Raw(r) => json!({ "data": hex(r.data) }),
-        Message::Transparent(t) => json!({ "data": hex(t.data) }),
+        Message::Transparent(t) => json!({ "data": hex(t.data.as_slice()) }),
         m => {
             let v = untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1;
             match v {

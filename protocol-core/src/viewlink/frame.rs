@@ -28,17 +28,17 @@ mod field {
     pub const DATA: usize = 5;
 }
 
-/// Which sync bytes a frame starts with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum HeaderOrder {
-    /// `55 AA DC`, as section 2.1 and ArduPilot (the default, and what to send).
-    #[default]
-    Standard,
-    /// `AA 55 DC`, as the document prints its ACK example. Decoded, never chosen by
-    /// this crate unless asked.
-    Swapped,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Which sync bytes a frame starts with.
+    pub enum HeaderOrder {
+        /// `55 AA DC`, as section 2.1 and ArduPilot (the default, and what to send).
+        #[default]
+        Standard,
+        /// `AA 55 DC`, as the document prints its ACK example. Decoded, never chosen by
+        /// this crate unless asked.
+        Swapped,
+    }
 }
 
 impl HeaderOrder {
@@ -285,12 +285,13 @@ impl Framing for ViewlinkFraming {
     }
 }
 
-/// The frame counter a sender keeps: 1, 2, 3, 0, 1, ... (ArduPilot increments before
-/// each frame it sends).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FrameCounter {
-    last: u8,
+wire_derive! {
+    [Eq, Default]
+    /// The frame counter a sender keeps: 1, 2, 3, 0, 1, ... (ArduPilot increments before
+    /// each frame it sends).
+    pub struct FrameCounter {
+        last: u8,
+    }
 }
 
 impl FrameCounter {

@@ -68,34 +68,35 @@
 //!   unsigned but gives signed ranges (click coordinates, gyro bias) are signed.
 
 #[macro_use]
-mod field;
+mod block;
 mod frame;
 
 mod ahrs;
 mod config;
 mod control;
 mod enums;
-mod misc;
+mod packets;
 mod status;
 pub mod tcp;
 
 pub use crate::Text;
 pub use ahrs::*;
+pub use block::{Block, Bytes, Date, FixedBlock, TimeCs};
 pub use config::*;
 pub use control::*;
 pub use enums::*;
-pub use field::{Block, Bytes, Date, FixedBlock, TimeCs};
 pub use frame::{
     Frame, FrameCounter, HeaderOrder, MAX_BODY_LEN, MAX_DATA_LEN, MAX_FRAME_LEN, MIN_BODY_LEN,
     MIN_FRAME_LEN, SYNC, SYNC_SWAPPED, ViewlinkFraming, len_byte,
 };
-pub use misc::*;
+pub use packets::*;
 pub use status::*;
 
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-block! {
+wire_struct! {
+    Be;
     /// Frame 0x30: A1 + C1 + E1 (14 bytes), console to payload.
     pub struct Control {
         /// Servo control.
@@ -107,7 +108,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Frame 0x32: A1 + C1 + E1 + S1 (28 bytes), console to payload.
     pub struct ControlTgcc {
         /// Servo control.
@@ -121,7 +123,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Frame 0x31: A2 + C2 + E2 (10 bytes), console to payload.
     pub struct RareControl {
         /// Servo control, infrequent.
@@ -133,7 +136,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Frame 0x33: A2 + C2 + E2 + S2 (15 bytes), console to payload.
     pub struct RareControlTgcc {
         /// Servo control, infrequent.
@@ -147,7 +151,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Frames 0x40 and 0x42: T1 + F1 + B1 + D1 (41 bytes), payload to console: the
     /// status a gimbal sends in reply to control frames and heartbeats (ArduPilot reads
     /// 0x40).
@@ -163,7 +168,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Frame 0x41: T2 + F2 + B2 + D2 (49 bytes), payload to console: sent once when an
     /// A2 asks for it.
     pub struct RareStatus {
@@ -178,17 +184,17 @@ block! {
     }
 }
 
-/// Who sends a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Direction {
-    /// Console (flight controller, ground station) to payload (gimbal).
-    ToPayload,
-    /// Payload to console.
-    FromPayload,
-    /// AHRS (flight controller) to payload.
-    FromAhrs,
+wire_derive! {
+    [Eq, Hash]
+    /// Who sends a frame.
+    pub enum Direction {
+        /// Console (flight controller, ground station) to payload (gimbal).
+        ToPayload,
+        /// Payload to console.
+        FromPayload,
+        /// AHRS (flight controller) to payload.
+        FromAhrs,
+    }
 }
 
 impl Direction {
@@ -236,7 +242,7 @@ macro_rules! frames {
             /// whose data has the wrong length is [`Error::BadLength`].
             pub fn decode(id: u8, data: &'a [u8]) -> Result<Self> {
                 match id {
-                    $( $id => <$ty as Block<'a>>::from_bytes(data).map(Message::$variant), )*
+                    $( $id => <$ty as Block>::from_bytes(data).map(Message::$variant), )*
                     _ => Ok(Message::Raw(Raw { id, data })),
                 }
             }
@@ -350,7 +356,7 @@ frames! {
     /// 0x2D: D2 alone.
     0x2D D2(D2), "D2", FromPayload;
     /// 0xFF: transparent data.
-    0xFF Transparent(Transparent<'a>), "FW (transparent)", FromPayload;
+    0xFF Transparent(Transparent), "FW (transparent)", FromPayload;
     /// 0x5D: SD card query.
     0x5D SdQuery(SdQuery), "CMD_SD", ToPayload;
     /// 0xD5: SD card feedback.
@@ -363,28 +369,28 @@ frames! {
     0x92 IpFeedback(IpAddress), "ACK_IP", FromPayload;
 }
 
-/// A frame id this codec does not know, with its data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Raw<'a> {
-    /// The frame id.
-    pub id: u8,
-    /// The data bytes.
-    pub data: &'a [u8],
+wire_derive! {
+    [Eq]
+    /// A frame id this codec does not know, with its data.
+    pub struct Raw<'a> {
+        /// The frame id.
+        pub id: u8,
+        /// The data bytes.
+        pub data: &'a [u8],
+    }
 }
 
-/// A whole Viewlink frame: sync order, frame counter and message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Packet<'a> {
-    /// The sync bytes.
-    pub header: HeaderOrder,
-    /// The frame counter (LEN bits 6..7, 0..=3).
-    pub counter: u8,
-    /// The message.
-    pub message: Message<'a>,
+wire_derive! {
+    [Eq]
+    /// A whole Viewlink frame: sync order, frame counter and message.
+    pub struct Packet<'a> {
+        /// The sync bytes.
+        pub header: HeaderOrder,
+        /// The frame counter (LEN bits 6..7, 0..=3).
+        pub counter: u8,
+        /// The message.
+        pub message: Message<'a>,
+    }
 }
 
 impl<'a> Packet<'a> {
@@ -456,7 +462,7 @@ impl<'a> From<Message<'a>> for Packet<'a> {
 
 /// Reads a block from the front of `data` and returns it with the rest (a helper for
 /// parsing block combinations that are not frames of their own).
-pub fn read_block<'a, B: Block<'a>>(data: &'a [u8]) -> Result<(B, &'a [u8])> {
+pub fn read_block<B: Block>(data: &[u8]) -> Result<(B, &[u8])> {
     let mut r = Reader::new(data);
     let b = B::read_block(&mut r)?;
     Ok((b, r.rest()))

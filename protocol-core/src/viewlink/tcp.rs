@@ -89,13 +89,13 @@ impl<'a> TcpFrame<&'a [u8]> {
     }
 }
 
-/// A decoded TCP envelope.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Envelope<'a> {
-    /// The body.
-    pub body: &'a [u8],
+wire_derive! {
+    [Eq, Hash]
+    /// A decoded TCP envelope.
+    pub struct Envelope<'a> {
+        /// The body.
+        pub body: &'a [u8],
+    }
 }
 
 impl<'a> Envelope<'a> {
