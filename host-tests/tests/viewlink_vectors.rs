@@ -110,12 +110,12 @@ fn serial_vectors_match_the_documented_fields() {
         let p = Packet::decode(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
         let f = Frame::new_checked(&bytes[..]).unwrap();
         assert_eq!(i64::from(f.body_len()), num(&d["length_n"]), "{name}");
-        assert_eq!(i64::from(p.counter), num(&d["counter"]), "{name}");
+        assert_eq!(i64::from(p.header.counter), num(&d["counter"]), "{name}");
         assert_eq!(i64::from(p.message.id()), num(&d["frame_id"]), "{name}");
         assert_eq!(i64::from(f.checksum()), num(&d["checksum"]), "{name}");
         assert_eq!(
             hex(d["header"].as_str().unwrap()),
-            p.header.bytes(),
+            p.header.sync.bytes(),
             "{name}"
         );
         match p.message {

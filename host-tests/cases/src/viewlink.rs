@@ -85,10 +85,10 @@ fn rare(c2: C2, e2: E2) -> Message<'static> {
 
 /// The documented fields of every serial seed vector (from each vector's `decoded`
 /// object and the document's description of the example).
-fn vector_message(name: &str) -> Option<(HeaderOrder, Message<'static>)> {
+fn vector_message(name: &str) -> Option<(SyncOrder, Message<'static>)> {
     use OperationCommand as Op;
     let none = C1::default();
-    let std = HeaderOrder::Standard;
+    let std = SyncOrder::Standard;
     let m = match name {
         "Gimbal movement: Left" => control(speed(-2000, 0), none, E1::default()),
         "Gimbal movement: Right" => control(speed(2000, 0), none, E1::default()),
@@ -173,7 +173,7 @@ fn vector_message(name: &str) -> Option<(HeaderOrder, Message<'static>)> {
         "IR thermal camera: EO + IR Black hot" => optics(Sensor::Eo1IrPip, 0, Op::IrBlackHot),
         "IR thermal camera: EO + IR Pseudo color" => optics(Sensor::Eo1IrPip, 0, Op::IrRainbow),
         "ACK feedback (gimbal ack of received frame 0x1A)" => {
-            return Some((HeaderOrder::Swapped, Message::Ack(Ack { acked_id: 0x1A })));
+            return Some((SyncOrder::Swapped, Message::Ack(Ack { acked_id: 0x1A })));
         }
         "AI identify information output open (E2 0x20)" => {
             Message::E2(E2::plain(TrackingCommand2::IdentifyOn))
@@ -210,13 +210,15 @@ fn seed_vectors_decode_to_documented_fields() -> Outcome {
             ));
         };
         let p = check!(Packet::decode(v.bytes));
-        ensure_eq!((v.name, p.header), (v.name, header));
-        ensure_eq!((v.name, p.counter), (v.name, 0));
+        ensure_eq!((v.name, p.header.sync), (v.name, header));
+        ensure_eq!((v.name, p.header.counter), (v.name, 0));
         ensure_eq!((v.name, p.message), (v.name, expected));
         ensure_eq!(p.buffer_len(), v.bytes.len());
         let out = emit(&Packet {
-            header,
-            counter: 0,
+            header: Header {
+                sync: header,
+                counter: 0,
+            },
             message: expected,
         })?;
         ensure_eq!((v.name, &out[..]), (v.name, v.bytes));
@@ -285,10 +287,10 @@ fn layouts_decode_and_reencode() -> Outcome {
         let p = check!(Packet::decode(&bytes));
         let expected = (l.expected)();
         ensure_eq!((l.id, i, p.message), (l.id, i, expected));
-        ensure_eq!(p.counter, counter);
+        ensure_eq!(p.header.counter, counter);
         ensure_eq!(p.message.id(), l.id);
-        ensure_eq!((l.id, p.message.data_len()), (l.id, l.data.len()));
-        let out = emit(&Packet::new(counter, expected))?;
+        ensure_eq!((l.id, p.message.payload_len()), (l.id, l.data.len()));
+        let out = emit(&Packet::new(Header::new(counter), expected))?;
         ensure_eq!((l.id, i, &out[..]), (l.id, i, &bytes[..]));
     }
     Ok(())
@@ -440,8 +442,8 @@ fn command_blocks_type_their_parameters() -> Outcome {
 /// re-encodes byte for byte.
 fn every_frame_id_round_trips() -> Outcome {
     for e in CATALOG {
-        for len in 1..=MAX_DATA_LEN {
-            let mut data = [0u8; MAX_DATA_LEN];
+        for len in 1..=MAX_PAYLOAD_LEN {
+            let mut data = [0u8; MAX_PAYLOAD_LEN];
             for (i, b) in data.iter_mut().enumerate() {
                 *b = (i as u8).wrapping_mul(37).wrapping_add(e.id);
             }
@@ -496,7 +498,7 @@ fn m_every_data_type() -> Outcome {
         ensure_eq!(m.reserved, [9, 8, 7, 6, 5, 4, 3]);
         ensure_eq!(m.attitude, (t & 1 != 0).then(layouts::m_attitude));
         ensure_eq!(m.gps, (t & 2 != 0).then(layouts::m_gps));
-        ensure_eq!(p.message.data_len(), data.len());
+        ensure_eq!(p.message.payload_len(), data.len());
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         // A group too many or too few is a length error.
         let mut longer = heapless::Vec::<u8, 43>::new();
@@ -528,7 +530,7 @@ fn every_counter_value() -> Outcome {
         let f = check!(Frame::new_checked(&bytes[..]));
         ensure_eq!((f.counter(), f.body_len()), (counter, 12));
         let p = check!(Packet::decode(&bytes));
-        ensure_eq!(p.counter, counter);
+        ensure_eq!(p.header.counter, counter);
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         // The counter bits are covered by the checksum.
         let mut other = bytes.clone();
@@ -538,7 +540,7 @@ fn every_counter_value() -> Outcome {
             Err(Error::BadChecksum { .. })
         ));
     }
-    let p = Packet::new(4, Message::Heartbeat(Heartbeat { value: 0 }));
+    let p = Packet::new(Header::new(4), Message::Heartbeat(Heartbeat { value: 0 }));
     ensure_eq!(p.emit(&mut [0u8; 16]), Err(Error::OutOfRange));
     let mut c = FrameCounter::new();
     let seq: [u8; 6] = core::array::from_fn(|_| c.next_value());
@@ -552,7 +554,7 @@ fn every_counter_value() -> Outcome {
 fn swapped_sync_order() -> Outcome {
     let bytes = frame_with([0xAA, 0x55, 0xDC], 0x40, 2, &[0u8; 41]);
     let p = check!(Packet::decode(&bytes));
-    ensure_eq!(p.header, HeaderOrder::Swapped);
+    ensure_eq!(p.header.sync, SyncOrder::Swapped);
     ensure_eq!(&emit(&p)?[..], &bytes[..]);
     let count = |framing: ViewlinkFraming| {
         let mut d = Deframer::<ViewlinkFraming, MAX_FRAME_LEN>::new(framing);
@@ -562,7 +564,7 @@ fn swapped_sync_order() -> Outcome {
     };
     ensure_eq!(count(ViewlinkFraming::new()), 0);
     ensure_eq!(count(ViewlinkFraming::swapped()), 1);
-    ensure_eq!(HeaderOrder::Swapped.bytes(), SYNC_SWAPPED);
+    ensure_eq!(SyncOrder::Swapped.bytes(), SYNC_SWAPPED);
     Ok(())
 }
 
@@ -596,18 +598,18 @@ fn malformed_frames_are_errors() -> Outcome {
     // Too much data for one frame.
     let big = [0u8; 61];
     let raw = Packet::new(
-        0,
+        Header::new(0),
         Message::Raw(Raw {
             id: 0x77,
-            data: &big,
+            payload: &big,
         }),
     );
     ensure_eq!(raw.emit(&mut [0u8; 80]), Err(Error::BadLength));
     let empty = Packet::new(
-        0,
+        Header::new(0),
         Message::Raw(Raw {
             id: 0x77,
-            data: &[],
+            payload: &[],
         }),
     );
     ensure_eq!(empty.emit(&mut [0u8; 80]), Err(Error::BadLength));
@@ -652,7 +654,7 @@ fn wrong_length_known_ids() -> Outcome {
     );
     ensure!(Packet::decode(&frame(0xF3, 0, &[0; 8 + 4 * 13])).is_ok());
     ensure_eq!(
-        Packet::decode(&frame(0xF4, 0, &[0; 3 + 57])).map(|p| p.message.data_len()),
+        Packet::decode(&frame(0xF4, 0, &[0; 3 + 57])).map(|p| p.message.payload_len()),
         Ok(60)
     );
     Ok(())
@@ -668,7 +670,7 @@ fn unknown_ids_are_raw() -> Outcome {
         let data = [id, 1, 2];
         let bytes = frame(id, 3, &data);
         let p = check!(Packet::decode(&bytes));
-        ensure_eq!(p.message, Message::Raw(Raw { id, data: &data }));
+        ensure_eq!(p.message, Message::Raw(Raw { id, payload: &data }));
         ensure_eq!(p.message.name(), "Raw");
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         unknown += 1;
@@ -919,7 +921,7 @@ fn encode_refuses_values_that_do_not_fit() -> Outcome {
     ];
     for m in cases {
         ensure_eq!(
-            (m.name(), Packet::new(0, m).emit(&mut buf)),
+            (m.name(), Packet::new(Header::new(0), m).emit(&mut buf)),
             (m.name(), Err(Error::OutOfRange))
         );
     }
@@ -1071,7 +1073,7 @@ fn ardupilot_interop() -> Outcome {
             ..layouts::d1()
         },
     };
-    let out = emit(&Packet::new(1, Message::Status(status)))?;
+    let out = emit(&Packet::new(Header::new(1), Message::Status(status)))?;
     ensure_eq!(&out[..5], &[0x55, 0xAA, 0xDC, 0x6C, 0x40]);
     let d = &out[5..out.len() - 1];
     ensure_eq!((d[22] & 0x18) >> 3, 1); // tracking: searching
@@ -1086,7 +1088,7 @@ fn ardupilot_interop() -> Outcome {
     ensure_eq!(u16::from_be_bytes([d[39], d[40]]), 200); // 20x
     // The V replies to the queries: model from data byte 1, firmware digits at 4..9.
     let model = emit(&Packet::new(
-        2,
+        Header::new(2),
         Message::V(V::new(
             VCommand::QueryModel,
             VData::Model(check!(Text::new("Z40K"))),
@@ -1096,7 +1098,7 @@ fn ardupilot_interop() -> Outcome {
     ensure_eq!(&model[6..10], b"Z40K");
     ensure_eq!(model.len(), 3 + 3 + 1 + 10);
     let fw = emit(&Packet::new(
-        3,
+        Header::new(3),
         Message::V(V::new(
             VCommand::QueryFirmware,
             VData::Firmware(check!(Text::new("S20230415"))),

@@ -3,7 +3,7 @@
 //! data (0xFF).
 
 use super::block::{Block, Bytes, FixedBlock};
-use super::frame::MAX_DATA_LEN;
+use super::frame::MAX_PAYLOAD_LEN;
 use crate::wire::encoding::Field;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
@@ -410,7 +410,7 @@ wire_derive! {
     /// kept as received.
     pub struct Transparent {
         /// The data.
-        pub data: Bytes<MAX_DATA_LEN>,
+        pub data: Bytes<MAX_PAYLOAD_LEN>,
     }
 }
 
@@ -425,7 +425,7 @@ impl Transparent {
 }
 
 impl Block for Transparent {
-    const MAX_LEN: usize = MAX_DATA_LEN;
+    const MAX_LEN: usize = MAX_PAYLOAD_LEN;
 
     fn read_block(r: &mut Reader<'_>) -> Result<Self> {
         Bytes::read_rest(r).map(|data| Transparent { data })
