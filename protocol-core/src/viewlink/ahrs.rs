@@ -85,6 +85,7 @@ impl M {
 
     /// An M packet with the given groups and the gyro bit set, as ArduPilot sends it
     /// (data type 0x07 when both groups are present).
+    #[must_use]
     pub const fn new(attitude: Option<MAttitude>, gps: Option<MGps>) -> Self {
         M {
             type_bits: Self::GYRO,
@@ -95,6 +96,7 @@ impl M {
     }
 
     /// Byte 1 as sent: `type_bits` with the bits of the groups present.
+    #[must_use]
     pub const fn data_type(&self) -> u8 {
         let mut t = self.type_bits & !(Self::ATTITUDE | Self::GPS);
         if self.attitude.is_some() {

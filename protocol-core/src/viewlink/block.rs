@@ -222,8 +222,10 @@ impl<const N: usize> Default for Bytes<N> {
 }
 
 impl<const N: usize> Bytes<N> {
-    /// The bytes of `data`; more than `N` bytes (or more than 255) is
-    /// [`Error::OutOfRange`].
+    /// The bytes of `data`.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for more than `N` bytes (or more than 255).
     pub fn new(data: &[u8]) -> Result<Self> {
         let mut b = Bytes::default();
         b.buf
@@ -235,16 +237,20 @@ impl<const N: usize> Bytes<N> {
     }
 
     /// The bytes held.
+    #[must_use]
     pub fn as_slice(&self) -> &[u8] {
         self.buf.get(..usize::from(self.len)).unwrap_or_default()
     }
 
     /// Number of bytes held.
+    #[must_use]
     pub const fn len(&self) -> usize {
+        // Widening (`usize::from` is not const).
         self.len as usize
     }
 
     /// True when no byte is held.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -270,8 +276,10 @@ wire_derive! {
 }
 
 impl Date {
-    /// The date for a day (1..=31), month (1..=12) and year (2000..=2127); a value that
-    /// does not fit its bits is [`Error::OutOfRange`].
+    /// The date for a day (1..=31), month (1..=12) and year (2000..=2127).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a value that does not fit its bits.
     pub fn new(year: u16, month: u8, day: u8) -> Result<Self> {
         let y = year.checked_sub(2000).ok_or(Error::OutOfRange)?;
         let v = put_bits(0, y, 0, 7)?;
@@ -280,16 +288,19 @@ impl Date {
     }
 
     /// Day of the month (bits 15..11).
+    #[must_use]
     pub const fn day(self) -> u8 {
         byte_of(self.0, 11, 5)
     }
 
     /// Month (bits 10..7).
+    #[must_use]
     pub const fn month(self) -> u8 {
         byte_of(self.0, 7, 4)
     }
 
     /// Year (bits 6..0, plus 2000).
+    #[must_use]
     pub const fn year(self) -> u16 {
         bits_of(self.0, 0, 7).wrapping_add(2000)
     }
@@ -325,6 +336,10 @@ wire_derive! {
 
 impl TimeCs {
     /// The time for hours, minutes, seconds and hundredths.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for an hour above 23, a minute above 59, a second above 60
+    /// or hundredths above 99.
     pub fn new(hour: u8, minute: u8, second: u8, centis: u8) -> Result<Self> {
         if hour > 23 || minute > 59 || second > 60 || centis > 99 {
             return Err(Error::OutOfRange);
@@ -368,7 +383,7 @@ mod tests {
     fn date_and_time() {
         let d = Date::new(2026, 1, 31).unwrap();
         assert_eq!((d.year(), d.month(), d.day()), (2026, 1, 31));
-        assert_eq!(d.0, (31 << 11) | (1 << 7) | 26);
+        assert_eq!(d.0, (31 << 11) | (1 << 7) | (2026 - 2000));
         assert!(Date::new(1999, 1, 1).is_err());
         assert!(Date::new(2000, 16, 1).is_err());
         assert_eq!(TimeCs::new(23, 59, 59, 99).unwrap().0, 8_639_999);

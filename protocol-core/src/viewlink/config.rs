@@ -223,14 +223,19 @@ bit_set! {
 
 impl ChannelPair {
     /// The channel in the high nibble.
+    #[must_use]
     pub const fn high(self) -> u8 {
         self.0 >> 4
     }
     /// The channel in the low nibble.
+    #[must_use]
     pub const fn low(self) -> u8 {
         self.0 & 0x0F
     }
-    /// Two channels (0..=15 each); a larger value is [`Error::OutOfRange`].
+    /// Two channels (0..=15 each).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a channel above 15.
     pub const fn new(high: u8, low: u8) -> Result<Self> {
         if high > 15 || low > 15 {
             return Err(Error::OutOfRange);
@@ -724,6 +729,7 @@ wire_derive! {
 
 impl VKind {
     /// The effective parameter length the document gives (0 for `Other`).
+    #[must_use]
     pub const fn len(self) -> usize {
         match self {
             VKind::ProtocolControl | VKind::RcMapping => 9,
@@ -738,6 +744,7 @@ impl VKind {
     }
 
     /// True for `Other` (no defined parameters).
+    #[must_use]
     pub const fn is_empty(self) -> bool {
         matches!(self, VKind::Other)
     }
@@ -745,6 +752,7 @@ impl VKind {
 
 impl VCommand {
     /// The kind of parameters this command carries.
+    #[must_use]
     pub const fn kind(self) -> VKind {
         match self {
             VCommand::ProtocolControl | VCommand::QueryProtocolControl => VKind::ProtocolControl,
@@ -824,6 +832,7 @@ wire_derive! {
 
 impl VData {
     /// The kind of these parameters.
+    #[must_use]
     pub const fn kind(&self) -> VKind {
         match self {
             VData::ProtocolControl(_) => VKind::ProtocolControl,
@@ -840,6 +849,7 @@ impl VData {
     }
 
     /// Encoded length.
+    #[must_use]
     pub const fn len(&self) -> usize {
         match self {
             VData::Other(b) => b.len(),
@@ -848,6 +858,7 @@ impl VData {
     }
 
     /// True when no byte is encoded.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -873,6 +884,7 @@ wire_derive! {
 
 impl V {
     /// A reply with typed parameters and nothing after them.
+    #[must_use]
     pub fn new(command: VCommand, data: VData) -> Self {
         V {
             command,

@@ -70,21 +70,25 @@ wire_struct! {
 
 impl AzimuthScan {
     /// True for a circle scan (parameter 3 ≥ 0x8000).
+    #[must_use]
     pub const fn is_circle(&self) -> bool {
         self.range >= 0x8000
     }
 
     /// The azimuth speed in 0.01°/s, whatever the unit on the wire.
+    #[must_use]
     pub const fn yaw_speed_cdeg_s(&self) -> i32 {
         self.scaled(self.yaw_speed)
     }
 
     /// The tilt speed in 0.01°/s, whatever the unit on the wire.
+    #[must_use]
     pub const fn pitch_speed_cdeg_s(&self) -> i32 {
         self.scaled(self.pitch_speed)
     }
 
-    const fn scaled(&self, v: i16) -> i32 {
+    const fn scaled(self, v: i16) -> i32 {
+        // Widening casts (`i32::from` is not const).
         if self.is_circle() {
             (v as i32).saturating_mul(10)
         } else {
@@ -93,11 +97,13 @@ impl AzimuthScan {
     }
 
     /// Circle scan: the scan angles are relative to the earth (else to the vehicle).
+    #[must_use]
     pub const fn earth_frame(&self) -> bool {
         self.is_circle() && self.range & 0x4000 != 0
     }
 
     /// Circle scan: the normalised tilt gain (bits 0..7).
+    #[must_use]
     pub const fn tilt_gain(&self) -> u8 {
         byte_of(self.range, 0, 8)
     }
@@ -304,8 +310,11 @@ wire_derive! {
 }
 
 impl C1 {
-    /// The 16 bits on the wire; a field that does not fit its bits is
-    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The 16 bits on the wire.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a field that does not fit its
+    /// bits.
     pub fn to_u16(&self) -> Result<u16> {
         let v = put_bits(0, u16::from(self.sensor.value()), 0, 3)?;
         let v = put_bits(v, u16::from(self.zoom_speed), 3, 3)?;
@@ -314,6 +323,7 @@ impl C1 {
     }
 
     /// The fields of the 16 bits on the wire.
+    #[must_use]
     pub const fn from_u16(v: u16) -> Self {
         C1 {
             sensor: Sensor::from_value(byte_of(v, 0, 3)),
@@ -556,22 +566,29 @@ wire_newtype! {
 
 impl PowerControl {
     /// EO 1 power (bits 0..1).
+    #[must_use]
     pub const fn eo1(self) -> PowerSwitch {
         PowerSwitch::from_value(byte_of(self.0, 0, 2))
     }
     /// IR power (bits 2..3).
+    #[must_use]
     pub const fn ir(self) -> PowerSwitch {
         PowerSwitch::from_value(byte_of(self.0, 2, 2))
     }
     /// EO 2 power (bits 4..5).
+    #[must_use]
     pub const fn eo2(self) -> PowerSwitch {
         PowerSwitch::from_value(byte_of(self.0, 4, 2))
     }
     /// Laser power (bits 14..15).
+    #[must_use]
     pub const fn laser(self) -> PowerSwitch {
         PowerSwitch::from_value(byte_of(self.0, 14, 2))
     }
-    /// The bits for four switches; a switch value above 3 is [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The bits for four switches.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a switch value above 3.
     pub fn new(
         eo1: PowerSwitch,
         ir: PowerSwitch,
@@ -643,6 +660,7 @@ wire_derive! {
 
 impl E1 {
     /// A command with zero parameters.
+    #[must_use]
     pub const fn new(source: TrackingSource, command: TrackingCommand) -> Self {
         E1 {
             source,
@@ -653,6 +671,7 @@ impl E1 {
     }
 
     /// Search: move the cross at the given speeds (0..=31 each).
+    #[must_use]
     pub const fn search(source: TrackingSource, yaw: u8, pitch: u8) -> Self {
         E1 {
             source,
@@ -663,6 +682,7 @@ impl E1 {
     }
 
     /// AI detection on or off.
+    #[must_use]
     pub const fn ai_detection(source: TrackingSource, on: OnOff) -> Self {
         E1 {
             source,
@@ -673,6 +693,7 @@ impl E1 {
     }
 
     /// Tracking speed in 0.2°/s (0 = default); `None` for another command.
+    #[must_use]
     pub const fn tracking_speed_5th_dps(&self) -> Option<u8> {
         match self.command {
             TrackingCommand::TrackingSpeed => Some(self.param2),
@@ -681,6 +702,7 @@ impl E1 {
     }
 
     /// Tracking speed coefficient times ten (0 = default); `None` for another command.
+    #[must_use]
     pub const fn speed_coefficient_x10(&self) -> Option<u8> {
         match self.command {
             TrackingCommand::SpeedCoefficient => Some(self.param2),
@@ -740,10 +762,12 @@ wire_newtype! {
 
 impl OsdWord {
     /// Bits 0..7.
+    #[must_use]
     pub const fn osd1(self) -> super::OsdFlags {
         super::OsdFlags(self.0.to_be_bytes()[1])
     }
     /// Bits 8..15.
+    #[must_use]
     pub const fn osd2(self) -> super::OsdTypeFlags {
         super::OsdTypeFlags(self.0.to_be_bytes()[0])
     }
@@ -882,15 +906,19 @@ wire_newtype! {
 
 impl CalibrationSources {
     /// Bits 0..1.
+    #[must_use]
     pub const fn yaw(self) -> YawCalibration {
         YawCalibration::from_value(bits8(self.0, 0, 2))
     }
     /// Bits 2..3.
+    #[must_use]
     pub const fn pitch(self) -> PitchCalibration {
         PitchCalibration::from_value(bits8(self.0, 2, 2))
     }
-    /// The byte for two sources (bits 4..7 zero); a source above 3 is
-    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The byte for two sources (bits 4..7 zero).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a source above 3.
     pub fn new(yaw: YawCalibration, pitch: PitchCalibration) -> Result<Self> {
         let b = put_bits8(0, yaw.value(), 0, 2)?;
         put_bits8(b, pitch.value(), 2, 2).map(CalibrationSources)

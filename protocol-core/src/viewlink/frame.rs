@@ -72,6 +72,19 @@ pub const fn len_byte(body_len: u8, counter: u8) -> u8 {
     (body_len & 0x3F) | ((counter & 0x03) << 6)
 }
 
+/// `Ok` when a one-byte checksum received is the one computed, else
+/// [`Error::BadChecksum`] (serial frames and TCP envelopes).
+pub(super) fn compare_checksums(computed: u8, received: u8) -> Result<()> {
+    if computed == received {
+        Ok(())
+    } else {
+        Err(Error::BadChecksum {
+            computed: computed.into(),
+            received: received.into(),
+        })
+    }
+}
+
 /// A read-only or read-write view of a Viewlink frame in a byte buffer.
 ///
 /// [`Frame::new_checked`] guarantees the buffer starts with either sync order, has a
@@ -212,16 +225,7 @@ impl<T: AsRef<[u8]>> Frame<T> {
     /// # Errors
     /// [`Error::BadChecksum`] when the checksum carried is not the one computed.
     pub fn verify(&self) -> Result<()> {
-        let computed = self.compute_checksum();
-        let received = self.checksum();
-        if computed == received {
-            Ok(())
-        } else {
-            Err(Error::BadChecksum {
-                computed: computed.into(),
-                received: received.into(),
-            })
-        }
+        compare_checksums(self.compute_checksum(), self.checksum())
     }
 }
 

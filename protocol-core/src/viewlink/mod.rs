@@ -507,7 +507,7 @@ impl<'a> Packet<'a> {
     /// [`Packet::buffer_len`].
     pub fn emit(&self, buf: &mut [u8]) -> Result<usize> {
         emit_frame(
-            &self.header,
+            self.header,
             self.message.id(),
             self.message.payload_len(),
             buf,
@@ -544,14 +544,14 @@ impl<'a> From<Message<'a>> for Packet<'a> {
 /// # Errors
 /// As [`Packet::emit`].
 pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
-    emit_frame(header, M::ID, message.block_len(), buf, |w| {
+    emit_frame(*header, M::ID, message.block_len(), buf, |w| {
         message.write_block(w)
     })
 }
 
 /// Writes sync bytes, LEN, id, payload (through `payload`) and checksum.
 fn emit_frame(
-    header: &Header,
+    header: Header,
     id: u8,
     payload_len: usize,
     buf: &mut [u8],

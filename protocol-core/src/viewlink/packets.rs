@@ -260,8 +260,10 @@ wire_derive! {
 }
 
 impl AiTargets {
-    /// A packet with the given header and targets; more than four targets is
-    /// [`Error::OutOfRange`].
+    /// A packet with the given header and targets.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for more than four targets.
     pub fn new(
         total_targets: u8,
         total_packets: u8,
@@ -283,6 +285,7 @@ impl AiTargets {
     }
 
     /// The targets of this packet.
+    #[must_use]
     pub fn targets(&self) -> &[AiTarget] {
         self.targets
             .get(..usize::from(self.count))
@@ -320,7 +323,7 @@ impl Block for AiTargets {
             return Err(Error::BadLength);
         }
         let mut t = Reader::new(rest);
-        for slot in p.targets.iter_mut() {
+        for slot in &mut p.targets {
             if t.is_empty() {
                 break;
             }
@@ -376,6 +379,7 @@ wire_derive! {
 
 impl Klv {
     /// The valid KLV bytes (`valid_len` of `data`, at most what is present).
+    #[must_use]
     pub fn payload(&self) -> &[u8] {
         let d = self.data.as_slice();
         d.get(..usize::from(self.valid_len)).unwrap_or(d)

@@ -31,11 +31,14 @@ wire_derive! {
 
 impl B1 {
     /// Roll in 0.01°: `roll_raw12 * 18000 / 4095 - 9000`.
+    #[must_use]
     pub const fn roll_cdeg(&self) -> i32 {
+        // Widening (`i32::from` is not const).
         ((self.roll_raw12 as i32).saturating_mul(18000) / 4095).saturating_sub(9000)
     }
 
     /// The 12-bit roll value for a roll in 0.01° (clamped to ±90°, rounded).
+    #[must_use]
     pub const fn roll_raw_from_cdeg(cdeg: i32) -> u16 {
         let c = if cdeg < -9000 {
             -9000
@@ -104,6 +107,7 @@ wire_derive! {
 impl B2 {
     /// The document's fault code 0xEE does not fit the 5-bit field: it is byte 1 as a
     /// whole (action 0x0E, reserved bit set, counter 3).
+    #[must_use]
     pub const fn is_fault(&self) -> bool {
         matches!(self.action, ServoAction::Other(0x0E)) && self.reserved && self.counter == 3
     }
