@@ -652,6 +652,15 @@ viewlink_command_block! {
     }
 }
 
+impl U {
+    /// The V command that answers this U packet: the same code. ArduPilot matches a
+    /// reply to its query by the query code (0xD0 firmware, 0xE4 model).
+    #[must_use]
+    pub const fn reply_command(&self) -> VCommand {
+        VCommand::from_value(self.command().value())
+    }
+}
+
 // ----------------------------------------------------------------------------------- V
 
 code_enum! {

@@ -614,6 +614,36 @@ mod tests {
     }
 
     #[test]
+    fn typed_messages_know_their_ids() {
+        assert_eq!((Status::ID, StatusOsd::ID), (0x40, 0x42));
+        assert_eq!((IpAddress::ID, IpFeedback::ID), (0x29, 0x92));
+        assert_eq!((IpAddress::NAME, IpFeedback::NAME), ("IpSet", "IpFeedback"));
+        assert_eq!(Transparent::ENCODED_LEN, MAX_PAYLOAD_LEN);
+        assert_eq!(V::ENCODED_LEN, 23);
+        let status = Status::default();
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode(&StatusOsd(status), &Header::new(2), &mut buf).unwrap();
+        let p = Packet::decode(&buf[..n]).unwrap();
+        assert_eq!(p.header, Header::new(2));
+        assert_eq!(p.message.get::<StatusOsd>(), Some(StatusOsd(status)));
+        assert_eq!(p.message.get::<Status>(), None);
+        assert_eq!(p.message, Message::from(StatusOsd(status)));
+        let mut again = [0u8; MAX_FRAME_LEN];
+        assert_eq!(p.emit(&mut again), Ok(n));
+        assert_eq!(again[..n], buf[..n]);
+        let swapped = Header {
+            sync: SyncOrder::Swapped,
+            counter: 3,
+        };
+        let n = encode(&Heartbeat { value: 0 }, &swapped, &mut buf).unwrap();
+        assert_eq!(&buf[..n], &[0xAA, 0x55, 0xDC, 0xC4, 0x10, 0x00, 0xD4]);
+        assert_eq!(Packet::decode(&buf[..n]).unwrap().header, swapped);
+        let mut counter = FrameCounter::new();
+        let headers: [Header; 4] = core::array::from_fn(|_| counter.next_header());
+        assert_eq!(headers.map(|h| h.counter), [1, 2, 3, 0]);
+    }
+
+    #[test]
     fn zoom_in_example() {
         let f = [
             0x55, 0xAA, 0xDC, 0x11, 0x30, 0x0F, 0, 0, 0, 0, 0, 0, 0, 0, 0x02, 0x78, 0, 0, 0, 0x54,
