@@ -807,6 +807,20 @@ fn bit_fields() -> Outcome {
         !osd.osd1()
             .contains(OsdFlags::default().with_hide_cross(true).0)
     );
+    // Flag bytes: the named bits, and the others kept.
+    let sd = SdStateFlags(0x09);
+    ensure!(sd.inserted() && sd.formatted() && !sd.full());
+    ensure_eq!(
+        SdStateFlags::default()
+            .with_inserted(true)
+            .with_formatted(true),
+        sd
+    );
+    ensure_eq!(PrmInvert(0xFF).reserved_bits(), 0x03);
+    ensure_eq!(YpmzInvert(0xFF).reserved_bits(), 0x00);
+    let calc = TargetCalcFlags(0x51);
+    ensure!(calc.osd_object_gps() && calc.serial_output());
+    ensure_eq!(calc.output_format(), 2);
     let power = PowerControl(0x4009);
     ensure_eq!(
         (power.eo1(), power.ir(), power.eo2(), power.laser()),

@@ -154,14 +154,46 @@ wire_newtype! {
 
 bit_set! {
     /// YPMZ (yaw, pitch, mode, zoom) channel reverse bits (U 0x10 byte 9, appendix
-    /// table E). Default 0xFF.
-    pub struct YpmzInvert(u8) {}
+    /// table E): a set bit moves the command to the other end of the RC range (the
+    /// stop stays at 1500 µs). Default 0xFF.
+    pub struct YpmzInvert(u8) {
+        /// Bit 0: zoom out at 1100 µs (else 1900 µs).
+        0 => zoom_out, with_zoom_out;
+        /// Bit 1: zoom in at 1900 µs (else 1100 µs).
+        1 => zoom_in, with_zoom_in;
+        /// Bit 2: slowest speed at 1100 µs (else 1900 µs).
+        2 => speed, with_speed;
+        /// Bit 3: recentre at 1900 µs (else 1100 µs).
+        3 => recenter, with_recenter;
+        /// Bit 4: pitch up at 1100 µs (else 1900 µs).
+        4 => pitch_up, with_pitch_up;
+        /// Bit 5: pitch down at 1900 µs (else 1100 µs).
+        5 => pitch_down, with_pitch_down;
+        /// Bit 6: yaw left at 1100 µs (else 1900 µs).
+        6 => yaw_left, with_yaw_left;
+        /// Bit 7: yaw right at 1900 µs (else 1100 µs).
+        7 => yaw_right, with_yaw_right;
+    }
 }
 
 bit_set! {
     /// PRM / FRM (focus, record, multi) channel reverse bits (U 0x10 byte 10, appendix
-    /// table F). Default 0xFF.
-    pub struct PrmInvert(u8) {}
+    /// table F): a set bit moves the command to the other end of the RC range; bits 0
+    /// and 1 reserved. Default 0xFF.
+    pub struct PrmInvert(u8) {
+        /// Bit 2: slowest speed at 1100 µs (else 1900 µs).
+        2 => speed, with_speed;
+        /// Bit 3: recentre at 1900 µs (else 1100 µs).
+        3 => recenter, with_recenter;
+        /// Bit 4: shoot at 1100 µs (else 1900 µs).
+        4 => shoot, with_shoot;
+        /// Bit 5: record start/stop at 1900 µs (else 1100 µs).
+        5 => record, with_record;
+        /// Bit 6: picture in picture at 1100 µs (else 1900 µs).
+        6 => picture_in_picture, with_picture_in_picture;
+        /// Bit 7: IR colour at 1900 µs (else 1100 µs).
+        7 => ir_color, with_ir_color;
+    }
 }
 
 bit_set! {

@@ -7,7 +7,9 @@
 //! combination of blocks, selected by the frame id ([`CATALOG`], 37 ids).
 //!
 //! ```
-//! use protocol_core::viewlink::{self, C1, Header, LrfCommand, OperationCommand, Packet, Sensor, ViewlinkFraming};
+//! use protocol_core::viewlink::{
+//!     self, C1, Header, LrfCommand, OperationCommand, Packet, Sensor, ViewlinkFraming,
+//! };
 //! use protocol_core::wire::{Deframer, Event};
 //!
 //! // Build a message (the document's zoom in, as ArduPilot sends it: C1 alone, frame
