@@ -207,13 +207,18 @@ macro_rules! wire_struct {
     };
 }
 
-/// Declares newtypes over an integer carried as is (bit sets, packed nibbles), with
-/// [`Field`](crate::wire::encoding::Field) in both byte orders; accessors are written
-/// by hand next to them.
+/// Declares newtypes over an integer carried as is (bit sets, packed nibbles) or over
+/// another wire type (a message that shares another's layout), with
+/// [`Field`](crate::wire::encoding::Field) in every byte order the inner type has;
+/// accessors are written by hand next to them.
 macro_rules! wire_newtype {
     ($( $(#[$meta:meta])* pub struct $name:ident($repr:ty); )*) => {$(
+        wire_newtype!(@def [] $(#[$meta])* $name($repr));
+    )*};
+    // `[custom_serde]`: the type implements `serde::Serialize` by hand (`bit_set!`).
+    (@def [$($custom:ident)?] $(#[$meta:meta])* $name:ident($repr:ty)) => {
         wire_derive! {
-            [Eq, Hash, Default]
+            $($custom)? [Eq, Hash, Default]
             $(#[$meta])*
             pub struct $name(pub $repr);
         }
@@ -230,7 +235,7 @@ macro_rules! wire_newtype {
                 <$repr as $crate::wire::encoding::Field<O>>::write(&self.0, w)
             }
         }
-    )*};
+    };
 }
 
 /// Declares a [`wire_newtype!`] whose bits are flags (lossless: every bit is kept, named
@@ -243,9 +248,20 @@ macro_rules! bit_set {
             $( $(#[$bmeta:meta])* $bit:literal => $get:ident, $set:ident; )*
         }
     ) => {
-        wire_newtype! {
-            $(#[$meta])*
-            pub struct $name($repr);
+        wire_newtype!(@def [custom_serde] $(#[$meta])* $name($repr));
+
+        /// Serialised as `{"raw": n, "<bit>": bool, ...}`: the value and every named bit.
+        #[cfg(feature = "serde")]
+        impl serde::Serialize for $name {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+                use serde::ser::SerializeStruct as _;
+                // "raw" and one field per named bit.
+                let fields = [$( stringify!($get) ),*].len().saturating_add(1);
+                let mut st = s.serialize_struct(stringify!($name), fields)?;
+                st.serialize_field("raw", &self.0)?;
+                $( st.serialize_field(stringify!($get), &self.$get())?; )*
+                st.end()
+            }
         }
 
         impl $name {

@@ -7,8 +7,7 @@
 //! the bytes that neither scan could place.
 
 use protocol_core::gcu::{
-    CATALOG, CameraStatus, FeedbackKind, Frame, GcuFraming, GcuSub, HostStatus, HostSub, Message,
-    Packet,
+    CATALOG, FeedbackKind, Frame, GcuFraming, GcuSub, HostSub, Message, Packet,
 };
 use serde_json::{Map, Value, json};
 
@@ -29,38 +28,6 @@ fn command_fields(message: &Message<'_>) -> Result<Value, String> {
     }
 }
 
-/// A status bit set as `{"raw": n, "<bit>": bool, ...}` (protocol-core serialises bit
-/// sets as their integer; the tool shows the named bits too).
-fn host_status(s: HostStatus) -> Value {
-    json!({
-        "raw": s.0,
-        "ins_valid": s.ins_valid(),
-        "control_valid": s.control_valid(),
-    })
-}
-
-/// The camera status bits, as [`host_status`].
-fn camera_status(s: CameraStatus) -> Value {
-    json!({
-        "raw": s.0,
-        "tracking": s.tracking(),
-        "range_valid": s.range_valid(),
-        "ranging": s.ranging(),
-        "night_vision": s.night_vision(),
-        "lighting": s.lighting(),
-        "upward_power_on": s.upward_power_on(),
-    })
-}
-
-/// A data frame as JSON, with its bit set field `key` expanded by `bits`.
-fn frame_value<T: serde::Serialize>(frame: &T, key: &str, bits: Value) -> Result<Value, String> {
-    let mut v = to_value(frame)?;
-    if let Value::Object(m) = &mut v {
-        m.insert(key.to_string(), bits);
-    }
-    Ok(v)
-}
-
 /// Decodes one checksum-valid package of either direction.
 pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     let frame = Frame::new_checked(bytes).map_err(|e| e.to_string())?;
@@ -71,10 +38,7 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
             let main = p.frames.main;
             fields.insert("direction".into(), json!("host"));
             fields.insert("version".into(), json!(p.header.version));
-            fields.insert(
-                "main".into(),
-                frame_value(&main, "status", host_status(main.status))?,
-            );
+            fields.insert("main".into(), to_value(&main)?);
             if p.frames.sub != HostSub::ABSENT {
                 fields.insert("sub".into(), to_value(&p.frames.sub)?);
             }
@@ -85,10 +49,7 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
             let main = p.frames.main;
             fields.insert("direction".into(), json!("gcu"));
             fields.insert("version".into(), json!(p.header.version));
-            fields.insert(
-                "main".into(),
-                frame_value(&main, "camera_status", camera_status(main.camera_status))?,
-            );
+            fields.insert("main".into(), to_value(&main)?);
             if p.frames.sub != GcuSub::ABSENT {
                 fields.insert("sub".into(), to_value(&p.frames.sub)?);
             }
