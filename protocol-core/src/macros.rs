@@ -154,8 +154,44 @@ pub(crate) fn serialize_code<S: serde::Serializer, C: serde::Serialize>(
 /// Generates the struct (with [`wire_derive!`]: `Eq`, `Hash`, `Default` too, unless the
 /// order is followed by `float`, for structs with `f32` fields; more derives may follow
 /// the order in brackets, `Le [PartialOrd, Ord];`), an associated `LEN` and the `Field`
-/// implementation.
+/// implementation. `Le, bytes;` declares a struct of `u8` fields only, read and written
+/// as one array.
 macro_rules! wire_struct {
+    // `bytes`: every field is a `u8`; read and written as one array (smaller code than a
+    // bounds check per field).
+    (
+        $order:ident, bytes $([$($more:ident),*])?;
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* pub $field:ident: u8, )*
+        }
+    ) => {
+        wire_derive! {
+            [Eq, Hash, Default $($(, $more)*)?]
+            $(#[$meta])*
+            pub struct $name {
+                $( $(#[$fmeta])* pub $field: u8, )*
+            }
+        }
+
+        impl $name {
+            /// Encoded length in bytes.
+            pub const LEN: usize = [$( stringify!($field) ),*].len();
+        }
+
+        impl<O> $crate::wire::encoding::Field<O> for $name {
+            const LEN: usize = $name::LEN;
+
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                let [$($field),*] = r.array()?;
+                Ok(Self { $($field),* })
+            }
+
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                w.put(&[$(self.$field),*])
+            }
+        }
+    };
     (
         $order:ident, float;
         $(#[$meta:meta])*
