@@ -345,3 +345,55 @@ macro_rules! present {
         true
     };
 }
+
+/// Declares a protocol's checked zero-copy frame view, `Frame<T: AsRef<[u8]>>`, with what
+/// every protocol's view has: `new_unchecked`, `new_checked` (which calls the protocol's
+/// own `check_len`), `into_inner`, and the private `byte`/`set_byte` accessors that read
+/// 0 and write nothing past the end of the buffer. The protocol adds its field accessors.
+macro_rules! frame_view {
+    ($(#[$meta:meta])*) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone)]
+        pub struct Frame<T: AsRef<[u8]>> {
+            buffer: T,
+        }
+
+        impl<T: AsRef<[u8]>> Frame<T> {
+            /// A view without checks: accessors of an invalid buffer return zero or empty
+            /// values (they never panic). Use [`Frame::new_checked`] for received bytes.
+            pub const fn new_unchecked(buffer: T) -> Self {
+                Frame { buffer }
+            }
+
+            /// A view of a buffer that holds a whole frame (its checksum is not verified
+            /// here: see [`Frame::verify`]).
+            ///
+            /// # Errors
+            /// As [`Frame::check_len`].
+            pub fn new_checked(buffer: T) -> $crate::Result<Self> {
+                let frame = Frame { buffer };
+                frame.check_len()?;
+                Ok(frame)
+            }
+
+            /// The underlying buffer.
+            pub fn into_inner(self) -> T {
+                self.buffer
+            }
+
+            /// The byte at `i` (0 past the end of the buffer).
+            fn byte(&self, i: usize) -> u8 {
+                self.buffer.as_ref().get(i).copied().unwrap_or(0)
+            }
+        }
+
+        impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
+            /// Sets the byte at `i` (nothing past the end of the buffer).
+            fn set_byte(&mut self, i: usize, v: u8) {
+                if let Some(b) = self.buffer.as_mut().get_mut(i) {
+                    *b = v;
+                }
+            }
+        }
+    };
+}

@@ -63,34 +63,16 @@ pub const fn direction_of(sync: [u8; 2]) -> Option<Direction> {
     }
 }
 
-/// A read-only or read-write view of a GCU package in a byte buffer.
-///
-/// [`Frame::new_checked`] guarantees the buffer starts with either direction's sync
-/// bytes, carries a length in `MIN_FRAME_LEN..=MAX_FRAME_LEN`, and holds that many
-/// bytes. Accessors never panic (on an unchecked buffer they return zero or empty
-/// values). Bytes after the package are ignored.
-#[derive(Debug, Clone)]
-pub struct Frame<T: AsRef<[u8]>> {
-    buffer: T,
+frame_view! {
+    /// A read-only or read-write view of a GCU package in a byte buffer.
+    ///
+    /// [`Frame::new_checked`] guarantees the buffer starts with either direction's sync
+    /// bytes, carries a length in `MIN_FRAME_LEN..=MAX_FRAME_LEN`, and holds that many
+    /// bytes. Accessors never panic (on an unchecked buffer they return zero or empty
+    /// values). Bytes after the package are ignored.
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
-    /// A view without checks. Use [`Frame::new_checked`] for received bytes.
-    pub const fn new_unchecked(buffer: T) -> Self {
-        Frame { buffer }
-    }
-
-    /// A view of a buffer that holds a whole package (the CRC is not verified; see
-    /// [`Frame::verify`]).
-    ///
-    /// # Errors
-    /// As [`Frame::check_len`].
-    pub fn new_checked(buffer: T) -> Result<Self> {
-        let frame = Frame { buffer };
-        frame.check_len()?;
-        Ok(frame)
-    }
-
     /// Checks the sync bytes, the length field and that the buffer holds the package.
     ///
     /// # Errors
@@ -123,15 +105,6 @@ impl<T: AsRef<[u8]>> Frame<T> {
             return Err(Error::Truncated);
         }
         Ok(())
-    }
-
-    /// The underlying buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
-    }
-
-    fn byte(&self, i: usize) -> u8 {
-        self.buffer.as_ref().get(i).copied().unwrap_or(0)
     }
 
     fn range(&self, start: usize, end: usize) -> &[u8] {
@@ -248,12 +221,6 @@ impl<'a> Frame<&'a [u8]> {
 }
 
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
-    fn set_byte(&mut self, i: usize, v: u8) {
-        if let Some(b) = self.buffer.as_mut().get_mut(i) {
-            *b = v;
-        }
-    }
-
     /// Writes the sync bytes of `direction` and the length field (the whole package).
     pub fn set_start(&mut self, direction: Direction, total_len: u16) {
         let [s0, s1] = sync_of(direction);

@@ -85,33 +85,15 @@ pub(super) fn compare_checksums(computed: u8, received: u8) -> Result<()> {
     }
 }
 
-/// A read-only or read-write view of a Viewlink frame in a byte buffer.
-///
-/// [`Frame::new_checked`] guarantees the buffer starts with either sync order, has a
-/// body length in 4..=63 and holds the whole frame. Accessors never panic, also on an
-/// unchecked view (they return zeros). Bytes after the frame are ignored.
-#[derive(Debug, Clone)]
-pub struct Frame<T: AsRef<[u8]>> {
-    buffer: T,
+frame_view! {
+    /// A read-only or read-write view of a Viewlink frame in a byte buffer.
+    ///
+    /// [`Frame::new_checked`] guarantees the buffer starts with either sync order, has a
+    /// body length in 4..=63 and holds the whole frame. Accessors never panic, also on an
+    /// unchecked view (they return zeros). Bytes after the frame are ignored.
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
-    /// A view without checks.
-    pub const fn new_unchecked(buffer: T) -> Self {
-        Frame { buffer }
-    }
-
-    /// A view of a buffer that holds a whole frame (the checksum is not verified; see
-    /// [`Frame::verify`]).
-    ///
-    /// # Errors
-    /// As [`Frame::check_len`].
-    pub fn new_checked(buffer: T) -> Result<Self> {
-        let f = Frame { buffer };
-        f.check_len()?;
-        Ok(f)
-    }
-
     /// Checks the sync bytes, the body length and that the buffer holds the frame.
     ///
     /// # Errors
@@ -135,15 +117,6 @@ impl<T: AsRef<[u8]>> Frame<T> {
             return Err(Error::Truncated);
         }
         Ok(())
-    }
-
-    /// The underlying buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
-    }
-
-    fn byte(&self, i: usize) -> u8 {
-        self.buffer.as_ref().get(i).copied().unwrap_or(0)
     }
 
     /// The sync order (standard when the view is not a checked frame).
@@ -238,12 +211,6 @@ impl<'a> Frame<&'a [u8]> {
 }
 
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
-    fn set_byte(&mut self, i: usize, v: u8) {
-        if let Some(b) = self.buffer.as_mut().get_mut(i) {
-            *b = v;
-        }
-    }
-
     /// Writes the sync bytes.
     pub fn set_sync_order(&mut self, order: SyncOrder) {
         for (i, b) in order.bytes().into_iter().enumerate() {
