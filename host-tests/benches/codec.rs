@@ -204,15 +204,14 @@ fn gcu() {
         .iter()
         .map(|f| {
             let request = HostPacket::decode(f).expect("host package");
-            let reply = GcuPacket {
-                version: request.version,
+            let frames = GcuFrames {
                 main: GcuMain {
                     mode: GimbalMode::from_value(0x11),
                     ..GcuMain::default()
                 },
                 sub: GcuSub::ABSENT,
-                feedback: Feedback::success(&request.command),
             };
+            let reply = request.answer(frames, Execution::Success);
             let mut buf = [0u8; MAX_FRAME_LEN];
             let n = reply.emit(&mut buf).expect("emit reply");
             buf[..n].to_vec()

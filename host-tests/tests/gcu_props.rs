@@ -6,6 +6,7 @@ mod common;
 use codec_cases::oracle::gcu_crc as doc_crc;
 use common::{Piece, build, check_stream, deframe, oracle, piece};
 use proptest::prelude::*;
+use protocol_core::Direction;
 use protocol_core::gcu::*;
 
 const HOST: [u8; 2] = [0xA8, 0xE5];
@@ -43,8 +44,8 @@ fn valid(sync: [u8; 2], b: &[u8]) -> Option<usize> {
 fn known_command() -> impl Strategy<Value = (u8, Vec<u8>)> {
     proptest::sample::select(CATALOG.to_vec()).prop_flat_map(|e| {
         (
-            Just(e.order),
-            proptest::collection::vec(any::<u8>(), e.params_len),
+            Just(e.id),
+            proptest::collection::vec(any::<u8>(), e.payload_len),
         )
     })
 }
@@ -91,9 +92,11 @@ proptest! {
     ) {
         let f = package(HOST, v, &frames, order, &params);
         let p = HostPacket::decode(&f).unwrap();
-        prop_assert!(!matches!(p.command, Command::Raw(_)), "{order:#04x} decoded as Raw");
-        prop_assert_eq!(p.command.order().value(), order);
-        prop_assert_eq!(p.version, v);
+        prop_assert!(matches!(p.message, Message::Command(_)), "{order:#04x} decoded as Raw");
+        prop_assert_eq!(p.message.id(), order);
+        prop_assert_eq!(p.message.order().value(), order);
+        prop_assert_eq!(p.header.version, v);
+        prop_assert_eq!(&p.frames.main.sub_request, &frames[25]);
         prop_assert_eq!(p.buffer_len(), f.len());
         prop_assert_eq!(emit(&Packet::Host(p)), f);
     }
@@ -102,7 +105,9 @@ proptest! {
     #[test]
     fn any_package_round_trips(f in prop_oneof![host_package(), gcu_package()]) {
         let p = Packet::decode(&f).unwrap();
-        prop_assert_eq!(p.direction() == Direction::Host, f[0] == 0xA8);
+        prop_assert_eq!(p.direction() == Direction::ToGimbal, f[0] == 0xA8);
+        prop_assert_eq!(p.id(), f[69]);
+        prop_assert_eq!(p.header().version, f[4]);
         let again = emit(&p);
         prop_assert_eq!(&again, &f);
         prop_assert_eq!(Packet::decode(&again).unwrap(), p);
@@ -129,7 +134,8 @@ proptest! {
             prop_assert_eq!(valid(sync, &b), Some(p.buffer_len()));
         }
         let unchecked = Frame::new_unchecked(&b[..]);
-        let _ = (unchecked.params(), unchecked.checksum(), unchecked.direction());
+        let _ = (unchecked.payload(), unchecked.checksum(), unchecked.direction());
+        let _ = (unchecked.id(), unchecked.payload_len(), unchecked.main(), unchecked.sub());
     }
 
     /// Noisy host streams, cut at random points: exactly the reference scan's packages.
@@ -166,6 +172,27 @@ proptest! {
             if reference.iter().all(|f| mine.contains(f)) {
                 prop_assert_eq!(&got, &mine, "an intact package was lost");
             }
+        }
+    }
+
+    /// Any host package is answered with a GCU package that echoes its version and
+    /// order, decodes as such, and carries the given frames.
+    #[test]
+    fn any_host_package_is_answered(f in host_package(), gcu_frames in proptest::collection::vec(any::<u8>(), 64)) {
+        let request = HostPacket::decode(&f).unwrap();
+        let frames = GcuPacket::decode(&package(GCU, 0, &gcu_frames, 0, &[0])).unwrap().frames;
+        let reply = request.answer(frames, Execution::Success);
+        let bytes = emit(&Packet::Gcu(reply));
+        prop_assert_eq!(bytes.len(), 73);
+        prop_assert_eq!(&bytes[..2], &GCU);
+        prop_assert_eq!((bytes[4], bytes[69], bytes[70]), (f[4], f[69], 0x00));
+        prop_assert_eq!(&bytes[5..37], &gcu_frames[..32]);
+        let back = GcuPacket::decode(&bytes).unwrap();
+        prop_assert_eq!(back, reply);
+        if f[30] == SUB_HEADER {
+            prop_assert_eq!(&bytes[37..69], &gcu_frames[32..]);
+        } else {
+            prop_assert_eq!(back.frames.sub, GcuSub::ABSENT);
         }
     }
 

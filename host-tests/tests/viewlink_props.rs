@@ -53,7 +53,7 @@ fn known_lengths() -> Vec<(u8, Vec<usize>)> {
         .iter()
         .filter(|e| e.id != 0xB1)
         .map(|e| {
-            let lens = (1..=MAX_DATA_LEN)
+            let lens = (1..=MAX_PAYLOAD_LEN)
                 .filter(|&n| Message::decode(e.id, &vec![0u8; n]).is_ok())
                 .collect::<Vec<_>>();
             assert!(!lens.is_empty(), "{:#04x} accepts no length", e.id);
@@ -87,14 +87,85 @@ fn known_message() -> impl Strategy<Value = (u8, Vec<u8>)> {
 fn any_frame() -> impl Strategy<Value = Vec<u8>> + Clone {
     prop_oneof![
         4 => (known_message(), 0u8..4).prop_map(|((id, d), c)| frame(SYNC, id, c, &d)),
-        1 => (any::<u8>(), 0u8..4, proptest::collection::vec(any::<u8>(), 1..=MAX_DATA_LEN))
+        1 => (any::<u8>(), 0u8..4, proptest::collection::vec(any::<u8>(), 1..=MAX_PAYLOAD_LEN))
             .prop_filter("unknown id", |(id, _, _)| CATALOG.iter().all(|e| e.id != *id))
             .prop_map(|(id, c, d)| frame(SYNC, id, c, &d)),
     ]
 }
 
+/// Encodes `msg` through its typed payload (`viewlink::encode`), whichever frame id it
+/// is; `None` for a raw message.
+fn encode_typed(msg: &Message<'_>, header: &Header, out: &mut [u8]) -> Option<usize> {
+    macro_rules! first_type {
+        ($($t:ty),* $(,)?) => {
+            $( if let Some(m) = msg.get::<$t>() {
+                assert_eq!(<$t as MessageData>::ID, msg.id());
+                assert!(m.block_len() <= <$t as MessageData>::ENCODED_LEN);
+                return Some(encode(&m, header, out).unwrap());
+            } )*
+        };
+    }
+    first_type!(
+        Control,
+        ControlTgcc,
+        A1,
+        C1,
+        E1,
+        S1,
+        RareControl,
+        RareControlTgcc,
+        A2,
+        C2,
+        E2,
+        S2,
+        U,
+        V,
+        Status,
+        StatusOsd,
+        RareStatus,
+        M,
+        AiTargets,
+        Klv,
+        Handshake,
+        Heartbeat,
+        Ack,
+        D1,
+        B1,
+        F1,
+        T1,
+        T2,
+        F2,
+        B2,
+        D2,
+        Transparent,
+        SdQuery,
+        SdFeedback,
+        IpQuery,
+        IpAddress,
+        IpFeedback,
+    );
+    None
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(1024))]
+
+    /// Any known message encodes to the same frame through its typed payload
+    /// (`viewlink::encode`) as through the enum (`Packet::emit`).
+    #[test]
+    fn typed_encode_matches_the_enum_path((id, data) in known_message(), c in 0u8..4, swapped in any::<bool>()) {
+        let msg = Message::decode(id, &data).unwrap();
+        let header = Header {
+            sync: if swapped { SyncOrder::Swapped } else { SyncOrder::Standard },
+            counter: c,
+        };
+        let mut a = [0u8; MAX_FRAME_LEN];
+        let mut b = [0u8; MAX_FRAME_LEN];
+        let n = Packet::new(header, msg).emit(&mut a).unwrap();
+        let m = encode_typed(&msg, &header, &mut b);
+        prop_assert_eq!(m, Some(n));
+        prop_assert_eq!(&a[..n], &b[..n]);
+    }
 
     /// Any data of a known id decodes to a typed message that re-encodes to the same
     /// bytes and decodes again to the same message.
@@ -103,8 +174,8 @@ proptest! {
         let msg = Message::decode(id, &data).unwrap();
         prop_assert!(!matches!(msg, Message::Raw(_)), "{id:#04x} decoded as Raw");
         prop_assert_eq!(msg.id(), id);
-        prop_assert_eq!(msg.data_len(), data.len());
-        let mut buf = [0u8; MAX_DATA_LEN];
+        prop_assert_eq!(msg.payload_len(), data.len());
+        let mut buf = [0u8; MAX_PAYLOAD_LEN];
         let mut w = Writer::new(&mut buf);
         msg.encode(&mut w).unwrap();
         prop_assert_eq!(w.written(), &data[..]);
@@ -120,8 +191,8 @@ proptest! {
             f[..3].copy_from_slice(&SYNC_SWAPPED);
         }
         let p = Packet::decode(&f).unwrap();
-        prop_assert_eq!(p.counter, f[3] >> 6);
-        prop_assert_eq!(p.header == HeaderOrder::Swapped, swapped);
+        prop_assert_eq!(p.header.counter, f[3] >> 6);
+        prop_assert_eq!(p.header.sync == SyncOrder::Swapped, swapped);
         prop_assert_eq!(p.buffer_len(), f.len());
         let mut out = [0u8; MAX_FRAME_LEN];
         let n = p.emit(&mut out).unwrap();
@@ -135,8 +206,8 @@ proptest! {
         let msg = Message::decode(id, &data).unwrap();
         let mut a = [0u8; MAX_FRAME_LEN];
         let mut b = [0u8; MAX_FRAME_LEN];
-        let n = Packet::new(0, msg).emit(&mut a).unwrap();
-        let m = Packet::new(c, msg).emit(&mut b).unwrap();
+        let n = Packet::new(Header::new(0), msg).emit(&mut a).unwrap();
+        let m = Packet::new(Header::new(c), msg).emit(&mut b).unwrap();
         prop_assert_eq!(n, m);
         prop_assert_eq!(b[3], a[3] | (c << 6));
         prop_assert_eq!(b[n - 1], a[n - 1] ^ (c << 6));
@@ -166,9 +237,9 @@ proptest! {
 
     /// Arbitrary data of arbitrary ids never panics and, when accepted, round-trips.
     #[test]
-    fn arbitrary_data_round_trips(id in any::<u8>(), d in proptest::collection::vec(any::<u8>(), 1..=MAX_DATA_LEN)) {
+    fn arbitrary_data_round_trips(id in any::<u8>(), d in proptest::collection::vec(any::<u8>(), 1..=MAX_PAYLOAD_LEN)) {
         if let Ok(msg) = Message::decode(id, &d) {
-            let mut buf = [0u8; MAX_DATA_LEN];
+            let mut buf = [0u8; MAX_PAYLOAD_LEN];
             let mut w = Writer::new(&mut buf);
             msg.encode(&mut w).unwrap();
             prop_assert_eq!(w.written(), &d[..]);

@@ -110,12 +110,12 @@ fn serial_vectors_match_the_documented_fields() {
         let p = Packet::decode(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
         let f = Frame::new_checked(&bytes[..]).unwrap();
         assert_eq!(i64::from(f.body_len()), num(&d["length_n"]), "{name}");
-        assert_eq!(i64::from(p.counter), num(&d["counter"]), "{name}");
+        assert_eq!(i64::from(p.header.counter), num(&d["counter"]), "{name}");
         assert_eq!(i64::from(p.message.id()), num(&d["frame_id"]), "{name}");
         assert_eq!(i64::from(f.checksum()), num(&d["checksum"]), "{name}");
         assert_eq!(
             hex(d["header"].as_str().unwrap()),
-            p.header.bytes(),
+            p.header.sync.bytes(),
             "{name}"
         );
         match p.message {
@@ -210,4 +210,38 @@ fn tool_reports_printed_errata_as_bad_frames() {
             v["name"]
         );
     }
+}
+
+#[test]
+fn tool_shows_newtype_frames_as_their_layout() {
+    // 0x92 and 0x42 have types of their own (IpFeedback, StatusOsd) that serialise as
+    // the layout they wrap, as the shared type did.
+    let mut capture = Vec::new();
+    for (id, data) in [
+        (0x92u8, vec![0xC0, 0xA8, 0x90, 0x40]),
+        (0x42, vec![0u8; 41]),
+    ] {
+        let mut f = vec![0x55, 0xAA, 0xDC, data.len() as u8 + 3, id];
+        f.extend(&data);
+        let cs = f[3..].iter().fold(0, |a, b| a ^ b);
+        f.push(cs);
+        capture.extend(f);
+    }
+    let items = tool::protocol("viewlink").unwrap().scan(&capture);
+    let decoded: Vec<_> = items
+        .iter()
+        .filter_map(|i| match i {
+            Item::Frame { decoded: Ok(d), .. } => Some(d),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(decoded.len(), 2, "{items:#?}");
+    assert_eq!(decoded[0].name, "IpFeedback");
+    assert_eq!(
+        decoded[0].fields["octets"],
+        serde_json::json!([192, 168, 144, 64])
+    );
+    assert_eq!(decoded[1].name, "StatusOsd");
+    assert_eq!(decoded[1].fields["b1"]["roll_raw12"], 0);
+    assert_eq!(decoded[1].fields["f1"]["state"]["name"], "Stop");
 }

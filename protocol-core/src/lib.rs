@@ -4,19 +4,30 @@
 //! `no_std`, no allocation, no `unsafe`, and no panicking path on any input: every
 //! failure is an [`Error`] value.
 //!
-//! # Shape of every codec (after smoltcp's `wire`)
-//! - A checked zero-copy **frame view** over a byte buffer (`Frame<T: AsRef<[u8]>>`,
-//!   `new_checked`, field accessors, checksum verification).
-//! - A high-level **representation**: a `Message` enum of typed payload structs, with
-//!   `parse` from a frame and `emit` into a buffer. Unknown ids decode to a raw variant
-//!   that carries the payload, so a bridge can forward what it does not understand.
-//! - A [`wire::Framing`] implementation, so the shared streaming [`wire::Deframer`]
-//!   finds the protocol's frames in a byte stream and resynchronises after garbage.
+//! # A tour: which type to reach for, in which order
+//! Every protocol module (`k40t`, `siyi`, `viewlink`, `gcu`) has the same shape:
+//!
+//! 1. **Bytes in:** a [`wire::Deframer`] with the protocol's framing (`K40tFraming`,
+//!    `SiyiFraming`, `ViewlinkFraming`, `GcuFraming`) finds checksum-valid frames in a
+//!    byte stream: [`push`](wire::Deframer::push) a slice, or let a UART driver write
+//!    into [`spare_capacity_mut`](wire::Deframer::spare_capacity_mut) and
+//!    [`commit`](wire::Deframer::commit); on line idle, [`flush`](wire::Deframer::flush).
+//! 2. **A frame:** `Frame<T: AsRef<[u8]>>` is the checked zero-copy view (`new_checked`,
+//!    `id()`, `payload()`, `verify()`), smoltcp's `Packet<T>`.
+//! 3. **Its meaning:** `Packet::decode(bytes)` (or `Packet::parse(&frame)`) gives a
+//!    `Packet { header: Header, message: Message }`, smoltcp's `Repr`. `Message` is an enum
+//!    over every message id, with a `Raw` variant for unknown ids (never an error).
+//! 4. **One message:** every payload type implements the protocol's `MessageData` (its
+//!    `ID`, `NAME`, `ENCODED_LEN`): recognise one with `message.get::<HybridZoom>()`.
+//! 5. **Bytes out:** `encode(&message, &header, &mut buf)` writes one typed message as a
+//!    whole frame; `Packet::emit(&mut buf)` writes a decoded packet back, byte for byte.
+//! 6. **Catalogue:** `CATALOG` lists every id the codec knows.
 //!
 //! Units are part of field names (`yaw_cdeg`: 0.01 degree, `zoom_x10`: zoom ratio times
 //! ten, `distance_dm`: decimetres). Enumerations keep values the documents do not list
 //! in an `Other` variant, so decoding never loses information and every decoded frame
-//! re-encodes byte for byte.
+//! re-encodes byte for byte. Where a message id means different things in the two
+//! directions (SIYI, GCU), decoding takes the [`Direction`].
 //!
 //! # Cargo features
 //! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `defmt` derives

@@ -154,8 +154,44 @@ pub(crate) fn serialize_code<S: serde::Serializer, C: serde::Serialize>(
 /// Generates the struct (with [`wire_derive!`]: `Eq`, `Hash`, `Default` too, unless the
 /// order is followed by `float`, for structs with `f32` fields; more derives may follow
 /// the order in brackets, `Le [PartialOrd, Ord];`), an associated `LEN` and the `Field`
-/// implementation.
+/// implementation. `Le, bytes;` declares a struct of `u8` fields only, read and written
+/// as one array.
 macro_rules! wire_struct {
+    // `bytes`: every field is a `u8`; read and written as one array (smaller code than a
+    // bounds check per field).
+    (
+        $order:ident, bytes $([$($more:ident),*])?;
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $( $(#[$fmeta:meta])* pub $field:ident: u8, )*
+        }
+    ) => {
+        wire_derive! {
+            [Eq, Hash, Default $($(, $more)*)?]
+            $(#[$meta])*
+            pub struct $name {
+                $( $(#[$fmeta])* pub $field: u8, )*
+            }
+        }
+
+        impl $name {
+            /// Encoded length in bytes.
+            pub const LEN: usize = [$( stringify!($field) ),*].len();
+        }
+
+        impl<O> $crate::wire::encoding::Field<O> for $name {
+            const LEN: usize = $name::LEN;
+
+            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
+                let [$($field),*] = r.array()?;
+                Ok(Self { $($field),* })
+            }
+
+            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
+                w.put(&[$(self.$field),*])
+            }
+        }
+    };
     (
         $order:ident, float;
         $(#[$meta:meta])*
@@ -207,13 +243,18 @@ macro_rules! wire_struct {
     };
 }
 
-/// Declares newtypes over an integer carried as is (bit sets, packed nibbles), with
-/// [`Field`](crate::wire::encoding::Field) in both byte orders; accessors are written
-/// by hand next to them.
+/// Declares newtypes over an integer carried as is (bit sets, packed nibbles) or over
+/// another wire type (a message that shares another's layout), with
+/// [`Field`](crate::wire::encoding::Field) in every byte order the inner type has;
+/// accessors are written by hand next to them.
 macro_rules! wire_newtype {
     ($( $(#[$meta:meta])* pub struct $name:ident($repr:ty); )*) => {$(
+        wire_newtype!(@def [] $(#[$meta])* $name($repr));
+    )*};
+    // `[custom_serde]`: the type implements `serde::Serialize` by hand (`bit_set!`).
+    (@def [$($custom:ident)?] $(#[$meta:meta])* $name:ident($repr:ty)) => {
         wire_derive! {
-            [Eq, Hash, Default]
+            $($custom)? [Eq, Hash, Default]
             $(#[$meta])*
             pub struct $name(pub $repr);
         }
@@ -230,7 +271,7 @@ macro_rules! wire_newtype {
                 <$repr as $crate::wire::encoding::Field<O>>::write(&self.0, w)
             }
         }
-    )*};
+    };
 }
 
 /// Declares a [`wire_newtype!`] whose bits are flags (lossless: every bit is kept, named
@@ -243,9 +284,20 @@ macro_rules! bit_set {
             $( $(#[$bmeta:meta])* $bit:literal => $get:ident, $set:ident; )*
         }
     ) => {
-        wire_newtype! {
-            $(#[$meta])*
-            pub struct $name($repr);
+        wire_newtype!(@def [custom_serde] $(#[$meta])* $name($repr));
+
+        /// Serialised as `{"raw": n, "<bit>": bool, ...}`: the value and every named bit.
+        #[cfg(feature = "serde")]
+        impl serde::Serialize for $name {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+                use serde::ser::SerializeStruct as _;
+                // "raw" and one field per named bit.
+                let fields = [$( stringify!($get) ),*].len().saturating_add(1);
+                let mut st = s.serialize_struct(stringify!($name), fields)?;
+                st.serialize_field("raw", &self.0)?;
+                $( st.serialize_field(stringify!($get), &self.$get())?; )*
+                st.end()
+            }
         }
 
         impl $name {
@@ -291,5 +343,57 @@ macro_rules! present {
     };
     ($t:ty) => {
         true
+    };
+}
+
+/// Declares a protocol's checked zero-copy frame view, `Frame<T: AsRef<[u8]>>`, with what
+/// every protocol's view has: `new_unchecked`, `new_checked` (which calls the protocol's
+/// own `check_len`), `into_inner`, and the private `byte`/`set_byte` accessors that read
+/// 0 and write nothing past the end of the buffer. The protocol adds its field accessors.
+macro_rules! frame_view {
+    ($(#[$meta:meta])*) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone)]
+        pub struct Frame<T: AsRef<[u8]>> {
+            buffer: T,
+        }
+
+        impl<T: AsRef<[u8]>> Frame<T> {
+            /// A view without checks: accessors of an invalid buffer return zero or empty
+            /// values (they never panic). Use [`Frame::new_checked`] for received bytes.
+            pub const fn new_unchecked(buffer: T) -> Self {
+                Frame { buffer }
+            }
+
+            /// A view of a buffer that holds a whole frame (its checksum is not verified
+            /// here: see [`Frame::verify`]).
+            ///
+            /// # Errors
+            /// As [`Frame::check_len`].
+            pub fn new_checked(buffer: T) -> $crate::Result<Self> {
+                let frame = Frame { buffer };
+                frame.check_len()?;
+                Ok(frame)
+            }
+
+            /// The underlying buffer.
+            pub fn into_inner(self) -> T {
+                self.buffer
+            }
+
+            /// The byte at `i` (0 past the end of the buffer).
+            fn byte(&self, i: usize) -> u8 {
+                self.buffer.as_ref().get(i).copied().unwrap_or(0)
+            }
+        }
+
+        impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
+            /// Sets the byte at `i` (nothing past the end of the buffer).
+            fn set_byte(&mut self, i: usize, v: u8) {
+                if let Some(b) = self.buffer.as_mut().get_mut(i) {
+                    *b = v;
+                }
+            }
+        }
     };
 }

@@ -7,9 +7,9 @@
 
 use crate::oracle::gcu_crc as doc_crc;
 use crate::{Failure, Outcome};
-use protocol_core::Error;
 use protocol_core::gcu::*;
 use protocol_core::wire::{Deframer, Event};
+use protocol_core::{Direction, Error};
 
 type Bytes = heapless::Vec<u8, 300>;
 
@@ -63,81 +63,85 @@ fn doc(
     status: u8,
     sub_request: u8,
     [roll, pitch, yaw]: [i16; 3],
-    command: Command<'static>,
+    command: impl Into<Message<'static>>,
 ) -> HostPacket<'static> {
     HostPacket {
-        version: 0x01,
-        main: HostMain {
-            roll_control: roll,
-            pitch_control: pitch,
-            yaw_control: yaw,
-            status: HostStatus(status),
-            sub_request,
-            ..HostMain::default()
+        header: Header { version: 0x01 },
+        frames: HostFrames {
+            main: HostMain {
+                roll_control: roll,
+                pitch_control: pitch,
+                yaw_control: yaw,
+                status: HostStatus(status),
+                sub_request,
+                ..HostMain::default()
+            },
+            sub: HostSub::ABSENT,
         },
-        sub: HostSub::ABSENT,
-        command,
+        message: command.into(),
     }
 }
 
 const Z: [i16; 3] = [0, 0, 0];
 const C1: CameraSet = CameraSet::CAMERA_1;
 
-fn track(action: TrackAction) -> Command<'static> {
-    Command::Track(Track {
+fn track(action: TrackAction) -> Track {
+    Track {
         cameras: C1,
         action,
         x0: 100,
         y0: 100,
         x1: 105,
         y1: 105,
-    })
+    }
 }
 
-fn click(x: u16, y: u16) -> Command<'static> {
-    Command::ClickToAim(ClickToAim { cameras: C1, x, y })
+fn click(x: u16, y: u16) -> ClickToAim {
+    ClickToAim { cameras: C1, x, y }
 }
 
-fn zoom_to(cameras: u8, zoom_code: i16) -> Command<'static> {
-    Command::ZoomTo(ZoomTo {
+fn zoom_to(cameras: u8, zoom_code: i16) -> ZoomTo {
+    ZoomTo {
         cameras: CameraSet(cameras),
         zoom_code,
-    })
+    }
 }
 
 /// Appendix 1 as printed (valid CRC): velocities north and up printed `40 80`.
 fn appendix_1(vel_north_up: i16) -> HostPacket<'static> {
     HostPacket {
-        version: 0x01,
-        main: HostMain {
-            roll_control: 0,
-            pitch_control: 100,
-            yaw_control: -100,
-            status: HostStatus(0x05),
-            carrier_roll_cdeg: -1132,
-            carrier_pitch_cdeg: 101,
-            carrier_yaw_cdeg: 24000,
-            accel_north_cmps2: 112,
-            accel_east_cmps2: -112,
-            accel_up_cmps2: 112,
-            vel_north_dmps: vel_north_up,
-            vel_east_dmps: -2112,
-            vel_up_dmps: vel_north_up,
-            sub_request: 0x01,
-            reserved: [0; 6],
+        header: Header { version: 0x01 },
+        frames: HostFrames {
+            main: HostMain {
+                roll_control: 0,
+                pitch_control: 100,
+                yaw_control: -100,
+                status: HostStatus(0x05),
+                carrier_roll_cdeg: -1132,
+                carrier_pitch_cdeg: 101,
+                carrier_yaw_cdeg: 24000,
+                accel_north_cmps2: 112,
+                accel_east_cmps2: -112,
+                accel_up_cmps2: 112,
+                vel_north_dmps: vel_north_up,
+                vel_east_dmps: -2112,
+                vel_up_dmps: vel_north_up,
+                sub_request: 0x01,
+                reserved: [0; 6],
+            },
+            sub: HostSub {
+                header: 0x01,
+                lon_e7: 1_709_175_332,
+                lat_e7: 380_300_822,
+                alt_mm: 41123,
+                satellites: 19,
+                gps_tow_ms: 352_718_000,
+                gps_week: 2278,
+                rel_height_mm: 12120,
+                reserved: [0; 8],
+            },
         },
-        sub: HostSub {
-            header: 0x01,
-            lon_e7: 1_709_175_332,
-            lat_e7: 380_300_822,
-            alt_mm: 41123,
-            satellites: 19,
-            gps_tow_ms: 352_718_000,
-            gps_week: 2278,
-            rel_height_mm: 12120,
-            reserved: [0; 8],
-        },
-        command: Command::Null,
+        message: Null {}.into(),
     }
 }
 
@@ -146,24 +150,23 @@ fn appendix_1(vel_north_up: i16) -> HostPacket<'static> {
 /// command_order + params).
 #[rustfmt::skip]
 fn expectation(name: &str) -> Option<(u16, u16, HostPacket<'static>)> {
-    use Command::*;
     Some(match name {
         "Appendix 1: full host frame with carrier attitude/accel/velocity + sub frame (GNSS), null command"
             => (72, 0xE9D4, appendix_1(-32704)),
-        "Null command" => (72, 0x28B2, doc(0x00, 0x01, Z, Null)),
-        "Pitch control (keep current control mode, control quantity 100)" => (72, 0x323E, doc(0x04, 0x01, [0, 100, 0], Null)),
-        "Pitch control (keep current control mode, control quantity -100)" => (72, 0xDAAF, doc(0x04, 0x01, [0, -100, 0], Null)),
-        "Yaw control (keep current control mode, control quantity 1000)" => (72, 0x09C8, doc(0x04, 0x01, [0, 0, 1000], Null)),
-        "Neutral" => (72, 0x18D1, doc(0x00, 0x01, Z, Neutral)),
-        "FPV (Roll 0°, Pitch 0°, Yaw 0°)" => (72, 0xD427, doc(0x00, 0x00, Z, Fpv)),
-        "FPV (Roll 0°, Pitch 45°, Yaw 60° )" => (72, 0x9FF2, doc(0x04, 0x00, [0, 4500, 6000], Fpv)),
+        "Null command" => (72, 0x28B2, doc(0x00, 0x01, Z, Null {})),
+        "Pitch control (keep current control mode, control quantity 100)" => (72, 0x323E, doc(0x04, 0x01, [0, 100, 0], Null {})),
+        "Pitch control (keep current control mode, control quantity -100)" => (72, 0xDAAF, doc(0x04, 0x01, [0, -100, 0], Null {})),
+        "Yaw control (keep current control mode, control quantity 1000)" => (72, 0x09C8, doc(0x04, 0x01, [0, 0, 1000], Null {})),
+        "Neutral" => (72, 0x18D1, doc(0x00, 0x01, Z, Neutral {})),
+        "FPV (Roll 0°, Pitch 0°, Yaw 0°)" => (72, 0xD427, doc(0x00, 0x00, Z, Fpv {})),
+        "FPV (Roll 0°, Pitch 45°, Yaw 60° )" => (72, 0x9FF2, doc(0x04, 0x00, [0, 4500, 6000], Fpv {})),
         // Erratum: the title says yaw 60°, the bytes (and the fixture) yaw 0.
-        "FPV (Roll 20°, Pitch 0°, Yaw 60°)" => (72, 0xD056, doc(0x04, 0x00, [2000, 0, 0], Fpv)),
-        "Head lock" => (72, 0x2AA2, doc(0x00, 0x01, Z, HeadLock)),
-        "Switch to head lock and meanwhile yaw control (control quantity 1000)" => (72, 0x0BD8, doc(0x04, 0x01, [0, 0, 1000], HeadLock)),
-        "Head follow" => (72, 0x1AC1, doc(0x00, 0x01, Z, HeadFollow)),
-        "Euler angle control" => (72, 0x94A3, doc(0x00, 0x00, Z, EulerAngle)),
-        "Euler angle control (Roll 0°, Pitch -45°, Yaw 0°)" => (72, 0x70CB, doc(0x04, 0x00, [0, -4500, 0], EulerAngle)),
+        "FPV (Roll 20°, Pitch 0°, Yaw 60°)" => (72, 0xD056, doc(0x04, 0x00, [2000, 0, 0], Fpv {})),
+        "Head lock" => (72, 0x2AA2, doc(0x00, 0x01, Z, HeadLock {})),
+        "Switch to head lock and meanwhile yaw control (control quantity 1000)" => (72, 0x0BD8, doc(0x04, 0x01, [0, 0, 1000], HeadLock {})),
+        "Head follow" => (72, 0x1AC1, doc(0x00, 0x01, Z, HeadFollow {})),
+        "Euler angle control" => (72, 0x94A3, doc(0x00, 0x00, Z, EulerAngle {})),
+        "Euler angle control (Roll 0°, Pitch -45°, Yaw 0°)" => (72, 0x70CB, doc(0x04, 0x00, [0, -4500, 0], EulerAngle {})),
         "Start tracking (X0=100, Y0=100, X1=105, Y1=105)" => (82, 0x13F0, doc(0x00, 0x01, Z, track(TrackAction::Start))),
         "Exit tracking" => (82, 0xF8D3, doc(0x00, 0x01, Z, track(TrackAction::Exit))),
         "Click to aim (X=100(0x64), Y=100(0x64))" => (77, 0xC0D8, doc(0x00, 0x01, Z, click(100, 100))),
@@ -182,9 +185,9 @@ fn expectation(name: &str) -> Option<(u16, u16, HostPacket<'static>)> {
         "Camera 1 zooms to specified rate (-603(60.3x))" => (75, 0xD5F7, doc(0x00, 0x00, Z, zoom_to(0x01, -603))),
         "Focus" => (73, 0xCB12, doc(0x00, 0x01, Z, Focus(C1))),
         "Next palette option" => (74, 0xC4FF, doc(0x00, 0x01, Z,
-            Palette(protocol_core::gcu::Palette { cameras: CameraSet::CAMERA_2, action: PaletteAction::Next }))),
-        "Night vision on" => (74, 0xB6BD, doc(0x00, 0x01, Z, NightVision(protocol_core::gcu::NightVision { cameras: C1, state: OnOff::On }))),
-        "Night vision off" => (74, 0xA69C, doc(0x00, 0x01, Z, NightVision(protocol_core::gcu::NightVision { cameras: C1, state: OnOff::Off }))),
+            Palette { cameras: CameraSet::CAMERA_2, action: PaletteAction::Next })),
+        "Night vision on" => (74, 0xB6BD, doc(0x00, 0x01, Z, NightVision { cameras: C1, state: OnOff::On })),
+        "Night vision off" => (74, 0xA69C, doc(0x00, 0x01, Z, NightVision { cameras: C1, state: OnOff::Off })),
         "Lighting on (255)" => (73, 0x721B, doc(0x00, 0x01, Z, Lighting(255))),
         "Lighting off (0)" => (73, 0x6CEB, doc(0x00, 0x01, Z, Lighting(0))),
         "Continuously ranging on" => (73, 0x7F98, doc(0x00, 0x01, Z, Ranging(RangingState::On))),
@@ -210,7 +213,7 @@ fn seed_vectors_decode_and_reencode() -> Outcome {
         let frame = check!(Frame::new_checked(v.bytes));
         ensure_eq!((v.name, frame.total_len()), (v.name, usize::from(length)));
         ensure_eq!((v.name, frame.checksum()), (v.name, crc));
-        ensure_eq!(frame.direction(), Some(Direction::Host));
+        ensure_eq!(frame.direction(), Some(Direction::ToGimbal));
         let p = check!(HostPacket::decode(v.bytes));
         ensure_eq!((v.name, p), (v.name, expected));
         ensure_eq!(check!(Packet::decode(v.bytes)), Packet::Host(expected));
@@ -231,7 +234,7 @@ fn appendix_1_both_frames() -> Outcome {
     let v = check!(crate::vectors("GCU").find(|v| v.name.starts_with("Appendix 1")));
     let printed = check!(HostPacket::decode(v.bytes));
     ensure_eq!(printed, appendix_1(-32704));
-    ensure_eq!(printed.main.vel_north_dmps, -32704);
+    ensure_eq!(printed.frames.main.vel_north_dmps, -32704);
     let semantic_bytes = check!(v.alt_semantic);
     let semantic = check!(HostPacket::decode(semantic_bytes));
     ensure_eq!(semantic, appendix_1(2112));
@@ -243,12 +246,13 @@ fn appendix_1_both_frames() -> Outcome {
     let n = check!(semantic.emit(&mut out));
     ensure_eq!(&out[..n], semantic_bytes);
     // Field meanings.
-    ensure!(semantic.main.status.ins_valid() && semantic.main.status.control_valid());
-    ensure_eq!(semantic.main.status.reserved_bits(), 0);
-    ensure!(semantic.sub.is_present());
+    let status = semantic.frames.main.status;
+    ensure!(status.ins_valid() && status.control_valid());
+    ensure_eq!(status.reserved_bits(), 0);
+    ensure!(semantic.frames.sub.is_present());
     // 2278 weeks + 352718000 ms of GPS time, 18 leap seconds: 2023-09-07T01:58:20Z.
     ensure_eq!(
-        semantic.sub.gps_time().to_unix_ms(18),
+        semantic.frames.sub.gps_time().to_unix_ms(18),
         Some(1_694_051_900_000)
     );
     Ok(())
@@ -280,7 +284,7 @@ fn orthoview_printed_crc_is_rejected() -> Outcome {
     ensure_eq!(d.stats().checksum_errors, 1);
     ensure_eq!(
         check!(HostPacket::decode(v.bytes)),
-        doc(0x00, 0x01, Z, Command::Orthoview)
+        doc(0x00, 0x01, Z, Orthoview {})
     );
     Ok(())
 }
@@ -305,14 +309,15 @@ fn ardupilot_packages_decode() -> Outcome {
     let attitude = package([0xA8, 0xE5], 0x02, &main, &sub, 0x10, &[]);
     ensure_eq!(attitude.len(), 72);
     let p = check!(HostPacket::decode(&attitude));
-    ensure_eq!(p.version, 0x02);
-    ensure_eq!(p.command, Command::Fpv);
-    ensure_eq!((p.main.pitch_control, p.main.yaw_control), (-4500, -9000));
-    ensure!(p.main.status.ins_valid() && p.main.status.control_valid());
-    ensure_eq!(p.main.carrier_yaw_cdeg, 56536);
-    ensure_eq!(p.main.carrier_yaw_0_36000_cdeg(), 27000);
+    ensure_eq!(p.header.version, 0x02);
+    ensure_eq!(p.message, Message::Command(Command::Fpv(Fpv {})));
+    let (main, sub) = (p.frames.main, p.frames.sub);
+    ensure_eq!((main.pitch_control, main.yaw_control), (-4500, -9000));
+    ensure!(main.status.ins_valid() && main.status.control_valid());
+    ensure_eq!(main.carrier_yaw_cdeg, 56536);
+    ensure_eq!(main.carrier_yaw_0_36000_cdeg(), 27000);
     ensure_eq!(
-        (p.sub.lon_e7, p.sub.lat_e7, p.sub.satellites),
+        (sub.lon_e7, sub.lat_e7, sub.satellites),
         (1_163_970_000, 399_080_000, 17)
     );
     let mut out = [0u8; MAX_FRAME_LEN];
@@ -321,41 +326,41 @@ fn ardupilot_packages_decode() -> Outcome {
 
     let mut simple_main = [0u8; 32];
     put(&mut simple_main, 5, 30, &[0x01]);
-    let cases: [(u8, u8, Command<'static>); 11] = [
-        (0x20, 0x01, Command::Shutter(C1)),
-        (0x21, 0x01, Command::Record(C1)),
-        (0x21, 0x00, Command::Record(CameraSet::NONE)),
-        (0x22, 0x01, Command::ZoomIn(C1)),
-        (0x23, 0x01, Command::ZoomOut(C1)),
-        (0x24, 0x01, Command::ZoomStop(C1)),
-        (0x26, 0x01, Command::Focus(C1)),
+    let cases: [(u8, u8, Command); 11] = [
+        (0x20, 0x01, Command::Shutter(Shutter(C1))),
+        (0x21, 0x01, Command::Record(Record(C1))),
+        (0x21, 0x00, Command::Record(Record(CameraSet::NONE))),
+        (0x22, 0x01, Command::ZoomIn(ZoomIn(C1))),
+        (0x23, 0x01, Command::ZoomOut(ZoomOut(C1))),
+        (0x24, 0x01, Command::ZoomStop(ZoomStop(C1))),
+        (0x26, 0x01, Command::Focus(Focus(C1))),
         (
             0x74,
             0x01,
-            Command::PictureInPicture(PipView::PipZoomMainThermalSub),
+            Command::PictureInPicture(PictureInPicture(PipView::PipZoomMainThermalSub)),
         ),
         (
             0x74,
             0x02,
-            Command::PictureInPicture(PipView::ThermalMainZoomSub),
+            Command::PictureInPicture(PictureInPicture(PipView::ThermalMainZoomSub)),
         ),
         (
             0x74,
             0x03,
-            Command::PictureInPicture(PipView::PipThermalMainZoomSub),
+            Command::PictureInPicture(PictureInPicture(PipView::PipThermalMainZoomSub)),
         ),
         (
             0x74,
             0x04,
-            Command::PictureInPicture(PipView::ZoomMainThermalSub),
+            Command::PictureInPicture(PictureInPicture(PipView::ZoomMainThermalSub)),
         ),
     ];
     for (order, param, expected) in cases {
         let bytes = package([0xA8, 0xE5], 0x02, &simple_main, &[0; 32], order, &[param]);
         ensure_eq!(bytes.len(), 73);
         let p = check!(HostPacket::decode(&bytes));
-        ensure_eq!((order, p.command), (order, expected));
-        ensure_eq!((p.version, p.main.sub_request), (0x02, 0x01));
+        ensure_eq!((order, p.message), (order, Message::Command(expected)));
+        ensure_eq!((p.header.version, p.frames.main.sub_request), (0x02, 0x01));
         let n = check!(p.emit(&mut out));
         ensure_eq!(&out[..n], &bytes[..]);
     }
@@ -367,20 +372,22 @@ fn ardupilot_packages_decode() -> Outcome {
 /// and 39, order at 69, execution state at 70, CRC big-endian.
 fn gcu_reply_reads_as_ardupilot_expects() -> Outcome {
     let reply = GcuPacket {
-        version: 0x02,
-        main: GcuMain {
-            mode: GimbalMode::Fpv,
-            rel_z_cdeg: -4500,
-            roll_cdeg: 150,
-            pitch_cdeg: -3000,
-            yaw_cdeg: 27000,
-            ..GcuMain::default()
-        },
-        sub: GcuSub {
-            header: 0x01,
-            hardware_version: 12,
-            firmware_version: 34,
-            ..GcuSub::ABSENT
+        header: Header { version: 0x02 },
+        frames: GcuFrames {
+            main: GcuMain {
+                mode: GimbalMode::Fpv,
+                rel_z_cdeg: -4500,
+                roll_cdeg: 150,
+                pitch_cdeg: -3000,
+                yaw_cdeg: 27000,
+                ..GcuMain::default()
+            },
+            sub: GcuSub {
+                header: 0x01,
+                hardware_version: 12,
+                firmware_version: 34,
+                ..GcuSub::ABSENT
+            },
         },
         feedback: Feedback::new(Order::Record, Execution::Success),
     };
@@ -398,7 +405,7 @@ fn gcu_reply_reads_as_ardupilot_expects() -> Outcome {
     ensure_eq!(u16::from_be_bytes([b[71], b[72]]), doc_crc(&b[..71]));
     // The null order answered, and a shutter failure (ArduPilot: state 0x01 = failed).
     let null = GcuPacket {
-        feedback: Feedback::success(&Command::Null),
+        feedback: Feedback::success(Order::Null),
         ..reply
     };
     ensure_eq!(check!(null.emit(&mut out)), 73);
@@ -546,23 +553,23 @@ fn gcu_frames() -> ([u8; 32], [u8; 32], GcuMain, GcuSub) {
 struct Layout {
     order: u8,
     params: &'static [u8],
-    expected: Command<'static>,
+    expected: Command,
 }
 
 #[rustfmt::skip]
 static LAYOUTS: [Layout; 26] = [
-    Layout { order: 0x00, params: &[], expected: Command::Null },
-    Layout { order: 0x01, params: &[], expected: Command::Calibration },
-    Layout { order: 0x03, params: &[], expected: Command::Neutral },
-    Layout { order: 0x10, params: &[], expected: Command::Fpv },
-    Layout { order: 0x11, params: &[], expected: Command::HeadLock },
-    Layout { order: 0x12, params: &[], expected: Command::HeadFollow },
-    Layout { order: 0x13, params: &[], expected: Command::Orthoview },
-    Layout { order: 0x14, params: &[], expected: Command::EulerAngle },
+    Layout { order: 0x00, params: &[], expected: Command::Null(Null {}) },
+    Layout { order: 0x01, params: &[], expected: Command::Calibration(Calibration {}) },
+    Layout { order: 0x03, params: &[], expected: Command::Neutral(Neutral {}) },
+    Layout { order: 0x10, params: &[], expected: Command::Fpv(Fpv {}) },
+    Layout { order: 0x11, params: &[], expected: Command::HeadLock(HeadLock {}) },
+    Layout { order: 0x12, params: &[], expected: Command::HeadFollow(HeadFollow {}) },
+    Layout { order: 0x13, params: &[], expected: Command::Orthoview(Orthoview {}) },
+    Layout { order: 0x14, params: &[], expected: Command::EulerAngle(EulerAngle {}) },
     // PP PP PP PP lon, QQ QQ QQ QQ lat, RR RR RR RR alt.
     Layout { order: 0x15, params: &[0x3F, 0x26, 0x1D, 0x48, 0x8D, 0xA8, 0x10, 0xEC, 0x40, 0xE2, 0x01, 0x00],
         expected: Command::GazeGeoGuide(GeoTarget { lon_e7: 1_209_869_887, lat_e7: -334_452_595, alt_mm: 123_456 }) },
-    Layout { order: 0x16, params: &[], expected: Command::GazeLock },
+    Layout { order: 0x16, params: &[], expected: Command::GazeLock(GazeLock {}) },
     // KK TT X0X0 Y0Y0 X1X1 Y1Y1.
     Layout { order: 0x17, params: &[0x03, 0x01, 0xE8, 0x03, 0xD0, 0x07, 0xB8, 0x0B, 0xA0, 0x0F],
         expected: Command::Track(Track { cameras: CameraSet(0x03), action: TrackAction::Start, x0: 1000, y0: 2000, x1: 3000, y1: 4000 }) },
@@ -572,20 +579,20 @@ static LAYOUTS: [Layout; 26] = [
     // KK PPPP VVVV TT.
     Layout { order: 0x1B, params: &[0x01, 0x00, 0xFC, 0x00, 0x04, 0x02],
         expected: Command::ExternalTrack(ExternalTrack { cameras: CameraSet::CAMERA_1, miss_x: -1024, miss_y: 1024, action: ExternalTrackAction::Start }) },
-    Layout { order: 0x20, params: &[0x01], expected: Command::Shutter(CameraSet(0x01)) },
-    Layout { order: 0x21, params: &[0x02], expected: Command::Record(CameraSet(0x02)) },
-    Layout { order: 0x22, params: &[0x03], expected: Command::ZoomIn(CameraSet(0x03)) },
-    Layout { order: 0x23, params: &[0x04], expected: Command::ZoomOut(CameraSet(0x04)) },
-    Layout { order: 0x24, params: &[0xFF], expected: Command::ZoomStop(CameraSet(0xFF)) },
+    Layout { order: 0x20, params: &[0x01], expected: Command::Shutter(Shutter(CameraSet(0x01))) },
+    Layout { order: 0x21, params: &[0x02], expected: Command::Record(Record(CameraSet(0x02))) },
+    Layout { order: 0x22, params: &[0x03], expected: Command::ZoomIn(ZoomIn(CameraSet(0x03))) },
+    Layout { order: 0x23, params: &[0x04], expected: Command::ZoomOut(ZoomOut(CameraSet(0x04))) },
+    Layout { order: 0x24, params: &[0xFF], expected: Command::ZoomStop(ZoomStop(CameraSet(0xFF))) },
     // KK ZZZZ.
     Layout { order: 0x25, params: &[0x02, 0xD4, 0xFE], expected: Command::ZoomTo(ZoomTo { cameras: CameraSet(0x02), zoom_code: -300 }) },
-    Layout { order: 0x26, params: &[0x05], expected: Command::Focus(CameraSet(0x05)) },
+    Layout { order: 0x26, params: &[0x05], expected: Command::Focus(Focus(CameraSet(0x05))) },
     Layout { order: 0x2A, params: &[0x02, 0x00], expected: Command::Palette(Palette { cameras: CameraSet(0x02), action: PaletteAction::Next }) },
     Layout { order: 0x2B, params: &[0x01, 0x01], expected: Command::NightVision(NightVision { cameras: CameraSet(0x01), state: OnOff::On }) },
-    Layout { order: 0x73, params: &[0x01], expected: Command::Osd(OnOff::On) },
-    Layout { order: 0x74, params: &[0x03], expected: Command::PictureInPicture(PipView::PipThermalMainZoomSub) },
-    Layout { order: 0x80, params: &[0x80], expected: Command::Lighting(128) },
-    Layout { order: 0x81, params: &[0x02], expected: Command::Ranging(RangingState::On) },
+    Layout { order: 0x73, params: &[0x01], expected: Command::Osd(Osd(OnOff::On)) },
+    Layout { order: 0x74, params: &[0x03], expected: Command::PictureInPicture(PictureInPicture(PipView::PipThermalMainZoomSub)) },
+    Layout { order: 0x80, params: &[0x80], expected: Command::Lighting(Lighting(128)) },
+    Layout { order: 0x81, params: &[0x02], expected: Command::Ranging(Ranging(RangingState::On)) },
 ];
 
 /// Every order's command part, inside a package whose data frames carry distinct values
@@ -596,16 +603,16 @@ fn host_layouts_decode_and_reencode() -> Outcome {
         let bytes = host_package(&m, &s, l.order, l.params);
         let p = check!(HostPacket::decode(&bytes));
         let expected = HostPacket {
-            version: 0x01,
-            main,
-            sub,
-            command: l.expected,
+            header: Header { version: 0x01 },
+            frames: HostFrames { main, sub },
+            message: Message::Command(l.expected),
         };
         ensure_eq!((l.order, p), (l.order, expected));
-        ensure_eq!(p.command.order().value(), l.order);
-        ensure_eq!(p.command.params_len(), l.params.len());
+        ensure_eq!(p.message.id(), l.order);
+        ensure_eq!(p.message.order().value(), l.order);
+        ensure_eq!(p.message.payload_len(), l.params.len());
         ensure_eq!(
-            Order::from_value(l.order).params_len(),
+            Order::from_value(l.order).payload_len(),
             Some(l.params.len())
         );
         let mut out = [0u8; MAX_FRAME_LEN];
@@ -650,9 +657,8 @@ fn gcu_feedback_decodes_and_reencodes() -> Outcome {
             let bytes = gcu_package(&m, &s, l.order, &[byte]);
             let p = check!(GcuPacket::decode(&bytes));
             let expected = GcuPacket {
-                version: 0x01,
-                main,
-                sub,
+                header: Header { version: 0x01 },
+                frames: GcuFrames { main, sub },
                 feedback: Feedback::new(order, execution),
             };
             ensure_eq!((l.order, p), (l.order, expected));
@@ -707,28 +713,37 @@ fn catalog_lists_26_orders() -> Outcome {
     ensure_eq!(CATALOG.len(), 26);
     for (i, e) in CATALOG.iter().enumerate() {
         ensure!(
-            CATALOG[i + 1..].iter().all(|o| o.order != e.order),
+            CATALOG[i + 1..].iter().all(|o| o.id != e.id),
             "{:#04x} twice",
-            e.order
+            e.id
         );
-        let order = Order::from_value(e.order);
+        let order = Order::from_value(e.id);
         ensure!(!matches!(order, Order::Other(_)));
         ensure_eq!(order.name(), e.name);
-        ensure_eq!(order.params_len(), Some(e.params_len));
+        ensure_eq!(order.payload_len(), Some(e.payload_len));
         ensure_eq!(order.feedback_kind(), e.feedback);
-        let l = check!(LAYOUTS.iter().find(|l| l.order == e.order));
-        ensure_eq!(l.params.len(), e.params_len);
+        let l = check!(LAYOUTS.iter().find(|l| l.order == e.id));
+        ensure_eq!(l.params.len(), e.payload_len);
         ensure_eq!(l.expected.name(), e.name);
         // Any parameters of the right length give the typed command.
         let zeros = [0u8; 16];
-        let c = Command::decode(e.order, &zeros[..e.params_len]);
+        let m = Message::decode(e.id, &zeros[..e.payload_len]);
         ensure!(
-            !matches!(c, Command::Raw(_)),
+            matches!(m, Message::Command(_)),
             "{:#04x} decoded as Raw",
-            e.order
+            e.id
         );
+        ensure_eq!(m.order(), order);
+        let c = check!(check!(Command::decode(e.id, &zeros[..e.payload_len])));
         ensure_eq!(c.order(), order);
+        ensure_eq!(Message::Command(c), m);
+        // Parameters one byte longer are refused by the typed decoder.
+        ensure_eq!(
+            Command::decode(e.id, &zeros[..e.payload_len + 1]),
+            Some(Err(Error::BadLength))
+        );
     }
+    ensure_eq!(Command::decode(0x02, &[]), None);
     Ok(())
 }
 
@@ -751,13 +766,189 @@ fn odd_commands_are_raw() -> Outcome {
     for (order, params) in cases {
         let bytes = host_package(&[0; 32], &[0; 32], order, params);
         let p = check!(HostPacket::decode(&bytes));
-        ensure_eq!(p.command, Command::Raw(RawCommand { order, params }));
-        ensure_eq!(p.command.name(), "Raw");
-        ensure_eq!(p.command.order().value(), order);
+        ensure_eq!(
+            p.message,
+            Message::Raw(Raw {
+                id: order,
+                payload: params
+            })
+        );
+        ensure_eq!(p.message.name(), "Raw");
+        ensure_eq!(p.message.id(), order);
+        ensure_eq!(p.message.order().value(), order);
         let mut out = [0u8; MAX_FRAME_LEN];
         let n = check!(p.emit(&mut out));
         ensure_eq!(&out[..n], &bytes[..]);
     }
+    Ok(())
+}
+
+/// The parameters the Command & Feedback table lays out for `order` (see [`LAYOUTS`]).
+fn layout_params(order: u8) -> &'static [u8] {
+    LAYOUTS
+        .iter()
+        .find(|l| l.order == order)
+        .map_or(&[], |l| l.params)
+}
+
+/// One typed command: its id, name and length agree with the catalogue and the
+/// document's layout; `encode` gives the document's bytes and the same bytes as the
+/// enum path; the decoded message gives it back with `get`. Returns its id.
+fn typed<M>(m: M, order: u8) -> Result<u8, Failure>
+where
+    M: MessageData + PartialEq + core::fmt::Debug,
+    Message<'static>: From<M>,
+{
+    let params = layout_params(order);
+    ensure_eq!((M::NAME, M::ID), (M::NAME, order));
+    let e = check!(CATALOG.iter().find(|e| e.id == M::ID));
+    ensure_eq!(e.name, M::NAME);
+    ensure_eq!((M::NAME, e.payload_len), (M::NAME, M::ENCODED_LEN));
+    ensure_eq!((M::NAME, params.len()), (M::NAME, M::ENCODED_LEN));
+    let (hm, hs, main, sub) = host_frames();
+    let frames = HostFrames { main, sub };
+    let header = Header { version: 0x02 };
+    let mut typed = [0u8; MAX_FRAME_LEN];
+    let n = check!(encode(&m, &header, &frames, &mut typed));
+    ensure_eq!(n, MIN_FRAME_LEN + M::ENCODED_LEN);
+    let expected = package([0xA8, 0xE5], 0x02, &hm, &hs, order, params);
+    ensure_eq!((M::NAME, &typed[..n]), (M::NAME, &expected[..]));
+    let via_enum = HostPacket {
+        header,
+        frames,
+        message: m.into_message(),
+    };
+    ensure_eq!(via_enum.buffer_len(), n);
+    let mut out = [0u8; MAX_FRAME_LEN];
+    let k = check!(via_enum.emit(&mut out));
+    ensure_eq!((M::NAME, &out[..k]), (M::NAME, &typed[..n]));
+    ensure_eq!(Message::from(m), m.into_message());
+    let p = check!(HostPacket::decode(&typed[..n]));
+    ensure_eq!(p, via_enum);
+    ensure_eq!(p.message.get::<M>(), Some(m));
+    ensure_eq!(M::from_message(&p.message), Some(m));
+    ensure_eq!((p.message.id(), p.message.name()), (M::ID, M::NAME));
+    ensure_eq!(
+        encode(&m, &header, &frames, &mut out[..n - 1]),
+        Err(Error::BufferTooSmall)
+    );
+    Ok(M::ID)
+}
+
+/// Every order has a typed command (`MessageData`): all 26, each checked by [`typed`],
+/// and `get` misses every other command and raw messages.
+fn typed_commands_know_their_ids() -> Outcome {
+    let c = |n: u8| CameraSet(n);
+    #[rustfmt::skip]
+    let ids = [
+        typed(Null {}, 0x00)?,
+        typed(Calibration {}, 0x01)?,
+        typed(Neutral {}, 0x03)?,
+        typed(Fpv {}, 0x10)?,
+        typed(HeadLock {}, 0x11)?,
+        typed(HeadFollow {}, 0x12)?,
+        typed(Orthoview {}, 0x13)?,
+        typed(EulerAngle {}, 0x14)?,
+        typed(GeoTarget { lon_e7: 1_209_869_887, lat_e7: -334_452_595, alt_mm: 123_456 }, 0x15)?,
+        typed(GazeLock {}, 0x16)?,
+        typed(Track { cameras: c(0x03), action: TrackAction::Start, x0: 1000, y0: 2000, x1: 3000, y1: 4000 }, 0x17)?,
+        typed(ClickToAim { cameras: CameraSet::CAMERA_2, x: 5000, y: 10000 }, 0x1A)?,
+        typed(ExternalTrack { cameras: C1, miss_x: -1024, miss_y: 1024, action: ExternalTrackAction::Start }, 0x1B)?,
+        typed(Shutter(c(0x01)), 0x20)?,
+        typed(Record(c(0x02)), 0x21)?,
+        typed(ZoomIn(c(0x03)), 0x22)?,
+        typed(ZoomOut(c(0x04)), 0x23)?,
+        typed(ZoomStop(c(0xFF)), 0x24)?,
+        typed(ZoomTo { cameras: c(0x02), zoom_code: -300 }, 0x25)?,
+        typed(Focus(c(0x05)), 0x26)?,
+        typed(Palette { cameras: c(0x02), action: PaletteAction::Next }, 0x2A)?,
+        typed(NightVision { cameras: c(0x01), state: OnOff::On }, 0x2B)?,
+        typed(Osd(OnOff::On), 0x73)?,
+        typed(PictureInPicture(PipView::PipThermalMainZoomSub), 0x74)?,
+        typed(Lighting(128), 0x80)?,
+        typed(Ranging(RangingState::On), 0x81)?,
+    ];
+    for e in CATALOG {
+        ensure!(ids.contains(&e.id), "{:#04x} has no typed command", e.id);
+    }
+    // `get` misses: every other order, an empty command for a non-empty one, raw
+    // messages (an unknown order, or the shutter order with parameters of another length).
+    for l in LAYOUTS.iter() {
+        let m = Message::Command(l.expected);
+        ensure_eq!(
+            (l.order, m.get::<Shutter>().is_some()),
+            (l.order, l.order == 0x20)
+        );
+        ensure_eq!(
+            (l.order, m.get::<Null>().is_some()),
+            (l.order, l.order == 0x00)
+        );
+        ensure_eq!(
+            (l.order, m.get::<Track>().is_some()),
+            (l.order, l.order == 0x17)
+        );
+        ensure_eq!(
+            (l.order, m.get::<Lighting>().is_some()),
+            (l.order, l.order == 0x80)
+        );
+    }
+    let raw_shutter = Message::decode(0x20, &[0x01, 0x02]);
+    ensure!(matches!(raw_shutter, Message::Raw(_)));
+    ensure_eq!(raw_shutter.get::<Shutter>(), None);
+    ensure_eq!(Message::decode(0x99, &[]).get::<Null>(), None);
+    Ok(())
+}
+
+/// The bridge path: any host package (any version byte, 72 or 73 bytes or longer, an
+/// unknown order, parameters of another length) is answered with one GCU package that
+/// echoes the version and the order, carrying the given data frames.
+fn answer_echoes_version_and_order() -> Outcome {
+    let (gm, gs, gmain, gsub) = gcu_frames();
+    let frames = GcuFrames {
+        main: gmain,
+        sub: gsub,
+    };
+    let mut simple_main = [0u8; 32];
+    put(&mut simple_main, 5, 30, &[0x01]);
+    let long: &[u8] = &[
+        1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
+    ];
+    let cases: [(u8, u8, &[u8], usize); 5] = [
+        (0x02, 0x10, &[], 72),                 // ArduPilot's attitude package
+        (0x02, 0x21, &[0x00], 73),             // ArduPilot's record stop
+        (0x07, 0x17, layout_params(0x17), 82), // track, another version byte
+        (0xFF, 0x42, long, 92),                // an unknown order
+        (0x01, 0x20, &[], 72),                 // shutter without its parameter
+    ];
+    for (version, order, params, len) in cases {
+        let request = package([0xA8, 0xE5], version, &simple_main, &[0; 32], order, params);
+        ensure_eq!(request.len(), len);
+        let p = check!(HostPacket::decode(&request));
+        let reply = p.answer(frames, Execution::Success);
+        ensure_eq!(
+            (order, reply),
+            (
+                order,
+                GcuPacket {
+                    header: Header { version },
+                    frames,
+                    feedback: Feedback::new(Order::from_value(order), Execution::Success),
+                }
+            )
+        );
+        let mut out = [0u8; MAX_FRAME_LEN];
+        let n = check!(reply.emit(&mut out));
+        let expected = package([0x8A, 0x5E], version, &gm, &gs, order, &[0x00]);
+        ensure_eq!((order, &out[..n]), (order, &expected[..]));
+    }
+    // A host that requests no sub frame (request code 0x00, as the FPV examples do) gets
+    // the absent one; a failure is reported as given.
+    let request = host_package(&[0; 32], &[0; 32], 0x10, &[]);
+    let reply = check!(HostPacket::decode(&request)).answer(frames, Execution::Fail);
+    ensure_eq!(reply.frames.sub, GcuSub::ABSENT);
+    ensure_eq!(reply.frames.main, gmain);
+    ensure_eq!(reply.header, Header::DOC);
+    ensure_eq!(reply.feedback, Feedback::new(Order::Fpv, Execution::Fail));
     Ok(())
 }
 
@@ -806,9 +997,11 @@ fn malformed_packages_are_errors() -> Outcome {
     let mut small = [0u8; 81];
     ensure_eq!(p.emit(&mut small), Err(Error::BufferTooSmall));
     let odd = GcuPacket {
-        version: 1,
-        main: GcuMain::default(),
-        sub: GcuSub::ABSENT,
+        header: Header { version: 1 },
+        frames: GcuFrames {
+            main: GcuMain::default(),
+            sub: GcuSub::ABSENT,
+        },
         feedback: Feedback {
             order: Order::Null,
             execution: None,
@@ -818,15 +1011,15 @@ fn malformed_packages_are_errors() -> Outcome {
     let mut out = [0u8; 300];
     ensure_eq!(odd.emit(&mut out), Err(Error::OutOfRange));
     let huge = [0u8; 186];
-    let too_long = HostPacket::new(Command::Raw(RawCommand {
-        order: 0x99,
-        params: &huge,
-    }));
+    let too_long = HostPacket::new(Raw {
+        id: 0x99,
+        payload: &huge,
+    });
     ensure_eq!(too_long.emit(&mut out), Err(Error::BadLength));
-    let longest = HostPacket::new(Command::Raw(RawCommand {
-        order: 0x99,
-        params: &huge[..185],
-    }));
+    let longest = HostPacket::new(Raw {
+        id: 0x99,
+        payload: &huge[..185],
+    });
     ensure_eq!(check!(longest.emit(&mut out)), MAX_FRAME_LEN);
     ensure!(HostPacket::decode(&out[..MAX_FRAME_LEN]).is_ok());
     Ok(())
@@ -870,8 +1063,8 @@ fn deframer_per_direction() -> Outcome {
                     if let Event::Frame(f) = ev {
                         let l = &LAYOUTS[next.min(LAYOUTS.len() - 1)];
                         let expected = match framing.direction {
-                            Direction::Host => host_package(&hm, &hs, l.order, l.params),
-                            Direction::Gcu => gcu_package(&gm, &gs, l.order, &[next as u8]),
+                            Direction::ToGimbal => host_package(&hm, &hs, l.order, l.params),
+                            Direction::FromGimbal => gcu_package(&gm, &gs, l.order, &[next as u8]),
                         };
                         ok &= f == &expected[..];
                         next += 1;
@@ -1044,6 +1237,8 @@ cases!("gcu":
     gcu_feedback_decodes_and_reencodes,
     catalog_lists_26_orders,
     odd_commands_are_raw,
+    typed_commands_know_their_ids,
+    answer_echoes_version_and_order,
     malformed_packages_are_errors,
     deframer_per_direction,
     camera_sets_and_bits,

@@ -85,10 +85,10 @@ fn rare(c2: C2, e2: E2) -> Message<'static> {
 
 /// The documented fields of every serial seed vector (from each vector's `decoded`
 /// object and the document's description of the example).
-fn vector_message(name: &str) -> Option<(HeaderOrder, Message<'static>)> {
+fn vector_message(name: &str) -> Option<(SyncOrder, Message<'static>)> {
     use OperationCommand as Op;
     let none = C1::default();
-    let std = HeaderOrder::Standard;
+    let std = SyncOrder::Standard;
     let m = match name {
         "Gimbal movement: Left" => control(speed(-2000, 0), none, E1::default()),
         "Gimbal movement: Right" => control(speed(2000, 0), none, E1::default()),
@@ -173,7 +173,7 @@ fn vector_message(name: &str) -> Option<(HeaderOrder, Message<'static>)> {
         "IR thermal camera: EO + IR Black hot" => optics(Sensor::Eo1IrPip, 0, Op::IrBlackHot),
         "IR thermal camera: EO + IR Pseudo color" => optics(Sensor::Eo1IrPip, 0, Op::IrRainbow),
         "ACK feedback (gimbal ack of received frame 0x1A)" => {
-            return Some((HeaderOrder::Swapped, Message::Ack(Ack { acked_id: 0x1A })));
+            return Some((SyncOrder::Swapped, Message::Ack(Ack { acked_id: 0x1A })));
         }
         "AI identify information output open (E2 0x20)" => {
             Message::E2(E2::plain(TrackingCommand2::IdentifyOn))
@@ -210,13 +210,15 @@ fn seed_vectors_decode_to_documented_fields() -> Outcome {
             ));
         };
         let p = check!(Packet::decode(v.bytes));
-        ensure_eq!((v.name, p.header), (v.name, header));
-        ensure_eq!((v.name, p.counter), (v.name, 0));
+        ensure_eq!((v.name, p.header.sync), (v.name, header));
+        ensure_eq!((v.name, p.header.counter), (v.name, 0));
         ensure_eq!((v.name, p.message), (v.name, expected));
         ensure_eq!(p.buffer_len(), v.bytes.len());
         let out = emit(&Packet {
-            header,
-            counter: 0,
+            header: Header {
+                sync: header,
+                counter: 0,
+            },
             message: expected,
         })?;
         ensure_eq!((v.name, &out[..]), (v.name, v.bytes));
@@ -285,10 +287,10 @@ fn layouts_decode_and_reencode() -> Outcome {
         let p = check!(Packet::decode(&bytes));
         let expected = (l.expected)();
         ensure_eq!((l.id, i, p.message), (l.id, i, expected));
-        ensure_eq!(p.counter, counter);
+        ensure_eq!(p.header.counter, counter);
         ensure_eq!(p.message.id(), l.id);
-        ensure_eq!((l.id, p.message.data_len()), (l.id, l.data.len()));
-        let out = emit(&Packet::new(counter, expected))?;
+        ensure_eq!((l.id, p.message.payload_len()), (l.id, l.data.len()));
+        let out = emit(&Packet::new(Header::new(counter), expected))?;
         ensure_eq!((l.id, i, &out[..]), (l.id, i, &bytes[..]));
     }
     Ok(())
@@ -440,8 +442,8 @@ fn command_blocks_type_their_parameters() -> Outcome {
 /// re-encodes byte for byte.
 fn every_frame_id_round_trips() -> Outcome {
     for e in CATALOG {
-        for len in 1..=MAX_DATA_LEN {
-            let mut data = [0u8; MAX_DATA_LEN];
+        for len in 1..=MAX_PAYLOAD_LEN {
+            let mut data = [0u8; MAX_PAYLOAD_LEN];
             for (i, b) in data.iter_mut().enumerate() {
                 *b = (i as u8).wrapping_mul(37).wrapping_add(e.id);
             }
@@ -496,7 +498,7 @@ fn m_every_data_type() -> Outcome {
         ensure_eq!(m.reserved, [9, 8, 7, 6, 5, 4, 3]);
         ensure_eq!(m.attitude, (t & 1 != 0).then(layouts::m_attitude));
         ensure_eq!(m.gps, (t & 2 != 0).then(layouts::m_gps));
-        ensure_eq!(p.message.data_len(), data.len());
+        ensure_eq!(p.message.payload_len(), data.len());
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         // A group too many or too few is a length error.
         let mut longer = heapless::Vec::<u8, 43>::new();
@@ -528,7 +530,7 @@ fn every_counter_value() -> Outcome {
         let f = check!(Frame::new_checked(&bytes[..]));
         ensure_eq!((f.counter(), f.body_len()), (counter, 12));
         let p = check!(Packet::decode(&bytes));
-        ensure_eq!(p.counter, counter);
+        ensure_eq!(p.header.counter, counter);
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         // The counter bits are covered by the checksum.
         let mut other = bytes.clone();
@@ -538,7 +540,7 @@ fn every_counter_value() -> Outcome {
             Err(Error::BadChecksum { .. })
         ));
     }
-    let p = Packet::new(4, Message::Heartbeat(Heartbeat { value: 0 }));
+    let p = Packet::new(Header::new(4), Message::Heartbeat(Heartbeat { value: 0 }));
     ensure_eq!(p.emit(&mut [0u8; 16]), Err(Error::OutOfRange));
     let mut c = FrameCounter::new();
     let seq: [u8; 6] = core::array::from_fn(|_| c.next_value());
@@ -552,7 +554,7 @@ fn every_counter_value() -> Outcome {
 fn swapped_sync_order() -> Outcome {
     let bytes = frame_with([0xAA, 0x55, 0xDC], 0x40, 2, &[0u8; 41]);
     let p = check!(Packet::decode(&bytes));
-    ensure_eq!(p.header, HeaderOrder::Swapped);
+    ensure_eq!(p.header.sync, SyncOrder::Swapped);
     ensure_eq!(&emit(&p)?[..], &bytes[..]);
     let count = |framing: ViewlinkFraming| {
         let mut d = Deframer::<ViewlinkFraming, MAX_FRAME_LEN>::new(framing);
@@ -562,7 +564,7 @@ fn swapped_sync_order() -> Outcome {
     };
     ensure_eq!(count(ViewlinkFraming::new()), 0);
     ensure_eq!(count(ViewlinkFraming::swapped()), 1);
-    ensure_eq!(HeaderOrder::Swapped.bytes(), SYNC_SWAPPED);
+    ensure_eq!(SyncOrder::Swapped.bytes(), SYNC_SWAPPED);
     Ok(())
 }
 
@@ -596,18 +598,18 @@ fn malformed_frames_are_errors() -> Outcome {
     // Too much data for one frame.
     let big = [0u8; 61];
     let raw = Packet::new(
-        0,
+        Header::new(0),
         Message::Raw(Raw {
             id: 0x77,
-            data: &big,
+            payload: &big,
         }),
     );
     ensure_eq!(raw.emit(&mut [0u8; 80]), Err(Error::BadLength));
     let empty = Packet::new(
-        0,
+        Header::new(0),
         Message::Raw(Raw {
             id: 0x77,
-            data: &[],
+            payload: &[],
         }),
     );
     ensure_eq!(empty.emit(&mut [0u8; 80]), Err(Error::BadLength));
@@ -652,7 +654,7 @@ fn wrong_length_known_ids() -> Outcome {
     );
     ensure!(Packet::decode(&frame(0xF3, 0, &[0; 8 + 4 * 13])).is_ok());
     ensure_eq!(
-        Packet::decode(&frame(0xF4, 0, &[0; 3 + 57])).map(|p| p.message.data_len()),
+        Packet::decode(&frame(0xF4, 0, &[0; 3 + 57])).map(|p| p.message.payload_len()),
         Ok(60)
     );
     Ok(())
@@ -668,7 +670,7 @@ fn unknown_ids_are_raw() -> Outcome {
         let data = [id, 1, 2];
         let bytes = frame(id, 3, &data);
         let p = check!(Packet::decode(&bytes));
-        ensure_eq!(p.message, Message::Raw(Raw { id, data: &data }));
+        ensure_eq!(p.message, Message::Raw(Raw { id, payload: &data }));
         ensure_eq!(p.message.name(), "Raw");
         ensure_eq!(&emit(&p)?[..], &bytes[..]);
         unknown += 1;
@@ -794,11 +796,31 @@ fn bit_fields() -> Outcome {
     let osd = OsdWord(0x8105);
     ensure_eq!(osd.osd1(), OsdFlags(0x05));
     ensure_eq!(osd.osd2(), OsdTypeFlags(0x81));
+    let hide_all_angles = OsdFlags::default()
+        .with_hide_all(true)
+        .with_hide_angles(true);
+    ensure_eq!(hide_all_angles, OsdFlags(0x05));
+    ensure!(osd.osd1().contains(hide_all_angles.0));
+    ensure!(osd.osd1().hide_all() && osd.osd1().hide_angles());
+    ensure!(!osd.osd1().hide_cross());
     ensure!(
-        osd.osd1()
-            .contains(OsdFlags::HIDE_ALL | OsdFlags::HIDE_ANGLES)
+        !osd.osd1()
+            .contains(OsdFlags::default().with_hide_cross(true).0)
     );
-    ensure!(!osd.osd1().contains(OsdFlags::HIDE_CROSS));
+    // Flag bytes: the named bits, and the others kept.
+    let sd = SdStateFlags(0x09);
+    ensure!(sd.inserted() && sd.formatted() && !sd.full());
+    ensure_eq!(
+        SdStateFlags::default()
+            .with_inserted(true)
+            .with_formatted(true),
+        sd
+    );
+    ensure_eq!(PrmInvert(0xFF).reserved_bits(), 0x03);
+    ensure_eq!(YpmzInvert(0xFF).reserved_bits(), 0x00);
+    let calc = TargetCalcFlags(0x51);
+    ensure!(calc.osd_object_gps() && calc.serial_output());
+    ensure_eq!(calc.output_format(), 2);
     let power = PowerControl(0x4009);
     ensure_eq!(
         (power.eo1(), power.ir(), power.eo2(), power.laser()),
@@ -913,7 +935,7 @@ fn encode_refuses_values_that_do_not_fit() -> Outcome {
     ];
     for m in cases {
         ensure_eq!(
-            (m.name(), Packet::new(0, m).emit(&mut buf)),
+            (m.name(), Packet::new(Header::new(0), m).emit(&mut buf)),
             (m.name(), Err(Error::OutOfRange))
         );
     }
@@ -923,6 +945,235 @@ fn encode_refuses_values_that_do_not_fit() -> Outcome {
     ensure_eq!(
         AiTargets::new(5, 2, 0, &too_many).err(),
         Some(Error::OutOfRange)
+    );
+    Ok(())
+}
+
+// ------------------------------------------------------------------ typed messages
+
+/// One payload type of the typed API, with the frame id this test knows it by.
+struct Typed {
+    id: u8,
+    /// Checks the type against a frame of its id (see [`check_typed`]).
+    check: fn(&Packet<'_>, &[u8]) -> Outcome,
+    /// `message.get::<T>().is_some()`.
+    is: fn(&Message<'_>) -> bool,
+}
+
+macro_rules! typed {
+    ($($id:literal $ty:ty),* $(,)?) => {
+        &[$( Typed { id: $id, check: check_typed::<$ty>, is: |m| m.get::<$ty>().is_some() }, )*]
+    };
+}
+
+/// Every frame id's payload type, as section 2.2 pairs them (0x42 and 0x92 carry the
+/// layouts of 0x40 and 0x29 under their own types).
+static TYPED: &[Typed] = typed![
+    0x30 Control, 0x32 ControlTgcc, 0x1A A1, 0x1C C1, 0x1E E1, 0x16 S1,
+    0x31 RareControl, 0x33 RareControlTgcc, 0x2A A2, 0x2C C2, 0x2E E2, 0x26 S2,
+    0x01 U, 0x02 V, 0x40 Status, 0x42 StatusOsd, 0x41 RareStatus, 0xB1 M,
+    0xF3 AiTargets, 0xF4 Klv, 0x00 Handshake, 0x10 Heartbeat, 0xAC Ack,
+    0x1D D1, 0x1B B1, 0x1F F1, 0x17 T1, 0x27 T2, 0x2F F2, 0x2B B2, 0x2D D2,
+    0xFF Transparent, 0x5D SdQuery, 0xD5 SdFeedback, 0x19 IpQuery, 0x29 IpAddress,
+    0x92 IpFeedback,
+];
+
+/// The variable-size payloads and their largest length (V: command and 22 parameter
+/// bytes; M: every group; AI: four targets; KLV: 57 data bytes; transparent: a full
+/// frame).
+const VARIABLE: [(u8, usize); 5] = [(0x02, 23), (0xB1, 42), (0xF3, 60), (0xF4, 60), (0xFF, 60)];
+
+/// `T` against a decoded frame of its id: its id and name are the catalogue's, `get`
+/// finds it, the typed `encode` gives the frame's bytes (as the enum path does), and
+/// `ENCODED_LEN` is the payload length (the largest one for variable payloads).
+fn check_typed<T: MessageData + PartialEq + core::fmt::Debug>(
+    p: &Packet<'_>,
+    bytes: &[u8],
+) -> Outcome {
+    ensure_eq!(T::ID, p.message.id());
+    let Some(entry) = CATALOG.iter().find(|e| e.id == T::ID) else {
+        return Err(fail("catalog", format_args!("{:#04x} not listed", T::ID)));
+    };
+    ensure_eq!(T::NAME, entry.name);
+    let Some(typed) = p.message.get::<T>() else {
+        return Err(fail("get", format_args!("{}: {:?}", T::NAME, p.message)));
+    };
+    ensure_eq!(typed.into_message(), p.message);
+    ensure_eq!(T::from_message(&p.message), Some(typed));
+    let mut out = [0u8; MAX_FRAME_LEN];
+    let n = check!(encode(&typed, &p.header, &mut out));
+    ensure_eq!((T::NAME, &out[..n]), (T::NAME, bytes));
+    ensure_eq!(&emit(p)?[..], &out[..n]);
+    let len = p.message.payload_len();
+    match VARIABLE.iter().find(|(id, _)| *id == T::ID) {
+        Some(&(_, max)) => {
+            ensure_eq!((T::NAME, T::ENCODED_LEN), (T::NAME, max));
+            ensure!(len <= max, "{}: {len} > {max}", T::NAME);
+        }
+        None => ensure_eq!((T::NAME, T::ENCODED_LEN), (T::NAME, len)),
+    }
+    Ok(())
+}
+
+/// Every payload type's `MessageData` matches the catalogue, and on every document
+/// layout `get::<T>()` finds exactly the frame id's type, the typed `encode` gives the
+/// same bytes as `Packet::emit`, and `ENCODED_LEN` is the encoded length.
+fn typed_messages_match_the_catalogue() -> Outcome {
+    ensure_eq!(TYPED.len(), CATALOG.len());
+    for e in CATALOG {
+        ensure_eq!(
+            (e.id, TYPED.iter().filter(|t| t.id == e.id).count()),
+            (e.id, 1)
+        );
+    }
+    for (i, l) in LAYOUTS.iter().enumerate() {
+        let counter = (i % 4) as u8;
+        let bytes = frame(l.id, counter, l.data);
+        let p = check!(Packet::decode(&bytes));
+        let Some(t) = TYPED.iter().find(|t| t.id == l.id) else {
+            return Err(fail("typed", format_args!("{:#04x}", l.id)));
+        };
+        (t.check)(&p, &bytes)?;
+        // `get` misses every other type (0x42 is not a Status, 0x92 not an IpAddress).
+        let hits = TYPED.iter().filter(|t| (t.is)(&p.message)).count();
+        ensure_eq!((l.id, i, hits), (l.id, i, 1));
+    }
+    // Raw frames are none of the types.
+    let raw = frame(0x77, 0, &[1, 2, 3]);
+    let p = check!(Packet::decode(&raw));
+    ensure!(TYPED.iter().all(|t| !(t.is)(&p.message)));
+    // The largest variable payloads are frames of their own.
+    let mut v = [0u8; 23];
+    v[0] = 0xD0;
+    let mut m = [0u8; 42];
+    m[0] = 0x07;
+    let largest: [(u8, &[u8]); 5] = [
+        (0x02, &v),
+        (0xB1, &m),
+        (0xF3, &[0; 60]),
+        (0xF4, &[0; 60]),
+        (0xFF, &[0x5A; 60]),
+    ];
+    for (id, data) in largest {
+        let bytes = frame(id, 0, data);
+        let p = check!(Packet::decode(&bytes));
+        let Some(t) = TYPED.iter().find(|t| t.id == id) else {
+            return Err(fail("typed", format_args!("{id:#04x}")));
+        };
+        (t.check)(&p, &bytes)?;
+        ensure_eq!((id, p.message.payload_len()), (id, data.len()));
+    }
+    Ok(())
+}
+
+/// The path a bridge takes: ArduPilot's single blocks decode to their types with
+/// `get`, and the replies it sends (0x40 status, 0x02 V) encode from typed values with
+/// the counter a sender keeps, to the bytes the enum path gives.
+fn bridge_path_with_typed_messages() -> Outcome {
+    // Received: A1, C1, E1, C2, E2, M, handshake, U (the frames of ardupilot_interop).
+    let a1 = frame(0x1A, 1, &[0x0B, 0x20, 0x00, 0xF0, 0x00, 0, 0, 0, 0]);
+    ensure_eq!(
+        check!(Packet::decode(&a1)).message.get::<A1>(),
+        Some(A1::AbsoluteAngle(AbsoluteAngle {
+            yaw_bam16: 0x2000,
+            pitch_bam16: -0x1000,
+            reserved: [0; 4],
+        }))
+    );
+    let zoom = frame(0x1C, 2, &[0x02, 0x7A]);
+    ensure_eq!(
+        check!(Packet::decode(&zoom)).message.get::<C1>(),
+        Some(C1 {
+            sensor: Sensor::Ir,
+            ..c1(Sensor::NoAction, 7, OperationCommand::ZoomIn)
+        })
+    );
+    let e1 = frame(0x1E, 3, &[0x02, 0x03, 0x00]);
+    ensure_eq!(
+        check!(Packet::decode(&e1)).message.get::<E1>(),
+        Some(E1::new(TrackingSource::Ir, TrackingCommand::Start))
+    );
+    let c2 = frame(0x2C, 0, &[0x53, 0x00, 0x64]);
+    ensure_eq!(
+        check!(Packet::decode(&c2)).message.get::<C2>(),
+        Some(C2::SetEoZoom(Zoom { zoom_x10: 100 }))
+    );
+    let e2 = frame(0x2E, 1, &[0x0B, 0xFE, 0x20, 0x00, 0x87]);
+    ensure_eq!(
+        check!(Packet::decode(&e2)).message.get::<E2>(),
+        Some(E2::RectTopLeft(Point {
+            x_px: -480,
+            y_px: 135
+        }))
+    );
+    let mut m = [0u8; 42];
+    m[0] = 0x07;
+    m[8..14].copy_from_slice(&layouts::M_ATTITUDE_BYTES);
+    m[14..].copy_from_slice(&layouts::M_GPS_BYTES);
+    let m = frame(0xB1, 2, &m);
+    let ahrs = check!(Packet::decode(&m)).message.get::<M>();
+    ensure_eq!(
+        ahrs,
+        Some(M::new(Some(layouts::m_attitude()), Some(layouts::m_gps())))
+    );
+    ensure_eq!(ahrs.and_then(|m| m.attitude), Some(layouts::m_attitude()));
+    let hello = frame(0x00, 3, &[0x00]);
+    ensure_eq!(
+        check!(Packet::decode(&hello)).message.get::<Handshake>(),
+        Some(Handshake { value: 0 })
+    );
+    let query = frame(0x01, 0, &[0xE4, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+    let Some(u) = check!(Packet::decode(&query)).message.get::<U>() else {
+        return Err(fail("U", format_args!("not a U")));
+    };
+    ensure_eq!(u.command(), UCommand::QueryModel);
+    ensure_eq!(u.reply_command(), VCommand::QueryModel);
+    // A frame of another id is none of these.
+    ensure_eq!(check!(Packet::decode(&a1)).message.get::<C1>(), None);
+    ensure_eq!(
+        check!(Packet::decode(&hello)).message.get::<Heartbeat>(),
+        None
+    );
+
+    // Sent: the 0x40 status and the V model reply, counters 1 and 2.
+    let mut counter = FrameCounter::new();
+    let status = Status {
+        t1: layouts::t1(),
+        f1: layouts::f1(),
+        b1: layouts::b1(),
+        d1: layouts::d1(),
+    };
+    let mut out = [0u8; MAX_FRAME_LEN];
+    let n = check!(encode(&status, &counter.next_header(), &mut out));
+    ensure_eq!(Message::from(status), Message::Status(status));
+    let by_enum = emit(&Packet::new(Header::new(1), Message::from(status)))?;
+    ensure_eq!(&out[..n], &by_enum[..]);
+    ensure_eq!(&out[..5], &[0x55, 0xAA, 0xDC, 0x6C, 0x40]);
+    let reply = V::new(u.reply_command(), VData::Model(check!(Text::new("Z40K"))));
+    let n = check!(encode(&reply, &counter.next_header(), &mut out));
+    let by_enum = emit(&Packet::new(Header::new(2), Message::V(reply)))?;
+    ensure_eq!(&out[..n], &by_enum[..]);
+    ensure_eq!(&out[5..10], &[0xE4, b'Z', b'4', b'0', b'K']);
+    // The same errors as the enum path.
+    let no_counter = Header {
+        counter: 4,
+        ..Header::default()
+    };
+    ensure_eq!(
+        encode(&status, &no_counter, &mut out),
+        Err(Error::OutOfRange)
+    );
+    ensure_eq!(
+        encode(&status, &Header::default(), &mut out[..46]),
+        Err(Error::BufferTooSmall)
+    );
+    let too_long = C1 {
+        zoom_speed: 8,
+        ..C1::default()
+    };
+    ensure_eq!(
+        encode(&too_long, &Header::default(), &mut out),
+        Err(Error::OutOfRange)
     );
     Ok(())
 }
@@ -1065,7 +1316,7 @@ fn ardupilot_interop() -> Outcome {
             ..layouts::d1()
         },
     };
-    let out = emit(&Packet::new(1, Message::Status(status)))?;
+    let out = emit(&Packet::new(Header::new(1), Message::Status(status)))?;
     ensure_eq!(&out[..5], &[0x55, 0xAA, 0xDC, 0x6C, 0x40]);
     let d = &out[5..out.len() - 1];
     ensure_eq!((d[22] & 0x18) >> 3, 1); // tracking: searching
@@ -1080,7 +1331,7 @@ fn ardupilot_interop() -> Outcome {
     ensure_eq!(u16::from_be_bytes([d[39], d[40]]), 200); // 20x
     // The V replies to the queries: model from data byte 1, firmware digits at 4..9.
     let model = emit(&Packet::new(
-        2,
+        Header::new(2),
         Message::V(V::new(
             VCommand::QueryModel,
             VData::Model(check!(Text::new("Z40K"))),
@@ -1090,7 +1341,7 @@ fn ardupilot_interop() -> Outcome {
     ensure_eq!(&model[6..10], b"Z40K");
     ensure_eq!(model.len(), 3 + 3 + 1 + 10);
     let fw = emit(&Packet::new(
-        3,
+        Header::new(3),
         Message::V(V::new(
             VCommand::QueryFirmware,
             VData::Firmware(check!(Text::new("S20230415"))),
@@ -1119,6 +1370,8 @@ cases!("viewlink":
     deframer_recovers_every_frame,
     bit_fields,
     encode_refuses_values_that_do_not_fit,
+    typed_messages_match_the_catalogue,
+    bridge_path_with_typed_messages,
     tcp_envelope,
     ardupilot_interop,
 );

@@ -1,9 +1,7 @@
 //! GCU: deframe host packages (what the bridge receives as the GCU), decode every
 //! command, encode it, and encode the GCU reply.
 
-use protocol_core::gcu::{
-    Feedback, GcuFraming, GcuMain, GcuPacket, GcuSub, HostPacket, MAX_FRAME_LEN, Packet,
-};
+use protocol_core::gcu::{Execution, GcuFrames, GcuFraming, HostPacket, MAX_FRAME_LEN, Packet};
 use protocol_core::wire::{Deframer, Event};
 
 pub fn probe(input: &[u8], out: &mut [u8]) -> usize {
@@ -14,12 +12,7 @@ pub fn probe(input: &[u8], out: &mut [u8]) -> usize {
             && let Ok(packet) = HostPacket::decode(bytes)
         {
             total += packet.emit(out).unwrap_or(0);
-            let reply = GcuPacket {
-                version: packet.version,
-                main: GcuMain::default(),
-                sub: GcuSub::ABSENT,
-                feedback: Feedback::success(&packet.command),
-            };
+            let reply = packet.answer(GcuFrames::default(), Execution::Success);
             total += reply.emit(out).unwrap_or(0);
         }
     });

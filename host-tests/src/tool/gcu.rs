@@ -7,7 +7,7 @@
 //! the bytes that neither scan could place.
 
 use protocol_core::gcu::{
-    CATALOG, Command, FeedbackKind, Frame, GcuFraming, GcuSub, HostSub, Packet,
+    CATALOG, FeedbackKind, Frame, GcuFraming, GcuSub, HostSub, Message, Packet,
 };
 use serde_json::{Map, Value, json};
 
@@ -21,13 +21,10 @@ fn to_value<T: serde::Serialize>(v: &T) -> Result<Value, String> {
 }
 
 /// The parameters of a command as a JSON object (`{}` for an order without any).
-fn command_fields(command: &Command<'_>) -> Result<Value, String> {
-    if let Command::Raw(r) = command {
-        return Ok(json!({ "order": r.order, "params": hex(r.params) }));
-    }
-    match to_value(command)? {
-        Value::String(_) => Ok(json!({})),
-        v => Ok(as_object(untag(v).1, "value")),
+fn command_fields(message: &Message<'_>) -> Result<Value, String> {
+    match message {
+        Message::Raw(r) => Ok(json!({ "order": r.id, "params": hex(r.payload) })),
+        Message::Command(c) => Ok(as_object(untag(to_value(c)?).1, "value")),
     }
 }
 
@@ -38,21 +35,23 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     let mut fields = Map::new();
     let (name, msg_id) = match packet {
         Packet::Host(p) => {
+            let main = p.frames.main;
             fields.insert("direction".into(), json!("host"));
-            fields.insert("version".into(), json!(p.version));
-            fields.insert("main".into(), to_value(&p.main)?);
-            if p.sub != HostSub::ABSENT {
-                fields.insert("sub".into(), to_value(&p.sub)?);
+            fields.insert("version".into(), json!(p.header.version));
+            fields.insert("main".into(), to_value(&main)?);
+            if p.frames.sub != HostSub::ABSENT {
+                fields.insert("sub".into(), to_value(&p.frames.sub)?);
             }
-            fields.insert("command".into(), command_fields(&p.command)?);
-            (p.command.name().to_string(), p.command.order().value())
+            fields.insert("command".into(), command_fields(&p.message)?);
+            (p.message.name().to_string(), p.message.id())
         }
         Packet::Gcu(p) => {
+            let main = p.frames.main;
             fields.insert("direction".into(), json!("gcu"));
-            fields.insert("version".into(), json!(p.version));
-            fields.insert("main".into(), to_value(&p.main)?);
-            if p.sub != GcuSub::ABSENT {
-                fields.insert("sub".into(), to_value(&p.sub)?);
+            fields.insert("version".into(), json!(p.header.version));
+            fields.insert("main".into(), to_value(&main)?);
+            if p.frames.sub != GcuSub::ABSENT {
+                fields.insert("sub".into(), to_value(&p.frames.sub)?);
             }
             fields.insert("execution".into(), to_value(&p.feedback.execution)?);
             if !p.feedback.extra.is_empty() {
@@ -152,7 +151,7 @@ impl Protocol for Gcu {
                 };
                 format!(
                     "{:#04x} {} params={} feedback={}",
-                    e.order, e.name, e.params_len, feedback
+                    e.id, e.name, e.payload_len, feedback
                 )
             })
             .collect()
@@ -162,19 +161,24 @@ impl Protocol for Gcu {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol_core::gcu::{Execution, Feedback, GcuMain, GcuPacket, HostPacket, Order};
+    use protocol_core::gcu::{
+        CameraSet, Execution, Feedback, GcuFrames, GcuMain, GcuPacket, Header, HostPacket, Neutral,
+        Order, Shutter,
+    };
 
-    fn host(command: Command<'_>) -> Vec<u8> {
+    fn host(message: impl Into<Message<'static>>) -> Vec<u8> {
         let mut out = [0u8; 300];
-        let n = HostPacket::new(command).emit(&mut out).unwrap();
+        let n = HostPacket::new(message).emit(&mut out).unwrap();
         out[..n].to_vec()
     }
 
     fn reply(order: Order) -> Vec<u8> {
         let p = GcuPacket {
-            version: 2,
-            main: GcuMain::default(),
-            sub: GcuSub::ABSENT,
+            header: Header { version: 2 },
+            frames: GcuFrames {
+                main: GcuMain::default(),
+                sub: GcuSub::ABSENT,
+            },
             feedback: Feedback::new(order, Execution::Success),
         };
         let mut out = [0u8; 300];
@@ -185,10 +189,10 @@ mod tests {
     #[test]
     fn both_directions_in_one_capture() {
         let mut capture = vec![0x00, 0x8A];
-        let shutter = host(Command::Shutter(protocol_core::gcu::CameraSet::CAMERA_1));
+        let shutter = host(Shutter(CameraSet::CAMERA_1));
         capture.extend(&shutter);
         capture.extend(reply(Order::Shutter));
-        let mut bad = host(Command::Neutral);
+        let mut bad = host(Neutral {});
         bad[50] ^= 1;
         capture.extend(&bad);
         capture.extend([0x11, 0x22]);
@@ -233,6 +237,19 @@ mod tests {
         assert_eq!(d.fields["command"], json!({ "value": 1 }));
         assert_eq!(d.fields["direction"], json!("host"));
         assert_eq!(d.fields["main"]["status"]["ins_valid"], json!(false));
+        assert_eq!(d.fields["main"]["status"]["raw"], json!(0));
+        let Item::Frame { decoded: Ok(r), .. } = &items[2] else {
+            panic!("{:?}", items[2]);
+        };
+        assert_eq!(r.fields["direction"], json!("gcu"));
+        assert_eq!(r.fields["version"], json!(2));
+        assert_eq!(r.fields["main"]["camera_status"]["tracking"], json!(false));
+        // The execution state shows its name and its wire code, as enumerations do.
+        assert_eq!(
+            r.fields["execution"],
+            json!({ "name": "Success", "code": 0 })
+        );
+        assert!(super::super::flat_fields(&r.fields).contains("execution=Success(0x00)"));
     }
 
     #[test]

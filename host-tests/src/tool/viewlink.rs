@@ -2,7 +2,9 @@
 //! `AA 55 DC` as the document prints its ACK) and TCP envelopes (`EB 90`).
 
 use protocol_core::viewlink::tcp::{Envelope, TcpFraming};
-use protocol_core::viewlink::{CATALOG, Frame, HeaderOrder, Message, Packet, ViewlinkFraming};
+use protocol_core::viewlink::{
+    CATALOG, CatalogEntry, Direction, Frame, Message, Packet, SyncOrder, ViewlinkFraming,
+};
 use serde_json::{Value, json};
 
 use super::{Decoded, Item, Protocol, hex, scan_with, untag};
@@ -15,8 +17,8 @@ pub const TCP_MSG_ID: u64 = 0xEB90;
 
 fn fields_of(packet: &Packet<'_>) -> Result<Value, String> {
     let body = match packet.message {
-        Message::Raw(r) => json!({ "data": hex(r.data) }),
-        Message::Transparent(t) => json!({ "data": hex(t.data) }),
+        Message::Raw(r) => json!({ "data": hex(r.payload) }),
+        Message::Transparent(t) => json!({ "data": hex(t.data.as_slice()) }),
         m => {
             let v = untag(serde_json::to_value(m).map_err(|e| e.to_string())?).1;
             match v {
@@ -32,11 +34,11 @@ fn fields_of(packet: &Packet<'_>) -> Result<Value, String> {
         .find(|e| e.id == packet.message.id())
         .map_or("unknown", |e| e.blocks);
     let mut fields = json!({
-        "header": match packet.header {
-            HeaderOrder::Standard => "55 AA DC",
-            HeaderOrder::Swapped => "AA 55 DC",
+        "header": match packet.header.sync {
+            SyncOrder::Standard => "55 AA DC",
+            SyncOrder::Swapped => "AA 55 DC",
         },
-        "counter": packet.counter,
+        "counter": packet.header.counter,
         "frame_id": format!("{:#04x}", packet.message.id()),
         "blocks": blocks,
     });
@@ -44,6 +46,15 @@ fn fields_of(packet: &Packet<'_>) -> Result<Value, String> {
         f.extend(b);
     }
     Ok(fields)
+}
+
+/// Who sends a frame to whom, in the document's words.
+fn route(e: &CatalogEntry) -> &'static str {
+    match (e.direction, e.from_ahrs) {
+        (Direction::FromGimbal, _) => "payload->console",
+        (Direction::ToGimbal, true) => "ahrs->payload",
+        (Direction::ToGimbal, false) => "console->payload",
+    }
 }
 
 /// Decodes one checksum-valid serial frame.
@@ -145,15 +156,7 @@ impl Protocol for Viewlink {
     fn messages(&self) -> Vec<String> {
         CATALOG
             .iter()
-            .map(|e| {
-                format!(
-                    "{:#04x} {} {} {}",
-                    e.id,
-                    e.name,
-                    e.direction.as_str(),
-                    e.blocks
-                )
-            })
+            .map(|e| format!("{:#04x} {} {} {}", e.id, e.name, route(e), e.blocks))
             .collect()
     }
 }

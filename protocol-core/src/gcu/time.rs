@@ -14,21 +14,22 @@ pub const GPS_EPOCH_UNIX_MS: u64 = 315_964_800_000;
 /// Milliseconds in a GPS week.
 pub const WEEK_MS: u64 = 604_800_000;
 
-/// A GPS time: week number and milliseconds into the week (the host sub data frame's
-/// bytes 55..56 and 51..54).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct GpsTime {
-    /// Weeks since the GPS epoch (S16 in the document).
-    pub week: i16,
-    /// Milliseconds into the week.
-    pub tow_ms: u32,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// A GPS time: week number and milliseconds into the week (the host sub data frame's
+    /// bytes 55..56 and 51..54).
+    pub struct GpsTime {
+        /// Weeks since the GPS epoch (S16 in the document).
+        pub week: i16,
+        /// Milliseconds into the week.
+        pub tow_ms: u32,
+    }
 }
 
 impl GpsTime {
     /// The GPS time of a UTC instant given in Unix milliseconds, with `leap_seconds`
     /// (GPS − UTC). `None` before the GPS epoch or past week 32767.
+    #[must_use]
     pub fn from_unix_ms(unix_ms: u64, leap_seconds: u8) -> Option<GpsTime> {
         let gps_ms = unix_ms
             .checked_add(u64::from(leap_seconds).checked_mul(1000)?)?
@@ -41,6 +42,7 @@ impl GpsTime {
     /// The UTC instant in Unix milliseconds, with `leap_seconds` (GPS − UTC). A time of
     /// week beyond one week carries into the next. `None` for a negative week or an
     /// instant before the Unix epoch.
+    #[must_use]
     pub fn to_unix_ms(self, leap_seconds: u8) -> Option<u64> {
         let week = u64::try_from(self.week).ok()?;
         week.checked_mul(WEEK_MS)?

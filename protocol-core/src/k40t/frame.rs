@@ -132,34 +132,15 @@ wire_derive! {
     }
 }
 
-/// A read-only or read-write view of a K40T frame in a byte buffer.
-///
-/// [`Frame::new_checked`] guarantees the accessors never panic: the buffer starts with
-/// STX and holds at least the header, the LEN-byte payload and the CRC. Bytes after the
-/// frame are ignored.
-#[derive(Debug, Clone)]
-pub struct Frame<T: AsRef<[u8]>> {
-    buffer: T,
+frame_view! {
+    /// A read-only or read-write view of a K40T frame in a byte buffer.
+    ///
+    /// [`Frame::new_checked`] guarantees the accessors never panic: the buffer starts with
+    /// STX and holds at least the header, the LEN-byte payload and the CRC. Bytes after the
+    /// frame are ignored.
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
-    /// A view without checks; accessors of an invalid buffer return zero or empty values
-    /// (never panic). Use [`Frame::new_checked`] for received bytes.
-    pub const fn new_unchecked(buffer: T) -> Self {
-        Frame { buffer }
-    }
-
-    /// A view of a buffer that holds a whole frame (the CRC is not verified; see
-    /// [`Frame::verify`]).
-    ///
-    /// # Errors
-    /// As [`Frame::check_len`].
-    pub fn new_checked(buffer: T) -> Result<Self> {
-        let frame = Frame { buffer };
-        frame.check_len()?;
-        Ok(frame)
-    }
-
     /// Checks STX, the LEN limit and that the buffer holds the whole frame.
     ///
     /// # Errors
@@ -181,15 +162,6 @@ impl<T: AsRef<[u8]>> Frame<T> {
             return Err(Error::Truncated);
         }
         Ok(())
-    }
-
-    /// The underlying buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
-    }
-
-    fn byte(&self, i: usize) -> u8 {
-        self.buffer.as_ref().get(i).copied().unwrap_or(0)
     }
 
     /// The LEN field: payload length.
@@ -285,12 +257,6 @@ impl<'a> Frame<&'a [u8]> {
 }
 
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
-    fn set_byte(&mut self, i: usize, v: u8) {
-        if let Some(b) = self.buffer.as_mut().get_mut(i) {
-            *b = v;
-        }
-    }
-
     /// Writes STX and the LEN field.
     pub fn set_start(&mut self, payload_len: u8) {
         self.set_byte(offset::STX, STX);

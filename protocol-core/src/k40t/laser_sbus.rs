@@ -60,7 +60,7 @@ wire_struct! {
 }
 
 wire_struct! {
-    Le;
+    Le, bytes;
     /// The SBUS channel (0..=15 = channel 1..16) of each function.
     pub struct SbusChannelMap {
         /// Stream selection (cycles infrared, visible, split).

@@ -177,6 +177,12 @@ macro_rules! k40t_payload_type {
                 self.code
             }
         }
+
+        impl From<ResponseCode> for $name {
+            fn from(code: ResponseCode) -> Self {
+                $name { code }
+            }
+        }
     };
     ($what:literal $base:literal $name:ident ($inner:ty)) => {
         wire_derive! {
@@ -192,6 +198,12 @@ macro_rules! k40t_payload_type {
             }
             fn write(&self, w: &mut Writer<'_>) -> Result<()> {
                 <$inner as Field<Le>>::write(&self.0, w)
+            }
+        }
+
+        impl From<$inner> for $name {
+            fn from(inner: $inner) -> Self {
+                $name(inner)
             }
         }
     };
@@ -225,9 +237,38 @@ macro_rules! k40t_message_data {
     };
 }
 
+/// Decodes a payload of type `$ty`; a type declared over a shared layout (a bare ACK
+/// `{code}`, a newtype `(Inner)`) is decoded through that layout's one decoder.
+macro_rules! k40t_read {
+    ($payload:ident, $ty:ty) => {
+        decode_payload::<$ty>($payload)
+    };
+    ($payload:ident, $ty:ty; {code}) => {
+        decode_payload::<ResponseCode>($payload).map(<$ty>::from)
+    };
+    ($payload:ident, $ty:ty; ($inner:ty)) => {
+        decode_payload::<$inner>($payload).map(<$ty>::from)
+    };
+}
+
+/// Writes a payload, through the shared layout's one encoder as [`k40t_read!`] reads it.
+macro_rules! k40t_write {
+    ($m:ident, $w:ident) => {
+        Field::<Le>::write($m, $w)
+    };
+    ($m:ident, $w:ident; {code}) => {
+        Field::<Le>::write(&$m.code, $w)
+    };
+    ($m:ident, $w:ident; ($inner:ty)) => {
+        Field::<Le>::write(&$m.0, $w)
+    };
+}
+
 /// Generates the methods every per-kind enum ([`Request`], [`Ack`], [`Status`]) has.
 macro_rules! k40t_kind_impl {
-    ($kind:ident: $( [$base:literal $name:ident $ty:ty] )*) => {
+    // `$def`: how the message table declared the type (`{code}`, `(Inner)` or nothing),
+    // so that types sharing a layout share its decoder and encoder.
+    ($kind:ident: $( [$base:literal $name:ident $ty:ty $(; $def:tt)?] )*) => {
         impl $kind {
             /// The message id.
             #[must_use]
@@ -256,7 +297,7 @@ macro_rules! k40t_kind_impl {
             /// one is zero-extended, see the module documentation).
             pub fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
                 match base {
-                    $( $base => Some(decode_payload::<$ty>(payload).map(Self::$name)), )*
+                    $( $base => Some(k40t_read!(payload, $ty $(; $def)?).map(Self::$name)), )*
                     _ => None,
                 }
             }
@@ -264,8 +305,10 @@ macro_rules! k40t_kind_impl {
             ///
             /// # Errors
             /// [`Error::BufferTooSmall`] when `w` has no room for it.
+            // One out-of-line copy per kind: inlined into every caller it costs kilobytes.
+            #[inline(never)]
             pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( Self::$name(m) => Field::<Le>::write(m, w), )* }
+                match self { $( Self::$name(m) => k40t_write!(m, w $(; $def)?), )* }
             }
         }
     };
@@ -323,8 +366,8 @@ macro_rules! k40t_messages {
         }
 
         k40t_kind_impl!(Request: $( [$base $name $req] )*);
-        k40t_kind_impl!(Ack: $( $( [$base $name $ack] )? )*);
-        k40t_kind_impl!(Status: $( $( [$base $name $status] )? )*);
+        k40t_kind_impl!(Ack: $( $( [$base $name $ack $(; $ack_def)?] )? )*);
+        k40t_kind_impl!(Status: $( $( [$base $name $status $(; $status_def)?] )? )*);
 
         $( k40t_message_data!($req, Request, $base, $name); )*
         $( $( k40t_message_data!($ack, Ack, $base, $name); )? )*

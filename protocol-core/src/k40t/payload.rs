@@ -136,7 +136,7 @@ impl Field<Le> for ResponseCode {
 }
 
 wire_struct! {
-    Le [PartialOrd, Ord];
+    Le, bytes [PartialOrd, Ord];
     /// A three-part version number (major, minor, patch), one byte each.
     pub struct Version {
         /// Major version.

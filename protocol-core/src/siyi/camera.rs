@@ -71,7 +71,7 @@ wire_struct! {
 }
 
 wire_struct! {
-    Le;
+    Le, bytes;
     /// A zoom ratio as integer and tenths: the layout of [`AbsoluteZoom`](super::AbsoluteZoom)
     /// (0x0F request, integer 0x01..0x1E, tenths 0..9), [`MaxZoom`](super::MaxZoom) (0x16 reply)
     /// and [`CurrentZoom`](super::CurrentZoom) (0x18 reply).

@@ -77,34 +77,15 @@ impl Ctrl {
     }
 }
 
-/// A read-only or read-write view of a SIYI frame in a byte buffer.
-///
-/// [`Frame::new_checked`] guarantees the buffer starts with STX and holds the whole
-/// frame (header, LEN payload bytes, CRC); accessors never panic, even unchecked. Bytes
-/// after the frame are ignored.
-#[derive(Debug, Clone)]
-pub struct Frame<T: AsRef<[u8]>> {
-    buffer: T,
+frame_view! {
+    /// A read-only or read-write view of a SIYI frame in a byte buffer.
+    ///
+    /// [`Frame::new_checked`] guarantees the buffer starts with STX and holds the whole
+    /// frame (header, LEN payload bytes, CRC); accessors never panic, even unchecked. Bytes
+    /// after the frame are ignored.
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
-    /// A view without checks; accessors of an invalid buffer return zero or empty values.
-    /// Use [`Frame::new_checked`] for received bytes.
-    pub const fn new_unchecked(buffer: T) -> Self {
-        Frame { buffer }
-    }
-
-    /// A view of a buffer that holds a whole frame (the CRC is not verified; see
-    /// [`Frame::verify`]).
-    ///
-    /// # Errors
-    /// As [`Frame::check_len`].
-    pub fn new_checked(buffer: T) -> Result<Self> {
-        let frame = Frame { buffer };
-        frame.check_len()?;
-        Ok(frame)
-    }
-
     /// Checks STX and that the buffer holds the whole frame.
     ///
     /// # Errors
@@ -122,15 +103,6 @@ impl<T: AsRef<[u8]>> Frame<T> {
             return Err(Error::Truncated);
         }
         Ok(())
-    }
-
-    /// The underlying buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
-    }
-
-    fn byte(&self, i: usize) -> u8 {
-        self.buffer.as_ref().get(i).copied().unwrap_or(0)
     }
 
     fn u16_at(&self, r: core::ops::Range<usize>) -> u16 {
@@ -218,12 +190,6 @@ impl<'a> Frame<&'a [u8]> {
 }
 
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
-    fn set_byte(&mut self, i: usize, v: u8) {
-        if let Some(b) = self.buffer.as_mut().get_mut(i) {
-            *b = v;
-        }
-    }
-
     fn set_u16(&mut self, r: core::ops::Range<usize>, v: u16) {
         let [lo, hi] = v.to_le_bytes();
         self.set_byte(r.start, lo);

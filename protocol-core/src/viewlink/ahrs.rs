@@ -1,10 +1,12 @@
 //! M, the AHRS (flight controller) sensor packet of frame 0xB1.
 
-use super::field::{Block, Date, Field, TimeCs};
+use super::block::{Block, Date, TimeCs};
+use crate::wire::encoding::{Be, Field};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-block! {
+wire_struct! {
+    Be;
     /// The attitude group of M (bytes 9..14 when every group is present). Order per
     /// SPEC-NOTES: roll, pitch, yaw (the document labels bytes 9..10 "tilt"; ArduPilot
     /// fixed the swap this typo caused).
@@ -18,7 +20,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// The GPS group of M (bytes 15..42 when every group is present, 28 bytes).
     pub struct MGps {
         /// UTC date.
@@ -47,25 +50,25 @@ block! {
     }
 }
 
-/// M, AHRS sensor output (frame 0xB1, 8..=42 bytes).
-///
-/// Byte 1 is the data type: bit 0 attitude, bit 1 GPS, bit 2 gyro; only the groups its
-/// bits select are present, in that order. The document defines no bytes for the gyro
-/// group, so bit 2 adds none; bits 3..7 add none either. Bytes 2..8 (reserved) are
-/// always present. The attitude and GPS bits follow from the groups present, so an M
-/// value cannot disagree with its own data type.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct M {
-    /// Byte 1 without bits 0 and 1: bit 2 gyro, bits 3..7 reserved.
-    pub type_bits: u8,
-    /// Bytes 2..8, reserved.
-    pub reserved: [u8; 7],
-    /// The attitude group (data type bit 0).
-    pub attitude: Option<MAttitude>,
-    /// The GPS group (data type bit 1).
-    pub gps: Option<MGps>,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// M, AHRS sensor output (frame 0xB1, 8..=42 bytes).
+    ///
+    /// Byte 1 is the data type: bit 0 attitude, bit 1 GPS, bit 2 gyro; only the groups its
+    /// bits select are present, in that order. The document defines no bytes for the gyro
+    /// group, so bit 2 adds none; bits 3..7 add none either. Bytes 2..8 (reserved) are
+    /// always present. The attitude and GPS bits follow from the groups present, so an M
+    /// value cannot disagree with its own data type.
+    pub struct M {
+        /// Byte 1 without bits 0 and 1: bit 2 gyro, bits 3..7 reserved.
+        pub type_bits: u8,
+        /// Bytes 2..8, reserved.
+        pub reserved: [u8; 7],
+        /// The attitude group (data type bit 0).
+        pub attitude: Option<MAttitude>,
+        /// The GPS group (data type bit 1).
+        pub gps: Option<MGps>,
+    }
 }
 
 impl M {
@@ -82,6 +85,7 @@ impl M {
 
     /// An M packet with the given groups and the gyro bit set, as ArduPilot sends it
     /// (data type 0x07 when both groups are present).
+    #[must_use]
     pub const fn new(attitude: Option<MAttitude>, gps: Option<MGps>) -> Self {
         M {
             type_bits: Self::GYRO,
@@ -92,6 +96,7 @@ impl M {
     }
 
     /// Byte 1 as sent: `type_bits` with the bits of the groups present.
+    #[must_use]
     pub const fn data_type(&self) -> u8 {
         let mut t = self.type_bits & !(Self::ATTITUDE | Self::GPS);
         if self.attitude.is_some() {
@@ -104,8 +109,10 @@ impl M {
     }
 }
 
-impl<'a> Block<'a> for M {
-    fn read_block(r: &mut Reader<'a>) -> Result<Self> {
+impl Block for M {
+    const MAX_LEN: usize = Self::MAX_LEN;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
         let t = r.u8()?;
         let reserved = r.array()?;
         let attitude = if t & Self::ATTITUDE != 0 {
@@ -144,10 +151,10 @@ impl<'a> Block<'a> for M {
     fn block_len(&self) -> usize {
         let mut n = Self::MIN_LEN;
         if self.attitude.is_some() {
-            n = n.saturating_add(<MAttitude as Field<crate::wire::encoding::Be>>::LEN);
+            n = n.saturating_add(<MAttitude as Field<Be>>::LEN);
         }
         if self.gps.is_some() {
-            n = n.saturating_add(<MGps as Field<crate::wire::encoding::Be>>::LEN);
+            n = n.saturating_add(<MGps as Field<Be>>::LEN);
         }
         n
     }

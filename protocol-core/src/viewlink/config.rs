@@ -1,15 +1,16 @@
 //! U (communication configuration control, frame 0x01) and V (its feedback, frame 0x02),
 //! with the parameter table of the document's appendix.
 
+use super::block::{Block, Bytes};
 use super::enums::OnOff;
-use super::field::{Bytes, Field};
 use crate::Text;
+use crate::wire::encoding::{Be, Field};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
 /// A one-byte switch of the protocol-control command: 0x00 off, a protocol-specific
 /// value on.
-macro_rules! switch_enum {
+macro_rules! viewlink_switch {
     ($($(#[$m:meta])* $name:ident: $on:literal;)*) => {$(
         code_enum! {
             $(#[$m])*
@@ -23,7 +24,7 @@ macro_rules! switch_enum {
     )*};
 }
 
-switch_enum! {
+viewlink_switch! {
     /// GPS NMEA-0183 protocol switch (U 0x02 byte 3).
     GpsProtocol: 0x24;
     /// "3E" gimbal control protocol switch (byte 4).
@@ -62,7 +63,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// U 0x02 (and V 0x02/0x82): protocol control, 9 bytes.
     pub struct ProtocolControl {
         /// Byte 2: laser rangefinder protocol.
@@ -86,7 +88,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// U 0x04: time zone.
     pub struct TimeZone {
         /// Byte 2: hours (signed, -12..=12).
@@ -98,91 +101,173 @@ block! {
     }
 }
 
-newtype! {
+bit_set! {
     /// OSD_1 bits (U 0x05, appendix table A); a set bit hides the item.
-    pub struct OsdFlags(u8);
+    pub struct OsdFlags(u8) {
+        /// Bit 0: hide all OSD.
+        0 => hide_all, with_hide_all;
+        /// Bit 1: hide the cross.
+        1 => hide_cross, with_hide_cross;
+        /// Bit 2: hide pitch and yaw.
+        2 => hide_angles, with_hide_angles;
+        /// Bit 3: hide the tracking offset (T series).
+        3 => hide_offset, with_hide_offset;
+        /// Bit 4: hide GPS.
+        4 => hide_gps, with_hide_gps;
+        /// Bit 5: hide the time.
+        5 => hide_time, with_hide_time;
+        /// Bit 6: hide the EO FOV / zoom level.
+        6 => hide_zoom, with_hide_zoom;
+        /// Bit 7: big font (T series) / hide identification boxes (A series).
+        7 => big_font, with_big_font;
+    }
+}
 
+bit_set! {
     /// OSD_2 / OSD type bits (U 0x07, appendix table B). Sections 3.1 and the appendix
     /// disagree on the polarity of bits 1, 2, 4, 5 and 6; the bits are kept as received.
-    pub struct OsdTypeFlags(u8);
+    pub struct OsdTypeFlags(u8) {
+        /// Bit 0: save the OSD settings.
+        0 => save, with_save;
+        /// Bit 1: IR item (3.1: display IR; table B: hide IR digital zoom).
+        1 => ir, with_ir;
+        /// Bit 2: LRF item (3.1: display; table B: hide).
+        2 => lrf, with_lrf;
+        /// Bit 3: GPS as MGRS (else geographic coordinates).
+        3 => mgrs, with_mgrs;
+        /// Bit 4: TF item.
+        4 => tf, with_tf;
+        /// Bit 5: target GPS item.
+        5 => target_gps, with_target_gps;
+        /// Bit 6: FOV (else zoom level) / font colour.
+        6 => fov, with_fov;
+        /// Bit 7: GPS in decimal degrees (else degrees, minutes, seconds).
+        7 => decimal, with_decimal;
+    }
+}
 
+wire_newtype! {
     /// Two RC channel numbers packed in one byte (`0xAB`: A in the high nibble, B in the
     /// low one), e.g. yaw `0xYW`: Y yaw right (1900 µs), W yaw left (1100 µs).
     pub struct ChannelPair(u8);
+}
 
+bit_set! {
     /// YPMZ (yaw, pitch, mode, zoom) channel reverse bits (U 0x10 byte 9, appendix
-    /// table E). Default 0xFF.
-    pub struct YpmzInvert(u8);
+    /// table E): a set bit moves the command to the other end of the RC range (the
+    /// stop stays at 1500 µs). Default 0xFF.
+    pub struct YpmzInvert(u8) {
+        /// Bit 0: zoom out at 1100 µs (else 1900 µs).
+        0 => zoom_out, with_zoom_out;
+        /// Bit 1: zoom in at 1900 µs (else 1100 µs).
+        1 => zoom_in, with_zoom_in;
+        /// Bit 2: slowest speed at 1100 µs (else 1900 µs).
+        2 => speed, with_speed;
+        /// Bit 3: recentre at 1900 µs (else 1100 µs).
+        3 => recenter, with_recenter;
+        /// Bit 4: pitch up at 1100 µs (else 1900 µs).
+        4 => pitch_up, with_pitch_up;
+        /// Bit 5: pitch down at 1900 µs (else 1100 µs).
+        5 => pitch_down, with_pitch_down;
+        /// Bit 6: yaw left at 1100 µs (else 1900 µs).
+        6 => yaw_left, with_yaw_left;
+        /// Bit 7: yaw right at 1900 µs (else 1100 µs).
+        7 => yaw_right, with_yaw_right;
+    }
+}
 
+bit_set! {
     /// PRM / FRM (focus, record, multi) channel reverse bits (U 0x10 byte 10, appendix
-    /// table F). Default 0xFF.
-    pub struct PrmInvert(u8);
-
-    /// Target position calculation byte (appendix table C): bit 0 OSD shows the
-    /// object's GPS (else the UAV's); bit 4 serial output enabled; bits 5..7 the output
-    /// format (0 v1, 1 v2, 2 v3).
-    pub struct TargetCalcFlags(u8);
-
-    /// Output control (appendix 0x20): bit 0 reset IP to 192.168.2.119; bit 1 tracking
-    /// data on the serial port; bit 2 MAVLink on TCP/UDP; bit 3 MAVLink on the serial port.
-    pub struct OutputControl(u8);
-
-    /// Flip control (appendix 0x2E): bit 0 EO flip off, bit 1 EO flip on, bit 4 IR flip
-    /// off, bit 5 IR flip on.
-    pub struct FlipControl(u8);
-
-    /// IR raw data record (appendix 0x2F): bit 0 on; bit 1 use encoder angles (else IMU).
-    pub struct IrRawRecord(u8);
+    /// table F): a set bit moves the command to the other end of the RC range; bits 0
+    /// and 1 reserved. Default 0xFF.
+    pub struct PrmInvert(u8) {
+        /// Bit 2: slowest speed at 1100 µs (else 1900 µs).
+        2 => speed, with_speed;
+        /// Bit 3: recentre at 1900 µs (else 1100 µs).
+        3 => recenter, with_recenter;
+        /// Bit 4: shoot at 1100 µs (else 1900 µs).
+        4 => shoot, with_shoot;
+        /// Bit 5: record start/stop at 1900 µs (else 1100 µs).
+        5 => record, with_record;
+        /// Bit 6: picture in picture at 1100 µs (else 1900 µs).
+        6 => picture_in_picture, with_picture_in_picture;
+        /// Bit 7: IR colour at 1900 µs (else 1100 µs).
+        7 => ir_color, with_ir_color;
+    }
 }
 
-impl OsdFlags {
-    /// Bit 0: hide all OSD.
-    pub const HIDE_ALL: u8 = 1 << 0;
-    /// Bit 1: hide the cross.
-    pub const HIDE_CROSS: u8 = 1 << 1;
-    /// Bit 2: hide pitch and yaw.
-    pub const HIDE_ANGLES: u8 = 1 << 2;
-    /// Bit 3: hide the tracking offset (T series).
-    pub const HIDE_OFFSET: u8 = 1 << 3;
-    /// Bit 4: hide GPS.
-    pub const HIDE_GPS: u8 = 1 << 4;
-    /// Bit 5: hide the time.
-    pub const HIDE_TIME: u8 = 1 << 5;
-    /// Bit 6: hide the EO FOV / zoom level.
-    pub const HIDE_ZOOM: u8 = 1 << 6;
-    /// Bit 7: big font (T series) / hide identification boxes (A series).
-    pub const BIG_FONT: u8 = 1 << 7;
+bit_set! {
+    /// Target position calculation byte (appendix table C): bits 1..3 reserved, bits
+    /// 5..7 the serial output format ([`TargetCalcFlags::output_format`]).
+    pub struct TargetCalcFlags(u8) {
+        /// Bit 0: the OSD shows the object's GPS (else the UAV's).
+        0 => osd_object_gps, with_osd_object_gps;
+        /// Bit 4: serial output enabled.
+        4 => serial_output, with_serial_output;
+    }
 }
 
-impl OsdTypeFlags {
-    /// Bit 0: save the OSD settings.
-    pub const SAVE: u8 = 1 << 0;
-    /// Bit 1: IR item (3.1: display IR; table B: hide IR digital zoom).
-    pub const IR: u8 = 1 << 1;
-    /// Bit 2: LRF item (3.1: display; table B: hide).
-    pub const LRF: u8 = 1 << 2;
-    /// Bit 3: GPS as MGRS (else geographic coordinates).
-    pub const MGRS: u8 = 1 << 3;
-    /// Bit 4: TF item.
-    pub const TF: u8 = 1 << 4;
-    /// Bit 5: target GPS item.
-    pub const TARGET_GPS: u8 = 1 << 5;
-    /// Bit 6: FOV (else zoom level) / font colour.
-    pub const FOV: u8 = 1 << 6;
-    /// Bit 7: GPS in decimal degrees (else degrees, minutes, seconds).
-    pub const DECIMAL: u8 = 1 << 7;
+impl TargetCalcFlags {
+    /// Bits 5..7: the serial output format (0 v1, 1 v2, 2 v3).
+    #[must_use]
+    pub const fn output_format(self) -> u8 {
+        self.0 >> 5
+    }
+}
+
+bit_set! {
+    /// Output control (appendix 0x20).
+    pub struct OutputControl(u8) {
+        /// Bit 0: reset the IP address to 192.168.2.119.
+        0 => reset_ip, with_reset_ip;
+        /// Bit 1: tracking data on the serial port.
+        1 => serial_tracking, with_serial_tracking;
+        /// Bit 2: MAVLink on TCP/UDP.
+        2 => network_mavlink, with_network_mavlink;
+        /// Bit 3: MAVLink on the serial port.
+        3 => serial_mavlink, with_serial_mavlink;
+    }
+}
+
+bit_set! {
+    /// Flip control (appendix 0x2E).
+    pub struct FlipControl(u8) {
+        /// Bit 0: EO flip off.
+        0 => eo_flip_off, with_eo_flip_off;
+        /// Bit 1: EO flip on.
+        1 => eo_flip_on, with_eo_flip_on;
+        /// Bit 4: IR flip off.
+        4 => ir_flip_off, with_ir_flip_off;
+        /// Bit 5: IR flip on.
+        5 => ir_flip_on, with_ir_flip_on;
+    }
+}
+
+bit_set! {
+    /// IR raw data record (appendix 0x2F).
+    pub struct IrRawRecord(u8) {
+        /// Bit 0: recording on.
+        0 => on, with_on;
+        /// Bit 1: use the encoder angles (else the IMU's).
+        1 => encoder_angles, with_encoder_angles;
+    }
 }
 
 impl ChannelPair {
     /// The channel in the high nibble.
+    #[must_use]
     pub const fn high(self) -> u8 {
         self.0 >> 4
     }
     /// The channel in the low nibble.
+    #[must_use]
     pub const fn low(self) -> u8 {
         self.0 & 0x0F
     }
-    /// Two channels (0..=15 each); a larger value is [`Error::OutOfRange`].
+    /// Two channels (0..=15 each).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a channel above 15.
     pub const fn new(high: u8, low: u8) -> Result<Self> {
         if high > 15 || low > 15 {
             return Err(Error::OutOfRange);
@@ -247,7 +332,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// U 0x10 (and V 0x10/0x90): RC channel mapping, 9 bytes.
     pub struct RcMapping {
         /// Byte 2: yaw right / yaw left channels.
@@ -271,15 +357,15 @@ block! {
     }
 }
 
-/// A U setting with a one-byte value (byte 2); bytes 3..10 have no meaning.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Setting1<T> {
-    /// The value.
-    pub value: T,
-    /// Bytes 3..10.
-    pub reserved: [u8; 8],
+wire_derive! {
+    [Eq, Hash, Default]
+    /// A U setting with a one-byte value (byte 2); bytes 3..10 have no meaning.
+    pub struct Setting1<T> {
+        /// The value.
+        pub value: T,
+        /// Bytes 3..10.
+        pub reserved: [u8; 8],
+    }
 }
 
 impl<T> Setting1<T> {
@@ -292,16 +378,16 @@ impl<T> Setting1<T> {
     }
 }
 
-/// A U setting with a two-byte value (bytes 2..3, big-endian); bytes 4..10 have no
-/// meaning.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Setting2<T> {
-    /// The value.
-    pub value: T,
-    /// Bytes 4..10.
-    pub reserved: [u8; 7],
+wire_derive! {
+    [Eq, Hash, Default]
+    /// A U setting with a two-byte value (bytes 2..3, big-endian); bytes 4..10 have no
+    /// meaning.
+    pub struct Setting2<T> {
+        /// The value.
+        pub value: T,
+        /// Bytes 4..10.
+        pub reserved: [u8; 7],
+    }
 }
 
 impl<T> Setting2<T> {
@@ -314,7 +400,7 @@ impl<T> Setting2<T> {
     }
 }
 
-impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for Setting1<T> {
+impl<T: Field<Be>> Field<Be> for Setting1<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 1) };
@@ -329,7 +415,7 @@ impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for S
     }
 }
 
-impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for Setting2<T> {
+impl<T: Field<Be>> Field<Be> for Setting2<T> {
     const LEN: usize = 9;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         const { assert!(T::LEN == 2) };
@@ -344,7 +430,8 @@ impl<T: Field<crate::wire::encoding::Be>> Field<crate::wire::encoding::Be> for S
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// The parameters of a U query (0x82..0xEE): no meaning.
     pub struct QueryParams {
         /// Bytes 2..10.
@@ -475,7 +562,7 @@ code_enum! {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// U, communication configuration control (frame 0x01, 10 bytes): a [`UCommand`]
     /// and nine parameter bytes laid out by it. Variant names carry the unit of their
     /// value.
@@ -597,6 +684,15 @@ command_enum! {
     }
 }
 
+impl U {
+    /// The V command that answers this U packet: the same code. ArduPilot matches a
+    /// reply to its query by the query code (0xD0 firmware, 0xE4 model).
+    #[must_use]
+    pub const fn reply_command(&self) -> VCommand {
+        VCommand::from_value(self.command().value())
+    }
+}
+
 // ----------------------------------------------------------------------------------- V
 
 code_enum! {
@@ -645,35 +741,36 @@ code_enum! {
     }
 }
 
-/// What the parameters of a V packet are, by its command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum VKind {
-    /// Protocol control, 9 bytes.
-    ProtocolControl,
-    /// Time zone, 2 bytes.
-    TimeZone,
-    /// OSD, 2 bytes.
-    Osd,
-    /// Baud rate, 1 byte.
-    BaudRate,
-    /// Alarm temperature, 4 bytes.
-    AlarmTemperature,
-    /// RC channel mapping, 9 bytes.
-    RcMapping,
-    /// Firmware version, 20 bytes.
-    Firmware,
-    /// Model, 10 bytes.
-    Model,
-    /// Serial number, 22 bytes.
-    SerialNumber,
-    /// Not defined: the parameters are kept as bytes.
-    Other,
+wire_derive! {
+    [Eq, Hash]
+    /// What the parameters of a V packet are, by its command.
+    pub enum VKind {
+        /// Protocol control, 9 bytes.
+        ProtocolControl,
+        /// Time zone, 2 bytes.
+        TimeZone,
+        /// OSD, 2 bytes.
+        Osd,
+        /// Baud rate, 1 byte.
+        BaudRate,
+        /// Alarm temperature, 4 bytes.
+        AlarmTemperature,
+        /// RC channel mapping, 9 bytes.
+        RcMapping,
+        /// Firmware version, 20 bytes.
+        Firmware,
+        /// Model, 10 bytes.
+        Model,
+        /// Serial number, 22 bytes.
+        SerialNumber,
+        /// Not defined: the parameters are kept as bytes.
+        Other,
+    }
 }
 
 impl VKind {
     /// The effective parameter length the document gives (0 for `Other`).
+    #[must_use]
     pub const fn len(self) -> usize {
         match self {
             VKind::ProtocolControl | VKind::RcMapping => 9,
@@ -688,6 +785,7 @@ impl VKind {
     }
 
     /// True for `Other` (no defined parameters).
+    #[must_use]
     pub const fn is_empty(self) -> bool {
         matches!(self, VKind::Other)
     }
@@ -695,6 +793,7 @@ impl VKind {
 
 impl VCommand {
     /// The kind of parameters this command carries.
+    #[must_use]
     pub const fn kind(self) -> VKind {
         match self {
             VCommand::ProtocolControl | VCommand::QueryProtocolControl => VKind::ProtocolControl,
@@ -711,7 +810,8 @@ impl VCommand {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// V time zone parameters.
     pub struct VTimeZone {
         /// Hours.
@@ -721,7 +821,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// V OSD parameters (OSD_1 then OSD_2).
     pub struct VOsd {
         /// OSD_1 bits.
@@ -731,7 +832,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// V alarm temperature parameters (4 bytes; the document gives no layout: the
     /// int16 of U 0x0A, then two bytes kept as received).
     pub struct VAlarmTemperature {
@@ -742,35 +844,36 @@ block! {
     }
 }
 
-/// The parameters of a V packet.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum VData {
-    /// Protocol control.
-    ProtocolControl(ProtocolControl),
-    /// Time zone.
-    TimeZone(VTimeZone),
-    /// OSD.
-    Osd(VOsd),
-    /// Baud rate.
-    BaudRate(BaudRate),
-    /// Alarm temperature.
-    AlarmTemperature(VAlarmTemperature),
-    /// RC channel mapping.
-    RcMapping(RcMapping),
-    /// Firmware version text.
-    Firmware(Text<20>),
-    /// Model text.
-    Model(Text<10>),
-    /// Serial number text.
-    SerialNumber(Text<22>),
-    /// Undefined parameters (or fewer bytes than the command's layout), as received.
-    Other(Bytes<22>),
+wire_derive! {
+    [Eq, Hash]
+    /// The parameters of a V packet.
+    pub enum VData {
+        /// Protocol control.
+        ProtocolControl(ProtocolControl),
+        /// Time zone.
+        TimeZone(VTimeZone),
+        /// OSD.
+        Osd(VOsd),
+        /// Baud rate.
+        BaudRate(BaudRate),
+        /// Alarm temperature.
+        AlarmTemperature(VAlarmTemperature),
+        /// RC channel mapping.
+        RcMapping(RcMapping),
+        /// Firmware version text.
+        Firmware(Text<20>),
+        /// Model text.
+        Model(Text<10>),
+        /// Serial number text.
+        SerialNumber(Text<22>),
+        /// Undefined parameters (or fewer bytes than the command's layout), as received.
+        Other(Bytes<22>),
+    }
 }
 
 impl VData {
     /// The kind of these parameters.
+    #[must_use]
     pub const fn kind(&self) -> VKind {
         match self {
             VData::ProtocolControl(_) => VKind::ProtocolControl,
@@ -787,6 +890,7 @@ impl VData {
     }
 
     /// Encoded length.
+    #[must_use]
     pub const fn len(&self) -> usize {
         match self {
             VData::Other(b) => b.len(),
@@ -795,6 +899,7 @@ impl VData {
     }
 
     /// True when no byte is encoded.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -803,23 +908,24 @@ impl VData {
 /// Most parameter bytes a V packet carries (bytes 2..23).
 pub const V_MAX_PARAMS: usize = 22;
 
-/// V, communication configuration status (frame 0x02, 1 + up to 22 bytes): the reply to
-/// a U packet. The parameters are typed when the packet holds at least the command's
-/// effective length; bytes beyond it are kept in `trailing`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct V {
-    /// Byte 1: the control command.
-    pub command: VCommand,
-    /// The parameters.
-    pub data: VData,
-    /// Parameter bytes after the effective length.
-    pub trailing: Bytes<22>,
+wire_derive! {
+    [Eq, Hash]
+    /// V, communication configuration status (frame 0x02, 1 + up to 22 bytes): the reply to
+    /// a U packet. The parameters are typed when the packet holds at least the command's
+    /// effective length; bytes beyond it are kept in `trailing`.
+    pub struct V {
+        /// Byte 1: the control command.
+        pub command: VCommand,
+        /// The parameters.
+        pub data: VData,
+        /// Parameter bytes after the effective length.
+        pub trailing: Bytes<22>,
+    }
 }
 
 impl V {
     /// A reply with typed parameters and nothing after them.
+    #[must_use]
     pub fn new(command: VCommand, data: VData) -> Self {
         V {
             command,
@@ -829,8 +935,10 @@ impl V {
     }
 }
 
-impl<'a> super::field::Block<'a> for V {
-    fn read_block(r: &mut Reader<'a>) -> Result<Self> {
+impl Block for V {
+    const MAX_LEN: usize = 1 + V_MAX_PARAMS;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
         let command = VCommand::from_value(r.u8()?);
         let rest = r.rest();
         if rest.len() > V_MAX_PARAMS {
@@ -846,21 +954,15 @@ impl<'a> super::field::Block<'a> for V {
         }
         let mut p = Reader::new(rest);
         let data = match kind {
-            VKind::ProtocolControl => {
-                VData::ProtocolControl(Field::<crate::wire::encoding::Be>::read(&mut p)?)
-            }
-            VKind::TimeZone => VData::TimeZone(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::Osd => VData::Osd(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::BaudRate => VData::BaudRate(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::AlarmTemperature => {
-                VData::AlarmTemperature(Field::<crate::wire::encoding::Be>::read(&mut p)?)
-            }
-            VKind::RcMapping => VData::RcMapping(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::Firmware => VData::Firmware(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::Model => VData::Model(Field::<crate::wire::encoding::Be>::read(&mut p)?),
-            VKind::SerialNumber => {
-                VData::SerialNumber(Field::<crate::wire::encoding::Be>::read(&mut p)?)
-            }
+            VKind::ProtocolControl => VData::ProtocolControl(Field::<Be>::read(&mut p)?),
+            VKind::TimeZone => VData::TimeZone(Field::<Be>::read(&mut p)?),
+            VKind::Osd => VData::Osd(Field::<Be>::read(&mut p)?),
+            VKind::BaudRate => VData::BaudRate(Field::<Be>::read(&mut p)?),
+            VKind::AlarmTemperature => VData::AlarmTemperature(Field::<Be>::read(&mut p)?),
+            VKind::RcMapping => VData::RcMapping(Field::<Be>::read(&mut p)?),
+            VKind::Firmware => VData::Firmware(Field::<Be>::read(&mut p)?),
+            VKind::Model => VData::Model(Field::<Be>::read(&mut p)?),
+            VKind::SerialNumber => VData::SerialNumber(Field::<Be>::read(&mut p)?),
             VKind::Other => VData::Other(Bytes::default()),
         };
         Ok(V {
@@ -882,12 +984,12 @@ impl<'a> super::field::Block<'a> for V {
             VData::ProtocolControl(v) => v.write(w)?,
             VData::TimeZone(v) => v.write(w)?,
             VData::Osd(v) => v.write(w)?,
-            VData::BaudRate(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
+            VData::BaudRate(v) => Field::<Be>::write(v, w)?,
             VData::AlarmTemperature(v) => v.write(w)?,
             VData::RcMapping(v) => v.write(w)?,
-            VData::Firmware(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
-            VData::Model(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
-            VData::SerialNumber(v) => Field::<crate::wire::encoding::Be>::write(v, w)?,
+            VData::Firmware(v) => Field::<Be>::write(v, w)?,
+            VData::Model(v) => Field::<Be>::write(v, w)?,
+            VData::SerialNumber(v) => Field::<Be>::write(v, w)?,
             VData::Other(b) => w.put(b.as_slice())?,
         }
         w.put(self.trailing.as_slice())

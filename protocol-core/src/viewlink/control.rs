@@ -4,11 +4,12 @@
 //! Angles in `_bam16` fields are 1 = 360/65536° (a signed 16-bit binary angle);
 //! `_bam14` fields are 1 = 720/32768° (= 360/16384°).
 
+use super::block::{bits_of, bits8, byte_of, put_bits, put_bits8};
 use super::enums::{
     LrfCommand, OnOff, OperationCommand, Sensor, ServoCommand, TrackingCommand, TrackingSource,
 };
-use super::field::{Field, bits_of, bits8, put_bits, put_bits8};
 use crate::Result;
+use crate::wire::encoding::{Be, Field};
 use crate::wire::{Reader, Writer};
 
 // ---------------------------------------------------------------------------------- A1
@@ -23,7 +24,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x00: motor on/off.
     pub struct MotorOnOff {
         /// Parameter 1: on or off.
@@ -33,7 +35,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x01: manual speed mode. The document's examples use +2000 for
     /// "right" and for "up" (20°/s).
     pub struct ManualSpeed {
@@ -46,7 +49,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x05: azimuth scan (not supported yet by the gimbals). The meaning of
     /// the speeds and of parameter 4 depends on parameter 3 (see the methods).
     pub struct AzimuthScan {
@@ -66,21 +70,25 @@ block! {
 
 impl AzimuthScan {
     /// True for a circle scan (parameter 3 ≥ 0x8000).
+    #[must_use]
     pub const fn is_circle(&self) -> bool {
         self.range >= 0x8000
     }
 
     /// The azimuth speed in 0.01°/s, whatever the unit on the wire.
+    #[must_use]
     pub const fn yaw_speed_cdeg_s(&self) -> i32 {
         self.scaled(self.yaw_speed)
     }
 
     /// The tilt speed in 0.01°/s, whatever the unit on the wire.
+    #[must_use]
     pub const fn pitch_speed_cdeg_s(&self) -> i32 {
         self.scaled(self.pitch_speed)
     }
 
-    const fn scaled(&self, v: i16) -> i32 {
+    const fn scaled(self, v: i16) -> i32 {
+        // Widening casts (`i32::from` is not const).
         if self.is_circle() {
             (v as i32).saturating_mul(10)
         } else {
@@ -89,17 +97,20 @@ impl AzimuthScan {
     }
 
     /// Circle scan: the scan angles are relative to the earth (else to the vehicle).
+    #[must_use]
     pub const fn earth_frame(&self) -> bool {
         self.is_circle() && self.range & 0x4000 != 0
     }
 
     /// Circle scan: the normalised tilt gain (bits 0..7).
+    #[must_use]
     pub const fn tilt_gain(&self) -> u8 {
-        (self.range & 0xFF) as u8
+        byte_of(self.range, 0, 8)
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x09: manual relative angle mode (the current position is 0).
     pub struct RelativeAngle {
         /// Parameter 1: yaw speed, 0.1°/s; 0 = the system default speed.
@@ -113,7 +124,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x0B: manual absolute angle mode (home position is 0). The document's
     /// example "yaw right 90°, tilt down 90°" is 0x3FFC, 0x3FFC.
     pub struct AbsoluteAngle {
@@ -126,7 +138,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x0D: manual RC mode.
     pub struct ManualRc {
         /// Parameter 1: yaw speed, 0.1°/s; 0 = the system default speed.
@@ -140,7 +153,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x0E: tracking follows a click/touch (3.3.1.7). The document calls the
     /// coordinates unsigned but gives them a signed range: they are read as signed.
     pub struct TrackClick {
@@ -155,7 +169,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x10: manual yaw zero-bias (gyro heading) correction.
     pub struct GyroCorrection {
         /// Parameter 1: -20000..=20000, in 0.001 of the gyro sensor's unit (the document
@@ -166,7 +181,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x11: use the frame heading angle servo system only.
     pub struct FrameHeadingAngle {
         /// Parameter 1: -1800..=1800 (0.1°); [`FrameHeadingAngle::DISABLE`] disables the
@@ -182,7 +198,8 @@ impl FrameHeadingAngle {
     pub const DISABLE: i16 = 0x7FFF;
 }
 
-block! {
+wire_struct! {
+    Be;
     /// A1 command 0x1B: 720° manual absolute angle mode (home position is 0).
     pub struct AbsoluteAngle720 {
         /// Parameter 1: yaw angle, 720/32768° per bit.
@@ -194,7 +211,7 @@ block! {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// A1, servo control, commonly used (9 bytes): a [`ServoCommand`] and four 16-bit
     /// parameters whose meaning depends on it (3.3.1). Commands whose parameters are
     /// meaningless (follow yaw, home, tracking, ...) are `Plain`.
@@ -240,22 +257,22 @@ code_enum! {
     }
 }
 
-/// A2, servo control, infrequently used (2 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct A2 {
-    /// Byte 1 bits 0..4: the servo action.
-    pub action: ServoAction,
-    /// Byte 1 bit 5: ask for one infrequently used status frame (0x41) in reply.
-    pub request_status: bool,
-    /// Byte 1 bits 6..7: the infrequently used frame counter (0..=3), echoed in B2.
-    pub counter: u8,
-    /// Byte 2: the adjustment, 0.001° (pitch: positive up; yaw: positive right).
-    pub adjustment_mdeg: i8,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// A2, servo control, infrequently used (2 bytes).
+    pub struct A2 {
+        /// Byte 1 bits 0..4: the servo action.
+        pub action: ServoAction,
+        /// Byte 1 bit 5: ask for one infrequently used status frame (0x41) in reply.
+        pub request_status: bool,
+        /// Byte 1 bits 6..7: the infrequently used frame counter (0..=3), echoed in B2.
+        pub counter: u8,
+        /// Byte 2: the adjustment, 0.001° (pitch: positive up; yaw: positive right).
+        pub adjustment_mdeg: i8,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for A2 {
+impl Field<Be> for A2 {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -274,29 +291,30 @@ impl Field<crate::wire::encoding::Be> for A2 {
     }
 }
 
-impl_block_via_field!(A2);
-
 // ---------------------------------------------------------------------------------- C1
 
-/// C1, optical control, commonly used: one big-endian `u16` of four bit fields
-/// (sensor bits 0..2, speed bits 3..5, operation bits 6..12, LRF bits 13..15).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct C1 {
-    /// Bits 0..2: the image sensor to select.
-    pub sensor: Sensor,
-    /// Bits 3..5: the operation's speed (zoom or focus speed, 1 slowest ..= 7 fastest).
-    pub zoom_speed: u8,
-    /// Bits 6..12: the operation command.
-    pub operation: OperationCommand,
-    /// Bits 13..15: the laser rangefinder command.
-    pub lrf: LrfCommand,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// C1, optical control, commonly used: one big-endian `u16` of four bit fields
+    /// (sensor bits 0..2, speed bits 3..5, operation bits 6..12, LRF bits 13..15).
+    pub struct C1 {
+        /// Bits 0..2: the image sensor to select.
+        pub sensor: Sensor,
+        /// Bits 3..5: the operation's speed (zoom or focus speed, 1 slowest ..= 7 fastest).
+        pub zoom_speed: u8,
+        /// Bits 6..12: the operation command.
+        pub operation: OperationCommand,
+        /// Bits 13..15: the laser rangefinder command.
+        pub lrf: LrfCommand,
+    }
 }
 
 impl C1 {
-    /// The 16 bits on the wire; a field that does not fit its bits is
-    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The 16 bits on the wire.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a field that does not fit its
+    /// bits.
     pub fn to_u16(&self) -> Result<u16> {
         let v = put_bits(0, u16::from(self.sensor.value()), 0, 3)?;
         let v = put_bits(v, u16::from(self.zoom_speed), 3, 3)?;
@@ -305,17 +323,18 @@ impl C1 {
     }
 
     /// The fields of the 16 bits on the wire.
+    #[must_use]
     pub const fn from_u16(v: u16) -> Self {
         C1 {
-            sensor: Sensor::from_value(bits_of(v, 0, 3) as u8),
-            zoom_speed: bits_of(v, 3, 3) as u8,
-            operation: OperationCommand::from_value(bits_of(v, 6, 7) as u8),
-            lrf: LrfCommand::from_value(bits_of(v, 13, 3) as u8),
+            sensor: Sensor::from_value(byte_of(v, 0, 3)),
+            zoom_speed: byte_of(v, 3, 3),
+            operation: OperationCommand::from_value(byte_of(v, 6, 7)),
+            lrf: LrfCommand::from_value(byte_of(v, 13, 3)),
         }
     }
 }
 
-impl Field<crate::wire::encoding::Be> for C1 {
+impl Field<Be> for C1 {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u16_be().map(C1::from_u16)
@@ -324,8 +343,6 @@ impl Field<crate::wire::encoding::Be> for C1 {
         w.u16_be(self.to_u16()?)
     }
 }
-
-impl_block_via_field!(C1);
 
 // ---------------------------------------------------------------------------------- C2
 
@@ -409,7 +426,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 parameter in 0.1 zoom steps (0x08, 0x53, 0x56): 200 = 20x.
     pub struct Zoom {
         /// Zoom ratio times ten.
@@ -417,7 +435,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 0x14: IR alarm temperature.
     pub struct AlarmTemperature {
         /// Alarm temperature, °C.
@@ -425,7 +444,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 0x1E: temperature output interval.
     pub struct TemperatureInterval {
         /// Interval in video frames (the document gives no unit; "data frame interval").
@@ -433,7 +453,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 0x50..0x55: a raw setting value (brightness, contrast, aperture, focus, gain).
     pub struct SettingValue {
         /// The value (no unit given).
@@ -441,7 +462,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 0x76: recording segment ("package") length.
     pub struct RecordSegment {
         /// Minutes.
@@ -461,23 +483,23 @@ code_enum! {
     }
 }
 
-/// C2 0x4E: reboot / auto-check.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Reboot {
-    /// Bits 0..1.
-    pub action: RebootAction,
-    /// Bits 2..15, reserved (kept, shifted down by 2).
-    pub reserved: u16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// C2 0x4E: reboot / auto-check.
+    pub struct Reboot {
+        /// Bits 0..1.
+        pub action: RebootAction,
+        /// Bits 2..15, reserved (kept, shifted down by 2).
+        pub reserved: u16,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for Reboot {
+impl Field<Be> for Reboot {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let v = r.u16_be()?;
         Ok(Reboot {
-            action: RebootAction::from_value(bits_of(v, 0, 2) as u8),
+            action: RebootAction::from_value(byte_of(v, 0, 2)),
             reserved: bits_of(v, 2, 14),
         })
     }
@@ -513,7 +535,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// C2 0x74: laser control.
     pub struct LaserControl {
         /// Byte 2: the laser command.
@@ -535,7 +558,7 @@ code_enum! {
     }
 }
 
-newtype! {
+wire_newtype! {
     /// C2 0x75: optical power control bits: EO 1 bits 0..1, IR bits 2..3, EO 2 bits
     /// 4..5, laser bits 14..15 (each a [`PowerSwitch`]); the rest reserved.
     pub struct PowerControl(u16);
@@ -543,22 +566,29 @@ newtype! {
 
 impl PowerControl {
     /// EO 1 power (bits 0..1).
+    #[must_use]
     pub const fn eo1(self) -> PowerSwitch {
-        PowerSwitch::from_value(bits_of(self.0, 0, 2) as u8)
+        PowerSwitch::from_value(byte_of(self.0, 0, 2))
     }
     /// IR power (bits 2..3).
+    #[must_use]
     pub const fn ir(self) -> PowerSwitch {
-        PowerSwitch::from_value(bits_of(self.0, 2, 2) as u8)
+        PowerSwitch::from_value(byte_of(self.0, 2, 2))
     }
     /// EO 2 power (bits 4..5).
+    #[must_use]
     pub const fn eo2(self) -> PowerSwitch {
-        PowerSwitch::from_value(bits_of(self.0, 4, 2) as u8)
+        PowerSwitch::from_value(byte_of(self.0, 4, 2))
     }
     /// Laser power (bits 14..15).
+    #[must_use]
     pub const fn laser(self) -> PowerSwitch {
-        PowerSwitch::from_value(bits_of(self.0, 14, 2) as u8)
+        PowerSwitch::from_value(byte_of(self.0, 14, 2))
     }
-    /// The bits for four switches; a switch value above 3 is [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The bits for four switches.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a switch value above 3.
     pub fn new(
         eo1: PowerSwitch,
         ir: PowerSwitch,
@@ -572,7 +602,7 @@ impl PowerControl {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// C2, optical control, infrequently used (3 bytes): a [`C2Command`] and a 16-bit
     /// parameter whose meaning depends on it (3.8.1).
     pub enum C2: C2Command [2] {
@@ -609,27 +639,28 @@ command_enum! {
 
 // ---------------------------------------------------------------------------------- E1
 
-/// E1, tracking command, commonly used (3 bytes). The parameters' meaning depends on
-/// the command (3.11.1): [`TrackingCommand::Search`] moves the cross (parameter 1: 1..15
-/// right, 16..31 left; parameter 2: 1..15 down, 16..31 up); `AiDetection` takes 0/1 in
-/// parameter 2; `TrackingSpeed` 0.2°/s and `SpeedCoefficient` 0.1 in parameter 2
-/// (0 = the system default).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct E1 {
-    /// Byte 1 bits 0..2: tracking source (reserved by the document; ArduPilot sets it).
-    pub source: TrackingSource,
-    /// Byte 1 bits 3..7: parameter 1 (5 bits).
-    pub param1: u8,
-    /// Byte 2: the basic command.
-    pub command: TrackingCommand,
-    /// Byte 3: parameter 2.
-    pub param2: u8,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// E1, tracking command, commonly used (3 bytes). The parameters' meaning depends on
+    /// the command (3.11.1): [`TrackingCommand::Search`] moves the cross (parameter 1: 1..15
+    /// right, 16..31 left; parameter 2: 1..15 down, 16..31 up); `AiDetection` takes 0/1 in
+    /// parameter 2; `TrackingSpeed` 0.2°/s and `SpeedCoefficient` 0.1 in parameter 2
+    /// (0 = the system default).
+    pub struct E1 {
+        /// Byte 1 bits 0..2: tracking source (reserved by the document; ArduPilot sets it).
+        pub source: TrackingSource,
+        /// Byte 1 bits 3..7: parameter 1 (5 bits).
+        pub param1: u8,
+        /// Byte 2: the basic command.
+        pub command: TrackingCommand,
+        /// Byte 3: parameter 2.
+        pub param2: u8,
+    }
 }
 
 impl E1 {
     /// A command with zero parameters.
+    #[must_use]
     pub const fn new(source: TrackingSource, command: TrackingCommand) -> Self {
         E1 {
             source,
@@ -640,6 +671,7 @@ impl E1 {
     }
 
     /// Search: move the cross at the given speeds (0..=31 each).
+    #[must_use]
     pub const fn search(source: TrackingSource, yaw: u8, pitch: u8) -> Self {
         E1 {
             source,
@@ -650,6 +682,7 @@ impl E1 {
     }
 
     /// AI detection on or off.
+    #[must_use]
     pub const fn ai_detection(source: TrackingSource, on: OnOff) -> Self {
         E1 {
             source,
@@ -660,6 +693,7 @@ impl E1 {
     }
 
     /// Tracking speed in 0.2°/s (0 = default); `None` for another command.
+    #[must_use]
     pub const fn tracking_speed_5th_dps(&self) -> Option<u8> {
         match self.command {
             TrackingCommand::TrackingSpeed => Some(self.param2),
@@ -668,6 +702,7 @@ impl E1 {
     }
 
     /// Tracking speed coefficient times ten (0 = default); `None` for another command.
+    #[must_use]
     pub const fn speed_coefficient_x10(&self) -> Option<u8> {
         match self.command {
             TrackingCommand::SpeedCoefficient => Some(self.param2),
@@ -676,7 +711,7 @@ impl E1 {
     }
 }
 
-impl Field<crate::wire::encoding::Be> for E1 {
+impl Field<Be> for E1 {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -694,8 +729,6 @@ impl Field<crate::wire::encoding::Be> for E1 {
         w.u8(self.param2)
     }
 }
-
-impl_block_via_field!(E1);
 
 // ---------------------------------------------------------------------------------- E2
 
@@ -721,7 +754,7 @@ code_enum! {
     }
 }
 
-newtype! {
+wire_newtype! {
     /// E2 0x01 parameter 1: OSD bits. Bits 0..7 as [`OsdFlags`](super::OsdFlags) (U
     /// 0x05), bits 8..15 as [`OsdTypeFlags`](super::OsdTypeFlags) (U 0x07).
     pub struct OsdWord(u16);
@@ -729,16 +762,19 @@ newtype! {
 
 impl OsdWord {
     /// Bits 0..7.
+    #[must_use]
     pub const fn osd1(self) -> super::OsdFlags {
         super::OsdFlags(self.0.to_be_bytes()[1])
     }
     /// Bits 8..15.
+    #[must_use]
     pub const fn osd2(self) -> super::OsdTypeFlags {
         super::OsdTypeFlags(self.0.to_be_bytes()[0])
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// E2 0x01: OSD settings.
     pub struct E2Osd {
         /// Parameter 1: OSD bits.
@@ -748,7 +784,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// E2 0x0A, 0x0B, 0x0C: an image position in pixels, 0 at the centre.
     pub struct Point {
         /// Parameter 1: x, -960 (left) ..= 960 (right).
@@ -758,7 +795,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// E2 0x1F: OSD colour.
     pub struct OsdColor {
         /// Parameters 1 (high 16 bits) and 2 (low 16 bits).
@@ -766,7 +804,7 @@ block! {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// E2, tracking command, infrequently used (5 bytes): a [`TrackingCommand2`] and two
     /// 16-bit parameters (3.12.1).
     pub enum E2: TrackingCommand2 [4] {
@@ -803,7 +841,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// S1 0x01: point at a coordinate (WGS-84).
     pub struct FixedPoint {
         /// Byte 2: not described for this command.
@@ -817,7 +856,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// S1 0x04: follow a space angle (32-bit fields, 360/65536° per bit).
     pub struct SpaceAngle {
         /// Byte 2: not described for this command.
@@ -858,7 +898,7 @@ code_enum! {
     }
 }
 
-newtype! {
+wire_newtype! {
     /// S1 0x05 byte 2: calibration sources (yaw bits 0..1, pitch bits 2..3, bits 4..7
     /// reserved).
     pub struct CalibrationSources(u8);
@@ -866,22 +906,27 @@ newtype! {
 
 impl CalibrationSources {
     /// Bits 0..1.
+    #[must_use]
     pub const fn yaw(self) -> YawCalibration {
         YawCalibration::from_value(bits8(self.0, 0, 2))
     }
     /// Bits 2..3.
+    #[must_use]
     pub const fn pitch(self) -> PitchCalibration {
         PitchCalibration::from_value(bits8(self.0, 2, 2))
     }
-    /// The byte for two sources (bits 4..7 zero); a source above 3 is
-    /// [`Error::OutOfRange`](crate::Error::OutOfRange).
+    /// The byte for two sources (bits 4..7 zero).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`](crate::Error::OutOfRange) for a source above 3.
     pub fn new(yaw: YawCalibration, pitch: PitchCalibration) -> Result<Self> {
         let b = put_bits8(0, yaw.value(), 0, 2)?;
         put_bits8(b, pitch.value(), 2, 2).map(CalibrationSources)
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// S1 0x05: calibrate the calculated target to a given coordinate.
     pub struct Calibrate {
         /// Byte 2: which errors are calibrated, and how.
@@ -898,7 +943,7 @@ block! {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// S1, target calculation control, commonly used (14 bytes).
     pub enum S1: TgccCommand [13] {
         /// 0x01: point at a coordinate.
@@ -926,7 +971,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// S2, target calculation control, infrequently used (5 bytes).
     pub struct S2 {
         /// Byte 1: the command.

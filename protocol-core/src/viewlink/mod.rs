@@ -3,16 +3,52 @@
 //! Frame: `55 AA DC LEN ID DATA XOR`, 115200 8N1. LEN bits 0..5 count the bytes from LEN
 //! through the checksum (4..=63), bits 6..7 are a frame counter; the checksum is the
 //! XOR of LEN (counter bits included) through the last data byte. Data fields are
-//! big-endian. The data of a frame is one packet block or a fixed combination of
-//! blocks, selected by the frame id ([`CATALOG`], 37 ids).
+//! big-endian. The data of a frame (its payload) is one packet block or a fixed
+//! combination of blocks, selected by the frame id ([`CATALOG`], 37 ids).
+//!
+//! ```
+//! use protocol_core::viewlink::{
+//!     self, C1, Header, LrfCommand, OperationCommand, Packet, Sensor, ViewlinkFraming,
+//! };
+//! use protocol_core::wire::{Deframer, Event};
+//!
+//! // Build a message (the document's zoom in, as ArduPilot sends it: C1 alone, frame
+//! // 0x1C) and emit it as a frame with frame counter 1.
+//! let zoom_in = C1 {
+//!     sensor: Sensor::NoAction,
+//!     zoom_speed: 7,
+//!     operation: OperationCommand::ZoomIn,
+//!     lrf: LrfCommand::NoAction,
+//! };
+//! let mut buf = [0u8; viewlink::MAX_FRAME_LEN];
+//! let n = viewlink::encode(&zoom_in, &Header::new(1), &mut buf)?;
+//! assert_eq!(&buf[..n], &[0x55, 0xAA, 0xDC, 0x45, 0x1C, 0x02, 0x78, 0x23]);
+//!
+//! // Find it in a byte stream and decode it.
+//! let mut deframer = Deframer::<_, { viewlink::MAX_FRAME_LEN }>::new(ViewlinkFraming::new());
+//! let mut found = None;
+//! deframer.push(&buf[..n], |event| {
+//!     if let Event::Frame(bytes) = event {
+//!         found = Packet::decode(bytes).ok().and_then(|p| p.message.get::<C1>());
+//!     }
+//! });
+//! assert_eq!(found, Some(zoom_in));
+//! # Ok::<(), protocol_core::Error>(())
+//! ```
 //!
 //! - [`Frame`] is the checked zero-copy view; [`ViewlinkFraming`] plugs the protocol into
 //!   the shared [`Deframer`](crate::wire::Deframer).
-//! - [`Packet`] (sync order, frame counter and a [`Message`]) parses from a frame and
-//!   emits into a buffer; [`FrameCounter`] produces the counter a sender keeps.
+//! - [`Packet`] (a [`Header`]: sync order and frame counter; and a [`Message`]) parses
+//!   from a frame and emits into a buffer; [`FrameCounter`] produces the counter a
+//!   sender keeps.
+//! - Every frame id has its own payload type implementing [`MessageData`] (its id, name
+//!   and largest length), so one message is sent with [`encode`] and recognised with
+//!   [`Message::get`]. 0x42 and 0x92 carry the layouts of 0x40 and 0x29 under their own
+//!   types ([`StatusOsd`], [`IpFeedback`]).
 //! - Every block is a typed struct or enum implementing [`Block`]: [`A1`] [`A2`] [`B1`]
 //!   [`B2`] [`C1`] [`C2`] [`D1`] [`D2`] [`E1`] [`E2`] [`F1`] [`F2`] [`S1`] [`S2`] [`T1`]
-//!   [`T2`] [`M`] [`U`] [`V`] and the small packets.
+//!   [`T2`] [`M`] [`U`] [`V`] and the small packets; the combinations ([`Control`],
+//!   [`Status`], ...) are blocks made of blocks.
 //! - [`tcp`] is the TCP envelope `EB 90 LEN BODY SUM`.
 //!
 //! # Decisions where the document is ambiguous (see the README)
@@ -21,8 +57,8 @@
 //!   (their checksum byte is not at the position LEN gives); the deframer then
 //!   resynchronises on the next sync bytes.
 //! - Sync: frames are sent `55 AA DC`; `AA 55 DC` (the document's ACK example) is
-//!   decoded too and re-encoded as received ([`HeaderOrder`]). The deframer accepts one
-//!   order ([`ViewlinkFraming::swapped`] for the other).
+//!   decoded too and re-encoded as received ([`SyncOrder`], in the [`Header`]). The
+//!   deframer accepts one order ([`ViewlinkFraming::swapped`] for the other).
 //! - C1 is a big-endian `u16` with a 7-bit operation command (bits 6..12), as the bit
 //!   table, every example and ArduPilot have it (the prose says 3 bits).
 //! - Blocks whose parameters depend on a command byte (A1, C2, E2, S1, U, the SD
@@ -54,152 +90,79 @@
 //! - KLV (0xF4): the data bytes are kept as present on the wire (57 when padded);
 //!   `valid_len` (byte 3) says how many count. AI (0xF3): 8 header bytes and 0..=4
 //!   targets of 13 bytes.
-//! - The frame counter is kept in [`Packet::counter`]; decoding accepts any value and
+//! - The frame counter is kept in [`Header::counter`]; decoding accepts any value and
 //!   emitting writes the one given.
 //! - Sign conventions are the document's: ArduPilot sends pitch angles and rates
 //!   negated (positive down) and reads B1 pitch negated.
 //! - Directions in [`CATALOG`]: section 2.2 lists the handshake (0x00) and heartbeat
 //!   (0x10) as payload to console, but 2.3 c) and ArduPilot send them to the payload
-//!   (which answers with 0x40): the catalogue says console to payload; decoding does
-//!   not depend on the direction.
+//!   (which answers with 0x40): the catalogue says console to payload
+//!   ([`Direction::ToGimbal`], with [`CatalogEntry::from_ahrs`] for the AHRS's M);
+//!   decoding does not depend on the direction.
+//! - Transparent data (0xFF) is copied into [`Transparent`] (at most 60 bytes, one
+//!   frame's payload), so every typed message owns its data; only [`Raw`] borrows.
 //! - A1 0x0E (listed "reserved") has the click-to-track parameters of 3.3.1.7; E1 0x06
 //!   and 0x07 (listed "reserved") the speed parameters of 3.11.1; C2 0x08 and 0x14 the
 //!   parameters of 3.8.1 (whose headings are garbled). Fields the document calls
 //!   unsigned but gives signed ranges (click coordinates, gyro bias) are signed.
 
 #[macro_use]
-mod field;
+mod block;
 mod frame;
 
 mod ahrs;
+mod combinations;
 mod config;
 mod control;
 mod enums;
-mod misc;
+mod packets;
 mod status;
 pub mod tcp;
 
+pub use crate::Direction;
 pub use crate::Text;
 pub use ahrs::*;
+pub use block::{Block, Bytes, Date, FixedBlock, TimeCs};
+pub use combinations::*;
 pub use config::*;
 pub use control::*;
 pub use enums::*;
-pub use field::{Block, Bytes, Date, FixedBlock, TimeCs};
 pub use frame::{
-    Frame, FrameCounter, HeaderOrder, MAX_BODY_LEN, MAX_DATA_LEN, MAX_FRAME_LEN, MIN_BODY_LEN,
-    MIN_FRAME_LEN, SYNC, SYNC_SWAPPED, ViewlinkFraming, len_byte,
+    Frame, FrameCounter, HEADER_LEN, MAX_BODY_LEN, MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MIN_BODY_LEN,
+    MIN_FRAME_LEN, SYNC, SYNC_SWAPPED, SyncOrder, ViewlinkFraming, len_byte,
 };
-pub use misc::*;
+pub use packets::*;
 pub use status::*;
 
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-block! {
-    /// Frame 0x30: A1 + C1 + E1 (14 bytes), console to payload.
-    pub struct Control {
-        /// Servo control.
-        pub a1: A1,
-        /// Optical control.
-        pub c1: C1,
-        /// Tracking command.
-        pub e1: E1,
-    }
-}
+/// A typed Viewlink message: the payload type of one frame id (after rust-mavlink's
+/// `MessageData`). Every frame id of [`CATALOG`] has one, from the one table that also
+/// builds [`CATALOG`] and [`Message`].
+///
+/// ```
+/// use protocol_core::viewlink::{M, MessageData, Status, StatusOsd};
+/// assert_eq!(Status::ID, 0x40);
+/// assert_eq!(StatusOsd::ID, 0x42);
+/// assert_eq!(Status::NAME, "Status");
+/// assert_eq!(Status::ENCODED_LEN, 41);
+/// assert_eq!(M::ENCODED_LEN, 42); // the largest M
+/// ```
+pub trait MessageData: Block + Copy {
+    /// The frame id.
+    const ID: u8;
+    /// The message name, as [`CATALOG`] lists it (the [`Message`] variant).
+    const NAME: &'static str;
+    /// Encoded payload length in bytes; the largest one for the variable-size payloads
+    /// (V, M, AI targets, KLV, transparent data).
+    const ENCODED_LEN: usize;
 
-block! {
-    /// Frame 0x32: A1 + C1 + E1 + S1 (28 bytes), console to payload.
-    pub struct ControlTgcc {
-        /// Servo control.
-        pub a1: A1,
-        /// Optical control.
-        pub c1: C1,
-        /// Tracking command.
-        pub e1: E1,
-        /// Target calculation control.
-        pub s1: S1,
-    }
-}
+    /// This payload as a decoded [`Message`].
+    fn into_message(self) -> Message<'static>;
 
-block! {
-    /// Frame 0x31: A2 + C2 + E2 (10 bytes), console to payload.
-    pub struct RareControl {
-        /// Servo control, infrequent.
-        pub a2: A2,
-        /// Optical control, infrequent.
-        pub c2: C2,
-        /// Tracking command, infrequent.
-        pub e2: E2,
-    }
-}
-
-block! {
-    /// Frame 0x33: A2 + C2 + E2 + S2 (15 bytes), console to payload.
-    pub struct RareControlTgcc {
-        /// Servo control, infrequent.
-        pub a2: A2,
-        /// Optical control, infrequent.
-        pub c2: C2,
-        /// Tracking command, infrequent.
-        pub e2: E2,
-        /// Target calculation control, infrequent.
-        pub s2: S2,
-    }
-}
-
-block! {
-    /// Frames 0x40 and 0x42: T1 + F1 + B1 + D1 (41 bytes), payload to console: the
-    /// status a gimbal sends in reply to control frames and heartbeats (ArduPilot reads
-    /// 0x40).
-    pub struct Status {
-        /// Target calculation status.
-        pub t1: T1,
-        /// Tracker status.
-        pub f1: F1,
-        /// Servo status.
-        pub b1: B1,
-        /// Optical status.
-        pub d1: D1,
-    }
-}
-
-block! {
-    /// Frame 0x41: T2 + F2 + B2 + D2 (49 bytes), payload to console: sent once when an
-    /// A2 asks for it.
-    pub struct RareStatus {
-        /// Target calculation status, infrequent.
-        pub t2: T2,
-        /// Tracker status, infrequent.
-        pub f2: F2,
-        /// Servo status, infrequent.
-        pub b2: B2,
-        /// Optical status, infrequent.
-        pub d2: D2,
-    }
-}
-
-/// Who sends a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Direction {
-    /// Console (flight controller, ground station) to payload (gimbal).
-    ToPayload,
-    /// Payload to console.
-    FromPayload,
-    /// AHRS (flight controller) to payload.
-    FromAhrs,
-}
-
-impl Direction {
-    /// A short name.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Direction::ToPayload => "console->payload",
-            Direction::FromPayload => "payload->console",
-            Direction::FromAhrs => "ahrs->payload",
-        }
-    }
+    /// The payload, if `message` is this message.
+    fn from_message(message: &Message<'_>) -> Option<Self>;
 }
 
 /// One entry of [`CATALOG`].
@@ -211,37 +174,111 @@ pub struct CatalogEntry {
     pub name: &'static str,
     /// The blocks, as section 2.2 writes them.
     pub blocks: &'static str,
-    /// Who sends it.
+    /// Which way the frame travels.
     pub direction: Direction,
+    /// Sent to the gimbal by the AHRS (the flight controller's sensor output, M) rather
+    /// than by the console.
+    pub from_ahrs: bool,
 }
 
-/// Declares every frame id with its [`Message`] variant and block type; generates
-/// [`Message`], its decoding and encoding, and [`CATALOG`] from the one table.
-macro_rules! frames {
-    ($(
-        $(#[$m:meta])* $id:literal $variant:ident($ty:ty), $blocks:literal, $dir:ident;
-    )*) => {
-        /// A decoded frame: what its data means, by frame id.
-        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub enum Message<'a> {
-            $( $(#[$m])* $variant($ty), )*
-            /// A frame id this codec does not know, with its data.
-            Raw(Raw<'a>),
+/// The catalogue's `(direction, from_ahrs)` for the sender column of the frame table.
+macro_rules! viewlink_route {
+    (ToGimbal) => {
+        (Direction::ToGimbal, false)
+    };
+    (FromAhrs) => {
+        (Direction::ToGimbal, true)
+    };
+    (FromGimbal) => {
+        (Direction::FromGimbal, false)
+    };
+}
+
+/// Declares the payload types the frame table names but no module defines: a frame id
+/// that carries another's layout (`Name(Inner)`, a newtype). A type written alone is
+/// defined elsewhere.
+macro_rules! viewlink_frame_type {
+    ([$(#[$doc:meta])*] $ty:ident) => {};
+    ([$(#[$doc:meta])*] $ty:ident ($inner:ty)) => {
+        wire_newtype! {
+            $(#[$doc])*
+            ///
+            #[doc = concat!("The layout of [`", stringify!($inner), "`] under a frame id of its own.")]
+            pub struct $ty($inner);
+        }
+    };
+}
+
+/// Implements [`MessageData`] and `From<payload> for Message` for the payload of one
+/// frame id.
+macro_rules! viewlink_message_data {
+    ($id:literal $variant:ident $ty:ident) => {
+        impl MessageData for $ty {
+            const ID: u8 = $id;
+            const NAME: &'static str = stringify!($variant);
+            const ENCODED_LEN: usize = <$ty as Block>::MAX_LEN;
+
+            fn into_message(self) -> Message<'static> {
+                Message::$variant(self)
+            }
+
+            fn from_message(message: &Message<'_>) -> Option<Self> {
+                match message {
+                    Message::$variant(m) => Some(*m),
+                    _ => None,
+                }
+            }
         }
 
+        impl From<$ty> for Message<'_> {
+            fn from(m: $ty) -> Self {
+                Message::$variant(m)
+            }
+        }
+    };
+}
+
+/// Declares every frame id: its [`Message`] variant and payload type, the blocks as
+/// section 2.2 writes them, and who sends it. Generates the newtypes of shared layouts,
+/// [`Message`] with its decoding and encoding, [`MessageData`] for every payload type
+/// and [`CATALOG`] from the one table, so they cannot disagree.
+macro_rules! viewlink_frames {
+    ($(
+        $(#[$doc:meta])*
+        // `$ty ($inner)`: a newtype over another frame's layout, defined here.
+        $id:literal $variant:ident($ty:ident $(($inner:ty))?), $blocks:literal, $route:ident;
+    )*) => {
+        // The docs travel in brackets: `viewlink_frame_type!` cannot repeat them inside
+        // the optional `($inner)`.
+        $( viewlink_frame_type!([$(#[$doc])*] $ty $(($inner))?); )*
+
+        wire_derive! {
+            [Eq]
+            /// A decoded frame: what its payload means, by frame id.
+            pub enum Message<'a> {
+                $( $(#[$doc])* $variant($ty), )*
+                /// A frame id this codec does not know, with its payload.
+                Raw(Raw<'a>),
+            }
+        }
+
+        $( viewlink_message_data!($id $variant $ty); )*
+
         impl<'a> Message<'a> {
-            /// Decodes the data of a frame. Unknown ids give [`Message::Raw`]; a known id
-            /// whose data has the wrong length is [`Error::BadLength`].
-            pub fn decode(id: u8, data: &'a [u8]) -> Result<Self> {
+            /// Decodes the payload of a frame. Unknown ids give [`Message::Raw`].
+            ///
+            /// # Errors
+            /// [`Error::BadLength`] or [`Error::Truncated`] when a known id's payload
+            /// does not have the length its blocks take.
+            pub fn decode(id: u8, payload: &'a [u8]) -> Result<Self> {
                 match id {
-                    $( $id => <$ty as Block<'a>>::from_bytes(data).map(Message::$variant), )*
-                    _ => Ok(Message::Raw(Raw { id, data })),
+                    $( $id => <$ty as Block>::from_bytes(payload).map(Message::$variant), )*
+                    _ => Ok(Message::Raw(Raw { id, payload })),
                 }
             }
 
             /// The frame id.
+            #[must_use]
             pub const fn id(&self) -> u8 {
                 match self {
                     $( Message::$variant(_) => $id, )*
@@ -249,7 +286,8 @@ macro_rules! frames {
                 }
             }
 
-            /// The variant's name (`"Raw"` for unknown ids).
+            /// The message name (`"Raw"` for unknown ids).
+            #[must_use]
             pub const fn name(&self) -> &'static str {
                 match self {
                     $( Message::$variant(_) => stringify!($variant), )*
@@ -257,19 +295,24 @@ macro_rules! frames {
                 }
             }
 
-            /// Encoded data length.
-            pub fn data_len(&self) -> usize {
+            /// Encoded payload length.
+            #[must_use]
+            pub fn payload_len(&self) -> usize {
                 match self {
                     $( Message::$variant(m) => m.block_len(), )*
-                    Message::Raw(r) => r.data.len(),
+                    Message::Raw(r) => r.payload.len(),
                 }
             }
 
-            /// Writes the data.
+            /// Writes the payload.
+            ///
+            /// # Errors
+            /// [`Error::BufferTooSmall`] when `w` has no room for it,
+            /// [`Error::OutOfRange`] for a bit field whose value does not fit its bits.
             pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
                 match self {
                     $( Message::$variant(m) => m.write_block(w), )*
-                    Message::Raw(r) => w.put(r.data),
+                    Message::Raw(r) => w.put(r.payload),
                 }
             }
         }
@@ -280,135 +323,171 @@ macro_rules! frames {
                 id: $id,
                 name: stringify!($variant),
                 blocks: $blocks,
-                direction: Direction::$dir,
+                direction: viewlink_route!($route).0,
+                from_ahrs: viewlink_route!($route).1,
             },
         )*];
     };
 }
 
-frames! {
+viewlink_frames! {
     /// 0x30: A1 + C1 + E1.
-    0x30 Control(Control), "A1+C1+E1", ToPayload;
+    0x30 Control(Control), "A1+C1+E1", ToGimbal;
     /// 0x32: A1 + C1 + E1 + S1.
-    0x32 ControlTgcc(ControlTgcc), "A1+C1+E1+S1", ToPayload;
+    0x32 ControlTgcc(ControlTgcc), "A1+C1+E1+S1", ToGimbal;
     /// 0x1A: A1 alone.
-    0x1A A1(A1), "A1", ToPayload;
+    0x1A A1(A1), "A1", ToGimbal;
     /// 0x1C: C1 alone.
-    0x1C C1(C1), "C1", ToPayload;
+    0x1C C1(C1), "C1", ToGimbal;
     /// 0x1E: E1 alone.
-    0x1E E1(E1), "E1", ToPayload;
+    0x1E E1(E1), "E1", ToGimbal;
     /// 0x16: S1 alone.
-    0x16 S1(S1), "S1", ToPayload;
+    0x16 S1(S1), "S1", ToGimbal;
     /// 0x31: A2 + C2 + E2.
-    0x31 RareControl(RareControl), "A2+C2+E2", ToPayload;
+    0x31 RareControl(RareControl), "A2+C2+E2", ToGimbal;
     /// 0x33: A2 + C2 + E2 + S2.
-    0x33 RareControlTgcc(RareControlTgcc), "A2+C2+E2+S2", ToPayload;
+    0x33 RareControlTgcc(RareControlTgcc), "A2+C2+E2+S2", ToGimbal;
     /// 0x2A: A2 alone.
-    0x2A A2(A2), "A2", ToPayload;
+    0x2A A2(A2), "A2", ToGimbal;
     /// 0x2C: C2 alone.
-    0x2C C2(C2), "C2", ToPayload;
+    0x2C C2(C2), "C2", ToGimbal;
     /// 0x2E: E2 alone.
-    0x2E E2(E2), "E2", ToPayload;
+    0x2E E2(E2), "E2", ToGimbal;
     /// 0x26: S2 alone.
-    0x26 S2(S2), "S2", ToPayload;
+    0x26 S2(S2), "S2", ToGimbal;
     /// 0x01: U, configuration control.
-    0x01 U(U), "U", ToPayload;
+    0x01 U(U), "U", ToGimbal;
     /// 0x02: V, configuration status.
-    0x02 V(V), "V", FromPayload;
+    0x02 V(V), "V", FromGimbal;
     /// 0x40: T1 + F1 + B1 + D1.
-    0x40 Status(Status), "T1+F1+B1+D1", FromPayload;
-    /// 0x42: T1 + F1 + B1 + D1, OSD refresh.
-    0x42 StatusOsd(Status), "T1+F1+B1+D1 (refresh OSD)", FromPayload;
+    0x40 Status(Status), "T1+F1+B1+D1", FromGimbal;
+    /// 0x42: T1 + F1 + B1 + D1, sent to refresh the OSD (payload to console).
+    0x42 StatusOsd(StatusOsd(Status)), "T1+F1+B1+D1 (refresh OSD)", FromGimbal;
     /// 0x41: T2 + F2 + B2 + D2.
-    0x41 RareStatus(RareStatus), "T2+F2+B2+D2", FromPayload;
+    0x41 RareStatus(RareStatus), "T2+F2+B2+D2", FromGimbal;
     /// 0xB1: M, AHRS data.
     0xB1 M(M), "M", FromAhrs;
     /// 0xF3: AI identification feedback.
-    0xF3 AiTargets(AiTargets), "F3 (AI identify)", FromPayload;
+    0xF3 AiTargets(AiTargets), "F3 (AI identify)", FromGimbal;
     /// 0xF4: KLV data.
-    0xF4 Klv(Klv), "F4 (KLV)", ToPayload;
+    0xF4 Klv(Klv), "F4 (KLV)", ToGimbal;
     /// 0x00: handshake.
-    0x00 Handshake(Handshake), "SH (handshake)", ToPayload;
+    0x00 Handshake(Handshake), "SH (handshake)", ToGimbal;
     /// 0x10: heartbeat.
-    0x10 Heartbeat(Heartbeat), "HB (heartbeat)", ToPayload;
+    0x10 Heartbeat(Heartbeat), "HB (heartbeat)", ToGimbal;
     /// 0xAC: ACK.
-    0xAC Ack(Ack), "ACK", FromPayload;
+    0xAC Ack(Ack), "ACK", FromGimbal;
     /// 0x1D: D1 alone.
-    0x1D D1(D1), "D1", FromPayload;
+    0x1D D1(D1), "D1", FromGimbal;
     /// 0x1B: B1 alone.
-    0x1B B1(B1), "B1", FromPayload;
+    0x1B B1(B1), "B1", FromGimbal;
     /// 0x1F: F1 alone.
-    0x1F F1(F1), "F1", FromPayload;
+    0x1F F1(F1), "F1", FromGimbal;
     /// 0x17: T1 alone.
-    0x17 T1(T1), "T1", FromPayload;
+    0x17 T1(T1), "T1", FromGimbal;
     /// 0x27: T2 alone.
-    0x27 T2(T2), "T2", FromPayload;
+    0x27 T2(T2), "T2", FromGimbal;
     /// 0x2F: F2 alone.
-    0x2F F2(F2), "F2", FromPayload;
+    0x2F F2(F2), "F2", FromGimbal;
     /// 0x2B: B2 alone.
-    0x2B B2(B2), "B2", FromPayload;
+    0x2B B2(B2), "B2", FromGimbal;
     /// 0x2D: D2 alone.
-    0x2D D2(D2), "D2", FromPayload;
+    0x2D D2(D2), "D2", FromGimbal;
     /// 0xFF: transparent data.
-    0xFF Transparent(Transparent<'a>), "FW (transparent)", FromPayload;
+    0xFF Transparent(Transparent), "FW (transparent)", FromGimbal;
     /// 0x5D: SD card query.
-    0x5D SdQuery(SdQuery), "CMD_SD", ToPayload;
+    0x5D SdQuery(SdQuery), "CMD_SD", ToGimbal;
     /// 0xD5: SD card feedback.
-    0xD5 SdFeedback(SdFeedback), "ACK_SD", FromPayload;
+    0xD5 SdFeedback(SdFeedback), "ACK_SD", FromGimbal;
     /// 0x19: IP query.
-    0x19 IpQuery(IpQuery), "IP_INQ", ToPayload;
+    0x19 IpQuery(IpQuery), "IP_INQ", ToGimbal;
     /// 0x29: IP set.
-    0x29 IpSet(IpAddress), "IP_SET", ToPayload;
-    /// 0x92: IP feedback.
-    0x92 IpFeedback(IpAddress), "ACK_IP", FromPayload;
+    0x29 IpSet(IpAddress), "IP_SET", ToGimbal;
+    /// 0x92: IP feedback, the gimbal's IP address (payload to console).
+    0x92 IpFeedback(IpFeedback(IpAddress)), "ACK_IP", FromGimbal;
 }
 
-/// A frame id this codec does not know, with its data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Raw<'a> {
-    /// The frame id.
-    pub id: u8,
-    /// The data bytes.
-    pub data: &'a [u8],
+wire_derive! {
+    [Eq]
+    /// A frame id this codec does not know, with its payload.
+    pub struct Raw<'a> {
+        /// The frame id.
+        pub id: u8,
+        /// The payload (data) bytes.
+        pub payload: &'a [u8],
+    }
 }
 
-/// A whole Viewlink frame: sync order, frame counter and message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Packet<'a> {
-    /// The sync bytes.
-    pub header: HeaderOrder,
-    /// The frame counter (LEN bits 6..7, 0..=3).
-    pub counter: u8,
-    /// The message.
-    pub message: Message<'a>,
+impl Message<'_> {
+    /// The typed payload, if this is message `M`: `message.get::<Status>()`.
+    #[must_use]
+    pub fn get<M: MessageData>(&self) -> Option<M> {
+        M::from_message(self)
+    }
+}
+
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Everything of a frame but its message: the sync order and the frame counter.
+    pub struct Header {
+        /// The sync bytes (standard `55 AA DC` unless a frame came swapped).
+        pub sync: SyncOrder,
+        /// The frame counter (LEN bits 6..7, 0..=3).
+        pub counter: u8,
+    }
+}
+
+impl Header {
+    /// A header with standard sync bytes and frame counter `counter` (see
+    /// [`FrameCounter::next_header`]).
+    #[must_use]
+    pub const fn new(counter: u8) -> Self {
+        Header {
+            sync: SyncOrder::Standard,
+            counter,
+        }
+    }
+}
+
+wire_derive! {
+    [Eq]
+    /// A whole Viewlink frame: the header (sync order, frame counter) and the message.
+    pub struct Packet<'a> {
+        /// Sync order and frame counter.
+        pub header: Header,
+        /// The message.
+        pub message: Message<'a>,
+    }
 }
 
 impl<'a> Packet<'a> {
-    /// A packet with standard sync bytes.
-    pub const fn new(counter: u8, message: Message<'a>) -> Self {
-        Packet {
-            header: HeaderOrder::Standard,
-            counter,
-            message,
-        }
+    /// A packet of `message` with `header`.
+    #[must_use]
+    pub const fn new(header: Header, message: Message<'a>) -> Self {
+        Packet { header, message }
     }
 
     /// Parses a frame view (its checksum is not verified here: the deframer or
     /// [`Frame::verify`] does that).
+    ///
+    /// # Errors
+    /// The frame's own length errors ([`Frame::check_len`]) and those of
+    /// [`Message::decode`].
     pub fn parse(frame: &Frame<&'a [u8]>) -> Result<Self> {
         frame.check_len()?;
         Ok(Packet {
-            header: frame.header(),
-            counter: frame.counter(),
-            message: Message::decode(frame.frame_id(), frame.data_ref())?,
+            header: Header {
+                sync: frame.sync_order(),
+                counter: frame.counter(),
+            },
+            message: Message::decode(frame.id(), frame.payload_ref())?,
         })
     }
 
     /// Checks, verifies and parses a complete frame (bytes after it are ignored).
+    ///
+    /// # Errors
+    /// As [`Frame::new_checked`], [`Frame::verify`] and [`Packet::parse`].
     pub fn decode(bytes: &'a [u8]) -> Result<Self> {
         let frame = Frame::new_checked(bytes)?;
         frame.verify()?;
@@ -416,48 +495,99 @@ impl<'a> Packet<'a> {
     }
 
     /// Length of the encoded frame.
+    #[must_use]
     pub fn buffer_len(&self) -> usize {
-        self.message.data_len().saturating_add(MIN_FRAME_LEN - 1)
+        self.message.payload_len().saturating_add(HEADER_LEN + 1)
     }
 
-    /// Encodes the frame into `buf` and returns its length. A message longer than 60
-    /// data bytes (or empty) is [`Error::BadLength`]; a counter above 3 is
-    /// [`Error::OutOfRange`].
+    /// Encodes the frame into `buf` and returns its length.
+    ///
+    /// # Errors
+    /// [`Error::BadLength`] for a payload longer than 60 bytes (or empty),
+    /// [`Error::OutOfRange`] for a counter above 3 or a bit field whose value does not
+    /// fit its bits, [`Error::BufferTooSmall`] when `buf` is shorter than
+    /// [`Packet::buffer_len`].
     pub fn emit(&self, buf: &mut [u8]) -> Result<usize> {
-        if self.counter > 3 {
-            return Err(Error::OutOfRange);
-        }
-        let data_len = self.message.data_len();
-        if data_len == 0 || data_len > MAX_DATA_LEN {
-            return Err(Error::BadLength);
-        }
-        let total = self.buffer_len();
-        let body = u8::try_from(total.saturating_sub(3)).map_err(|_| Error::BadLength)?;
-        let buf = buf.get_mut(..total).ok_or(Error::BufferTooSmall)?;
-        let mut frame = Frame::new_unchecked(&mut *buf);
-        frame.set_header(self.header);
-        frame.set_len(body, self.counter);
-        frame.set_frame_id(self.message.id());
-        let mut w = Writer::new(frame.data_mut());
-        self.message.encode(&mut w)?;
-        if w.len() != data_len {
-            return Err(Error::BadLength);
-        }
-        frame.fill_checksum();
-        Ok(total)
+        emit_frame(
+            self.header,
+            self.message.id(),
+            self.message.payload_len(),
+            buf,
+            |w| self.message.encode(w),
+        )
     }
 }
 
 impl<'a> From<Message<'a>> for Packet<'a> {
     fn from(message: Message<'a>) -> Self {
-        Packet::new(0, message)
+        Packet::new(Header::default(), message)
     }
 }
 
-/// Reads a block from the front of `data` and returns it with the rest (a helper for
+/// Encodes one typed message as a whole frame into `buf` and returns its length:
+/// `viewlink::encode(&status, &counter.next_header(), &mut buf)`.
+///
+/// ```
+/// use protocol_core::viewlink::{self, B1, FrameCounter, ServoCommand, Status};
+///
+/// // A gimbal's status reply (frame 0x40), as ArduPilot reads it.
+/// let mut counter = FrameCounter::new();
+/// let status = Status {
+///     b1: B1 { servo: ServoCommand::FollowYaw, yaw_bam16: 0x2000, ..B1::default() },
+///     ..Status::default()
+/// };
+/// let mut buf = [0u8; viewlink::MAX_FRAME_LEN];
+/// let n = viewlink::encode(&status, &counter.next_header(), &mut buf)?;
+/// assert_eq!(n, 47);
+/// assert_eq!(&buf[..5], &[0x55, 0xAA, 0xDC, 0x6C, 0x40]); // LEN 44, counter 1
+/// # Ok::<(), protocol_core::Error>(())
+/// ```
+///
+/// # Errors
+/// As [`Packet::emit`].
+pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
+    emit_frame(*header, M::ID, message.block_len(), buf, |w| {
+        message.write_block(w)
+    })
+}
+
+/// Writes sync bytes, LEN, id, payload (through `payload`) and checksum.
+fn emit_frame(
+    header: Header,
+    id: u8,
+    payload_len: usize,
+    buf: &mut [u8],
+    payload: impl FnOnce(&mut Writer<'_>) -> Result<()>,
+) -> Result<usize> {
+    if header.counter > 3 {
+        return Err(Error::OutOfRange);
+    }
+    if payload_len == 0 || payload_len > MAX_PAYLOAD_LEN {
+        return Err(Error::BadLength);
+    }
+    let total = payload_len.saturating_add(HEADER_LEN + 1);
+    let body = u8::try_from(total.saturating_sub(3)).map_err(|_| Error::BadLength)?;
+    let buf = buf.get_mut(..total).ok_or(Error::BufferTooSmall)?;
+    let mut frame = Frame::new_unchecked(&mut *buf);
+    frame.set_sync_order(header.sync);
+    frame.set_len(body, header.counter);
+    frame.set_id(id);
+    let mut w = Writer::new(frame.payload_mut());
+    payload(&mut w)?;
+    if w.len() != payload_len {
+        return Err(Error::BadLength);
+    }
+    frame.fill_checksum();
+    Ok(total)
+}
+
+/// Reads a block from the front of `payload` and returns it with the rest (a helper for
 /// parsing block combinations that are not frames of their own).
-pub fn read_block<'a, B: Block<'a>>(data: &'a [u8]) -> Result<(B, &'a [u8])> {
-    let mut r = Reader::new(data);
+///
+/// # Errors
+/// As [`Block::read_block`].
+pub fn read_block<B: Block>(payload: &[u8]) -> Result<(B, &[u8])> {
+    let mut r = Reader::new(payload);
     let b = B::read_block(&mut r)?;
     Ok((b, r.rest()))
 }
@@ -483,6 +613,36 @@ mod tests {
         assert_eq!(<Status as FixedBlock>::LEN, 41);
         assert_eq!(<RareStatus as FixedBlock>::LEN, 49);
         assert_eq!(<U as FixedBlock>::LEN, 10);
+    }
+
+    #[test]
+    fn typed_messages_know_their_ids() {
+        assert_eq!((Status::ID, StatusOsd::ID), (0x40, 0x42));
+        assert_eq!((IpAddress::ID, IpFeedback::ID), (0x29, 0x92));
+        assert_eq!((IpAddress::NAME, IpFeedback::NAME), ("IpSet", "IpFeedback"));
+        assert_eq!(Transparent::ENCODED_LEN, MAX_PAYLOAD_LEN);
+        assert_eq!(V::ENCODED_LEN, 23);
+        let status = Status::default();
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode(&StatusOsd(status), &Header::new(2), &mut buf).unwrap();
+        let p = Packet::decode(&buf[..n]).unwrap();
+        assert_eq!(p.header, Header::new(2));
+        assert_eq!(p.message.get::<StatusOsd>(), Some(StatusOsd(status)));
+        assert_eq!(p.message.get::<Status>(), None);
+        assert_eq!(p.message, Message::from(StatusOsd(status)));
+        let mut again = [0u8; MAX_FRAME_LEN];
+        assert_eq!(p.emit(&mut again), Ok(n));
+        assert_eq!(again[..n], buf[..n]);
+        let swapped = Header {
+            sync: SyncOrder::Swapped,
+            counter: 3,
+        };
+        let n = encode(&Heartbeat { value: 0 }, &swapped, &mut buf).unwrap();
+        assert_eq!(&buf[..n], &[0xAA, 0x55, 0xDC, 0xC4, 0x10, 0x00, 0xD4]);
+        assert_eq!(Packet::decode(&buf[..n]).unwrap().header, swapped);
+        let mut counter = FrameCounter::new();
+        let headers: [Header; 4] = core::array::from_fn(|_| counter.next_header());
+        assert_eq!(headers.map(|h| h.counter), [1, 2, 3, 0]);
     }
 
     #[test]

@@ -1,40 +1,44 @@
 //! Payload-to-console status blocks: B1/B2 (servo), D1/D2 (optics), F1/F2 (tracker)
 //! and T1/T2 (target calculation).
 
+use super::block::{Date, TimeCs, bits8, byte_of, put_bits, put_bits8};
 use super::control::ServoAction;
 use super::enums::{ServoCommand, TrackerSensor, TrackerState, VideoSource};
-use super::field::{Date, Field, TimeCs, bits_of, bits8, put_bits, put_bits8};
 use crate::Result;
+use crate::wire::encoding::{Be, Field};
 use crate::wire::{Reader, Writer};
 
 // ---------------------------------------------------------------------------------- B1
 
-/// B1, servo status, commonly used (6 bytes).
-///
-/// Roll is 12 bits (high 4 bits in byte 1 bits 0..3, low 8 bits in byte 2), 180/4095°
-/// per bit with 0 at -90° (ArduPilot reads `raw * 180 / 4095 - 90`; the document's
-/// prose is garbled): see [`B1::roll_cdeg`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct B1 {
-    /// Byte 1 bits 4..7: the servo status (a [`ServoCommand`] value 0..=15).
-    pub servo: ServoCommand,
-    /// The 12-bit roll value (0..=4095).
-    pub roll_raw12: u16,
-    /// Bytes 3..4: yaw, 360/65536° per bit.
-    pub yaw_bam16: i16,
-    /// Bytes 5..6: pitch, 360/65536° per bit (ArduPilot: positive down).
-    pub pitch_bam16: i16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// B1, servo status, commonly used (6 bytes).
+    ///
+    /// Roll is 12 bits (high 4 bits in byte 1 bits 0..3, low 8 bits in byte 2), 180/4095°
+    /// per bit with 0 at -90° (ArduPilot reads `raw * 180 / 4095 - 90`; the document's
+    /// prose is garbled): see [`B1::roll_cdeg`].
+    pub struct B1 {
+        /// Byte 1 bits 4..7: the servo status (a [`ServoCommand`] value 0..=15).
+        pub servo: ServoCommand,
+        /// The 12-bit roll value (0..=4095).
+        pub roll_raw12: u16,
+        /// Bytes 3..4: yaw, 360/65536° per bit.
+        pub yaw_bam16: i16,
+        /// Bytes 5..6: pitch, 360/65536° per bit (ArduPilot: positive down).
+        pub pitch_bam16: i16,
+    }
 }
 
 impl B1 {
     /// Roll in 0.01°: `roll_raw12 * 18000 / 4095 - 9000`.
+    #[must_use]
     pub const fn roll_cdeg(&self) -> i32 {
+        // Widening (`i32::from` is not const).
         ((self.roll_raw12 as i32).saturating_mul(18000) / 4095).saturating_sub(9000)
     }
 
     /// The 12-bit roll value for a roll in 0.01° (clamped to ±90°, rounded).
+    #[must_use]
     pub const fn roll_raw_from_cdeg(cdeg: i32) -> u16 {
         let c = if cdeg < -9000 {
             -9000
@@ -43,14 +47,18 @@ impl B1 {
         } else {
             cdeg
         };
-        ((c.saturating_add(9000)
+        let raw = (c
+            .saturating_add(9000)
             .saturating_mul(4095)
             .saturating_add(9000))
-            / 18000) as u16
+            / 18000;
+        // 0..=4095 after the clamp: the low two bytes hold it whole.
+        let [low, high, _, _] = raw.to_le_bytes();
+        u16::from_le_bytes([low, high])
     }
 }
 
-impl Field<crate::wire::encoding::Be> for B1 {
+impl Field<Be> for B1 {
     const LEN: usize = 6;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let [hi, lo] = r.array()?;
@@ -70,43 +78,42 @@ impl Field<crate::wire::encoding::Be> for B1 {
     }
 }
 
-impl_block_via_field!(B1);
-
 // ---------------------------------------------------------------------------------- B2
 
-/// B2, servo status, infrequently used (11 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct B2 {
-    /// Byte 1 bits 0..4: the servo control being reported.
-    pub action: ServoAction,
-    /// Byte 1 bit 5: reserved.
-    pub reserved: bool,
-    /// Byte 1 bits 6..7: the infrequently used frame counter of the last A2 received.
-    pub counter: u8,
-    /// Bytes 2..3: the position-calculation correction, 0.001° (pitch or yaw error, by
-    /// the action).
-    pub correction_mdeg: i16,
-    /// Bytes 4..5: roll, 360/65536° per bit.
-    pub roll_bam16: i16,
-    /// Bytes 6..7: roll rate, 0.01°/s.
-    pub roll_rate_cdeg_s: i16,
-    /// Bytes 8..9: yaw rate, 0.01°/s.
-    pub yaw_rate_cdeg_s: i16,
-    /// Bytes 10..11: pitch rate, 0.01°/s.
-    pub pitch_rate_cdeg_s: i16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// B2, servo status, infrequently used (11 bytes).
+    pub struct B2 {
+        /// Byte 1 bits 0..4: the servo control being reported.
+        pub action: ServoAction,
+        /// Byte 1 bit 5: reserved.
+        pub reserved: bool,
+        /// Byte 1 bits 6..7: the infrequently used frame counter of the last A2 received.
+        pub counter: u8,
+        /// Bytes 2..3: the position-calculation correction, 0.001° (pitch or yaw error, by
+        /// the action).
+        pub correction_mdeg: i16,
+        /// Bytes 4..5: roll, 360/65536° per bit.
+        pub roll_bam16: i16,
+        /// Bytes 6..7: roll rate, 0.01°/s.
+        pub roll_rate_cdeg_s: i16,
+        /// Bytes 8..9: yaw rate, 0.01°/s.
+        pub yaw_rate_cdeg_s: i16,
+        /// Bytes 10..11: pitch rate, 0.01°/s.
+        pub pitch_rate_cdeg_s: i16,
+    }
 }
 
 impl B2 {
     /// The document's fault code 0xEE does not fit the 5-bit field: it is byte 1 as a
     /// whole (action 0x0E, reserved bit set, counter 3).
+    #[must_use]
     pub const fn is_fault(&self) -> bool {
         matches!(self.action, ServoAction::Other(0x0E)) && self.reserved && self.counter == 3
     }
 }
 
-impl Field<crate::wire::encoding::Be> for B2 {
+impl Field<Be> for B2 {
     const LEN: usize = 11;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -133,8 +140,6 @@ impl Field<crate::wire::encoding::Be> for B2 {
     }
 }
 
-impl_block_via_field!(B2);
-
 // ---------------------------------------------------------------------------------- D1
 
 code_enum! {
@@ -159,45 +164,45 @@ code_enum! {
     }
 }
 
-/// D1, optical status, commonly used (12 bytes).
-///
-/// ArduPilot reads the recording status as `byte 4 & 0x07`, so it sees "recording"
-/// only while [`D1::ir_color`] is [`IrColorMode::Grayscale`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct D1 {
-    /// Byte 1 bits 0..2: the current video stream.
-    pub source: VideoSource,
-    /// Byte 1 bits 3..6: IR digital zoom, as the document's index (0 = x1 ..= 15 = x16).
-    pub ir_dzoom_index: u8,
-    /// Byte 1 bit 7: IR black hot (else white hot).
-    pub black_hot: bool,
-    /// Byte 2 bit 0: the rangefinder counter, toggled at every new ranging result.
-    pub lrf_toggle: bool,
-    /// Byte 2 bit 1: reserved.
-    pub reserved_bit: bool,
-    /// Byte 2 bits 2..7: rangefinder latency relative to the servo command, ms (0..=63).
-    pub lrf_latency_ms: u8,
-    /// Bytes 3..4 bits 0..1: recording status.
-    pub record: RecordStatus,
-    /// Bytes 3..4 bits 2..5: IR colour mode.
-    pub ir_color: IrColorMode,
-    /// Bytes 3..4 bits 6..9: EO digital zoom index (0 = x1 ..= 11 = x12).
-    pub eo_dzoom_index: u8,
-    /// Bytes 3..4 bits 10..15: reserved (0..=63).
-    pub reserved: u8,
-    /// Bytes 5..6: rangefinder distance, 0.1 m; 0 = invalid.
-    pub lrf_dm: u16,
-    /// Bytes 7..8: current vertical field of view, 0.01°.
-    pub vfov_cdeg: u16,
-    /// Bytes 9..10: current horizontal field of view, 0.01°.
-    pub hfov_cdeg: u16,
-    /// Bytes 11..12: current optical zoom, 0.1x.
-    pub zoom_x10: u16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// D1, optical status, commonly used (12 bytes).
+    ///
+    /// ArduPilot reads the recording status as `byte 4 & 0x07`, so it sees "recording"
+    /// only while [`D1::ir_color`] is [`IrColorMode::Grayscale`].
+    pub struct D1 {
+        /// Byte 1 bits 0..2: the current video stream.
+        pub source: VideoSource,
+        /// Byte 1 bits 3..6: IR digital zoom, as the document's index (0 = x1 ..= 15 = x16).
+        pub ir_dzoom_index: u8,
+        /// Byte 1 bit 7: IR black hot (else white hot).
+        pub black_hot: bool,
+        /// Byte 2 bit 0: the rangefinder counter, toggled at every new ranging result.
+        pub lrf_toggle: bool,
+        /// Byte 2 bit 1: reserved.
+        pub reserved_bit: bool,
+        /// Byte 2 bits 2..7: rangefinder latency relative to the servo command, ms (0..=63).
+        pub lrf_latency_ms: u8,
+        /// Bytes 3..4 bits 0..1: recording status.
+        pub record: RecordStatus,
+        /// Bytes 3..4 bits 2..5: IR colour mode.
+        pub ir_color: IrColorMode,
+        /// Bytes 3..4 bits 6..9: EO digital zoom index (0 = x1 ..= 11 = x12).
+        pub eo_dzoom_index: u8,
+        /// Bytes 3..4 bits 10..15: reserved (0..=63).
+        pub reserved: u8,
+        /// Bytes 5..6: rangefinder distance, 0.1 m; 0 = invalid.
+        pub lrf_dm: u16,
+        /// Bytes 7..8: current vertical field of view, 0.01°.
+        pub vfov_cdeg: u16,
+        /// Bytes 9..10: current horizontal field of view, 0.01°.
+        pub hfov_cdeg: u16,
+        /// Bytes 11..12: current optical zoom, 0.1x.
+        pub zoom_x10: u16,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for D1 {
+impl Field<Be> for D1 {
     const LEN: usize = 12;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;
@@ -210,10 +215,10 @@ impl Field<crate::wire::encoding::Be> for D1 {
             lrf_toggle: bits8(b2, 0, 1) != 0,
             reserved_bit: bits8(b2, 1, 1) != 0,
             lrf_latency_ms: bits8(b2, 2, 6),
-            record: RecordStatus::from_value(bits_of(s, 0, 2) as u8),
-            ir_color: IrColorMode::from_value(bits_of(s, 2, 4) as u8),
-            eo_dzoom_index: bits_of(s, 6, 4) as u8,
-            reserved: bits_of(s, 10, 6) as u8,
+            record: RecordStatus::from_value(byte_of(s, 0, 2)),
+            ir_color: IrColorMode::from_value(byte_of(s, 2, 4)),
+            eo_dzoom_index: byte_of(s, 6, 4),
+            reserved: byte_of(s, 10, 6),
             lrf_dm: r.u16_be()?,
             vfov_cdeg: r.u16_be()?,
             hfov_cdeg: r.u16_be()?,
@@ -237,8 +242,6 @@ impl Field<crate::wire::encoding::Be> for D1 {
         w.u16_be(self.zoom_x10)
     }
 }
-
-impl_block_via_field!(D1);
 
 // ---------------------------------------------------------------------------------- D2
 
@@ -286,27 +289,27 @@ code_enum! {
     }
 }
 
-/// D2, optical status, infrequently used (5 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct D2 {
-    /// Byte 1 bits 0..2: the current sensor.
-    pub sensor: D2Sensor,
-    /// Byte 1 bits 3..7: device failure code (0 none, 1..=3 laser, then four codes per
-    /// sensor).
-    pub fault: u8,
-    /// Byte 2 bits 0..6: the sensor's pixel format.
-    pub pixels: PixelFormat,
-    /// Byte 2 bit 7: the current sensor is not the main sensor (reserved).
-    pub not_main: bool,
-    /// Byte 3: what bytes 4..5 are.
-    pub extend: ExtendKind,
-    /// Bytes 4..5: the extended parameter (digital zoom: 0.1x).
-    pub extend_value: i16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// D2, optical status, infrequently used (5 bytes).
+    pub struct D2 {
+        /// Byte 1 bits 0..2: the current sensor.
+        pub sensor: D2Sensor,
+        /// Byte 1 bits 3..7: device failure code (0 none, 1..=3 laser, then four codes per
+        /// sensor).
+        pub fault: u8,
+        /// Byte 2 bits 0..6: the sensor's pixel format.
+        pub pixels: PixelFormat,
+        /// Byte 2 bit 7: the current sensor is not the main sensor (reserved).
+        pub not_main: bool,
+        /// Byte 3: what bytes 4..5 are.
+        pub extend: ExtendKind,
+        /// Bytes 4..5: the extended parameter (digital zoom: 0.1x).
+        pub extend_value: i16,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for D2 {
+impl Field<Be> for D2 {
     const LEN: usize = 5;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;
@@ -330,24 +333,22 @@ impl Field<crate::wire::encoding::Be> for D2 {
     }
 }
 
-impl_block_via_field!(D2);
-
 // ---------------------------------------------------------------------------------- F1
 
-/// F1, tracking status, commonly used (1 byte).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct F1 {
-    /// Bits 0..2: the tracking sensor.
-    pub sensor: TrackerSensor,
-    /// Bits 3..4: the tracker state.
-    pub state: TrackerState,
-    /// Bits 5..7: reserved.
-    pub reserved: u8,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// F1, tracking status, commonly used (1 byte).
+    pub struct F1 {
+        /// Bits 0..2: the tracking sensor.
+        pub sensor: TrackerSensor,
+        /// Bits 3..4: the tracker state.
+        pub state: TrackerState,
+        /// Bits 5..7: reserved.
+        pub reserved: u8,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for F1 {
+impl Field<Be> for F1 {
     const LEN: usize = 1;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b = r.u8()?;
@@ -364,11 +365,10 @@ impl Field<crate::wire::encoding::Be> for F1 {
     }
 }
 
-impl_block_via_field!(F1);
-
 // ---------------------------------------------------------------------------------- F2
 
-block! {
+wire_struct! {
+    Be;
     /// F2, tracking status, infrequently used (15 bytes).
     pub struct F2 {
         /// Bytes 1..11: reserved.
@@ -434,39 +434,39 @@ code_enum! {
     }
 }
 
-/// T1, target calculation status, commonly used (22 bytes). The document's "vehicle
-/// attitude" and "target attitude" (Int16, 1 m) are altitudes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct T1 {
-    /// Byte 1 bits 0..2: the target distance source.
-    pub distance_source: DistanceSource,
-    /// Byte 1 bits 3..4: the GPS capture stage.
-    pub gps_stage: GpsStage,
-    /// Byte 1 bits 5..7: GPS horizontal signal quality (reserved).
-    pub gps_h_quality: u8,
-    /// Byte 2 bits 0..2: GPS vertical signal quality (reserved).
-    pub gps_v_quality: u8,
-    /// Byte 2 bit 3: an S2 command was answered (set for one frame).
-    pub s2_ack: bool,
-    /// Byte 2 bits 4..7: N packet command response.
-    pub n_response: NResponse,
-    /// Bytes 3..6: vehicle latitude, 1e-7°.
-    pub lat_e7: i32,
-    /// Bytes 7..10: vehicle longitude, 1e-7°.
-    pub lon_e7: i32,
-    /// Bytes 11..12: vehicle altitude, m.
-    pub alt_m: i16,
-    /// Bytes 13..16: target latitude, 1e-7°.
-    pub target_lat_e7: i32,
-    /// Bytes 17..20: target longitude, 1e-7°.
-    pub target_lon_e7: i32,
-    /// Bytes 21..22: target altitude, m.
-    pub target_alt_m: i16,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// T1, target calculation status, commonly used (22 bytes). The document's "vehicle
+    /// attitude" and "target attitude" (Int16, 1 m) are altitudes.
+    pub struct T1 {
+        /// Byte 1 bits 0..2: the target distance source.
+        pub distance_source: DistanceSource,
+        /// Byte 1 bits 3..4: the GPS capture stage.
+        pub gps_stage: GpsStage,
+        /// Byte 1 bits 5..7: GPS horizontal signal quality (reserved).
+        pub gps_h_quality: u8,
+        /// Byte 2 bits 0..2: GPS vertical signal quality (reserved).
+        pub gps_v_quality: u8,
+        /// Byte 2 bit 3: an S2 command was answered (set for one frame).
+        pub s2_ack: bool,
+        /// Byte 2 bits 4..7: N packet command response.
+        pub n_response: NResponse,
+        /// Bytes 3..6: vehicle latitude, 1e-7°.
+        pub lat_e7: i32,
+        /// Bytes 7..10: vehicle longitude, 1e-7°.
+        pub lon_e7: i32,
+        /// Bytes 11..12: vehicle altitude, m.
+        pub alt_m: i16,
+        /// Bytes 13..16: target latitude, 1e-7°.
+        pub target_lat_e7: i32,
+        /// Bytes 17..20: target longitude, 1e-7°.
+        pub target_lon_e7: i32,
+        /// Bytes 21..22: target altitude, m.
+        pub target_alt_m: i16,
+    }
 }
 
-impl Field<crate::wire::encoding::Be> for T1 {
+impl Field<Be> for T1 {
     const LEN: usize = 22;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let b1 = r.u8()?;
@@ -502,11 +502,10 @@ impl Field<crate::wire::encoding::Be> for T1 {
     }
 }
 
-impl_block_via_field!(T1);
-
 // ---------------------------------------------------------------------------------- T2
 
-block! {
+wire_struct! {
+    Be;
     /// T2, target calculation status, infrequently used (18 bytes). The document labels
     /// both bytes 11..12 and 13..14 "pitch": the second is taken as roll.
     pub struct T2 {

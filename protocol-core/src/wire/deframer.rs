@@ -147,8 +147,7 @@ fn bump(counter: &mut u32, by: usize) {
 /// always holds a complete candidate.
 ///
 /// Three ways in, all giving the same events in the same order:
-/// - [`Deframer::push`]: a slice of any length; frames lying whole in the slice are
-///   found in place (no copy), only an incomplete tail is buffered.
+/// - [`Deframer::push`]: a slice of any length.
 /// - [`Deframer::feed`] + [`Deframer::poll`]: copy what fits, then drain events.
 /// - [`Deframer::spare_capacity_mut`] + [`Deframer::commit`] + [`Deframer::poll`]: a
 ///   UART or DMA driver writes received bytes straight into the deframer's buffer.
@@ -196,40 +195,6 @@ pub struct Deframer<F, const N: usize> {
     /// Bytes after `start` to consume before the next step (the event last returned).
     release: usize,
     stats: Stats,
-}
-
-/// Takes the counters of a step.
-fn account(stats: &mut Stats, step: Step) -> Outcome {
-    match step {
-        Step::NeedMore => Outcome::NeedMore,
-        Step::Skip(n) => {
-            bump(&mut stats.bytes_discarded, n);
-            Outcome::Skip(n)
-        }
-        Step::Rejected(error, n) => {
-            match error {
-                Error::BadChecksum { .. } => bump(&mut stats.checksum_errors, 1),
-                _ => bump(&mut stats.length_errors, 1),
-            }
-            bump(&mut stats.bytes_discarded, 1);
-            Outcome::Rejected(error, n)
-        }
-        Step::Frame(n) => {
-            bump(&mut stats.frames_ok, 1);
-            Outcome::Frame(n)
-        }
-    }
-}
-
-/// A step after its counters were taken.
-#[derive(Debug, Clone, Copy)]
-enum Outcome {
-    NeedMore,
-    Skip(usize),
-    /// Reported with this many bytes; consumes one.
-    Rejected(Error, usize),
-    /// Reported and consumed.
-    Frame(usize),
 }
 
 impl<F: Framing, const N: usize> Deframer<F, N> {
@@ -343,39 +308,45 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
 
     fn next_event(&mut self, idle: bool) -> Option<Event<'_>> {
         self.apply_release();
-        let outcome = loop {
+        let reported = loop {
             let held = self.end.saturating_sub(self.start);
             let window = self.buf.get(self.start..self.end).unwrap_or_default();
-            let step = match step(&self.framing, window, N) {
+            match step(&self.framing, window, N) {
                 Step::NeedMore if held == 0 => return None,
-                Step::NeedMore if idle => Step::Rejected(Error::Truncated, held),
+                Step::NeedMore if idle => break Step::Rejected(Error::Truncated, held),
                 Step::NeedMore if held < N => return None,
                 // Only possible if N is smaller than the header: never stall.
-                Step::NeedMore => Step::Skip(1),
-                other => other,
-            };
-            match account(&mut self.stats, step) {
-                Outcome::NeedMore => return None,
-                Outcome::Skip(n) => {
-                    self.release = n;
-                    self.apply_release();
-                }
-                reported => break reported,
+                Step::NeedMore => self.skip(1),
+                Step::Skip(n) => self.skip(n),
+                other => break other,
             }
         };
         let window = self.buf.get(self.start..self.end).unwrap_or_default();
-        match outcome {
-            Outcome::Rejected(error, n) => {
+        match reported {
+            Step::Rejected(error, n) => {
+                match error {
+                    Error::BadChecksum { .. } => bump(&mut self.stats.checksum_errors, 1),
+                    _ => bump(&mut self.stats.length_errors, 1),
+                }
+                bump(&mut self.stats.bytes_discarded, 1);
                 self.release = 1;
                 let raw = window.get(..n).unwrap_or(window);
                 Some(Event::Rejected { error, raw })
             }
-            Outcome::Frame(n) => {
+            Step::Frame(n) => {
+                bump(&mut self.stats.frames_ok, 1);
                 self.release = n;
                 Some(Event::Frame(window.get(..n).unwrap_or(window)))
             }
-            Outcome::NeedMore | Outcome::Skip(_) => None,
+            Step::NeedMore | Step::Skip(_) => None,
         }
+    }
+
+    /// Discards `n` bytes that cannot start a frame.
+    fn skip(&mut self, n: usize) {
+        bump(&mut self.stats.bytes_discarded, n);
+        self.release = n;
+        self.apply_release();
     }
 
     /// The line is idle: delivers every frame still hidden in the buffer (see
@@ -387,15 +358,8 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     }
 
     /// Feeds all of `input` and hands every resulting event to `sink`, in stream order.
-    ///
-    /// While nothing is buffered, frames are found in `input` itself (no copy); only
-    /// bytes that may start an incomplete frame are copied into the buffer.
     pub fn push(&mut self, mut input: &[u8], mut sink: impl FnMut(Event<'_>)) {
         loop {
-            if self.buffered() == 0 {
-                self.apply_release();
-                input = self.scan_in_place(input, &mut sink);
-            }
             let n = self.feed(input);
             input = input.get(n..).unwrap_or_default();
             while let Some(event) = self.poll() {
@@ -403,33 +367,6 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
             }
             if input.is_empty() {
                 return;
-            }
-        }
-    }
-
-    /// Delivers the events of `input` found without buffering and returns the tail that
-    /// needs more bytes (at most one candidate, shorter than `N`).
-    fn scan_in_place<'i>(
-        &mut self,
-        mut input: &'i [u8],
-        sink: &mut impl FnMut(Event<'_>),
-    ) -> &'i [u8] {
-        loop {
-            match account(&mut self.stats, step(&self.framing, input, N)) {
-                Outcome::NeedMore => return input,
-                Outcome::Skip(n) => input = input.get(n..).unwrap_or_default(),
-                Outcome::Rejected(error, n) => {
-                    sink(Event::Rejected {
-                        error,
-                        raw: input.get(..n).unwrap_or_default(),
-                    });
-                    input = input.get(1..).unwrap_or_default();
-                }
-                Outcome::Frame(n) => {
-                    let (frame, rest) = input.split_at_checked(n).unwrap_or((input, &[]));
-                    sink(Event::Frame(frame));
-                    input = rest;
-                }
             }
         }
     }

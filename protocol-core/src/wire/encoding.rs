@@ -37,13 +37,13 @@ pub trait Field<O>: Sized {
     /// Reads the value.
     ///
     /// # Errors
-    /// [`Error::Truncated`] when the reader holds fewer than `LEN` bytes (or the
+    /// [`Error::Truncated`](crate::Error::Truncated) when the reader holds fewer than `LEN` bytes (or the
     /// value's own error, e.g. a bit field out of range).
     fn read(r: &mut Reader<'_>) -> Result<Self>;
     /// Writes the value.
     ///
     /// # Errors
-    /// [`Error::BufferTooSmall`] when the writer has no room, [`Error::OutOfRange`]
+    /// [`Error::BufferTooSmall`](crate::Error::BufferTooSmall) when the writer has no room, [`Error::OutOfRange`](crate::Error::OutOfRange)
     /// when the value cannot be encoded.
     fn write(&self, w: &mut Writer<'_>) -> Result<()>;
 }

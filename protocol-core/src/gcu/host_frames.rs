@@ -1,6 +1,6 @@
 //! The data frames of a package from the host computer (flight controller): the main
 //! data frame (control quantities, carrier attitude and motion) and the sub data frame
-//! (carrier position and GNSS time).
+//! (carrier position and GNSS time), together [`HostFrames`].
 
 use super::time::GpsTime;
 
@@ -15,25 +15,26 @@ bit_set! {
     }
 }
 
-/// How the control quantities of the host main data frame are read, which depends on
-/// the gimbal's mode (main data frame table and the Command & Feedback table).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum ControlMeaning {
-    /// Desired angular velocity, [-1500, 1500], in 0.1 °/s divided by the current zoom
-    /// ratio of the main screen (head lock, head follow, orthoview yaw, gaze lock).
-    AngularRate,
-    /// Desired Euler angle, [-18000, 18000], 0.01° (Euler angle control mode).
-    EulerAngle,
-    /// Desired angle relative to the carrier, [-18000, 18000], 0.01° (FPV mode).
-    RelativeAngle,
-    /// The mode takes no control quantities (track, gaze with geo-coordinates guide, or
-    /// a mode the document does not list).
-    Unused,
+wire_derive! {
+    [Eq, Hash]
+    /// How the control quantities of the host main data frame are read, which depends on
+    /// the gimbal's mode (main data frame table and the Command & Feedback table).
+    pub enum ControlMeaning {
+        /// Desired angular velocity, [-1500, 1500], in 0.1 °/s divided by the current zoom
+        /// ratio of the main screen (head lock, head follow, orthoview yaw, gaze lock).
+        AngularRate,
+        /// Desired Euler angle, [-18000, 18000], 0.01° (Euler angle control mode).
+        EulerAngle,
+        /// Desired angle relative to the carrier, [-18000, 18000], 0.01° (FPV mode).
+        RelativeAngle,
+        /// The mode takes no control quantities (track, gaze with geo-coordinates guide, or
+        /// a mode the document does not list).
+        Unused,
+    }
 }
 
 wire_struct! {
+    Le;
     /// Main data frame from the host computer (package bytes 5..=36).
     ///
     /// The three control quantities are read according to the gimbal's mode (see
@@ -81,6 +82,7 @@ impl HostMain {
     /// The carrier yaw in [0, 36000) 0.01°: a value of 36000 or more is read as the
     /// negative i16 it is (ArduPilot sends -18000..18000) and gets 36000 added. Values
     /// the document allows are returned as they are.
+    #[must_use]
     pub const fn carrier_yaw_0_36000_cdeg(&self) -> u16 {
         let v = self.carrier_yaw_cdeg;
         if v < 36000 {
@@ -96,6 +98,7 @@ impl HostMain {
 pub const SUB_HEADER: u8 = 0x01;
 
 wire_struct! {
+    Le;
     /// Sub data frame from the host computer (package bytes 37..=68). All bytes are 0x00
     /// when there is no sub frame data ([`HostSub::ABSENT`]).
     pub struct HostSub {
@@ -136,15 +139,29 @@ impl HostSub {
     };
 
     /// True when the header announces data (non-zero).
+    #[must_use]
     pub const fn is_present(&self) -> bool {
         self.header != 0
     }
 
     /// The GPS week and time of week of this frame.
+    #[must_use]
     pub const fn gps_time(&self) -> GpsTime {
         GpsTime {
             week: self.gps_week,
             tow_ms: self.gps_tow_ms,
         }
+    }
+}
+
+wire_struct! {
+    Le;
+    /// The two data frames of a host package (bytes 5..=68). The default is a zero main
+    /// frame and no sub frame ([`HostSub::ABSENT`]).
+    pub struct HostFrames {
+        /// Main data frame (bytes 5..=36).
+        pub main: HostMain,
+        /// Sub data frame (bytes 37..=68).
+        pub sub: HostSub,
     }
 }

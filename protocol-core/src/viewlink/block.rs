@@ -1,27 +1,47 @@
-//! Field encodings of Viewlink blocks (all big-endian), the [`Block`] trait, bit-field
-//! helpers and the macros that declare fixed-layout blocks.
+//! The [`Block`] trait (how a packet block reads from and writes to the data of a
+//! frame), the field types several blocks share ([`Bytes`], [`Date`], [`TimeCs`]), the
+//! bit-field helpers, and the macro that declares the blocks whose parameters depend on
+//! their command byte. Block fields are big-endian.
 
+use crate::wire::encoding::{Be, Field};
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-pub(crate) use crate::wire::encoding::Field;
-
-/// One packet block (A1, C1, ... M): how it reads from and writes to the data of a frame.
+/// One packet block (A1, C1, ... M) or combination of blocks: how it reads from and
+/// writes to the data of a frame.
 ///
-/// Fixed-size blocks read exactly their length; variable-size blocks (V, M, the AI and
-/// KLV packets, transparent data) are always the last block of their frame and read
+/// Every fixed-size block is a [`Field<Be>`](Field) (declared with the crate's
+/// `wire_struct!` or by hand for bit fields) and is a `Block` through the blanket
+/// implementation. Variable-size blocks (V, M, the AI and KLV packets, transparent
+/// data) implement it directly; they are always the last block of their frame and read
 /// every remaining byte.
-pub trait Block<'a>: Sized {
+pub trait Block: Sized {
+    /// Most encoded bytes: the length of a fixed-size block, the largest length of a
+    /// variable-size one.
+    const MAX_LEN: usize;
+
     /// Reads the block from the front of `r`.
-    fn read_block(r: &mut Reader<'a>) -> Result<Self>;
+    ///
+    /// # Errors
+    /// [`Error::Truncated`] when `r` holds too few bytes, [`Error::BadLength`] when a
+    /// variable-size block's bytes do not make a whole block.
+    fn read_block(r: &mut Reader<'_>) -> Result<Self>;
+
     /// Writes the block.
+    ///
+    /// # Errors
+    /// [`Error::BufferTooSmall`] when `w` has no room for it, [`Error::OutOfRange`] for
+    /// a bit field whose value does not fit its bits.
     fn write_block(&self, w: &mut Writer<'_>) -> Result<()>;
+
     /// Encoded length in bytes.
     fn block_len(&self) -> usize;
 
-    /// Decodes a block from exactly `bytes` (more bytes than the block is
-    /// [`Error::BadLength`]).
-    fn from_bytes(bytes: &'a [u8]) -> Result<Self> {
+    /// Decodes a block from exactly `bytes`.
+    ///
+    /// # Errors
+    /// As [`Block::read_block`]; bytes after the block are [`Error::BadLength`].
+    fn from_bytes(bytes: &[u8]) -> Result<Self> {
         let mut r = Reader::new(bytes);
         let v = Self::read_block(&mut r)?;
         r.finish()?;
@@ -29,6 +49,9 @@ pub trait Block<'a>: Sized {
     }
 
     /// Encodes the block into `buf` and returns its length.
+    ///
+    /// # Errors
+    /// As [`Block::write_block`].
     fn to_bytes(&self, buf: &mut [u8]) -> Result<usize> {
         let mut w = Writer::new(buf);
         self.write_block(&mut w)?;
@@ -36,19 +59,46 @@ pub trait Block<'a>: Sized {
     }
 }
 
-/// A block with a fixed wire length.
+impl<T: Field<Be>> Block for T {
+    const MAX_LEN: usize = <T as Field<Be>>::LEN;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
+        <T as Field<Be>>::read(r)
+    }
+
+    fn write_block(&self, w: &mut Writer<'_>) -> Result<()> {
+        <T as Field<Be>>::write(self, w)
+    }
+
+    fn block_len(&self) -> usize {
+        <T as Field<Be>>::LEN
+    }
+}
+
+/// A block with a fixed wire length (every [`Field<Be>`](Field)).
 pub trait FixedBlock {
     /// Encoded length in bytes.
     const LEN: usize;
 }
 
-/// `value` masked to `bits` bits, after shifting right by `shift`.
+impl<T: Field<Be>> FixedBlock for T {
+    const LEN: usize = <T as Field<Be>>::LEN;
+}
+
+/// `value` shifted right by `shift` and masked to `bits` bits.
 pub(crate) const fn bits_of(value: u16, shift: u32, bits: u32) -> u16 {
     let mask = match 1u16.checked_shl(bits) {
         Some(m) => m.wrapping_sub(1),
         None => u16::MAX,
     };
     value.wrapping_shr(shift) & mask
+}
+
+/// [`bits_of`] for a field of at most 8 bits, as a byte.
+pub(crate) const fn byte_of(value: u16, shift: u32, bits: u32) -> u8 {
+    // The mask leaves at most `bits` (<= 8) bits: the high byte is zero.
+    let [_, low] = bits_of(value, shift, if bits > 8 { 8 } else { bits }).to_be_bytes();
+    low
 }
 
 /// Adds `value` as a `bits`-bit field at `shift` to `acc`; a value that does not fit is
@@ -62,7 +112,11 @@ pub(crate) fn put_bits(acc: u16, value: u16, shift: u32, bits: u32) -> Result<u1
 
 /// Byte version of [`bits_of`].
 pub(crate) const fn bits8(value: u8, shift: u32, bits: u32) -> u8 {
-    bits_of(value as u16, shift, bits) as u8
+    let mask = match 1u8.checked_shl(bits) {
+        Some(m) => m.wrapping_sub(1),
+        None => u8::MAX,
+    };
+    value.wrapping_shr(shift) & mask
 }
 
 /// Byte version of [`put_bits`].
@@ -71,121 +125,41 @@ pub(crate) fn put_bits8(acc: u8, value: u8, shift: u32, bits: u32) -> Result<u8>
     u8::try_from(v).map_err(|_| Error::OutOfRange)
 }
 
-/// Declares a fixed-layout block struct: the fields in wire order, each a [`Field`].
-/// Generates the struct (with the crate's derives), [`Field`], [`Block`] and
-/// [`FixedBlock`].
-macro_rules! block {
-    (
-        $(#[$meta:meta])*
-        pub struct $name:ident {
-            $( $(#[$fmeta:meta])* pub $field:ident: $ty:ty, )*
-        }
-    ) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub struct $name {
-            $( $(#[$fmeta])* pub $field: $ty, )*
-        }
-
-        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $name {
-            const LEN: usize = 0 $( + <$ty as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN )*;
-
-            fn read(_r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                Ok(Self { $( $field: $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(_r)?, )* })
-            }
-
-            fn write(&self, _w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $( $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(&self.$field, _w)?; )*
-                Ok(())
-            }
-        }
-
-        impl_block_via_field!($name);
-    };
-}
-
-/// Implements [`Block`] and [`FixedBlock`] for a type that implements [`Field`].
-macro_rules! impl_block_via_field {
-    ($($t:ty),* $(,)?) => {$(
-        impl<'a> $crate::viewlink::field::Block<'a> for $t {
-            fn read_block(r: &mut $crate::wire::Reader<'a>) -> $crate::Result<Self> {
-                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(r)
-            }
-            fn write_block(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(self, w)
-            }
-            fn block_len(&self) -> usize {
-                <$t as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN
-            }
-        }
-
-        impl $crate::viewlink::field::FixedBlock for $t {
-            const LEN: usize = <$t as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN;
-        }
-    )*};
-}
-
-/// Declares newtypes over an integer (bit sets, packed nibbles) with a [`Field`] impl.
-macro_rules! newtype {
-    ($( $(#[$m:meta])* pub struct $t:ident($repr:ty); )*) => {$(
-        $(#[$m])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub struct $t(pub $repr);
-
-        impl $t {
-            /// True when every bit of `mask` is set.
-            pub const fn contains(self, mask: $repr) -> bool {
-                self.0 & mask == mask
-            }
-        }
-
-        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $t {
-            const LEN: usize = <$repr as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN;
-            fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
-                <$repr as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::read(r).map($t)
-            }
-            fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(&self.0, w)
-            }
-        }
-    )*};
-}
-
 /// Declares a block whose first byte is a command and whose parameters depend on it: one
 /// variant per command with defined parameters (the command is implied by the variant),
 /// and `Plain` for the other commands (parameters kept as bytes). Every variant's
-/// parameters have the same length, checked at compile time.
-macro_rules! command_enum {
+/// parameters have the same length, checked at compile time. Generates the enum,
+/// `command()`, `plain()`, `Default` (`Plain` with command 0) and [`Field<Be>`](Field)
+/// (hence [`Block`]).
+macro_rules! viewlink_command_block {
     (
         $(#[$meta:meta])*
         pub enum $name:ident: $cmd:ident [$plen:literal] {
             $( $(#[$vm:meta])* $variant:ident($ty:ty) = $code:ident, )*
         }
     ) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        pub enum $name {
-            $( $(#[$vm])* $variant($ty), )*
-            /// A command without parameters of its own (or one the document does not
-            /// list), with the parameter bytes as received.
-            Plain {
-                /// The command.
-                command: $cmd,
-                /// The parameter bytes.
-                params: [u8; $plen],
-            },
+        wire_derive! {
+            [Eq, Hash]
+            $(#[$meta])*
+            pub enum $name {
+                $( $(#[$vm])* $variant($ty), )*
+                /// A command without parameters of its own (or one the document does not
+                /// list), with the parameter bytes as received.
+                Plain {
+                    /// The command.
+                    command: $cmd,
+                    /// The parameter bytes.
+                    params: [u8; $plen],
+                },
+            }
         }
 
-        $( const _: () = assert!(<$ty as $crate::viewlink::field::Field<$crate::wire::encoding::Be>>::LEN == $plen); )*
+        // One compile-time check per variant: its parameters fill the parameter bytes.
+        $( const _: () = assert!(<$ty as $crate::wire::encoding::Field<$crate::wire::encoding::Be>>::LEN == $plen); )*
 
         impl $name {
             /// The command byte.
+            #[must_use]
             pub const fn command(&self) -> $cmd {
                 match self {
                     $( Self::$variant(_) => $cmd::$code, )*
@@ -194,6 +168,7 @@ macro_rules! command_enum {
             }
 
             /// A command with all parameter bytes zero (`Plain`, whatever the command).
+            #[must_use]
             pub const fn plain(command: $cmd) -> Self {
                 Self::Plain { command, params: [0; $plen] }
             }
@@ -205,13 +180,13 @@ macro_rules! command_enum {
             }
         }
 
-        impl $crate::viewlink::field::Field<$crate::wire::encoding::Be> for $name {
+        impl $crate::wire::encoding::Field<$crate::wire::encoding::Be> for $name {
             const LEN: usize = 1 + $plen;
 
             fn read(r: &mut $crate::wire::Reader<'_>) -> $crate::Result<Self> {
                 let command = $cmd::from_value(r.u8()?);
                 Ok(match command {
-                    $( $cmd::$code => Self::$variant($crate::viewlink::field::Field::<$crate::wire::encoding::Be>::read(r)?), )*
+                    $( $cmd::$code => Self::$variant($crate::wire::encoding::Field::<$crate::wire::encoding::Be>::read(r)?), )*
                     command => Self::Plain { command, params: r.array()? },
                 })
             }
@@ -219,22 +194,22 @@ macro_rules! command_enum {
             fn write(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
                 w.u8(self.command().value())?;
                 match self {
-                    $( Self::$variant(v) => $crate::viewlink::field::Field::<$crate::wire::encoding::Be>::write(v, w), )*
+                    $( Self::$variant(v) => $crate::wire::encoding::Field::<$crate::wire::encoding::Be>::write(v, w), )*
                     Self::Plain { params, .. } => w.put(params),
                 }
             }
         }
-
-        impl_block_via_field!($name);
     };
 }
 
-/// Up to `N` bytes of variable-length data, kept as received.
-#[derive(Debug, Clone, Copy)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Bytes<const N: usize> {
-    len: u8,
-    buf: [u8; N],
+wire_derive! {
+    custom_serde [Eq, Hash]
+    /// Up to `N` bytes of variable-length data, kept as received. The bytes after the
+    /// length are always zero, so the derived comparisons compare the bytes held.
+    pub struct Bytes<const N: usize> {
+        len: u8,
+        buf: [u8; N],
+    }
 }
 
 impl<const N: usize> Default for Bytes<N> {
@@ -247,8 +222,10 @@ impl<const N: usize> Default for Bytes<N> {
 }
 
 impl<const N: usize> Bytes<N> {
-    /// The bytes of `data`; more than `N` bytes (or more than 255) is
-    /// [`Error::OutOfRange`].
+    /// The bytes of `data`.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for more than `N` bytes (or more than 255).
     pub fn new(data: &[u8]) -> Result<Self> {
         let mut b = Bytes::default();
         b.buf
@@ -260,16 +237,20 @@ impl<const N: usize> Bytes<N> {
     }
 
     /// The bytes held.
+    #[must_use]
     pub fn as_slice(&self) -> &[u8] {
         self.buf.get(..usize::from(self.len)).unwrap_or_default()
     }
 
     /// Number of bytes held.
+    #[must_use]
     pub const fn len(&self) -> usize {
+        // Widening (`usize::from` is not const).
         self.len as usize
     }
 
     /// True when no byte is held.
+    #[must_use]
     pub const fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -280,20 +261,6 @@ impl<const N: usize> Bytes<N> {
     }
 }
 
-impl<const N: usize> PartialEq for Bytes<N> {
-    fn eq(&self, other: &Self) -> bool {
-        self.as_slice() == other.as_slice()
-    }
-}
-
-impl<const N: usize> Eq for Bytes<N> {}
-
-impl<const N: usize> core::hash::Hash for Bytes<N> {
-    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
-        self.as_slice().hash(state);
-    }
-}
-
 #[cfg(feature = "serde")]
 impl<const N: usize> serde::Serialize for Bytes<N> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
@@ -301,15 +268,18 @@ impl<const N: usize> serde::Serialize for Bytes<N> {
     }
 }
 
-/// A UTC date packed in 16 bits (M and T2 packets): bits 15..11 day, 10..7 month,
-/// 6..0 year minus 2000. Kept as the 16 bits received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Date(pub u16);
+wire_derive! {
+    custom_serde [Eq, Hash, Default]
+    /// A UTC date packed in 16 bits (M and T2 packets): bits 15..11 day, 10..7 month,
+    /// 6..0 year minus 2000. Kept as the 16 bits received.
+    pub struct Date(pub u16);
+}
 
 impl Date {
-    /// The date for a day (1..=31), month (1..=12) and year (2000..=2127); a value that
-    /// does not fit its bits is [`Error::OutOfRange`].
+    /// The date for a day (1..=31), month (1..=12) and year (2000..=2127).
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for a value that does not fit its bits.
     pub fn new(year: u16, month: u8, day: u8) -> Result<Self> {
         let y = year.checked_sub(2000).ok_or(Error::OutOfRange)?;
         let v = put_bits(0, y, 0, 7)?;
@@ -318,16 +288,19 @@ impl Date {
     }
 
     /// Day of the month (bits 15..11).
+    #[must_use]
     pub const fn day(self) -> u8 {
-        bits_of(self.0, 11, 5) as u8
+        byte_of(self.0, 11, 5)
     }
 
     /// Month (bits 10..7).
+    #[must_use]
     pub const fn month(self) -> u8 {
-        bits_of(self.0, 7, 4) as u8
+        byte_of(self.0, 7, 4)
     }
 
     /// Year (bits 6..0, plus 2000).
+    #[must_use]
     pub const fn year(self) -> u16 {
         bits_of(self.0, 0, 7).wrapping_add(2000)
     }
@@ -345,7 +318,7 @@ impl serde::Serialize for Date {
     }
 }
 
-impl Field<crate::wire::encoding::Be> for Date {
+impl Field<Be> for Date {
     const LEN: usize = 2;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u16_be().map(Date)
@@ -355,14 +328,18 @@ impl Field<crate::wire::encoding::Be> for Date {
     }
 }
 
-/// Time of day in 0.01 s since UTC midnight, 3 bytes big-endian (M and T2 packets).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct TimeCs(pub u32);
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Time of day in 0.01 s since UTC midnight, 3 bytes big-endian (M and T2 packets).
+    pub struct TimeCs(pub u32);
+}
 
 impl TimeCs {
     /// The time for hours, minutes, seconds and hundredths.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for an hour above 23, a minute above 59, a second above 60
+    /// or hundredths above 99.
     pub fn new(hour: u8, minute: u8, second: u8, centis: u8) -> Result<Self> {
         if hour > 23 || minute > 59 || second > 60 || centis > 99 {
             return Err(Error::OutOfRange);
@@ -377,7 +354,7 @@ impl TimeCs {
     }
 }
 
-impl Field<crate::wire::encoding::Be> for TimeCs {
+impl Field<Be> for TimeCs {
     const LEN: usize = 3;
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         r.u24_be().map(TimeCs)
@@ -406,7 +383,7 @@ mod tests {
     fn date_and_time() {
         let d = Date::new(2026, 1, 31).unwrap();
         assert_eq!((d.year(), d.month(), d.day()), (2026, 1, 31));
-        assert_eq!(d.0, (31 << 11) | (1 << 7) | 26);
+        assert_eq!(d.0, (31 << 11) | (1 << 7) | (2026 - 2000));
         assert!(Date::new(1999, 1, 1).is_err());
         assert!(Date::new(2000, 16, 1).is_err());
         assert_eq!(TimeCs::new(23, 59, 59, 99).unwrap().0, 8_639_999);

@@ -1,8 +1,8 @@
 //! The data frames of a package from the GCU: the main data frame (mode, camera
 //! status, target miss, camera angles and rates) and the sub data frame (versions,
-//! model, ranging and target position, zoom ratios).
+//! model, ranging and target position, zoom ratios), together [`GcuFrames`].
 
-use super::host::ControlMeaning;
+use super::host_frames::ControlMeaning;
 
 code_enum! {
     /// Gimbal mode (GCU main data frame, byte 5).
@@ -26,6 +26,7 @@ code_enum! {
 
 impl GimbalMode {
     /// How the host's control quantities are read in this mode.
+    #[must_use]
     pub const fn control_meaning(self) -> ControlMeaning {
         match self {
             GimbalMode::Fpv => ControlMeaning::RelativeAngle,
@@ -59,6 +60,7 @@ bit_set! {
 }
 
 wire_struct! {
+    Le;
     /// Main data frame from the GCU (package bytes 5..=36).
     pub struct GcuMain {
         /// Gimbal mode (byte 5).
@@ -130,6 +132,7 @@ code_enum! {
 
 impl GimbalCode {
     /// The model name as the document prints it (`None` for an unlisted code).
+    #[must_use]
     pub const fn model(self) -> Option<&'static str> {
         Some(match self {
             GimbalCode::Z6a => "Z-6A",
@@ -152,6 +155,7 @@ impl GimbalCode {
 }
 
 wire_struct! {
+    Le;
     /// Sub data frame from the GCU (package bytes 37..=68). All bytes are 0x00 when the
     /// host requested an unknown sub frame header ([`GcuSub::ABSENT`]).
     pub struct GcuSub {
@@ -202,16 +206,30 @@ impl GcuSub {
     };
 
     /// True when the header announces data (non-zero).
+    #[must_use]
     pub const fn is_present(&self) -> bool {
         self.header != 0
     }
 
     /// The range measurement in 0.1 m when it is valid (positive).
+    #[must_use]
     pub const fn distance(&self) -> Option<i32> {
         if self.distance_dm > 0 {
             Some(self.distance_dm)
         } else {
             None
         }
+    }
+}
+
+wire_struct! {
+    Le;
+    /// The two data frames of a GCU package (bytes 5..=68). The default is a zero main
+    /// frame and no sub frame ([`GcuSub::ABSENT`]).
+    pub struct GcuFrames {
+        /// Main data frame (bytes 5..=36).
+        pub main: GcuMain,
+        /// Sub data frame (bytes 37..=68).
+        pub sub: GcuSub,
     }
 }

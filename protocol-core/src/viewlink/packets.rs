@@ -2,11 +2,14 @@
 //! set and feedback, AI identification feedback (0xF3), KLV (0xF4) and transparent
 //! data (0xFF).
 
-use super::field::{Block, Bytes, Field, FixedBlock};
+use super::block::{Block, Bytes, FixedBlock};
+use super::frame::MAX_PAYLOAD_LEN;
+use crate::wire::encoding::Field;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-block! {
+wire_struct! {
+    Be;
     /// Handshake (frame 0x00, 1 byte). ArduPilot sends `0x00` and expects a 0x40 status
     /// frame in reply.
     pub struct Handshake {
@@ -15,7 +18,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Heartbeat (frame 0x10, 1 byte). A heartbeat asks for a 0x40 status frame.
     pub struct Heartbeat {
         /// The byte.
@@ -23,7 +27,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// ACK (frame 0xAC, 1 byte): the gimbal received a frame. The document's example is
     /// `AA 55 DC 04 AC 1A B2` (ACK of an A1 frame, printed with swapped sync bytes).
     pub struct Ack {
@@ -63,7 +68,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// SD card query (frame 0x5D, 2 bytes).
     pub struct SdQuery {
         /// Byte 1: the command.
@@ -91,43 +97,40 @@ code_enum! {
     }
 }
 
-newtype! {
-    /// SD card state bits (0xD5 status, byte 2): bit 0 inserted, 1 initialising, 2 read
-    /// only, 3 formatted, 4 formatting, 5 full, 6 verified, 7 invalid format.
-    pub struct SdStateFlags(u8);
-
-    /// SD card activity bits (0xD5 status, byte 3): bit 0 error, bit 1 recording;
-    /// others reserved.
-    pub struct SdActivityFlags(u8);
+bit_set! {
+    /// SD card state bits (0xD5 status, byte 2).
+    pub struct SdStateFlags(u8) {
+        /// Bit 0: inserted.
+        0 => inserted, with_inserted;
+        /// Bit 1: initialising.
+        1 => initializing, with_initializing;
+        /// Bit 2: read only.
+        2 => read_only, with_read_only;
+        /// Bit 3: formatted.
+        3 => formatted, with_formatted;
+        /// Bit 4: formatting.
+        4 => formatting, with_formatting;
+        /// Bit 5: full.
+        5 => full, with_full;
+        /// Bit 6: verified.
+        6 => verified, with_verified;
+        /// Bit 7: invalid format.
+        7 => invalid_format, with_invalid_format;
+    }
 }
 
-impl SdStateFlags {
-    /// Bit 0: inserted.
-    pub const INSERTED: u8 = 1 << 0;
-    /// Bit 1: initialising.
-    pub const INITIALIZING: u8 = 1 << 1;
-    /// Bit 2: read only.
-    pub const READ_ONLY: u8 = 1 << 2;
-    /// Bit 3: formatted.
-    pub const FORMATTED: u8 = 1 << 3;
-    /// Bit 4: formatting.
-    pub const FORMATTING: u8 = 1 << 4;
-    /// Bit 5: full.
-    pub const FULL: u8 = 1 << 5;
-    /// Bit 6: verified.
-    pub const VERIFIED: u8 = 1 << 6;
-    /// Bit 7: invalid format.
-    pub const INVALID_FORMAT: u8 = 1 << 7;
+bit_set! {
+    /// SD card activity bits (0xD5 status, byte 3); bits 2..7 reserved.
+    pub struct SdActivityFlags(u8) {
+        /// Bit 0: error.
+        0 => error, with_error;
+        /// Bit 1: recording.
+        1 => recording, with_recording;
+    }
 }
 
-impl SdActivityFlags {
-    /// Bit 0: error.
-    pub const ERROR: u8 = 1 << 0;
-    /// Bit 1: recording.
-    pub const RECORDING: u8 = 1 << 1;
-}
-
-block! {
+wire_struct! {
+    Be;
     /// SD card status feedback (0xD5 command 0x01).
     pub struct SdStatus {
         /// Byte 2: state bits.
@@ -139,7 +142,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// An SD capacity in MB (0xD5 commands 0x02, 0x03).
     pub struct SdCapacity {
         /// Megabytes.
@@ -147,7 +151,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Remaining pictures (0xD5 command 0x04).
     pub struct SdPictures {
         /// Number of pictures.
@@ -155,7 +160,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// Remaining recording time (0xD5 command 0x05).
     pub struct SdVideoTime {
         /// Seconds.
@@ -163,7 +169,7 @@ block! {
     }
 }
 
-command_enum! {
+viewlink_command_block! {
     /// SD card feedback (frame 0xD5, 5 bytes).
     pub enum SdFeedback: SdFeedbackCommand [4] {
         /// 0x01: status.
@@ -179,7 +185,8 @@ command_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// IP address query (frame 0x19, 1 byte).
     pub struct IpQuery {
         /// The control command (0 = query the IP address).
@@ -187,7 +194,8 @@ block! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// An IPv4 address (frames 0x29 set and 0x92 feedback, 4 bytes), first part first
     /// (192.168.2.119 is `C0 A8 02 77`).
     pub struct IpAddress {
@@ -209,7 +217,8 @@ code_enum! {
     }
 }
 
-block! {
+wire_struct! {
+    Be;
     /// One identified target of an 0xF3 packet (13 bytes).
     pub struct AiTarget {
         /// Target class.
@@ -232,26 +241,29 @@ block! {
 /// Most targets in one 0xF3 packet.
 pub const MAX_AI_TARGETS: usize = 4;
 
-/// AI identification feedback (frame 0xF3, 8 + 13 per target bytes, up to four targets
-/// per packet; N targets take ⌈N/4⌉ packets).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct AiTargets {
-    /// Byte 1: total number of targets identified.
-    pub total_targets: u8,
-    /// Byte 2: total number of packets.
-    pub total_packets: u8,
-    /// Byte 3: number of this packet (0, 1, ...).
-    pub packet_index: u8,
-    /// Bytes 4..8: reserved.
-    pub reserved: [u8; 5],
-    count: u8,
-    targets: [AiTarget; MAX_AI_TARGETS],
+wire_derive! {
+    custom_serde [Eq, Hash, Default]
+    /// AI identification feedback (frame 0xF3, 8 + 13 per target bytes, up to four targets
+    /// per packet; N targets take ⌈N/4⌉ packets).
+    pub struct AiTargets {
+        /// Byte 1: total number of targets identified.
+        pub total_targets: u8,
+        /// Byte 2: total number of packets.
+        pub total_packets: u8,
+        /// Byte 3: number of this packet (0, 1, ...).
+        pub packet_index: u8,
+        /// Bytes 4..8: reserved.
+        pub reserved: [u8; 5],
+        count: u8,
+        targets: [AiTarget; MAX_AI_TARGETS],
+    }
 }
 
 impl AiTargets {
-    /// A packet with the given header and targets; more than four targets is
-    /// [`Error::OutOfRange`].
+    /// A packet with the given header and targets.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] for more than four targets.
     pub fn new(
         total_targets: u8,
         total_packets: u8,
@@ -273,6 +285,7 @@ impl AiTargets {
     }
 
     /// The targets of this packet.
+    #[must_use]
     pub fn targets(&self) -> &[AiTarget] {
         self.targets
             .get(..usize::from(self.count))
@@ -294,8 +307,10 @@ impl serde::Serialize for AiTargets {
     }
 }
 
-impl<'a> Block<'a> for AiTargets {
-    fn read_block(r: &mut Reader<'a>) -> Result<Self> {
+impl Block for AiTargets {
+    const MAX_LEN: usize = 8 + MAX_AI_TARGETS * <AiTarget as FixedBlock>::LEN;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
         let mut p = AiTargets {
             total_targets: r.u8()?,
             total_packets: r.u8()?,
@@ -308,7 +323,7 @@ impl<'a> Block<'a> for AiTargets {
             return Err(Error::BadLength);
         }
         let mut t = Reader::new(rest);
-        for slot in p.targets.iter_mut() {
+        for slot in &mut p.targets {
             if t.is_empty() {
                 break;
             }
@@ -345,33 +360,36 @@ impl<'a> Block<'a> for AiTargets {
 /// Most KLV data bytes in one 0xF4 packet.
 pub const KLV_CHUNK: usize = 57;
 
-/// KLV data for the video processing board (frame 0xF4): 3 header bytes and up to 57
-/// data bytes. The document sends 114 bytes of KLV in two packets of 57; the data bytes
-/// are kept exactly as received (padding included), `valid_len` says how many count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Klv {
-    /// Byte 1: total number of packets (2).
-    pub total_packets: u8,
-    /// Byte 2: number of this packet (0 or 1).
-    pub packet_index: u8,
-    /// Byte 3: number of valid data bytes in this packet (1..=57).
-    pub valid_len: u8,
-    /// Bytes 4..: the data bytes on the wire.
-    pub data: Bytes<KLV_CHUNK>,
+wire_derive! {
+    [Eq, Hash, Default]
+    /// KLV data for the video processing board (frame 0xF4): 3 header bytes and up to 57
+    /// data bytes. The document sends 114 bytes of KLV in two packets of 57; the data bytes
+    /// are kept exactly as received (padding included), `valid_len` says how many count.
+    pub struct Klv {
+        /// Byte 1: total number of packets (2).
+        pub total_packets: u8,
+        /// Byte 2: number of this packet (0 or 1).
+        pub packet_index: u8,
+        /// Byte 3: number of valid data bytes in this packet (1..=57).
+        pub valid_len: u8,
+        /// Bytes 4..: the data bytes on the wire.
+        pub data: Bytes<KLV_CHUNK>,
+    }
 }
 
 impl Klv {
     /// The valid KLV bytes (`valid_len` of `data`, at most what is present).
+    #[must_use]
     pub fn payload(&self) -> &[u8] {
         let d = self.data.as_slice();
         d.get(..usize::from(self.valid_len)).unwrap_or(d)
     }
 }
 
-impl<'a> Block<'a> for Klv {
-    fn read_block(r: &mut Reader<'a>) -> Result<Self> {
+impl Block for Klv {
+    const MAX_LEN: usize = 3 + KLV_CHUNK;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
         Ok(Klv {
             total_packets: r.u8()?,
             packet_index: r.u8()?,
@@ -390,23 +408,35 @@ impl<'a> Block<'a> for Klv {
     }
 }
 
-/// Transparent data (frame 0xFF): bytes passed through the gimbal, borrowed from the
-/// frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Transparent<'a> {
-    /// The data.
-    pub data: &'a [u8],
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Transparent data (frame 0xFF): bytes passed through the gimbal, 1..=60 of them,
+    /// kept as received.
+    pub struct Transparent {
+        /// The data.
+        pub data: Bytes<MAX_PAYLOAD_LEN>,
+    }
 }
 
-impl<'a> Block<'a> for Transparent<'a> {
-    fn read_block(r: &mut Reader<'a>) -> Result<Self> {
-        Ok(Transparent { data: r.rest() })
+impl Transparent {
+    /// Transparent data of `data`; more than 60 bytes is [`Error::OutOfRange`].
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] when `data` does not fit one frame.
+    pub fn new(data: &[u8]) -> Result<Self> {
+        Bytes::new(data).map(|data| Transparent { data })
+    }
+}
+
+impl Block for Transparent {
+    const MAX_LEN: usize = MAX_PAYLOAD_LEN;
+
+    fn read_block(r: &mut Reader<'_>) -> Result<Self> {
+        Bytes::read_rest(r).map(|data| Transparent { data })
     }
 
     fn write_block(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.put(self.data)
+        w.put(self.data.as_slice())
     }
 
     fn block_len(&self) -> usize {
