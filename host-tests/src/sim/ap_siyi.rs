@@ -615,10 +615,8 @@ impl ApSiyi {
         });
         let le = |i: usize| i16::from_le_bytes([data[i], data[i + 1]]);
         match id {
-            0x01 => {
-                if (data.len() == 12 || data.len() == 8) && data[..3] != [0, 0, 0] {
-                    self.fw_received = true;
-                }
+            0x01 if (data.len() == 12 || data.len() == 8) && data[..3] != [0, 0, 0] => {
+                self.fw_received = true;
             }
             0x02 => {
                 self.got_hardware_id = true;

@@ -141,6 +141,7 @@ pub struct Sample {
 
 impl Sample {
     /// A sample of a running clock (not held) with no known transit time.
+    #[must_use]
     pub const fn new(local: Instant, value_us: u64, resolution_us: u32) -> Self {
         Self {
             local,
@@ -152,12 +153,14 @@ impl Sample {
     }
 
     /// The same sample, marked as a held value ([`Sample::held`]).
+    #[must_use]
     pub const fn held(mut self) -> Self {
         self.held = true;
         self
     }
 
     /// The same sample with a known transit time ([`Sample::transit`]).
+    #[must_use]
     pub const fn with_transit(mut self, transit: Duration) -> Self {
         self.transit = transit;
         self
@@ -166,6 +169,7 @@ impl Sample {
 
 /// Time to send `bytes` bytes on an 8N1 serial line at `baud` bits per second (10 bits
 /// per byte), rounded to the nearest microsecond. Zero if `baud` is zero.
+#[must_use]
 pub const fn serial_time(bytes: u32, baud: u32) -> Duration {
     if baud == 0 {
         return Duration::ZERO;
@@ -265,6 +269,7 @@ pub enum DisciplineState {
 
 impl DisciplineState {
     /// `utc()` gives a value in this state (`Valid` or `Holdover`).
+    #[must_use]
     pub const fn is_usable(self) -> bool {
         matches!(self, Self::Valid | Self::Holdover)
     }
@@ -283,11 +288,13 @@ pub struct Transition {
 
 impl Transition {
     /// UTC became usable (the engine's `UtcValid` event).
+    #[must_use]
     pub const fn utc_became_valid(self) -> bool {
         self.to.is_usable() && !self.from.is_usable()
     }
 
     /// UTC stopped being usable (the engine's `UtcLost` event).
+    #[must_use]
     pub const fn utc_lost(self) -> bool {
         self.from.is_usable() && !self.to.is_usable()
     }
@@ -570,6 +577,8 @@ impl ClockEstimator {
         })
     }
 
+    // The names are those of the fit's formulas (x, y, n, a, b).
+    #[allow(clippy::many_single_char_names)]
     fn fit(&self) -> Option<Line> {
         let n = self.len;
         if n == 0 {
@@ -738,6 +747,7 @@ impl Default for TimeDiscipline {
 
 impl TimeDiscipline {
     /// An empty discipline ([`DisciplineState::Unknown`]).
+    #[must_use]
     pub const fn new(config: DisciplineConfig) -> Self {
         Self {
             config,
@@ -754,11 +764,13 @@ impl TimeDiscipline {
     }
 
     /// The settings.
+    #[must_use]
     pub const fn config(&self) -> &DisciplineConfig {
         &self.config
     }
 
     /// The state as of the last sample or [`poll`](Self::poll).
+    #[must_use]
     pub const fn state(&self) -> DisciplineState {
         self.state
     }
@@ -932,6 +944,7 @@ impl TimeDiscipline {
 
     /// The next instant at which the state changes by itself (Valid → Holdover →
     /// Lost), if any.
+    #[must_use]
     pub fn poll_at(&self) -> Option<Instant> {
         let fresh = self.last_fresh?;
         match self.state {
@@ -1018,6 +1031,7 @@ impl TimeDiscipline {
 
     /// The current estimate of the local clock's rate error against UTC, in parts per
     /// billion (positive: the local clock runs fast), if a mapping exists.
+    #[must_use]
     pub fn drift_ppb(&self) -> Option<i64> {
         let l = self.output?;
         let v = i128::from(l.dy)

@@ -137,6 +137,7 @@ impl Default for FixHistory {
 
 impl FixHistory {
     /// An empty history.
+    #[must_use]
     pub const fn new(config: FixConfig) -> Self {
         Self {
             config,
@@ -156,6 +157,7 @@ impl FixHistory {
     }
 
     /// The settings.
+    #[must_use]
     pub const fn config(&self) -> &FixConfig {
         &self.config
     }
@@ -168,16 +170,19 @@ impl FixHistory {
     }
 
     /// Fixes usable by [`at`](Self::at) (stored ones plus the newest kept aside).
+    #[must_use]
     pub fn len(&self) -> usize {
         usize::from(self.len).saturating_add(usize::from(self.tail.is_some()))
     }
 
     /// No fix at all.
+    #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// The newest fix.
+    #[must_use]
     pub fn latest(&self) -> Option<Fix> {
         self.get(self.len().checked_sub(1)?)
     }
@@ -217,7 +222,7 @@ impl FixHistory {
         // Re-base the stored times on the new newest fix.
         let shift = fix.at.saturating_duration_since(self.newest).as_micros();
         let shift = u32::try_from(shift).unwrap_or(u32::MAX);
-        for t in self.t_us.iter_mut() {
+        for t in &mut self.t_us {
             *t = t.saturating_add(shift);
         }
         if usize::from(self.len) >= CAPACITY {
@@ -269,6 +274,10 @@ impl FixHistory {
     /// Position and attitude at local instant `at`: interpolated inside the history,
     /// the nearest fix held within [`FixConfig::max_hold`] beyond its ends or around a
     /// gap, an error otherwise (see the module documentation).
+    ///
+    /// # Errors
+    /// [`GeotagError::NoFix`] when the history is empty, [`GeotagError::OutOfRange`] when
+    /// `at` is further than the hold limit from every usable fix.
     pub fn at(&self, at: Instant) -> Result<Fix, GeotagError> {
         let n = self.len();
         let first = self.get(0).ok_or(GeotagError::NoFix)?;
@@ -346,14 +355,14 @@ fn lerp_angle(a: i64, b: i64, num: i64, den: i64, half: i64) -> Option<i64> {
 }
 
 fn interpolate(a: &Fix, b: &Fix, at: Instant) -> Option<Fix> {
+    const HALF_CDEG: i64 = 18_000;
+    const HALF_E7: i64 = 1_800_000_000;
     let den = i64::try_from(b.at.checked_duration_since(a.at)?.as_micros()).ok()?;
     let num = i64::try_from(at.checked_duration_since(a.at)?.as_micros()).ok()?;
     if den <= 0 {
         return Some(*a);
     }
     let linear = |x: i64, y: i64| lerp(x, y.checked_sub(x)?, num, den);
-    const HALF_CDEG: i64 = 18_000;
-    const HALF_E7: i64 = 1_800_000_000;
     let angle_i16 = |x: i16, y: i16| {
         i16::try_from(lerp_angle(i64::from(x), i64::from(y), num, den, HALF_CDEG)?).ok()
     };
@@ -463,7 +472,7 @@ mod tests {
         // 50 Hz for 30 s; latitude = time in ms.
         for i in 0..1_500u64 {
             let ms = i * 20;
-            assert!(h.push(fix(ms, ms as i32, 0, 0)));
+            assert!(h.push(fix(ms, i32::try_from(ms).unwrap(), 0, 0)));
         }
         // 201 stored (every 100 ms) plus the newest aside.
         assert_eq!(h.len(), CAPACITY + 1);

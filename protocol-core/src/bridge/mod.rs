@@ -116,13 +116,13 @@ impl Outputs {
     }
 
     /// Queues a frame for the FC.
-    pub(crate) fn to_fc(&mut self, frame: &[u8], critical: bool) -> bool {
+    pub(crate) fn queue_fc(&mut self, frame: &[u8], critical: bool) -> bool {
         let p = self.fc.push_back(frame, critical);
         self.pushed(Port::Fc, p)
     }
 
     /// Queues a frame for the pod (at the head with `front`).
-    pub(crate) fn to_pod(&mut self, frame: &[u8], critical: bool, front: bool) -> bool {
+    pub(crate) fn queue_pod(&mut self, frame: &[u8], critical: bool, front: bool) -> bool {
         let p = if front {
             self.pod.push_front(frame, critical)
         } else {
@@ -409,7 +409,7 @@ impl Core {
                 if !fc.gps_request(&mut ctx, header, request) {
                     geotag(
                         now,
-                        &header,
+                        header,
                         request,
                         &self.time,
                         &self.fixes,
@@ -512,7 +512,7 @@ impl Core {
 /// Answers a GPS request from the fix history (shared with the K40T side's fallback).
 pub(crate) fn geotag(
     now: Instant,
-    header: &Header,
+    header: Header,
     request: GpsRequest,
     time: &TimeDiscipline,
     fixes: &FixHistory,

@@ -302,6 +302,7 @@ impl PodDriver {
     }
 
     /// The addresses and coverage in use.
+    #[cfg(test)]
     pub(crate) const fn link_params(&self) -> (Address, Address, CrcCoverage) {
         (self.gimbal, self.camera, self.coverage)
     }
@@ -351,7 +352,7 @@ impl PodDriver {
     ) -> bool {
         let mut buf = [0u8; k40t::MAX_FRAME_LEN];
         match (Packet { header, message }).emit(&mut buf) {
-            Ok(n) => out.to_pod(buf.get(..n).unwrap_or_default(), critical, front),
+            Ok(n) => out.queue_pod(buf.get(..n).unwrap_or_default(), critical, front),
             Err(_) => false,
         }
     }
@@ -772,14 +773,14 @@ impl PodDriver {
             if sent.is_turning() && self.motion.target.is_turning() && silent {
                 self.stop(now, out);
                 out.event(Event::FcSilenceStop);
-            } else if self.motion.target.differs(&sent, &self.cfg)
-                && now.saturating_duration_since(at) >= self.cfg.motion_interval
-            {
-                self.send_motion(now, out);
-            } else if sent.is_turning()
-                && now.saturating_duration_since(at) >= self.cfg.motion_refresh
-            {
-                self.send_motion(now, out);
+            } else {
+                let elapsed = now.saturating_duration_since(at);
+                let changed = self.motion.target.differs(&sent, &self.cfg)
+                    && elapsed >= self.cfg.motion_interval;
+                let refresh = sent.is_turning() && elapsed >= self.cfg.motion_refresh;
+                if changed || refresh {
+                    self.send_motion(now, out);
+                }
             }
         }
         notices
@@ -831,7 +832,7 @@ impl PodDriver {
     /// Queues the ACK of a GPS request (critical: never dropped).
     pub(crate) fn send_gps_reply(
         &mut self,
-        request: &Header,
+        request: Header,
         reply: GpsReply,
         out: &mut Outputs,
     ) -> bool {
@@ -864,6 +865,7 @@ fn split_rate<D: Copy>(rate_cdeg_s: i32, positive: D, negative: D, stop: D) -> (
 }
 
 /// The K40T request for a camera command (`None`: no equivalent).
+#[allow(clippy::too_many_lines)] // one short arm per command
 fn camera_request(cmd: Command, state: &PodState) -> Option<Request> {
     let empty = Text::default();
     Some(match cmd {
@@ -1279,9 +1281,9 @@ mod tests {
             pitch_cdeg: -4500,
             ..GimbalAttitude::default()
         };
-        let f = from_pod(att, gimbal_src, 1, CrcCoverage::IncludeStx);
-        let n = feed(&mut pod, ms(10), &f, &mut out);
-        assert_eq!(n, vec![PodNotice::LinkUp]);
+        let report = from_pod(att, gimbal_src, 1, CrcCoverage::IncludeStx);
+        let notices = feed(&mut pod, ms(10), &report, &mut out);
+        assert_eq!(notices, vec![PodNotice::LinkUp]);
         assert_eq!(pod.state().attitude, Some((att, ms(10))));
         assert!(pod.state().link);
         let ev = events(&mut out);
@@ -1306,8 +1308,8 @@ mod tests {
         // Reports stop: lost after 1 s, probing again every second.
         pod.poll(ms(1009), silence, &mut out);
         assert!(pod.state().link);
-        let n: Vec<_> = pod.poll(ms(1010), silence, &mut out).iter().collect();
-        assert_eq!(n, vec![PodNotice::LinkDown]);
+        let notices: Vec<_> = pod.poll(ms(1010), silence, &mut out).iter().collect();
+        assert_eq!(notices, vec![PodNotice::LinkDown]);
         assert!(!pod.state().link);
         let ack = from_pod(
             CameraVersionAck {

@@ -77,16 +77,19 @@ impl Default for SyncScheduler {
 
 impl SyncScheduler {
     /// A scheduler that has fired no edge yet.
+    #[must_use]
     pub const fn new(config: SyncConfig) -> Self {
         Self { config, last: None }
     }
 
     /// The settings.
+    #[must_use]
     pub const fn config(&self) -> &SyncConfig {
         &self.config
     }
 
     /// UTC of the last edge reported fired.
+    #[must_use]
     pub const fn last_fired(&self) -> Option<UtcTime> {
         self.last
     }
@@ -97,6 +100,7 @@ impl SyncScheduler {
     ///
     /// Pure: call it again after new samples to refine `at`; once the caller has armed
     /// its timer (within `lead` of the edge) it keeps the edge it has.
+    #[must_use]
     pub fn next_edge(&self, now: Instant, discipline: &TimeDiscipline) -> Option<SyncEdge> {
         let earliest = now.checked_add(self.config.lead)?;
         let utc_earliest = discipline.utc(earliest)?;
@@ -132,6 +136,7 @@ impl SyncScheduler {
     /// `edge.utc` if it rose within [`SyncConfig::late_tolerance`] of `edge.at`, else the
     /// discipline's UTC of `raised_at` (`None` if the discipline has none: send no
     /// 0x00030E then).
+    #[must_use]
     pub fn stamp(
         &self,
         edge: &SyncEdge,
@@ -193,7 +198,7 @@ mod tests {
         assert_eq!(s.stamp(&e, e.at, &d), Some(e.utc));
         let late = e.at.checked_add(Duration::from_millis(1)).unwrap();
         assert_eq!(
-            s.stamp(&e, late, &d).map(|u| u.as_unix_micros()),
+            s.stamp(&e, late, &d).map(UtcTime::as_unix_micros),
             Some(e.utc.as_unix_micros() + 1_000)
         );
     }

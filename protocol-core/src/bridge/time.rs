@@ -36,31 +36,37 @@ impl Duration {
     pub const MAX: Self = Self(u64::MAX);
 
     /// A span of `us` microseconds.
+    #[must_use]
     pub const fn from_micros(us: u64) -> Self {
         Self(us)
     }
 
     /// A span of `ms` milliseconds (saturating at [`Duration::MAX`]).
+    #[must_use]
     pub const fn from_millis(ms: u64) -> Self {
         Self(ms.saturating_mul(US_PER_MS))
     }
 
     /// A span of `s` seconds (saturating at [`Duration::MAX`]).
+    #[must_use]
     pub const fn from_secs(s: u64) -> Self {
         Self(s.saturating_mul(US_PER_S))
     }
 
     /// The span in microseconds.
+    #[must_use]
     pub const fn as_micros(self) -> u64 {
         self.0
     }
 
     /// The span in whole milliseconds (truncated).
+    #[must_use]
     pub const fn as_millis(self) -> u64 {
         self.0 / US_PER_MS
     }
 
     /// `self + rhs`, or `None` on overflow.
+    #[must_use]
     pub const fn checked_add(self, rhs: Self) -> Option<Self> {
         match self.0.checked_add(rhs.0) {
             Some(v) => Some(Self(v)),
@@ -69,6 +75,7 @@ impl Duration {
     }
 
     /// `self - rhs`, or `None` if `rhs` is longer than `self`.
+    #[must_use]
     pub const fn checked_sub(self, rhs: Self) -> Option<Self> {
         match self.0.checked_sub(rhs.0) {
             Some(v) => Some(Self(v)),
@@ -77,11 +84,13 @@ impl Duration {
     }
 
     /// `self + rhs`, clamped at [`Duration::MAX`].
+    #[must_use]
     pub const fn saturating_add(self, rhs: Self) -> Self {
         Self(self.0.saturating_add(rhs.0))
     }
 
     /// `self - rhs`, clamped at [`Duration::ZERO`].
+    #[must_use]
     pub const fn saturating_sub(self, rhs: Self) -> Self {
         Self(self.0.saturating_sub(rhs.0))
     }
@@ -103,26 +112,31 @@ impl Instant {
     pub const ZERO: Self = Self(0);
 
     /// The instant `us` microseconds after the origin.
+    #[must_use]
     pub const fn from_micros(us: u64) -> Self {
         Self(us)
     }
 
     /// The instant `ms` milliseconds after the origin (saturating).
+    #[must_use]
     pub const fn from_millis(ms: u64) -> Self {
         Self(ms.saturating_mul(US_PER_MS))
     }
 
     /// Microseconds since the origin.
+    #[must_use]
     pub const fn as_micros(self) -> u64 {
         self.0
     }
 
     /// Whole milliseconds since the origin (truncated).
+    #[must_use]
     pub const fn as_millis(self) -> u64 {
         self.0 / US_PER_MS
     }
 
     /// `self + d`, or `None` on overflow.
+    #[must_use]
     pub const fn checked_add(self, d: Duration) -> Option<Self> {
         match self.0.checked_add(d.0) {
             Some(v) => Some(Self(v)),
@@ -131,6 +145,7 @@ impl Instant {
     }
 
     /// `self - d`, or `None` before the origin.
+    #[must_use]
     pub const fn checked_sub(self, d: Duration) -> Option<Self> {
         match self.0.checked_sub(d.0) {
             Some(v) => Some(Self(v)),
@@ -139,16 +154,19 @@ impl Instant {
     }
 
     /// `self + d`, clamped at the largest instant.
+    #[must_use]
     pub const fn saturating_add(self, d: Duration) -> Self {
         Self(self.0.saturating_add(d.0))
     }
 
     /// `self - d`, clamped at the origin.
+    #[must_use]
     pub const fn saturating_sub(self, d: Duration) -> Self {
         Self(self.0.saturating_sub(d.0))
     }
 
     /// The time elapsed from `earlier` to `self`, or `None` if `earlier` is later.
+    #[must_use]
     pub const fn checked_duration_since(self, earlier: Self) -> Option<Duration> {
         match self.0.checked_sub(earlier.0) {
             Some(v) => Some(Duration(v)),
@@ -157,6 +175,7 @@ impl Instant {
     }
 
     /// The time elapsed from `earlier` to `self`, zero if `earlier` is later.
+    #[must_use]
     pub const fn saturating_duration_since(self, earlier: Self) -> Duration {
         Duration(self.0.saturating_sub(earlier.0))
     }
@@ -184,6 +203,7 @@ impl TimeOfDay {
 
     /// `hour:minute:second.millisecond`, or `None` unless hour ≤ 23, minute ≤ 59,
     /// second ≤ 59 and millisecond ≤ 999 (Unix time has no leap second 60).
+    #[must_use]
     pub const fn new(hour: u8, minute: u8, second: u8, millisecond: u16) -> Option<Self> {
         if hour > 23 || minute > 59 || second > 59 || millisecond > 999 {
             return None;
@@ -198,11 +218,13 @@ impl TimeOfDay {
 
     /// The time of day `ms` milliseconds after midnight, or `None` if `ms` is a day or
     /// more.
+    #[must_use]
     pub const fn from_millis_of_day(ms: u32) -> Option<Self> {
         if ms >= MS_PER_DAY {
             return None;
         }
-        // All four results are below 256 / 1000 by the check above.
+        // All four results are below 256 / 1000 by the check above: no truncation.
+        #[allow(clippy::cast_possible_truncation)]
         Some(Self {
             hour: (ms / 3_600_000) as u8,
             minute: ((ms / 60_000) % 60) as u8,
@@ -212,6 +234,7 @@ impl TimeOfDay {
     }
 
     /// Milliseconds since midnight (0..86 400 000).
+    #[must_use]
     pub const fn millis_of_day(self) -> u32 {
         // At most 23*3_600_000 + 59*60_000 + 59*1_000 + 999 < 2^32: no overflow.
         (self.hour as u32)
@@ -222,21 +245,25 @@ impl TimeOfDay {
     }
 
     /// Hour, 0..=23.
+    #[must_use]
     pub const fn hour(self) -> u8 {
         self.hour
     }
 
     /// Minute, 0..=59.
+    #[must_use]
     pub const fn minute(self) -> u8 {
         self.minute
     }
 
     /// Second, 0..=59.
+    #[must_use]
     pub const fn second(self) -> u8 {
         self.second
     }
 
     /// Millisecond, 0..=999.
+    #[must_use]
     pub const fn millisecond(self) -> u16 {
         self.millisecond
     }
@@ -254,11 +281,13 @@ impl UtcTime {
     pub const UNIX_EPOCH: Self = Self(0);
 
     /// The instant `us` microseconds after the Unix epoch.
+    #[must_use]
     pub const fn from_unix_micros(us: u64) -> Self {
         Self(us)
     }
 
     /// The instant `ms` milliseconds after the Unix epoch, or `None` on overflow.
+    #[must_use]
     pub const fn from_unix_millis(ms: u64) -> Option<Self> {
         match ms.checked_mul(US_PER_MS) {
             Some(v) => Some(Self(v)),
@@ -267,23 +296,27 @@ impl UtcTime {
     }
 
     /// Microseconds since the Unix epoch.
+    #[must_use]
     pub const fn as_unix_micros(self) -> u64 {
         self.0
     }
 
     /// Whole milliseconds since the Unix epoch, truncated (what a millisecond field
     /// such as K40T 0x00030E `unix_ms` carries).
+    #[must_use]
     pub const fn as_unix_millis(self) -> u64 {
         self.0 / US_PER_MS
     }
 
     /// Milliseconds since the Unix epoch, rounded to the nearest millisecond.
+    #[must_use]
     pub const fn as_unix_millis_rounded(self) -> u64 {
         self.0.saturating_add(US_PER_MS / 2) / US_PER_MS
     }
 
     /// The instant given as a calendar date and a time of day, or `None` for an
     /// invalid date (month 1..=12, day within the month) or a year outside 1970..=9999.
+    #[must_use]
     pub fn from_date_time(year: u16, month: u8, day: u8, time: TimeOfDay) -> Option<Self> {
         let days = days_from_civil(year, month, day)?;
         let day_us = days.checked_mul(US_PER_DAY)?;
@@ -295,6 +328,7 @@ impl UtcTime {
     /// roll-over, time of week in milliseconds), with `leap_seconds` the current
     /// GPS − UTC difference (18 s since 2017). `None` on overflow or if the result would
     /// precede the Unix epoch.
+    #[must_use]
     pub fn from_gps(week: u16, tow_ms: u32, leap_seconds: u8) -> Option<Self> {
         let week_s = u64::from(week).checked_mul(S_PER_WEEK)?;
         let s = GPS_EPOCH_UNIX_S
@@ -307,6 +341,7 @@ impl UtcTime {
     }
 
     /// The time of day (UTC) of this instant, milliseconds truncated.
+    #[must_use]
     pub const fn time_of_day(self) -> TimeOfDay {
         let ms = (self.0 % US_PER_DAY) / US_PER_MS;
         // ms < 86_400_000 fits u32 and is a valid time of day.
@@ -317,6 +352,7 @@ impl UtcTime {
     }
 
     /// The start (00:00:00.000) of this instant's UTC day.
+    #[must_use]
     pub const fn start_of_day(self) -> Self {
         Self(self.0.saturating_sub(self.0 % US_PER_DAY))
     }
@@ -328,6 +364,7 @@ impl UtcTime {
     /// without date) across midnight: asked at 00:00:00.300 for 23:59:59.900, it returns
     /// the previous day's 23:59:59.900. `None` only near the ends of the representable
     /// range.
+    #[must_use]
     pub fn nearest_with_time_of_day(self, time: TimeOfDay) -> Option<Self> {
         let tod_us = u64::from(time.millis_of_day()).checked_mul(US_PER_MS)?;
         let same_day = self.start_of_day().0.checked_add(tod_us)?;
@@ -350,6 +387,7 @@ impl UtcTime {
     }
 
     /// `self + d`, or `None` on overflow.
+    #[must_use]
     pub const fn checked_add(self, d: Duration) -> Option<Self> {
         match self.0.checked_add(d.0) {
             Some(v) => Some(Self(v)),
@@ -358,6 +396,7 @@ impl UtcTime {
     }
 
     /// `self - d`, or `None` before the Unix epoch.
+    #[must_use]
     pub const fn checked_sub(self, d: Duration) -> Option<Self> {
         match self.0.checked_sub(d.0) {
             Some(v) => Some(Self(v)),
@@ -366,6 +405,7 @@ impl UtcTime {
     }
 
     /// The time elapsed from `earlier` to `self`, or `None` if `earlier` is later.
+    #[must_use]
     pub const fn checked_duration_since(self, earlier: Self) -> Option<Duration> {
         match self.0.checked_sub(earlier.0) {
             Some(v) => Some(Duration(v)),
@@ -374,11 +414,14 @@ impl UtcTime {
     }
 
     /// `self - other` in microseconds, signed, or `None` if it does not fit an `i64`.
+    #[must_use]
     pub const fn signed_micros_since(self, other: Self) -> Option<i64> {
         let magnitude = self.0.abs_diff(other.0);
-        if magnitude > i64::MAX as u64 {
+        if magnitude > i64::MAX.unsigned_abs() {
             return None;
         }
+        // Checked just above: it fits.
+        #[allow(clippy::cast_possible_wrap)]
         let m = magnitude as i64;
         if self.0 >= other.0 {
             Some(m)
@@ -390,6 +433,7 @@ impl UtcTime {
     /// The first instant at or after `self` that is a whole multiple of `period` since
     /// the Unix epoch (`self` itself if it is one). `None` if `period` is zero or on
     /// overflow.
+    #[must_use]
     pub const fn next_multiple_of(self, period: Duration) -> Option<Self> {
         match self.0.checked_next_multiple_of(period.0) {
             Some(v) => Some(Self(v)),

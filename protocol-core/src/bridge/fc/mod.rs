@@ -51,7 +51,7 @@ impl Ctx<'_> {
 
     /// Queues a frame for the FC.
     pub(crate) fn reply(&mut self, frame: &[u8]) -> bool {
-        self.out.to_fc(frame, false)
+        self.out.queue_fc(frame, false)
     }
 
     /// The pod's state.
