@@ -116,6 +116,10 @@ impl Outputs {
     }
 
     /// Queues a frame for the FC.
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+        allow(dead_code)
+    )]
     pub(crate) fn queue_fc(&mut self, frame: &[u8], critical: bool) -> bool {
         let p = self.fc.push_back(frame, critical);
         self.pushed(Port::Fc, p)

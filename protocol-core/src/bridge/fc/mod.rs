@@ -8,7 +8,7 @@ use super::event::Event;
 use super::fixes::FixHistory;
 use super::pod::{PodDriver, PodNotice, PodState};
 use super::time::Instant;
-use super::{Config, FcProtocol, Outputs};
+use super::{Config, Outputs};
 use crate::gimbal::Command;
 use crate::k40t::{GpsRequest, Header, Packet};
 use crate::wire::Stats;
@@ -88,7 +88,7 @@ impl FcSide {
     pub(crate) fn new(config: &Config) -> Self {
         match config.fc {
             #[cfg(feature = "siyi")]
-            FcProtocol::Siyi => {
+            super::FcProtocol::Siyi => {
                 FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
             _ => FcSide::Disabled,
