@@ -158,6 +158,9 @@ struct Core {
     fixes: FixHistory,
     /// The next rising edge, as planned.
     edge: Option<SyncEdge>,
+    /// The planned edge is within the sync lead: kept as it is (the caller may have armed
+    /// its timer), and no more polls are wanted for it.
+    edge_settled: bool,
     /// The falling edge due after a rising one.
     pin_low: Option<Instant>,
     out: Outputs,
@@ -178,6 +181,7 @@ impl Engine {
                 sync: SyncScheduler::new(config.sync),
                 fixes: FixHistory::new(config.fixes),
                 edge: None,
+                edge_settled: false,
                 pin_low: None,
                 out: Outputs {
                     fc: FrameQueue::new(),
@@ -249,6 +253,19 @@ impl Engine {
     /// The frame [`Engine::fc_frame`] gave is on its way.
     pub fn fc_sent(&mut self) {
         self.core.out.fc.pop();
+    }
+
+    /// Copies the next frame for the FC into `buf` and takes it off the queue; returns
+    /// its length (`None`: nothing queued, or `buf` too small and the frame kept). For
+    /// a caller that writes asynchronously: take the frame, then write it.
+    pub fn take_fc_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
+        self.core.out.fc.pop_into(buf)
+    }
+
+    /// As [`Engine::take_fc_frame`], for the pod. A time-sync frame put at the head of the
+    /// queue while a taken frame is being written comes next.
+    pub fn take_pod_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
+        self.core.out.pod.pop_into(buf)
     }
 
     /// The next frame for the pod: write all of it, then call [`Engine::pod_sent`]. A
@@ -353,7 +370,10 @@ impl Engine {
             c.fc.poll_at(),
             c.time.poll_at(),
             fc_down,
-            c.edge.map(|e| e.at.saturating_sub(c.config.sync.lead)),
+            // Re-plan the edge once more just before it; a settled edge needs no poll.
+            c.edge
+                .filter(|_| !c.edge_settled)
+                .map(|e| e.at.saturating_sub(c.config.sync.lead)),
         ]
         .into_iter()
         .flatten()
@@ -475,17 +495,19 @@ impl Core {
             return;
         }
         // An edge within `lead` is kept as planned: the caller may have armed its timer.
-        let settled = self
-            .edge
-            .is_some_and(|e| e.at <= now.saturating_add(self.config.sync.lead));
-        if settled {
+        let lead_start = now.saturating_add(self.config.sync.lead);
+        self.edge_settled = self.edge.is_some_and(|e| e.at <= lead_start);
+        if self.edge_settled {
             return;
         }
-        self.edge = if self.time.state() == DisciplineState::Valid {
+        // Holdover is still usable: the local clock carries UTC between sparse samples
+        // (the K40T FC sends one every 10 s) and after the FC falls silent, for a while.
+        self.edge = if self.time.state().is_usable() {
             self.sync.next_edge(now, &self.time)
         } else {
             None
         };
+        self.edge_settled = self.edge.is_some_and(|e| e.at <= lead_start);
     }
 
     fn pin_done(&mut self, level: Level, at: Instant) {
@@ -493,6 +515,7 @@ impl Core {
             Level::Low => self.pin_low = None,
             Level::High => {
                 self.pin_low = Some(at.saturating_add(self.config.sync.width));
+                self.edge_settled = false;
                 let Some(edge) = self.edge.take() else {
                     return;
                 };

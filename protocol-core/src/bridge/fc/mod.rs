@@ -55,19 +55,29 @@ impl Ctx<'_> {
     }
 
     /// The pod's state.
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+        allow(dead_code)
+    )]
     pub(crate) fn pod(&self) -> &PodState {
         self.pod.state()
     }
 }
 
+mod k40t;
 #[cfg(feature = "siyi")]
 mod siyi;
 
 /// The FC side in use.
+// One side is in use, fixed at start-up; without an allocator to box it, the enum is as
+// large as its largest side (the engine's size is fixed at compile time either way).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
+    /// K40T: forwarding.
+    K40t(k40t::K40tSide),
     /// SIYI.
     #[cfg(feature = "siyi")]
     Siyi(siyi::SiyiSide),
@@ -78,6 +88,7 @@ macro_rules! fc_dispatch {
     ($self:ident, $side:ident => $call:expr, $default:expr) => {
         match $self {
             FcSide::Disabled => $default,
+            FcSide::K40t($side) => $call,
             #[cfg(feature = "siyi")]
             FcSide::Siyi($side) => $call,
         }
@@ -91,6 +102,8 @@ impl FcSide {
             super::FcProtocol::Siyi => {
                 FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
+            super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
+            #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
         }
     }
@@ -120,13 +133,20 @@ impl FcSide {
     /// Every valid frame from the pod (the K40T side forwards them).
     pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
         // Only the K40T side forwards pod frames.
-        let _ = (self, ctx, bytes, packet);
+        if let FcSide::K40t(side) = self {
+            side.pod_frame(ctx, bytes, packet);
+        }
     }
 
     pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
-        fc_dispatch!(self, side => side.pod_notice(ctx, notice), {
-            let _ = (ctx, notice);
-        });
+        match self {
+            #[cfg(feature = "siyi")]
+            FcSide::Siyi(side) => side.pod_notice(ctx, notice),
+            // The K40T side forwards the ACKs themselves.
+            FcSide::K40t(_) | FcSide::Disabled => {
+                let _ = (ctx, notice);
+            }
+        }
     }
 
     /// The pod asks for GPS: true when this side handles it (the K40T side forwards it
@@ -138,8 +158,10 @@ impl FcSide {
         request: GpsRequest,
     ) -> bool {
         // Only the K40T side forwards GPS requests.
-        let _ = (self, ctx, header, request);
-        false
+        match self {
+            FcSide::K40t(side) => side.gps_request(ctx, header, request),
+            _ => false,
+        }
     }
 
     pub(crate) fn deframer_stats(&self) -> Stats {
