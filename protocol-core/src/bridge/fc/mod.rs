@@ -158,9 +158,10 @@ impl FcSide {
         request: GpsRequest,
     ) -> bool {
         // Only the K40T side forwards GPS requests.
-        match self {
-            FcSide::K40t(side) => side.gps_request(ctx, header, request),
-            _ => false,
+        if let FcSide::K40t(side) = self {
+            side.gps_request(ctx, header, request)
+        } else {
+            false
         }
     }
 
