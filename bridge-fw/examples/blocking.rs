@@ -41,7 +41,7 @@ pub struct Bridge {
     pub engine: Engine,
     fc: Line,
     pod: Line,
-    /// Silence after which a line is idle (a few byte times; 2 ms at 115200).
+    /// Silence after which a line is idle (5 ms, as the firmware at 115200).
     idle: Duration,
     /// Time on the wire of one byte on the pod link, µs.
     pod_byte_us: u64,
@@ -54,7 +54,7 @@ impl Bridge {
             engine: Engine::new(config),
             fc: Line::default(),
             pod: Line::default(),
-            idle: Duration::from_millis(2),
+            idle: Duration::from_millis(5),
             pod_byte_us: 10_000_000u64.div_ceil(u64::from(config.pod_baud.max(1))),
         }
     }

@@ -118,10 +118,10 @@ def main():
                 data = pod.recv(4096)
             except socket.timeout:
                 continue
-            for f in reader.push(data):
-                seen.append(f)
-                if pred(seen):
-                    return seen
+            # Every frame of this read is kept, even past the one that satisfies `pred`.
+            seen.extend(reader.push(data))
+            if pred(seen):
+                return seen
         return seen
 
     deadline = time.time() + TIMEOUT

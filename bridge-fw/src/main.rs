@@ -56,16 +56,23 @@ async fn main(spawner: Spawner) {
             defmt_fc(b.config.fc)
         );
     }
+    #[allow(unused_mut)]
+    let mut timing = Timing::from_config(&b.config);
+    // QEMU hands the guest received bytes one per main-loop turn (about one a millisecond
+    // in the traces, later when the host is busy): a frame spreads over tens of
+    // milliseconds of emulated time, and a 5 ms idle could cut it.
+    #[cfg(feature = "qemu")]
+    {
+        timing.idle_min = protocol_core::bridge::Duration::from_millis(50);
+    }
     defmt::info!(
         "bridge-fw: up, HCLK {} Hz, FC {}, {}",
         b.hclk,
         b.config.fc,
-        Timing::from_config(&b.config)
+        timing
     );
-
     static SHARED: StaticCell<Sh> = StaticCell::new();
-    let shared: &'static Sh =
-        SHARED.init_with(|| Shared::new(Engine::new(b.config), Timing::from_config(&b.config)));
+    let shared: &'static Sh = SHARED.init_with(|| Shared::new(Engine::new(b.config), timing));
 
     let (fc_tx, fc_rx) = b.fc.split();
     let (pod_tx, pod_rx) = b.pod.split();

@@ -35,14 +35,19 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// 20 byte times (1.7 ms at 115200), at least 2 ms; heartbeat every 100 ms.
+    /// 20 byte times (1.7 ms at 115200), at least 5 ms; heartbeat every 100 ms.
+    ///
+    /// A line idle only flushes a broken candidate (a complete frame is handled on its
+    /// last byte), while a false idle in the middle of a frame loses that frame: so the
+    /// floor is generous. A host runner reading USB serial adapters (which deliver bytes
+    /// in bursts, milliseconds apart) should raise [`Timing::idle_min`] to 20 ms or more.
     #[must_use]
     pub const fn from_config(config: &Config) -> Self {
         Timing {
             fc_baud: config.fc_baud,
             pod_baud: config.pod_baud,
             idle_bytes: 20,
-            idle_min: Duration::from_millis(2),
+            idle_min: Duration::from_millis(5),
             heartbeat: Duration::from_millis(100),
         }
     }

@@ -342,8 +342,8 @@ impl BridgeEngine for Spy {
 fn bytes_reach_the_engine_with_their_instant_and_silence_means_idle() {
     let config = Config::DEFAULT;
     let timing = Timing::from_config(&config);
-    // 20 byte times at 115200 (1.74 ms) are less than the 2 ms floor.
-    assert_eq!(timing.idle(Port::Fc), Duration::from_millis(2));
+    // 20 byte times at 115200 (1.74 ms) are less than the 5 ms floor.
+    assert_eq!(timing.idle(Port::Fc), Duration::from_millis(5));
     let shared = HostShared::new(
         Spy {
             inner: Engine::new(config),
@@ -378,8 +378,8 @@ fn bytes_reach_the_engine_with_their_instant_and_silence_means_idle() {
         vec![
             (ms(100), Input::Bytes(Port::Fc, 10)),
             (ms(101), Input::Bytes(Port::Fc, 5)),
-            // One idle, 2 ms after the last byte: the 1 ms gap was no idle.
-            (ms(103), Input::Idle(Port::Fc)),
+            // One idle, 5 ms after the last byte: the 1 ms gap was no idle.
+            (ms(106), Input::Idle(Port::Fc)),
         ]
     );
     let pod: Vec<_> = inputs
@@ -391,7 +391,7 @@ fn bytes_reach_the_engine_with_their_instant_and_silence_means_idle() {
         pod,
         vec![
             (ms(200), Input::Bytes(Port::Pod, 3)),
-            (ms(202), Input::Idle(Port::Pod))
+            (ms(205), Input::Idle(Port::Pod))
         ]
     );
     // The idle flush dropped the incomplete candidate.
@@ -741,4 +741,89 @@ fn led_task_shows_the_status() {
         .map(|(_, t)| *t)
         .collect();
     assert_eq!(lows, vec![ms(40), ms(440), ms(840), ms(1200)]);
+}
+
+#[test]
+fn real_time_with_the_pod_fed_from_another_thread() {
+    // The Linux runner's shape: the bridge on real time in one thread, a port reader in
+    // another feeding the pipe through `host::block_on`.
+    let config = Config::DEFAULT;
+    let shared = HostShared::new(Engine::new(config), Timing::from_config(&config));
+    let links = HostLinks::new();
+    let records = RefCell::new(Vec::new());
+    std::thread::scope(|scope| {
+        let links = &links;
+        scope.spawn(move || {
+            host::block_on(async {
+                for seq in 1..=8u8 {
+                    Timer::after(EDuration::from_millis(50)).await;
+                    let f = pod_frame(&GimbalAttitude::default(), seq, Address::GIMBAL);
+                    links.pod_rx.write_all(&f).await;
+                }
+            });
+        });
+        host::run(Clock::Real, || {
+            select(
+                host::bridge(
+                    &shared,
+                    links,
+                    PinRecorder::new(),
+                    |r: &Record| records.borrow_mut().push(*r),
+                    || {},
+                ),
+                Timer::after(EDuration::from_millis(600)),
+            )
+        });
+    });
+    let c = shared.with(|e| e.counters());
+    assert_eq!(c.pod_frames, 8, "{c:?}");
+    assert!(
+        engine_events(&records.into_inner())
+            .iter()
+            .any(|(_, e)| *e == Event::PodLinkUp)
+    );
+}
+
+#[test]
+fn timing_straps_and_led_patterns() {
+    let t = Timing::from_config(&Config::DEFAULT);
+    // 10 bits a byte at 115200: 86.8 µs, rounded up per frame.
+    assert_eq!(t.wire_time(Port::Pod, 1), Duration::from_micros(87));
+    assert_eq!(t.wire_time(Port::Pod, 255), Duration::from_micros(22_136));
+    let mut slow = Config::DEFAULT;
+    slow.fc_baud = 9600;
+    // 20 byte times at 9600: 20.8 ms.
+    assert_eq!(
+        Timing::from_config(&slow).idle(Port::Fc),
+        Duration::from_micros(20_834)
+    );
+
+    use bridge_fw::config::{self, FcChoice};
+    use protocol_core::bridge::FcProtocol;
+    assert_eq!(config::COMPILED.len(), 4);
+    assert_eq!(config::FC, FcChoice::Straps, "all four compiled, fc = auto");
+    assert_eq!(config::from_straps(false, false), Some(FcProtocol::Siyi));
+    assert_eq!(config::from_straps(true, false), Some(FcProtocol::Viewlink));
+    assert_eq!(config::from_straps(false, true), Some(FcProtocol::Gcu));
+    assert_eq!(config::from_straps(true, true), Some(FcProtocol::K40t));
+    assert_eq!(config::resolve(|| (true, true)).fc, FcProtocol::K40t);
+    assert_eq!(config::CONFIG.fc_baud, 115_200);
+    assert_eq!(config::CONFIG.siyi.hardware_id, *b"7A0000000001");
+
+    let all_up = bridge_fw::led_pattern(Status {
+        fc_link: true,
+        pod_link: true,
+        utc: true,
+    });
+    let total: u32 = all_up.iter().map(|b| u32::from(b.ms)).sum();
+    assert_eq!(total, 2000);
+    let long = all_up.iter().filter(|b| b.on && b.ms == 300).count();
+    assert_eq!(long, 3);
+    let pod_only = bridge_fw::led_pattern(Status {
+        fc_link: false,
+        pod_link: true,
+        utc: false,
+    });
+    let ons: Vec<u16> = pod_only.iter().filter(|b| b.on).map(|b| b.ms).collect();
+    assert_eq!(ons, vec![40, 300, 40]);
 }
