@@ -6,6 +6,7 @@ use protocol_core::bridge::{Engine, Event, Instant, Level, PinAction, Port};
 /// Link and time status, for the LED.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Status {
     /// The FC link is up.
     pub fc_link: bool,

@@ -9,6 +9,8 @@ use crate::shared::{Heartbeat, Shared};
 /// What happened.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum What {
     /// An engine event (stamped when the log task took it).
     Engine(Event),
@@ -34,6 +36,7 @@ pub enum What {
 /// One logged happening.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Record {
     /// Local instant.
     pub at: Instant,

@@ -85,6 +85,7 @@ impl Timing {
 /// One bit per supervised loop; [`Heartbeat::ALL`] when every one ran since the last check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Heartbeat(pub u8);
 
 impl Heartbeat {
