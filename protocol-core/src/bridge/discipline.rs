@@ -928,13 +928,7 @@ impl TimeDiscipline {
     /// Uses `path` for the estimator: true when it is the estimator's path (or the
     /// estimator is free and takes it).
     fn take_path(&mut self, path: Path) -> bool {
-        match self.path {
-            Some(p) => p == path,
-            None => {
-                self.path = Some(path);
-                true
-            }
-        }
+        *self.path.get_or_insert(path) == path
     }
 
     /// The FC clock's line, when the estimator holds the FC clock.
