@@ -442,3 +442,179 @@ fn time_sync_accuracy_over_one_hour_flights() {
         all.last().unwrap()
     );
 }
+
+/// A small deterministic generator for line faults.
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    /// True with probability `per_million` / 1 000 000.
+    fn chance(&mut self, per_million: u64) -> bool {
+        self.next() % 1_000_000 < per_million
+    }
+}
+
+/// Both lines damaged for a minute: the FC's bytes with one flipped bit per ~1000 bytes
+/// and a random burst before ~1 % of writes, the pod's frames with garbage before 5 %
+/// and a flipped bit in 2 %. Every damaged frame is rejected and counted; the frames
+/// around it still pass, so ArduPilot never loses health, the pod follows the rate, and
+/// the pod never receives a frame the bridge did not mean to send.
+#[test]
+fn damaged_lines_cost_frames_not_health_or_control() {
+    let mut s = healthy_scenario();
+    let mut noise = Noise(0x5eed_1234_abcd_0001);
+    s.fc_line.set_corrupter(Box::new(move |_, bytes: &[u8]| {
+        let mut out = Vec::with_capacity(bytes.len() + 8);
+        if noise.chance(10_000) {
+            let n = 1 + noise.next() % 12;
+            out.extend((0..n).map(|_| noise.next() as u8));
+        }
+        for &b in bytes {
+            let flip = if noise.chance(1_000) {
+                1 << (noise.next() % 8)
+            } else {
+                0
+            };
+            out.push(b ^ flip);
+        }
+        out
+    }));
+    s.pod.set_output_faults(host_tests::sim::pod::OutputFaults {
+        seed: 77,
+        garbage_probability: 0.05,
+        max_garbage_len: 16,
+        bit_flip_probability: 0.02,
+    });
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 15.0,
+        pitch_dps: -5.0,
+        yaw_is_ef: false,
+    });
+    let before = s.engine.counters();
+    s.run_for(8 * S);
+    // The pod turns as asked (checked before the yaw reaches its limit).
+    let g = s.pod.gimbal();
+    assert!(g.yaw_rate_dps > 10.0 && g.pitch_rate_dps < -2.0, "{g:?}");
+    // Then holds still when asked.
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 0.0,
+        pitch_dps: 0.0,
+        yaw_is_ef: false,
+    });
+    s.run_for(52 * S);
+    let g = s.pod.gimbal();
+    assert!(g.yaw_rate_dps == 0.0 && g.pitch_rate_dps == 0.0, "{g:?}");
+    let c = s.engine.counters();
+    let (bursts, flips) = s.pod.faults_injected();
+    assert!(bursts > 50 && flips > 20, "faults {bursts} {flips}");
+    // Damage is seen and counted on both ports.
+    assert!(c.fc_rejected + c.fc_garbage_bytes > before.fc_rejected + before.fc_garbage_bytes);
+    assert!(c.pod_rejected > before.pod_rejected, "{c:?}");
+    assert!(c.pod_garbage_bytes > before.pod_garbage_bytes);
+    println!("{c:?} pod faults {bursts} bursts {flips} flips");
+    // Valid frames keep flowing: at most a few percent lost.
+    let fc_frames = c.fc_frames - before.fc_frames;
+    let sent = s.fc.sent.iter().filter(|(t, _)| *t > 5 * S).count() as u32;
+    assert!(fc_frames * 100 >= sent * 95, "{fc_frames} of {sent}");
+    // ArduPilot stays healthy throughout, its parser never sees a bad frame from us.
+    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.parse_errors, 0);
+    // The pod got only well-formed frames.
+    let rx = s.pod.rx_stats();
+    assert_eq!(rx.deframer.checksum_errors, 0);
+    assert_eq!(rx.malformed, 0);
+}
+
+/// Random bytes at the full line rate from the FC for 5 s (a baud-rate mismatch, a
+/// shorted line): no valid frame arrives, so the bridge treats it as silence and stops
+/// the pod; when the FC speaks again ArduPilot is healthy within seconds.
+#[test]
+fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
+    let mut s = healthy_scenario();
+    s.fc.target = Some(MountTarget::Rate {
+        yaw_dps: 20.0,
+        pitch_dps: 0.0,
+        yaw_is_ef: false,
+    });
+    s.run_for(2 * S);
+    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
+    let start = s.now_us;
+    let end = start + 5 * S;
+    let mut noise = Noise(0x0bad_cafe_0000_0001);
+    s.fc_line.set_corrupter(Box::new(move |at, bytes: &[u8]| {
+        if at < end {
+            // Every write replaced by twice as many random bytes: the line stays full.
+            (0..bytes.len() * 2).map(|_| noise.next() as u8).collect()
+        } else {
+            bytes.to_vec()
+        }
+    }));
+    let garbage_before = s.engine.counters().fc_garbage_bytes;
+    s.run_for(5 * S);
+    assert!(s.engine.counters().fc_garbage_bytes - garbage_before > 5_000);
+    let stop = s
+        .pod
+        .motions()
+        .iter()
+        .find(|m| {
+            m.at_us > start
+                && matches!(m.command, MotionCommand::Control(c)
+                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
+        })
+        .expect("a stop")
+        .at_us;
+    assert!(stop - start <= 700_000, "{} ms", (stop - start) / 1000);
+    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
+    // Random bytes that happen to form a valid SIYI frame (a 16-bit CRC lets one in
+    // 65 536 candidates through) must not restart the motion: the pod stays stopped.
+    assert!(
+        s.pod
+            .motions()
+            .iter()
+            .filter(|m| m.at_us > stop)
+            .all(|m| !matches!(m.command, MotionCommand::Control(c)
+                if c.yaw != YawMotion::Stop))
+    );
+    s.fc_line.clear_corrupter();
+    s.run_for(3 * S);
+    assert!(s.fc.healthy());
+    assert!(s.pod.gimbal().yaw_rate_dps > 0.0, "moving again");
+}
+
+/// The pod's side floods: random bytes only for 5 s. The bridge reports the pod lost
+/// (ArduPilot unhealthy), keeps answering the FC without stale attitude, and recovers.
+#[test]
+fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
+    let mut s = healthy_scenario();
+    s.pod.set_output_faults(host_tests::sim::pod::OutputFaults {
+        seed: 5,
+        garbage_probability: 1.0,
+        max_garbage_len: 64,
+        bit_flip_probability: 1.0,
+    });
+    let start = s.now_us;
+    s.run_for(5 * S);
+    assert!(!s.engine.pod_state().link);
+    assert!(
+        s.fc.health_log.iter().any(|(t, h)| *t > start && !h),
+        "{:?}",
+        s.fc.health_log
+    );
+    s.pod
+        .set_output_faults(host_tests::sim::pod::OutputFaults::default());
+    let back = s.now_us;
+    s.run_for(4 * S);
+    assert!(s.engine.pod_state().link);
+    let up =
+        s.fc.health_log
+            .iter()
+            .find(|(t, h)| *t > back && *h)
+            .expect("healthy again")
+            .0;
+    assert!(up - back <= 3 * S);
+}
