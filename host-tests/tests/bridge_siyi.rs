@@ -618,3 +618,151 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
             .0;
     assert!(up - back <= 3 * S);
 }
+
+/// Checks a GPS reply against the aircraft at the photo's instant.
+fn assert_geotag_matches(s: &Scenario<ApSiyi>, photo: usize) {
+    let p = &s.pod.photos()[photo];
+    let req = &s.pod.gps_requests()[p.gps_request.expect("asked")];
+    let r = &s.pod.gps_replies()[req.reply.expect("answered")];
+    assert_eq!(r.reply.code.code(), AckCode::Ok, "photo {photo}: {r:?}");
+    assert!(r.time_matches && !r.late);
+    let (lat, lon) = s.fc.aircraft.position_e7(p.at_us);
+    assert!(
+        (r.reply.lat_e7 - lat).abs() < 50,
+        "photo {photo}: lat {} vs {lat}",
+        r.reply.lat_e7
+    );
+    assert!(
+        (r.reply.lon_e7 - lon).abs() < 70,
+        "photo {photo}: lon {} vs {lon}",
+        r.reply.lon_e7
+    );
+    assert_eq!(r.reply.yaw_cdeg, 4500);
+}
+
+/// The GPS request carries only a time of day: photos either side of UTC midnight are
+/// matched to the right day and geotagged from the fix history.
+#[test]
+fn photos_across_utc_midnight_are_geotagged() {
+    // 2026-11-23T23:58:50.123456Z at true time 0: midnight at 69.88 s.
+    let ap = ApSiyiConfig {
+        utc_at_zero_us: 1_795_478_330_123_456,
+        ..ApSiyiConfig::default()
+    };
+    let mut s = scenario(ap, PodSimConfig::default(), 20);
+    s.run_until(66 * S);
+    assert!(s.pod.is_synced());
+    for _ in 0..8 {
+        s.fc.take_picture();
+        s.run_for(S);
+    }
+    s.run_for(2 * S);
+    let photos = s.pod.photos().len();
+    assert_eq!(photos, 8);
+    let tods: Vec<u64> = s
+        .pod
+        .photos()
+        .iter()
+        .map(|p| p.pod_unix_ms % 86_400_000)
+        .collect();
+    assert!(tods.iter().any(|t| *t > 86_390_000), "{tods:?}");
+    assert!(tods.iter().any(|t| *t < 10_000), "{tods:?}");
+    for i in 0..photos {
+        assert_geotag_matches(&s, i);
+    }
+    assert_eq!(s.engine.counters().geotags, 8);
+    assert_eq!(s.engine.counters().geotags_failed, 0);
+}
+
+/// Without a position the bridge says so (0x00030F with the failure code, the asked time
+/// echoed) instead of sending zeros or a stale place; a fix held past its second is not
+/// used; a request for a moment older than the history is refused.
+#[test]
+fn geotags_fail_cleanly_without_a_fix_with_a_lost_fix_and_out_of_range() {
+    // No GPS position at all.
+    let ap = ApSiyiConfig {
+        position: false,
+        ..ApSiyiConfig::default()
+    };
+    let mut s = scenario(ap, PodSimConfig::default(), 0);
+    s.run_until(60 * S);
+    s.fc.take_picture();
+    s.run_for(2 * S);
+    let r = *s.pod.gps_replies().last().expect("a reply");
+    assert_eq!(r.reply.code.code(), AckCode::Failure);
+    assert!(r.time_matches && !r.late);
+    assert_eq!((r.reply.lat_e7, r.reply.lon_e7), (0, 0));
+    assert_eq!(s.engine.counters().geotags_failed, 1);
+    assert_eq!(s.engine.counters().geotags, 0);
+
+    // A fix that is lost in flight: held for a photo 0.5 s later, refused 3 s later.
+    let mut s = scenario(ApSiyiConfig::default(), PodSimConfig::default(), 0);
+    s.run_until(60 * S);
+    s.fc.config.position = false;
+    s.run_for(S / 2);
+    s.fc.take_picture();
+    s.run_for(3 * S);
+    s.fc.take_picture();
+    s.run_for(2 * S);
+    assert_eq!(s.pod.photos().len(), 2);
+    let first = &s.pod.gps_replies()[0];
+    assert_eq!(first.reply.code.code(), AckCode::Ok);
+    let second = &s.pod.gps_replies()[1];
+    assert_eq!(second.reply.code.code(), AckCode::Failure);
+    assert_eq!(
+        (
+            s.engine.counters().geotags,
+            s.engine.counters().geotags_failed
+        ),
+        (1, 1)
+    );
+
+    // Requests for instants outside the history: 45 s ago (it keeps 201 fixes: 30 s of
+    // ArduPilot's SIYI positions, sent every 150 ms) and 3 s
+    // ahead (a fix is never extrapolated). Put on the pod's line as the pod would.
+    let pod = s.pod.config().clone();
+    let now_utc_ms = s.fc.fc_utc_us(s.now_us) / 1000;
+    let replies_before = s.pod.gps_replies().len();
+    for (i, utc_ms) in [now_utc_ms - 45_000, now_utc_ms + 3_000]
+        .into_iter()
+        .enumerate()
+    {
+        let tod = utc_ms % 86_400_000;
+        let request = k40t::GpsRequest {
+            lens_enable: 1,
+            hour: (tod / 3_600_000) as u8,
+            minute: (tod / 60_000 % 60) as u8,
+            second: (tod / 1000 % 60) as u8,
+            millisecond: (tod % 1000) as u16,
+        };
+        let header = k40t::Header {
+            dst: pod.fc_address,
+            src: pod.camera_address,
+            seq: 200 + i as u8,
+            coverage: pod.coverage,
+        };
+        let mut buf = [0u8; 64];
+        let n = k40t::encode(&request, &header, &mut buf).unwrap();
+        let at = s.now_us;
+        s.pod_line.send(at, &buf[..n]);
+        s.run_for(S / 2);
+        let r = s.pod.gps_replies().last().expect("a reply");
+        assert_eq!(s.pod.gps_replies().len(), replies_before + i + 1);
+        assert_eq!(r.header.seq, 200 + i as u8);
+        assert_eq!(r.reply.code.code(), AckCode::Failure, "{r:?}");
+        assert_eq!(
+            (
+                r.reply.hour,
+                r.reply.minute,
+                r.reply.second,
+                r.reply.millisecond
+            ),
+            (
+                request.hour,
+                request.minute,
+                request.second,
+                request.millisecond
+            )
+        );
+    }
+}

@@ -98,6 +98,9 @@ pub struct FixConfig {
     pub max_hold: Duration,
     /// Widest gap between two fixes that is interpolated (default 1 s).
     pub max_gap: Duration,
+    /// How long a GPS request for an instant after the newest fix waits for the next
+    /// fix (default 250 ms; zero: answer at once). See [`geotag`](super::geotag).
+    pub max_wait: Duration,
 }
 
 impl FixConfig {
@@ -106,6 +109,7 @@ impl FixConfig {
         min_interval: Duration::from_millis(90),
         max_hold: Duration::from_secs(1),
         max_gap: Duration::from_secs(1),
+        max_wait: Duration::from_millis(250),
     };
 }
 

@@ -114,9 +114,7 @@ impl K40tSide {
     pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
         if let Some(g) = self.st.gps.filter(|g| ctx.now >= g.due) {
             self.st.gps = None;
-            crate::bridge::geotag(
-                ctx.now, g.header, g.request, ctx.time, ctx.fixes, ctx.pod, ctx.out,
-            );
+            ctx.geotag(g.header, g.request);
         }
         let silent = self
             .st

@@ -6,6 +6,7 @@
 use super::discipline::TimeDiscipline;
 use super::event::Event;
 use super::fixes::FixHistory;
+use super::geotag::Geotagger;
 use super::pod::{PodDriver, PodNotice, PodState};
 use super::time::Instant;
 use super::{Config, Outputs};
@@ -21,6 +22,7 @@ pub(crate) struct Ctx<'a> {
     pub(crate) pod: &'a mut PodDriver,
     pub(crate) time: &'a mut TimeDiscipline,
     pub(crate) fixes: &'a mut FixHistory,
+    pub(crate) geotag: &'a mut Geotagger,
     pub(crate) out: &'a mut Outputs,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
@@ -47,6 +49,13 @@ impl Ctx<'_> {
             pod_base: base,
         });
         Some(base)
+    }
+
+    /// Answers the pod's GPS request from the fix history (now, or after the next fix).
+    pub(crate) fn geotag(&mut self, header: Header, request: GpsRequest) {
+        self.geotag.request(
+            self.now, header, request, self.time, self.fixes, self.pod, self.out,
+        );
     }
 
     /// Queues a frame for the FC.
