@@ -766,3 +766,65 @@ fn geotags_fail_cleanly_without_a_fix_with_a_lost_fix_and_out_of_range() {
         );
     }
 }
+
+/// The link budget under ArduPilot's full traffic: a pilot sweeping the gimbal with the
+/// sticks (rates changing every 300 ms), zooming, a photo every 2 s, for two minutes.
+/// Every byte rate stays far below the 115 200-baud line (11 520 bytes/s).
+#[test]
+fn link_budget_under_full_ardupilot_traffic() {
+    let mut s = healthy_scenario();
+    // After UTC is known (photos before it cannot be geotagged).
+    s.run_until(60 * S);
+    let start = s.now_us;
+    let bytes = |s: &Scenario<ApSiyi>| {
+        [
+            s.fc_line.bytes_sent,
+            s.to_fc_line.bytes_sent,
+            s.pod_line.bytes_sent,
+            s.to_pod_line.bytes_sent,
+        ]
+    };
+    let before = bytes(&s);
+    let mut noise = Noise(42);
+    for step in 0..400u64 {
+        let yaw = (noise.next() % 61) as f64 - 30.0;
+        let pitch = (noise.next() % 41) as f64 - 20.0;
+        s.fc.target = Some(MountTarget::Rate {
+            yaw_dps: yaw,
+            pitch_dps: pitch,
+            yaw_is_ef: false,
+        });
+        if step % 7 == 0 {
+            s.fc.take_picture();
+        }
+        s.run_for(300_000);
+    }
+    let secs = (s.now_us - start) as f64 / 1e6;
+    let after = bytes(&s);
+    let rate = |i: usize| (after[i] - before[i]) as f64 / secs;
+    let names = [
+        "FC -> bridge",
+        "bridge -> FC",
+        "pod -> bridge",
+        "bridge -> pod",
+    ];
+    for (i, name) in names.iter().enumerate() {
+        println!(
+            "{name}: {:.0} bytes/s ({:.1} % of 115200 baud)",
+            rate(i),
+            rate(i) / 115.2
+        );
+    }
+    let c = s.engine.counters();
+    println!(
+        "pod frames sent {} (retries {}), dropped {}",
+        c.pod_sent, c.pod_retries, c.dropped
+    );
+    // The bridge never loads the pod line past a tenth of its capacity, nor the FC line.
+    assert!(rate(3) < 1_152.0, "bridge -> pod {:.0} B/s", rate(3));
+    assert!(rate(1) < 2_304.0, "bridge -> FC {:.0} B/s", rate(1));
+    assert_eq!(c.dropped, 0);
+    assert!(s.fc.healthy());
+    assert_eq!(c.geotags_failed, 0);
+    assert_eq!(c.geotags, 58);
+}
