@@ -4,5 +4,6 @@
 pub mod ap_siyi;
 pub mod fc_k40t;
 pub mod line;
+pub mod peer;
 pub mod pod;
 pub mod scenario;
