@@ -62,15 +62,23 @@ impl Ctx<'_> {
 
 #[cfg(feature = "siyi")]
 mod siyi;
+#[cfg(feature = "viewlink")]
+mod viewlink;
 
 /// The FC side in use.
 #[derive(Debug, Clone)]
+// One side lives in the engine for its lifetime, and there is no heap to box it in: with
+// a single protocol compiled in, `Disabled` is the small variant by design.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
     /// SIYI.
     #[cfg(feature = "siyi")]
     Siyi(siyi::SiyiSide),
+    /// Viewlink (Viewpro).
+    #[cfg(feature = "viewlink")]
+    Viewlink(viewlink::ViewlinkSide),
 }
 
 /// Calls `$method` on the side in use; `Disabled` gives `$default`.
@@ -80,6 +88,8 @@ macro_rules! fc_dispatch {
             FcSide::Disabled => $default,
             #[cfg(feature = "siyi")]
             FcSide::Siyi($side) => $call,
+            #[cfg(feature = "viewlink")]
+            FcSide::Viewlink($side) => $call,
         }
     };
 }
@@ -91,6 +101,8 @@ impl FcSide {
             super::FcProtocol::Siyi => {
                 FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
+            #[cfg(feature = "viewlink")]
+            super::FcProtocol::Viewlink => FcSide::Viewlink(viewlink::ViewlinkSide::new()),
             _ => FcSide::Disabled,
         }
     }
