@@ -47,10 +47,10 @@ use crate::k40t::{self, AckCode, CaptureMode, Palette};
 use crate::viewlink::{
     self, A1, A2, B1, B2, Block, C1, C2, C2Command, Control, ControlTgcc, D1, D2, D2Sensor, Date,
     DistanceSource, E1, E2, F1, F2, FixedBlock, Frame, FrameCounter, GpsStage, Handshake,
-    Heartbeat, LaserCommand, LrfCommand, M, MessageData, OperationCommand, PixelFormat, Point,
-    RareControl, RareControlTgcc, RareStatus, RecordStatus, S1, S2, Sensor, ServoCommand, Status,
-    T1, T2, TimeCs, TrackerSensor, TrackerState, TrackingCommand, U, UCommand, V, VCommand, VData,
-    VideoSource, ViewlinkFraming,
+    Heartbeat, IrColorMode, LaserCommand, LrfCommand, M, MessageData, OperationCommand,
+    PixelFormat, Point, RareControl, RareControlTgcc, RareStatus, RecordStatus, S1, S2, Sensor,
+    ServoCommand, Status, T1, T2, TimeCs, TrackerSensor, TrackerState, TrackingCommand, U,
+    UCommand, V, VCommand, VData, VideoSource, ViewlinkFraming,
 };
 use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
@@ -475,11 +475,13 @@ impl ViewlinkState {
                 ir_dzoom_index: self.ir_zoom.saturating_sub(1).min(15),
                 lrf_toggle: self.lrf_toggle,
                 record,
-                // Grayscale: ArduPilot reads byte 32 & 0x07 as the recording status,
-                // so a colour mode bit would hide the recording.
+                // Always grayscale: ArduPilot reads byte 32 & 0x07 as the recording
+                // status, so a colour mode bit would hide the recording.
+                ir_color: IrColorMode::Grayscale,
                 lrf_dm,
                 // The hybrid (optical and electronic) ratio; no separate digital index.
                 zoom_x10: pod.zoom_x10(),
+                // Fields of view: not known (0).
                 ..D1::default()
             },
         })
