@@ -257,8 +257,17 @@ fn generate(text: &str) -> Result<String, String> {
         if let Some(v) = k.ascii("model", 10)? {
             set("viewlink.model", bytes(&v));
         }
-        if let Some(v) = k.ascii("firmware", 5)? {
-            set("viewlink.firmware", bytes(&v));
+        // Answered to 0xD0 as "S20MMmmpp" (a Viewpro date-like text; ArduPilot reads
+        // bytes 3..9 as three two-digit numbers), padded to 20 bytes.
+        if let Some([major, minor, patch]) = k.version("firmware")? {
+            if major > 99 || minor > 99 || patch > 99 {
+                return Err(
+                    "viewlink.firmware: each of [major, minor, patch] must be 0..=99".into(),
+                );
+            }
+            let text = format!("S20{major:02}{minor:02}{patch:02}");
+            let padded: Vec<u8> = text.bytes().chain(core::iter::repeat(0)).take(20).collect();
+            set("viewlink.firmware", format!("{padded:?}"));
         }
         k.finish()?;
     }

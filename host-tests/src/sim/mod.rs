@@ -2,6 +2,7 @@
 //! the demo.
 
 pub mod ap_siyi;
+pub mod ap_viewpro;
 pub mod fc_k40t;
 pub mod line;
 pub mod peer;

@@ -56,17 +56,21 @@ impl SiyiIdentity {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ViewlinkIdentity {
-    /// Model string answered to the 0xE4 query (ArduPilot prints it).
+    /// Model text answered to the 0xE4 query (10 bytes, padded with 0x00; ArduPilot
+    /// prints it).
     pub model: [u8; 10],
-    /// Firmware digits answered to the 0xD0 query (ArduPilot reads five ASCII digits).
-    pub firmware: [u8; 5],
+    /// Firmware text answered to the 0xD0 query (20 bytes, padded with 0x00). Viewpro
+    /// gimbals send "S" and a date (`Syyyymmdd`); ArduPilot reads bytes 3..9 as three
+    /// two-digit numbers, major, minor and patch.
+    pub firmware: [u8; 20],
 }
 
 impl ViewlinkIdentity {
-    /// Model "K40T-BRIDGE", firmware "01000".
+    /// Model "K40TBRIDGE"; firmware "S20000100", which ArduPilot reads as 0.1.0 (the
+    /// bridge's version).
     pub const DEFAULT: Self = Self {
         model: *b"K40TBRIDGE",
-        firmware: *b"01000",
+        firmware: *b"S20000100\0\0\0\0\0\0\0\0\0\0\0",
     };
 }
 

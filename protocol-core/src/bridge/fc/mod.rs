@@ -76,6 +76,8 @@ impl Ctx<'_> {
 mod k40t;
 #[cfg(feature = "siyi")]
 mod siyi;
+#[cfg(feature = "viewlink")]
+mod viewlink;
 
 /// The FC side in use.
 // One side is in use, fixed at start-up; without an allocator to box it, the enum is as
@@ -90,6 +92,9 @@ pub(crate) enum FcSide {
     /// SIYI.
     #[cfg(feature = "siyi")]
     Siyi(siyi::SiyiSide),
+    /// Viewlink (Viewpro).
+    #[cfg(feature = "viewlink")]
+    Viewlink(viewlink::ViewlinkSide),
 }
 
 /// Calls `$method` on the side in use; `Disabled` gives `$default`.
@@ -100,6 +105,8 @@ macro_rules! fc_dispatch {
             FcSide::K40t($side) => $call,
             #[cfg(feature = "siyi")]
             FcSide::Siyi($side) => $call,
+            #[cfg(feature = "viewlink")]
+            FcSide::Viewlink($side) => $call,
         }
     };
 }
@@ -111,6 +118,8 @@ impl FcSide {
             super::FcProtocol::Siyi => {
                 FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
+            #[cfg(feature = "viewlink")]
+            super::FcProtocol::Viewlink => FcSide::Viewlink(viewlink::ViewlinkSide::new()),
             super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
             #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
@@ -151,6 +160,8 @@ impl FcSide {
         match self {
             #[cfg(feature = "siyi")]
             FcSide::Siyi(side) => side.pod_notice(ctx, notice),
+            #[cfg(feature = "viewlink")]
+            FcSide::Viewlink(side) => side.pod_notice(ctx, notice),
             // The K40T side forwards the ACKs themselves.
             FcSide::K40t(_) | FcSide::Disabled => {
                 let _ = (ctx, notice);
