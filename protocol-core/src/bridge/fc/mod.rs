@@ -11,7 +11,7 @@ use super::pod::{PodDriver, PodNotice, PodState};
 use super::time::Instant;
 use super::{Config, Outputs};
 use crate::gimbal::Command;
-use crate::k40t::{GpsRequest, Header, Packet};
+use crate::k40t::{GpsRequest, Header, MsgId};
 use crate::wire::Stats;
 
 /// What an FC side may use of the engine during one call.
@@ -149,10 +149,10 @@ impl FcSide {
     }
 
     /// Every valid frame from the pod (the K40T side forwards them).
-    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
         // Only the K40T side forwards pod frames.
         if let FcSide::K40t(side) = self {
-            side.pod_frame(ctx, bytes, packet);
+            side.pod_frame(ctx, bytes, id, header);
         }
     }
 
