@@ -60,6 +60,8 @@ impl Ctx<'_> {
     }
 }
 
+#[cfg(feature = "gcu")]
+mod gcu;
 #[cfg(feature = "siyi")]
 mod siyi;
 
@@ -71,6 +73,9 @@ pub(crate) enum FcSide {
     /// SIYI.
     #[cfg(feature = "siyi")]
     Siyi(siyi::SiyiSide),
+    /// XF Robot GCU.
+    #[cfg(feature = "gcu")]
+    Gcu(gcu::GcuSide),
 }
 
 /// Calls `$method` on the side in use; `Disabled` gives `$default`.
@@ -80,6 +85,8 @@ macro_rules! fc_dispatch {
             FcSide::Disabled => $default,
             #[cfg(feature = "siyi")]
             FcSide::Siyi($side) => $call,
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu($side) => $call,
         }
     };
 }
@@ -91,6 +98,8 @@ impl FcSide {
             super::FcProtocol::Siyi => {
                 FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
             }
+            #[cfg(feature = "gcu")]
+            super::FcProtocol::Gcu => FcSide::Gcu(gcu::GcuSide::new()),
             _ => FcSide::Disabled,
         }
     }
