@@ -2,6 +2,7 @@
 //! the demo.
 
 pub mod ap_siyi;
+pub mod ap_xfrobot;
 pub mod line;
 pub mod pod;
 pub mod scenario;
