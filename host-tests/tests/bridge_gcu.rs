@@ -761,59 +761,65 @@ fn quantile(sorted: &[i64], q: f64) -> i64 {
     sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
-/// Time-sync accuracy through the whole engine: ArduPilot's held GPS time at 5 and
-/// 10 Hz, several seeds (FC and bridge crystals, jitter, start phase), 10-minute
-/// flights, edges after 60 s. The held time is only known to one package period
-/// (20 ms): the discipline centres it (±10 ms); the 1 ms goal is out of reach for this
-/// source (see `timesync_sim.rs`).
+/// Time-sync accuracy through the whole engine over one-hour flights, GPS at 5 and
+/// 10 Hz: the FC's crystal and the bridge's each off by up to ±25 ppm, transport jitter
+/// uniform in 0..10 ms per FC update, ArduPilot's 50 Hz set attitude. Error = |UTC in
+/// the 0x00030E the pod applied − the GPS's UTC at the edge's true instant|, after 60 s.
+///
+/// The GCU's only time is the GPS time of the last fix, held between fixes and read by
+/// the FC's 50 Hz loop: the first package after a fix was read 0..20 ms after it, a
+/// phase that slides only by the FC crystal's error against GPS (5 ppm: 18 ms an hour).
+/// The discipline takes the held value with the package period as its resolution and
+/// centres it: the error follows that phase, from -10 ms to +10 ms, with a few ms more
+/// while the phase wraps (see `timesync_sim.rs`). The 1 ms goal is out of reach for this
+/// source.
 #[test]
-fn time_sync_accuracy_with_held_gps_time() {
-    const FLIGHT: u64 = 600 * S;
+fn time_sync_accuracy_over_one_hour_flights_with_held_gps_time() {
     let mut all = Vec::new();
     for hz in [5, 10] {
-        let mut errs = Vec::new();
-        for seed in 1..=4u64 {
-            let ppm = [35.0, -42.0, 12.0, -7.0][seed as usize - 1];
+        for (seed, fc_ppm, bridge_ppm) in [
+            (21, 25.0, -25),
+            (22, -25.0, 25),
+            (23, 10.0, 0),
+            (24, -5.0, 15),
+        ] {
             let ap = ApXfRobotConfig {
-                ppm,
+                ppm: fc_ppm,
                 seed,
                 gps_hz: hz,
                 boot_us: 3_000_000 + seed * 7_777,
                 ..ApXfRobotConfig::default()
             };
-            let bridge_ppm = [-25, 40, -48, 17][seed as usize - 1];
             let mut s = scenario(ap, PodSimConfig::default(), bridge_ppm);
-            s.run_until(FLIGHT);
-            let e = sync_errors(&s, 60 * S);
-            assert!(e.len() >= 50, "{} edges", e.len());
-            errs.extend(e);
+            s.run_until(3600 * S);
+            let signed = sync_errors(&s, 60 * S);
+            assert!(signed.len() >= 354, "seed {seed}: {} edges", signed.len());
+            let mean = signed.iter().sum::<i64>() as f64 / signed.len() as f64;
+            let mut errs: Vec<i64> = signed.iter().map(|e| e.abs()).collect();
+            errs.sort_unstable();
+            println!(
+                "GCU {hz} Hz GPS, seed {seed} (FC {fc_ppm:+} ppm, bridge {bridge_ppm:+} ppm): \
+                 {} edges, p50 {} us, p99 {} us, max {} us, mean signed {:.0} us",
+                errs.len(),
+                quantile(&errs, 0.5),
+                quantile(&errs, 0.99),
+                errs[errs.len() - 1],
+                mean
+            );
+            // Half a package period, plus the transient while the read phase wraps
+            // (the error jumps from -10 ms to +10 ms and the fitted rate lags).
+            assert!(errs[errs.len() - 1] < 15_000);
+            all.extend(errs);
         }
-        let mut abs: Vec<i64> = errs.iter().map(|e| e.abs()).collect();
-        abs.sort_unstable();
-        let mean = errs.iter().sum::<i64>() as f64 / errs.len() as f64;
-        println!(
-            "GCU time sync, GPS {hz} Hz, 4 seeds x 10 min: {} edges, |error| p50 {:.2} ms, \
-             p99 {:.2} ms, max {:.2} ms (mean signed {:.2} ms)",
-            abs.len(),
-            quantile(&abs, 0.5) as f64 / 1e3,
-            quantile(&abs, 0.99) as f64 / 1e3,
-            abs[abs.len() - 1] as f64 / 1e3,
-            mean / 1e3,
-        );
-        all.extend(abs);
     }
     all.sort_unstable();
     println!(
-        "GCU time sync, all: {} edges, p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
+        "GCU, all flights: {} edges, p50 {} us, p99 {} us, max {} us",
         all.len(),
-        quantile(&all, 0.5) as f64 / 1e3,
-        quantile(&all, 0.99) as f64 / 1e3,
-        all[all.len() - 1] as f64 / 1e3
+        quantile(&all, 0.5),
+        quantile(&all, 0.99),
+        all[all.len() - 1]
     );
-    // Honest bounds: half a package period plus the transport's least delay and the
-    // millisecond of the sync frame.
-    assert!(quantile(&all, 0.99) < 12_000);
-    assert!(all[all.len() - 1] < 15_000);
 }
 
 /// A GPS receiver's latency before the FC knows a fix is a constant bias the bridge

@@ -59,7 +59,8 @@
 //!   [`DisciplineConfig::pair_tolerance`]) are rejected as inconsistent. Without any
 //!   pair, `C` is that lower bound.
 //!
-//! Direct UTC wins when both paths are valid.
+//! One estimator serves the path the flight controller uses (the first sample decides;
+//! an FC protocol has one path).
 //!
 //! # Validity rule
 //! A clock estimator is *converged* when its window holds at least
@@ -720,10 +721,12 @@ impl FcLink {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TimeDiscipline {
     config: DisciplineConfig,
-    /// Direct UTC samples.
-    direct: ClockEstimator,
-    /// FC clock (SIYI `time_boot_ms`).
-    fc: ClockEstimator,
+    /// The one clock estimator: direct UTC samples, or the FC clock (SIYI
+    /// `time_boot_ms`), whichever path the flight controller uses ([`Self::path`]).
+    clock: ClockEstimator,
+    /// The path of the samples in `clock` (set by the first sample; an FC protocol has
+    /// one path, and one estimator keeps the engine small).
+    path: Option<Path>,
     link: FcLink,
     /// The current local → UTC offset line.
     output: Option<Line>,
@@ -751,8 +754,8 @@ impl TimeDiscipline {
     pub const fn new(config: DisciplineConfig) -> Self {
         Self {
             config,
-            direct: ClockEstimator::new(),
-            fc: ClockEstimator::new(),
+            clock: ClockEstimator::new(),
+            path: None,
             link: FcLink::new(),
             output: None,
             source: None,
@@ -784,14 +787,14 @@ impl TimeDiscipline {
     }
 
     fn utc_sample_inner(&mut self, s: Sample) -> Verdict {
-        if s.value_us < self.config.min_utc.as_unix_micros() {
+        if s.value_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::Direct) {
             return Verdict::Rejected;
         }
         if s.held {
-            if self.direct.last_held == Some(s.value_us) {
+            if self.clock.last_held == Some(s.value_us) {
                 return Verdict::Repeated;
             }
-            self.direct.last_held = Some(s.value_us);
+            self.clock.last_held = Some(s.value_us);
         }
         let center = if self.config.center_truncation {
             s.resolution_us / 2
@@ -801,7 +804,7 @@ impl TimeDiscipline {
         let Some(p) = point(s, center) else {
             return Verdict::Rejected;
         };
-        match self.direct.feed(p, &self.config) {
+        match self.clock.feed(p, &self.config) {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => {
                 // UTC itself jumped: the old mapping cannot be trusted any more.
@@ -811,8 +814,8 @@ impl TimeDiscipline {
                 Verdict::Step
             }
             Fed::Accepted => {
-                if self.direct.converged(&self.config) {
-                    self.output = self.direct.line;
+                if self.clock.converged(&self.config) {
+                    self.output = self.clock.line;
                     self.source = Some(Path::Direct);
                     self.last_fresh = Some(s.local);
                 }
@@ -830,17 +833,20 @@ impl TimeDiscipline {
     }
 
     fn fc_clock_sample_inner(&mut self, s: Sample) -> Verdict {
+        if !self.take_path(Path::ViaFc) {
+            return Verdict::Rejected;
+        }
         if s.held {
-            if self.fc.last_held == Some(s.value_us) {
+            if self.clock.last_held == Some(s.value_us) {
                 return Verdict::Repeated;
             }
-            self.fc.last_held = Some(s.value_us);
+            self.clock.last_held = Some(s.value_us);
         }
         // Floor convention (no centring): see the module documentation.
         let Some(p) = point(s, 0) else {
             return Verdict::Rejected;
         };
-        match self.fc.feed(p, &self.config) {
+        match self.clock.feed(p, &self.config) {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => {
                 // FC reboot: its clock and C are gone; the UTC mapping stays in holdover.
@@ -890,7 +896,7 @@ impl TimeDiscipline {
             return Verdict::Rejected;
         };
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
-        if let Some(bound) = self.fc.line.as_ref().and_then(|l| self.link.lower_bound(l))
+        if let Some(bound) = self.fc_line().and_then(|l| self.link.lower_bound(&l))
             && m < bound.saturating_sub(tol)
         {
             return Verdict::Rejected;
@@ -903,11 +909,11 @@ impl TimeDiscipline {
 
     /// Updates the output from the FC path when it is valid.
     fn refresh_via_fc(&mut self, local: Instant) {
-        if !self.fc.converged(&self.config) || self.direct_valid() {
+        if !self.clock.converged(&self.config) || self.direct_valid() {
             return;
         }
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
-        let Some(line) = self.fc.line else {
+        let Some(line) = self.fc_line() else {
             return;
         };
         if let Some(c) = self.link.offset(Some(&line), tol)
@@ -917,6 +923,17 @@ impl TimeDiscipline {
             self.source = Some(Path::ViaFc);
             self.last_fresh = Some(local);
         }
+    }
+
+    /// Uses `path` for the estimator: true when it is the estimator's path (or the
+    /// estimator is free and takes it).
+    fn take_path(&mut self, path: Path) -> bool {
+        *self.path.get_or_insert(path) == path
+    }
+
+    /// The FC clock's line, when the estimator holds the FC clock.
+    fn fc_line(&self) -> Option<Line> {
+        self.clock.line.filter(|_| self.path == Some(Path::ViaFc))
     }
 
     /// The output comes from the direct path, which is fresh.
@@ -976,15 +993,15 @@ impl TimeDiscipline {
         };
         if expired {
             // Holdover expired: forget everything, start again.
-            self.direct.reset();
-            self.fc.reset();
+            self.clock.reset();
+            self.path = None;
             self.link = FcLink::new();
             self.output = None;
             self.source = None;
             self.last_fresh = None;
         }
         let state = state.unwrap_or_else(|| {
-            if !self.direct.is_empty() || !self.fc.is_empty() {
+            if !self.clock.is_empty() {
                 DisciplineState::Converging
             } else if expired || self.state != DisciplineState::Unknown {
                 DisciplineState::Lost

@@ -32,6 +32,15 @@ use super::time::{Duration, Instant};
 /// Fixes the history holds (20 s at 10 Hz, plus one).
 pub const CAPACITY: usize = 201;
 
+/// The longest silence after which the history is kept (the 16-bit millisecond times
+/// wrap after 65.5 s).
+const MAX_SPAN: Duration = Duration::from_secs(60);
+
+/// The low 16 bits of an instant in milliseconds.
+fn low16(at: Instant) -> u16 {
+    u16::try_from(at.as_millis() % 65_536).unwrap_or(0)
+}
+
 /// Position and attitude of the aircraft at a local instant, in the units of the K40T
 /// 0x010310 reply.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -89,6 +98,9 @@ pub struct FixConfig {
     pub max_hold: Duration,
     /// Widest gap between two fixes that is interpolated (default 1 s).
     pub max_gap: Duration,
+    /// How long a GPS request for an instant after the newest fix waits for the next
+    /// fix (default 250 ms; zero: answer at once). See [`geotag`](super::geotag).
+    pub max_wait: Duration,
 }
 
 impl FixConfig {
@@ -97,6 +109,7 @@ impl FixConfig {
         min_interval: Duration::from_millis(90),
         max_hold: Duration::from_secs(1),
         max_gap: Duration::from_secs(1),
+        max_wait: Duration::from_millis(250),
     };
 }
 
@@ -110,8 +123,10 @@ impl Default for FixConfig {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FixHistory {
     config: FixConfig,
-    /// Microseconds before `newest` (wrapping `u32` differences).
-    t_us: [u32; CAPACITY],
+    /// The fix's local instant in milliseconds, low 16 bits: differences to the newest
+    /// fix are exact while the history spans less than 65 s ([`FixHistory::push`] clears
+    /// it after a longer silence).
+    t_ms: [u16; CAPACITY],
     lat_e7: [i32; CAPACITY],
     lon_e7: [i32; CAPACITY],
     alt_msl_dm: [i16; CAPACITY],
@@ -123,7 +138,7 @@ pub struct FixHistory {
     start: u16,
     /// Stored fixes.
     len: u16,
-    /// Instant of the newest stored fix (the time base of `t_us`).
+    /// Instant of the newest stored fix (the time base of `t_ms`).
     newest: Instant,
     /// The newest fix when it was too close to the last stored one to be stored.
     tail: Option<Fix>,
@@ -141,7 +156,7 @@ impl FixHistory {
     pub const fn new(config: FixConfig) -> Self {
         Self {
             config,
-            t_us: [0; CAPACITY],
+            t_ms: [0; CAPACITY],
             lat_e7: [0; CAPACITY],
             lon_e7: [0; CAPACITY],
             alt_msl_dm: [0; CAPACITY],
@@ -219,11 +234,12 @@ impl FixHistory {
     }
 
     fn append(&mut self, fix: Fix) {
-        // Re-base the stored times on the new newest fix.
-        let shift = fix.at.saturating_duration_since(self.newest).as_micros();
-        let shift = u32::try_from(shift).unwrap_or(u32::MAX);
-        for t in &mut self.t_us {
-            *t = t.saturating_add(shift);
+        // The 16-bit millisecond times need a history shorter than 65 s: after a longer
+        // silence the old fixes are of no use anyway (a gap over `max_gap` is not
+        // interpolated), so they go.
+        if fix.at.saturating_duration_since(self.newest) > MAX_SPAN {
+            self.len = 0;
+            self.start = 0;
         }
         if usize::from(self.len) >= CAPACITY {
             self.start = u16::try_from(self.physical(1)).unwrap_or(0);
@@ -234,11 +250,10 @@ impl FixHistory {
         let _ = self.store(self.len.saturating_sub(1), fix);
     }
 
-    /// Writes `fix` at logical index `i` (its time relative to `newest`).
+    /// Writes `fix` at logical index `i`.
     fn store(&mut self, i: u16, fix: Fix) -> Option<()> {
         let p = self.physical(i);
-        let rel = self.newest.checked_duration_since(fix.at)?.as_micros();
-        *self.t_us.get_mut(p)? = u32::try_from(rel).ok()?;
+        *self.t_ms.get_mut(p)? = low16(fix.at);
         *self.lat_e7.get_mut(p)? = fix.lat_e7;
         *self.lon_e7.get_mut(p)? = fix.lon_e7;
         *self.alt_msl_dm.get_mut(p)? = fix.alt_msl_dm;
@@ -256,9 +271,12 @@ impl FixHistory {
             return if i == stored { self.tail } else { None };
         }
         let p = self.physical(u16::try_from(i).ok()?);
-        let at = self
-            .newest
-            .checked_sub(Duration::from_micros(u64::from(*self.t_us.get(p)?)))?;
+        let before_newest = low16(self.newest).wrapping_sub(*self.t_ms.get(p)?);
+        let at = Instant::from_millis(
+            self.newest
+                .as_millis()
+                .checked_sub(u64::from(before_newest))?,
+        );
         Some(Fix {
             at,
             lat_e7: *self.lat_e7.get(p)?,

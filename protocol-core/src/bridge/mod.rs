@@ -21,16 +21,18 @@
 //! and names the falling edge. No sync is ever sent while UTC is unknown.
 //!
 //! # Geotag
-//! The pod's GPS request (0x000310, a UTC time of day) is answered at once (0x010310) from
-//! the fix history, interpolated to the instant asked. An instant more than 1 s outside
-//! the history, no fix yet, or no UTC gives the failure code 0x0001 with the time echoed
-//! and zero position and attitude: nothing is invented.
+//! The pod's GPS request (0x000310, a UTC time of day) is answered (0x010310) from the
+//! fix history, interpolated to the instant asked; a request for an instant after the
+//! newest fix waits up to 250 ms for the next one (see [`geotag`]). An instant more than
+//! 1 s outside the history, no fix yet, or no UTC gives the failure code 0x0001 with the
+//! time echoed and zero position and attitude: nothing is invented.
 
 pub mod config;
 pub mod discipline;
 pub mod event;
 pub(crate) mod fc;
 pub mod fixes;
+pub mod geotag;
 pub mod pod;
 pub mod queue;
 pub mod sync;
@@ -44,17 +46,17 @@ pub use time::{Duration, Instant, UtcTime};
 use discipline::{DisciplineState, TimeDiscipline};
 use fc::{Ctx, FcSide};
 use fixes::FixHistory;
+use geotag::Geotagger;
 use pod::{PodDriver, PodNotice};
 use queue::FrameQueue;
 use sync::{SyncEdge, SyncScheduler};
 
-use crate::k40t::{self, AckCode, GpsReply, GpsRequest, Header, K40tFraming, Packet, ResponseCode};
+use crate::k40t::{self, K40tFraming, Packet};
 use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 use event::EventQueue;
-use time::TimeOfDay;
 
 /// Bytes of the queue of frames for the FC.
-pub const FC_QUEUE: usize = 384;
+pub const FC_QUEUE: usize = 256;
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
 
@@ -156,8 +158,12 @@ struct Core {
     time: TimeDiscipline,
     sync: SyncScheduler,
     fixes: FixHistory,
+    geotag: Geotagger,
     /// The next rising edge, as planned.
     edge: Option<SyncEdge>,
+    /// The planned edge is within the sync lead: kept as it is (the caller may have armed
+    /// its timer), and no more polls are wanted for it.
+    edge_settled: bool,
     /// The falling edge due after a rising one.
     pin_low: Option<Instant>,
     out: Outputs,
@@ -177,7 +183,9 @@ impl Engine {
                 time: TimeDiscipline::new(config.discipline),
                 sync: SyncScheduler::new(config.sync),
                 fixes: FixHistory::new(config.fixes),
+                geotag: Geotagger::default(),
                 edge: None,
+                edge_settled: false,
                 pin_low: None,
                 out: Outputs {
                     fc: FrameQueue::new(),
@@ -249,6 +257,19 @@ impl Engine {
     /// The frame [`Engine::fc_frame`] gave is on its way.
     pub fn fc_sent(&mut self) {
         self.core.out.fc.pop();
+    }
+
+    /// Copies the next frame for the FC into `buf` and takes it off the queue; returns
+    /// its length (`None`: nothing queued, or `buf` too small and the frame kept). For
+    /// a caller that writes asynchronously: take the frame, then write it.
+    pub fn take_fc_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
+        self.core.out.fc.pop_into(buf)
+    }
+
+    /// As [`Engine::take_fc_frame`], for the pod. A time-sync frame put at the head of the
+    /// queue while a taken frame is being written comes next.
+    pub fn take_pod_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
+        self.core.out.pod.pop_into(buf)
     }
 
     /// The next frame for the pod: write all of it, then call [`Engine::pod_sent`]. A
@@ -352,8 +373,12 @@ impl Engine {
             c.pod.poll_at(c.config.fc_silence_stop),
             c.fc.poll_at(),
             c.time.poll_at(),
+            c.geotag.poll_at(),
             fc_down,
-            c.edge.map(|e| e.at.saturating_sub(c.config.sync.lead)),
+            // Re-plan the edge once more just before it; a settled edge needs no poll.
+            c.edge
+                .filter(|_| !c.edge_settled)
+                .map(|e| e.at.saturating_sub(c.config.sync.lead)),
         ]
         .into_iter()
         .flatten()
@@ -371,6 +396,7 @@ impl Core {
                 pod: &mut self.pod,
                 time: &mut self.time,
                 fixes: &mut self.fixes,
+                geotag: &mut self.geotag,
                 out: &mut self.out,
                 fc_seen: false,
             },
@@ -411,15 +437,7 @@ impl Core {
             PodNotice::GpsRequest { header, request } => {
                 let (fc, mut ctx) = self.ctx(now);
                 if !fc.gps_request(&mut ctx, header, request) {
-                    geotag(
-                        now,
-                        header,
-                        request,
-                        &self.time,
-                        &self.fixes,
-                        &mut self.pod,
-                        &mut self.out,
-                    );
+                    ctx.geotag(header, request);
                 }
                 return;
             }
@@ -432,6 +450,9 @@ impl Core {
     /// and plans the next edge.
     fn after_input(&mut self, now: Instant) {
         self.utc_transition(now);
+        // A fix may have come in for a waiting GPS request.
+        self.geotag
+            .poll(now, &self.fixes, &mut self.pod, &mut self.out);
         self.plan_sync(now);
     }
 
@@ -458,6 +479,8 @@ impl Core {
             let (fc, mut ctx) = self.ctx(now);
             fc.poll(&mut ctx);
         }
+        self.geotag
+            .poll(now, &self.fixes, &mut self.pod, &mut self.out);
         if self.fc_link
             && self
                 .fc_last
@@ -475,17 +498,19 @@ impl Core {
             return;
         }
         // An edge within `lead` is kept as planned: the caller may have armed its timer.
-        let settled = self
-            .edge
-            .is_some_and(|e| e.at <= now.saturating_add(self.config.sync.lead));
-        if settled {
+        let lead_start = now.saturating_add(self.config.sync.lead);
+        self.edge_settled = self.edge.is_some_and(|e| e.at <= lead_start);
+        if self.edge_settled {
             return;
         }
-        self.edge = if self.time.state() == DisciplineState::Valid {
+        // Holdover is still usable: the local clock carries UTC between sparse samples
+        // (the K40T FC sends one every 10 s) and after the FC falls silent, for a while.
+        self.edge = if self.time.state().is_usable() {
             self.sync.next_edge(now, &self.time)
         } else {
             None
         };
+        self.edge_settled = self.edge.is_some_and(|e| e.at <= lead_start);
     }
 
     fn pin_done(&mut self, level: Level, at: Instant) {
@@ -493,6 +518,7 @@ impl Core {
             Level::Low => self.pin_low = None,
             Level::High => {
                 self.pin_low = Some(at.saturating_add(self.config.sync.width));
+                self.edge_settled = false;
                 let Some(edge) = self.edge.take() else {
                     return;
                 };
@@ -513,69 +539,23 @@ impl Core {
     }
 }
 
-/// Answers a GPS request from the fix history (shared with the K40T side's fallback).
-pub(crate) fn geotag(
-    now: Instant,
-    header: Header,
-    request: GpsRequest,
-    time: &TimeDiscipline,
-    fixes: &FixHistory,
-    pod: &mut PodDriver,
-    out: &mut Outputs,
-) {
-    let asked = TimeOfDay::new(
-        request.hour,
-        request.minute,
-        request.second,
-        request.millisecond,
-    );
-    let fix = asked
-        .and_then(|tod| time.utc(now)?.nearest_with_time_of_day(tod))
-        .and_then(|utc| time.local_of(utc))
-        .and_then(|local| fixes.at(local).ok());
-    let mut reply = GpsReply {
-        code: ResponseCode::new(AckCode::Failure),
-        hour: request.hour,
-        minute: request.minute,
-        second: request.second,
-        millisecond: request.millisecond,
-        ..GpsReply::default()
-    };
-    if let Some(f) = fix {
-        reply.code = ResponseCode::OK;
-        reply.lon_e7 = f.lon_e7;
-        reply.lat_e7 = f.lat_e7;
-        reply.rel_alt_dm = f.rel_alt_dm;
-        reply.alt_msl_dm = f.alt_msl_dm;
-        reply.yaw_cdeg = f.yaw_cdeg;
-        reply.roll_cdeg = f.roll_cdeg;
-        reply.pitch_cdeg = f.pitch_cdeg;
-    }
-    pod.send_gps_reply(header, reply, out);
-    let answered = fix.is_some();
-    let c = &mut out.counters;
-    if answered {
-        c.geotags = c.geotags.saturating_add(1);
-    } else {
-        c.geotags_failed = c.geotags_failed.saturating_add(1);
-    }
-    out.event(Event::Geotag {
-        time_of_day_ms: asked.map_or(0, TimeOfDay::millis_of_day),
-        answered,
-    });
-}
-
 #[cfg(test)]
 mod size_tests {
     use super::*;
 
+    /// The engine's size is fixed at compile time; with every FC side compiled in it
+    /// stays under 8 KiB (on the 64-bit host; smaller on the 32-bit MCU).
     #[test]
-    fn sizes() {
-        println!("engine {}", core::mem::size_of::<Engine>());
-        println!("pod driver {}", core::mem::size_of::<PodDriver>());
-        println!("discipline {}", core::mem::size_of::<TimeDiscipline>());
-        println!("fixes {}", core::mem::size_of::<FixHistory>());
-        println!("outputs {}", core::mem::size_of::<Outputs>());
-        println!("request {}", core::mem::size_of::<k40t::Request>());
+    fn the_engine_fits_in_8_kib() {
+        let size = core::mem::size_of::<Engine>();
+        println!(
+            "engine {size} B: pod driver {}, discipline {}, fixes {}, outputs {}, FC side {}",
+            core::mem::size_of::<PodDriver>(),
+            core::mem::size_of::<TimeDiscipline>(),
+            core::mem::size_of::<FixHistory>(),
+            core::mem::size_of::<Outputs>(),
+            core::mem::size_of::<FcSide>(),
+        );
+        assert!(size <= 8 * 1024, "{size} bytes");
     }
 }

@@ -6,6 +6,7 @@
 use super::discipline::TimeDiscipline;
 use super::event::Event;
 use super::fixes::FixHistory;
+use super::geotag::Geotagger;
 use super::pod::{PodDriver, PodNotice, PodState};
 use super::time::Instant;
 use super::{Config, Outputs};
@@ -21,6 +22,7 @@ pub(crate) struct Ctx<'a> {
     pub(crate) pod: &'a mut PodDriver,
     pub(crate) time: &'a mut TimeDiscipline,
     pub(crate) fixes: &'a mut FixHistory,
+    pub(crate) geotag: &'a mut Geotagger,
     pub(crate) out: &'a mut Outputs,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
@@ -49,12 +51,23 @@ impl Ctx<'_> {
         Some(base)
     }
 
+    /// Answers the pod's GPS request from the fix history (now, or after the next fix).
+    pub(crate) fn geotag(&mut self, header: Header, request: GpsRequest) {
+        self.geotag.request(
+            self.now, header, request, self.time, self.fixes, self.pod, self.out,
+        );
+    }
+
     /// Queues a frame for the FC.
     pub(crate) fn reply(&mut self, frame: &[u8]) -> bool {
         self.out.queue_fc(frame, false)
     }
 
     /// The pod's state.
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+        allow(dead_code)
+    )]
     pub(crate) fn pod(&self) -> &PodState {
         self.pod.state()
     }
@@ -62,14 +75,20 @@ impl Ctx<'_> {
 
 #[cfg(feature = "gcu")]
 mod gcu;
+mod k40t;
 #[cfg(feature = "siyi")]
 mod siyi;
 
 /// The FC side in use.
+// One side is in use, fixed at start-up; without an allocator to box it, the enum is as
+// large as its largest side (the engine's size is fixed at compile time either way).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
+    /// K40T: forwarding.
+    K40t(k40t::K40tSide),
     /// SIYI.
     #[cfg(feature = "siyi")]
     Siyi(siyi::SiyiSide),
@@ -83,6 +102,7 @@ macro_rules! fc_dispatch {
     ($self:ident, $side:ident => $call:expr, $default:expr) => {
         match $self {
             FcSide::Disabled => $default,
+            FcSide::K40t($side) => $call,
             #[cfg(feature = "siyi")]
             FcSide::Siyi($side) => $call,
             #[cfg(feature = "gcu")]
@@ -100,6 +120,8 @@ impl FcSide {
             }
             #[cfg(feature = "gcu")]
             super::FcProtocol::Gcu => FcSide::Gcu(gcu::GcuSide::new()),
+            super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
+            #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
         }
     }
@@ -129,13 +151,22 @@ impl FcSide {
     /// Every valid frame from the pod (the K40T side forwards them).
     pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
         // Only the K40T side forwards pod frames.
-        let _ = (self, ctx, bytes, packet);
+        if let FcSide::K40t(side) = self {
+            side.pod_frame(ctx, bytes, packet);
+        }
     }
 
     pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
-        fc_dispatch!(self, side => side.pod_notice(ctx, notice), {
-            let _ = (ctx, notice);
-        });
+        match self {
+            #[cfg(feature = "siyi")]
+            FcSide::Siyi(side) => side.pod_notice(ctx, notice),
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu(side) => side.pod_notice(ctx, notice),
+            // The K40T side forwards the ACKs themselves.
+            FcSide::K40t(_) | FcSide::Disabled => {
+                let _ = (ctx, notice);
+            }
+        }
     }
 
     /// The pod asks for GPS: true when this side handles it (the K40T side forwards it
@@ -147,8 +178,11 @@ impl FcSide {
         request: GpsRequest,
     ) -> bool {
         // Only the K40T side forwards GPS requests.
-        let _ = (self, ctx, header, request);
-        false
+        if let FcSide::K40t(side) = self {
+            side.gps_request(ctx, header, request)
+        } else {
+            false
+        }
     }
 
     pub(crate) fn deframer_stats(&self) -> Stats {
