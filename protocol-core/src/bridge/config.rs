@@ -74,21 +74,26 @@ impl ViewlinkIdentity {
     };
 }
 
-/// How the bridge presents itself to a GCU flight controller.
+/// How the bridge presents itself to a GCU flight controller (the sub data frame of
+/// every reply).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GcuIdentity {
-    /// Hardware version times ten.
+    /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
     pub hardware_x10: u8,
-    /// Firmware version times ten.
+    /// Firmware version times ten (reply byte 39).
     pub firmware_x10: u8,
+    /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
+    /// of the listed models: 0xFF by default, which no table entry uses.
+    pub gimbal_code: u8,
 }
 
 impl GcuIdentity {
-    /// Hardware 1.0, firmware 1.0.
+    /// Hardware 1.0, firmware 1.0, gimbal code 0xFF (not a listed model).
     pub const DEFAULT: Self = Self {
         hardware_x10: 10,
         firmware_x10: 10,
+        gimbal_code: 0xFF,
     };
 }
 

@@ -874,7 +874,10 @@ mod tests {
         .emit(&mut again)
         .unwrap();
         assert_eq!(buf[..n], again[..m]);
-        assert_eq!(request.emit(&header, &mut buf[..n - 1]), Err(Error::BufferTooSmall));
+        assert_eq!(
+            request.emit(&header, &mut buf[..n - 1]),
+            Err(Error::BufferTooSmall)
+        );
     }
 
     #[test]

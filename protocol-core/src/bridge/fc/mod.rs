@@ -73,6 +73,8 @@ impl Ctx<'_> {
     }
 }
 
+#[cfg(feature = "gcu")]
+mod gcu;
 mod k40t;
 #[cfg(feature = "siyi")]
 mod siyi;
@@ -95,6 +97,9 @@ pub(crate) enum FcSide {
     /// Viewlink (Viewpro).
     #[cfg(feature = "viewlink")]
     Viewlink(viewlink::ViewlinkSide),
+    /// XF Robot GCU.
+    #[cfg(feature = "gcu")]
+    Gcu(gcu::GcuSide),
 }
 
 /// Calls `$method` on the side in use; `Disabled` gives `$default`.
@@ -107,6 +112,8 @@ macro_rules! fc_dispatch {
             FcSide::Siyi($side) => $call,
             #[cfg(feature = "viewlink")]
             FcSide::Viewlink($side) => $call,
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu($side) => $call,
         }
     };
 }
@@ -120,6 +127,8 @@ impl FcSide {
             }
             #[cfg(feature = "viewlink")]
             super::FcProtocol::Viewlink => FcSide::Viewlink(viewlink::ViewlinkSide::new()),
+            #[cfg(feature = "gcu")]
+            super::FcProtocol::Gcu => FcSide::Gcu(gcu::GcuSide::new()),
             super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
             #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
@@ -162,6 +171,8 @@ impl FcSide {
             FcSide::Siyi(side) => side.pod_notice(ctx, notice),
             #[cfg(feature = "viewlink")]
             FcSide::Viewlink(side) => side.pod_notice(ctx, notice),
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu(side) => side.pod_notice(ctx, notice),
             // The K40T side forwards the ACKs themselves.
             FcSide::K40t(_) | FcSide::Disabled => {
                 let _ = (ctx, notice);
