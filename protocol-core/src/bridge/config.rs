@@ -134,6 +134,11 @@ pub struct PodConfig {
     pub yaw_positive_left: bool,
     /// The pod reports pitch positive down (default false: positive up).
     pub pitch_positive_down: bool,
+    /// Target categories of the AI recognition the bridge switches on before box
+    /// tracking (0x000319 bytes 3..12: ids of the pod model's label file; the document
+    /// names none). Default 0..=9, the first ten (with the usual YOLO labels: person,
+    /// bicycle, car, motorcycle, aeroplane, bus, train, truck, boat, traffic light).
+    pub ai_classes: [u8; 10],
 }
 
 impl PodConfig {
@@ -154,6 +159,7 @@ impl PodConfig {
         angle_deadband_cdeg: 20,
         yaw_positive_left: false,
         pitch_positive_down: false,
+        ai_classes: [0, 1, 2, 3, 4, 5, 6, 7, 8, 9],
     };
 }
 

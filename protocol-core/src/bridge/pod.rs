@@ -25,15 +25,15 @@ use super::time::{Duration, Instant};
 use crate::gimbal::GimbalMode;
 use crate::gimbal::{Command, Motion, Ranging, Target, View};
 use crate::k40t::{
-    self, AckCode, Address, CameraVersionAck, CameraVersionQuery, ContinuousZoom, CrcCoverage,
-    Focus, FocusMode, Frame, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction,
-    GimbalStatus, GimbalVersionAck, GimbalVersionQuery, GpsReply, GpsRequest, Header, HybridZoom,
-    ImageMode, ImageModeSetting, IrDigitalZoom, IrGain, IrGainMode, IrPalette, IrStatus, Kind,
-    LaserDistance, LaserMode, LaserPeriodic, LaserPeriodicStatus, LaserRange, Lens, MessageData,
-    OnOff, PhotoSensors, PhotoState, PhotoStatus, PitchMotion, PointToAim, Record, RecordAction,
-    RecordSensors, RecordState, RecordStatus, Request, ResponseCode, ShootAction, SystemStatus,
-    TakePhoto, Text, TimeSync, Toggle, TrackBox, UpgradeStatus, Version, VisibleStatus, YawMotion,
-    ZoomControl, ZoomState, ZoomStatus,
+    self, AckCode, Address, AiRecognition, CameraVersionAck, CameraVersionQuery, ContinuousZoom,
+    CrcCoverage, Focus, FocusMode, Frame, GimbalAngle, GimbalAttitude, GimbalControl,
+    GimbalFunction, GimbalStatus, GimbalVersionAck, GimbalVersionQuery, GpsReply, GpsRequest,
+    Header, HybridZoom, ImageMode, ImageModeSetting, IrDigitalZoom, IrGain, IrGainMode, IrPalette,
+    IrStatus, Kind, LaserDistance, LaserMode, LaserPeriodic, LaserPeriodicStatus, LaserRange, Lens,
+    MessageData, OnOff, PhotoSensors, PhotoState, PhotoStatus, PitchMotion, PointToAim, Record,
+    RecordAction, RecordSensors, RecordState, RecordStatus, Request, ResponseCode, ShootAction,
+    SystemStatus, TakePhoto, Text, TimeSync, Toggle, TrackBox, UpgradeStatus, Version,
+    VisibleStatus, YawMotion, ZoomControl, ZoomState, ZoomStatus,
 };
 
 /// Commands tracked for their ACK at once.
@@ -78,6 +78,8 @@ pub struct PodState {
     pub mode: Option<GimbalMode>,
     /// The continuous ranging the bridge last switched on.
     pub ranging: bool,
+    /// The pod acknowledged AI recognition on (0x000319), which its box tracking needs.
+    pub ai: bool,
 }
 
 impl PodState {
@@ -285,6 +287,7 @@ impl PodDriver {
                 camera_version: None,
                 mode: None,
                 ranging: false,
+                ai: false,
             },
             last_report: None,
             next_probe: None,
@@ -460,6 +463,18 @@ impl PodDriver {
                 None
             }
             other => {
+                // "AI detection must be turned on to perform frame selection target
+                // tracking" (0x000324): switched on first, once; it stays on.
+                if let Command::Track(Some(_)) = other
+                    && !self.state.ai
+                {
+                    let ai = Request::AiRecognition(AiRecognition {
+                        enable: Toggle::On,
+                        model: 0,
+                        classes: self.cfg.ai_classes,
+                    });
+                    self.send_tracked(now, ai, out);
+                }
                 let request = camera_request(other, &self.state)?;
                 if let Command::Laser(r) = other {
                     self.state.ranging = r == Ranging::Continuous;
@@ -705,11 +720,15 @@ impl PodDriver {
             let request = slot.map(|p| p.request);
             *slot = None;
             if code == AckCode::Ok {
-                if let Some(Request::Record(r)) = request {
-                    self.state.recording = Some(match r.action {
-                        RecordAction::Start => RecordState::Recording,
-                        _ => RecordState::Stopped,
-                    });
+                match request {
+                    Some(Request::Record(r)) => {
+                        self.state.recording = Some(match r.action {
+                            RecordAction::Start => RecordState::Recording,
+                            _ => RecordState::Stopped,
+                        });
+                    }
+                    Some(Request::AiRecognition(a)) => self.state.ai = a.enable == Toggle::On,
+                    _ => {}
                 }
             } else {
                 out.event(Event::PodRefused { base, code });
