@@ -80,6 +80,24 @@ fn clock_config() -> embassy_stm32::Config {
     config
 }
 
+/// The emulated board's strap levels, from the semihosting command line: QEMU cannot drive
+/// a GPIO input from outside (an unconnected pin reads its pull, so both straps read open),
+/// so the `qemu` flavour takes `straps=AB`, A and B each `0` (grounded, reads low) or `1`
+/// (open), from QEMU's `-semihosting-config enable=on,arg=bridge-fw,arg=straps=AB`.
+/// `None` (pins as read) without such an argument or with a malformed one.
+#[cfg(feature = "qemu")]
+fn qemu_straps() -> Option<(bool, bool)> {
+    let mut buf = [core::mem::MaybeUninit::<u8>::uninit(); 128];
+    let line = semihosting::sys::arm_compat::sys_get_cmdline_uninit(&mut buf).ok()?;
+    let arg = line
+        .split(|&c| c == b' ')
+        .find_map(|word| word.strip_prefix(b"straps="))?;
+    match arg {
+        [a @ (b'0' | b'1'), b @ (b'0' | b'1')] => Some((*a == b'0', *b == b'0')),
+        _ => None,
+    }
+}
+
 /// Brings the board up. Panics only on a board or build error (a UART configuration
 /// the peripheral refuses, a buffer taken twice).
 pub fn init() -> Board {
@@ -94,7 +112,10 @@ pub fn init() -> Board {
         let b = Input::new(p.PA4, Pull::Up);
         // Let the pull-ups charge the header pins (40 kΩ, some 10 pF: well under 1 µs).
         cortex_m::asm::delay(hclk / 100_000);
-        (a.is_low(), b.is_low())
+        let levels = (a.is_low(), b.is_low());
+        #[cfg(feature = "qemu")]
+        let levels = qemu_straps().unwrap_or(levels);
+        levels
     });
 
     let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
