@@ -940,3 +940,96 @@ async fn script<F: FcUnderTest>(
         },
     );
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gpio_trace_lines_give_the_pin_level_they_set() {
+        let line = |addr: u32, val: u32| {
+            format!("stm32l4x5_gpio_write GPIOD addr: {addr:#x} val: {val:#x}")
+        };
+        // BSRR: set (bit 14), reset (bit 30), both (set wins), another pin.
+        assert_eq!(pin_write(&line(0x18, 0x4000), "GPIOD", 14), Some(true));
+        assert_eq!(
+            pin_write(&line(0x18, 0x4000_0000), "GPIOD", 14),
+            Some(false)
+        );
+        assert_eq!(pin_write(&line(0x18, 0x4000_4000), "GPIOD", 14), Some(true));
+        assert_eq!(pin_write(&line(0x18, 0x2000), "GPIOD", 14), None);
+        // BRR and ODR.
+        assert_eq!(pin_write(&line(0x28, 0x4000), "GPIOD", 14), Some(false));
+        assert_eq!(pin_write(&line(0x14, 0x4001), "GPIOD", 14), Some(true));
+        assert_eq!(pin_write(&line(0x14, 0x0001), "GPIOD", 14), Some(false));
+        // Configuration writes, other ports, a timestamped line, garbage.
+        assert_eq!(pin_write(&line(0x0, 0xffff_ffff), "GPIOD", 14), None);
+        assert_eq!(
+            pin_write(
+                "stm32l4x5_gpio_write GPIOB addr: 0x18 val: 0x4000",
+                "GPIOD",
+                14
+            ),
+            None
+        );
+        assert_eq!(
+            pin_write(
+                "1234@1700000000.000001:stm32l4x5_gpio_write GPIOD addr: 0x18 val: 0x4000",
+                "GPIOD",
+                14
+            ),
+            Some(true)
+        );
+        assert_eq!(
+            pin_write(
+                "stm32l4x5_gpio_write GPIOD addr: zz val: 0x4000",
+                "GPIOD",
+                14
+            ),
+            None
+        );
+        assert_eq!(pin_write("", "GPIOD", 14), None);
+    }
+
+    #[test]
+    fn the_led_pattern_reads_as_the_firmwares_status() {
+        let mut t = TraceWatch::new(PathBuf::new());
+        // Two patterns (FC up, pod down, UTC up): flashes of 300, 40, 300 ms, 100/360 ms
+        // apart, 800 ms dark before each.
+        let mut at = 0u64;
+        for _ in 0..2 {
+            at += 800_000;
+            for (on, off) in [(300_000, 100_000), (40_000, 360_000), (300_000, 100_000)] {
+                t.led_edges.push((at, true));
+                at += on;
+                t.led_edges.push((at, false));
+                at += off;
+            }
+        }
+        assert_eq!(t.led_status(), "LED says FC up, pod down, UTC up");
+        assert_eq!(
+            TraceWatch::new(PathBuf::new()).led_status(),
+            "LED: no full pattern"
+        );
+    }
+
+    #[test]
+    fn each_sides_straps_select_it_in_the_firmware() {
+        use protocol_core::bridge::FcProtocol;
+        for (side, protocol) in Side::ALL.into_iter().zip([
+            FcProtocol::Siyi,
+            FcProtocol::Viewlink,
+            FcProtocol::Gcu,
+            FcProtocol::K40t,
+        ]) {
+            let grounded: Vec<bool> = side.straps().chars().map(|c| c == '0').collect();
+            assert_eq!(
+                bridge_fw::config::from_straps(grounded[0], grounded[1]),
+                Some(protocol),
+                "{side:?}"
+            );
+            assert_eq!(Side::from_name(side.name()), Some(side));
+        }
+        assert_eq!(Side::from_name("mavlink"), None);
+    }
+}
