@@ -346,6 +346,15 @@ fn pump_out(sock: &UnixStream, pipe: &HostPipe, stop: &AtomicBool) {
     }
 }
 
+/// Sets the flag when dropped.
+struct StopOnDrop<'a>(&'a AtomicBool);
+
+impl Drop for StopOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
+
 /// QEMU, killed when dropped.
 struct Qemu(Child);
 
@@ -438,7 +447,9 @@ fn control_step(pod: &SimPod, yaw: YawMotion, since_us: u64) -> Step {
     {
         Step::Fail(format!("0x000010 yaw {:?}, expected {yaw:?}", c.yaw))
     } else {
-        Step::Pending
+        controls
+            .last()
+            .map_or(Step::Pending, |c| Step::Waiting(format!("0x000010 {c:?}")))
     }
 }
 
@@ -718,9 +729,9 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         scope.spawn(move || pump_out(fs, &l.fc_rx, st));
         scope.spawn(move || pump_in(ps, &l.pod_tx, st));
         scope.spawn(move || pump_out(ps, &l.pod_rx, st));
-        let checks = drive::<F>(side, &links, &qemu, &qemu_out, &trace, deadline);
-        stop.store(true, Ordering::Relaxed);
-        checks
+        // The pumps stop however `drive` ends (a panic too: the scope joins them).
+        let _stop = StopOnDrop(st);
+        drive::<F>(side, &links, &qemu, &qemu_out, &trace, deadline)
     });
     outcome.checks = checks;
     outcome.wall = start.elapsed();
