@@ -6,5 +6,7 @@ pub mod ap_viewpro;
 pub mod fc_k40t;
 pub mod line;
 pub mod peer;
+pub mod pilot;
 pub mod pod;
 pub mod scenario;
+pub mod tasks;
