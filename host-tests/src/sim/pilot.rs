@@ -69,6 +69,9 @@ pub trait Pilot: FcSim {
     const PROTOCOL: FcProtocol;
     /// Who is on the FC side, for people.
     const DRIVER: &'static str;
+    /// The FC sends frames continuously (several a second) while it runs, so the
+    /// bridge's FC link stays up; a K40T FC speaks only when it has something to say.
+    const STREAMS: bool = true;
     /// The framing of the FC link.
     type Framing: Framing;
 
@@ -421,6 +424,7 @@ fn cdeg(deg: f64) -> u16 {
 impl Pilot for FcK40t {
     const PROTOCOL: FcProtocol = FcProtocol::K40t;
     const DRIVER: &'static str = "flight controller speaking K40T (simulated)";
+    const STREAMS: bool = false;
     type Framing = K40tFraming;
 
     fn with_seed(_seed: u64) -> Self {
