@@ -5,12 +5,14 @@
 //! protocol for people.
 //!
 //! Each FC side implements it once: [`ApSiyi`] (ArduPilot `AP_Mount_Siyi`), [`ApViewpro`]
-//! (ArduPilot `AP_Mount_Viewpro`) and [`FcK40t`] (an FC speaking K40T itself). A new side
+//! (ArduPilot `AP_Mount_Viewpro`), [`ApXfRobot`] (ArduPilot `AP_Mount_XFRobot`, the GCU
+//! side) and [`FcK40t`] (an FC speaking K40T itself). A new side
 //! adds one `impl Pilot` (in its simulator's file or here) and one match arm where the
 //! demo picks the simulator by [`FcProtocol`].
 
 use protocol_core::Direction;
 use protocol_core::bridge::FcProtocol;
+use protocol_core::gcu::{self, GcuFraming};
 use protocol_core::k40t::{
     self, ContinuousZoom, DialSpeed, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction,
     K40tFraming, Kind, MessageData, PitchMotion, RecordAction, ShootAction, TakePhoto, YawMotion,
@@ -24,6 +26,7 @@ use serde_json::Value;
 
 use super::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig, MountTarget};
 use super::ap_viewpro::{ApViewpro, ApViewproConfig};
+use super::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
 use super::fc_k40t::FcK40t;
 use super::scenario::FcSim;
 
@@ -546,5 +549,133 @@ impl Pilot for FcK40t {
             },
             ..k40t::Record::default()
         });
+    }
+}
+
+/// Centidegrees as degrees with two decimals, for display.
+fn deg2(cdeg: i32) -> String {
+    format!("{:.2}", f64::from(cdeg) / 100.0)
+}
+
+impl Pilot for ApXfRobot {
+    const PROTOCOL: FcProtocol = FcProtocol::Gcu;
+    const DRIVER: &'static str = "ArduPilot AP_Mount_XFRobot (simulated)";
+    type Framing = GcuFraming;
+
+    fn with_seed(seed: u64) -> Self {
+        ApXfRobot::new(ApXfRobotConfig {
+            seed,
+            ..ApXfRobotConfig::default()
+        })
+    }
+
+    fn framing(from_fc: bool) -> GcuFraming {
+        if from_fc {
+            GcuFraming::host()
+        } else {
+            GcuFraming::gcu()
+        }
+    }
+
+    fn describe(frame: &[u8], _from_fc: bool) -> Option<Described> {
+        // The control quantities or the gimbal's angles of the main frame, then the
+        // order's parameters or its feedback.
+        let (id, name, fields) = match gcu::Packet::decode(frame).ok()? {
+            gcu::Packet::Host(p) => {
+                let m = p.frames.main;
+                let control = format!(
+                    "control roll={} pitch={} yaw={}",
+                    m.roll_control, m.pitch_control, m.yaw_control
+                );
+                let params = fields_text(&p.message);
+                let fields = if params.is_empty() || matches!(p.message, gcu::Message::Raw(_)) {
+                    control
+                } else {
+                    format!("{control} {params}")
+                };
+                (p.message.id(), p.message.name(), fields)
+            }
+            gcu::Packet::Gcu(p) => {
+                let m = p.frames.main;
+                let mut fields = format!(
+                    "mode={} roll={} pitch={} yaw={}",
+                    fields_text(&m.mode),
+                    deg2(i32::from(m.rel_x_cdeg)),
+                    deg2(i32::from(m.rel_y_cdeg)),
+                    deg2(i32::from(m.rel_z_cdeg)),
+                );
+                if let Some(e) = p.feedback.execution {
+                    fields.push_str(" feedback=");
+                    fields.push_str(e.name());
+                }
+                (p.feedback.id(), p.feedback.order.name(), fields)
+            }
+        };
+        Some(Described {
+            protocol: "GCU",
+            id: u32::from(id),
+            digits: 2,
+            name: name.to_string(),
+            fields,
+        })
+    }
+
+    fn routine(id: u32, from_fc: bool) -> bool {
+        // Every package from ArduPilot carries the control quantities (its commands):
+        // none is routine; every reply is.
+        let _ = id;
+        !from_fc
+    }
+
+    fn command_name(fc_id: u16) -> String {
+        let name = gcu::CATALOG
+            .iter()
+            .find(|e| u16::from(e.id) == fc_id)
+            .map_or("?", |e| e.name);
+        format!("GCU 0x{fc_id:02X} {name}")
+    }
+
+    fn healthy(&self) -> bool {
+        ApXfRobot::healthy(self)
+    }
+    fn health_log(&self) -> &[(u64, bool)] {
+        &self.health_log
+    }
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.gps_utc_us(t_us)
+    }
+    fn aircraft(&self) -> &Aircraft {
+        &self.aircraft
+    }
+    fn parse_errors(&self) -> u32 {
+        self.parse_errors
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        self.attitude.map(|(_, _, pitch, yaw)| (yaw, pitch))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.target = Some(ap_xfrobot::MountTarget::Angle {
+            roll_deg: 0.0,
+            pitch_deg,
+            yaw_deg,
+            yaw_is_ef: false,
+        });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.target = Some(ap_xfrobot::MountTarget::Rate {
+            pitch_dps,
+            yaw_dps,
+            yaw_is_ef: false,
+        });
+    }
+    fn zoom(&mut self, rate: i8) {
+        self.set_zoom_rate(f64::from(rate));
+    }
+    fn take_picture(&mut self) {
+        ApXfRobot::take_picture(self);
+    }
+    fn record(&mut self, on: bool) {
+        self.record_video(on);
     }
 }
