@@ -90,9 +90,10 @@ fn viewlink() {
 
 #[test]
 fn gcu() {
-    // ArduPilot's GCU driver relays the time of the last GPS fix (10 Hz), so its UTC is
-    // coarser: the GCU side's bound is 10 ms.
-    check(FcProtocol::Gcu, 10_000);
+    // ArduPilot's GCU driver relays the time of the last GPS fix, held between fixes and
+    // read by its 50 Hz loop: the GCU side's error follows that read phase, ±10 ms, and
+    // its bound (as in bridge_gcu.rs) is 15 ms.
+    check(FcProtocol::Gcu, 15_000);
 }
 
 #[test]
