@@ -583,8 +583,14 @@ impl Pilot for ApXfRobot {
         let (id, name, fields) = match gcu::Packet::decode(frame).ok()? {
             gcu::Packet::Host(p) => {
                 let m = p.frames.main;
+                // The control quantities' unit follows the order (the gimbal mode).
+                let unit = match p.message.id() {
+                    0x10 | 0x14 => " (0.01°)",
+                    0x11..=0x13 | 0x16 => " (0.1°/s)",
+                    _ => "",
+                };
                 let control = format!(
-                    "control roll={} pitch={} yaw={}",
+                    "control roll={} pitch={} yaw={}{unit}",
                     m.roll_control, m.pitch_control, m.yaw_control
                 );
                 let params = fields_text(&p.message);
