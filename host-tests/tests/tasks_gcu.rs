@@ -50,3 +50,36 @@ fn pod_loss_is_seen_as_a_lost_gimbal_then_recovery() {
 fn garbage_on_both_lines_keeps_it_healthy() {
     task_scenarios::garbage_on_both_lines::<ApXfRobot>();
 }
+
+/// While the pod is lost the bridge still answers every package, in the short form
+/// (72 bytes, hardware-error bit) that ArduPilot ignores, as a GCU whose gimbal stopped
+/// reporting would: ArduPilot refuses a picture then.
+#[test]
+fn pod_loss_replies_are_short_with_the_hardware_error_bit() {
+    let mut refused = None;
+    let o = task_scenarios::bench::<ApXfRobot>().run(14 * S, task_scenarios::TICK, |b, t| {
+        if t == 6 * S {
+            b.wires.cut_pod(true);
+        }
+        if t == 10 * S {
+            refused = Some(!b.fc.borrow_mut().take_picture());
+        }
+        if t == 12 * S {
+            b.wires.cut_pod(false);
+        }
+    });
+    assert_eq!(refused, Some(true));
+    let during: Vec<_> =
+        o.fc.replies
+            .iter()
+            .filter(|r| r.at_us > 9 * S && r.at_us < 12 * S)
+            .collect();
+    assert!(during.len() > 100, "{}", during.len());
+    for r in &during {
+        assert_eq!(r.bytes.len(), 72);
+        assert_ne!(r.error_code() & 1 << 7, 0);
+    }
+    let last = o.fc.replies.last().expect("replies");
+    assert_eq!(last.bytes.len(), 73);
+    assert!(o.fc.healthy());
+}
