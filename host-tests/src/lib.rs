@@ -2,6 +2,7 @@
 //! list messages), the simulated peers of the bridge ([`sim`]) and, as integration
 //! tests, the native test suites.
 
+pub mod demo;
 pub mod emulated;
 pub mod sim;
 pub mod tool;
