@@ -26,6 +26,7 @@ struct Args {
     sides: Vec<Side>,
     keep: bool,
     jobs: usize,
+    single: bool,
 }
 
 fn parse(args: &[String]) -> Result<Args, String> {
@@ -35,6 +36,7 @@ fn parse(args: &[String]) -> Result<Args, String> {
     let mut work = None;
     let mut keep = false;
     let mut jobs = 2;
+    let mut single = false;
     let mut sides = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -53,6 +55,7 @@ fn parse(args: &[String]) -> Result<Args, String> {
             }
             "--work" => work = Some(PathBuf::from(value()?)),
             "--keep" => keep = true,
+            "--single" => single = true,
             "--jobs" => {
                 let v = value()?;
                 jobs = v
@@ -81,7 +84,109 @@ fn parse(args: &[String]) -> Result<Args, String> {
         sides,
         keep,
         jobs,
+        single,
     })
+}
+
+/// Prints the report of one scenario; true when it passed.
+fn report(o: &emulated::Outcome) -> bool {
+    let ok = o.passed();
+    let figures: Vec<String> = o
+        .checks
+        .iter()
+        .map(|c| format!("{}: {}", c.name, c.detail))
+        .collect();
+    println!(
+        "{} {:<8} ({:.0} s) {}",
+        if ok { "PASS" } else { "FAIL" },
+        o.side.name(),
+        o.wall.as_secs_f64(),
+        figures.join(" | ")
+    );
+    if !ok {
+        for c in o.checks.iter().filter(|c| !c.ok) {
+            println!("    failed: {}: {}", c.name, c.detail);
+        }
+        if o.checks.len() < emulated::CHECKS {
+            println!(
+                "    {} of {} checks reached",
+                o.checks.len(),
+                emulated::CHECKS
+            );
+        }
+        println!(
+            "    --- QEMU output ({}), last lines:",
+            o.qemu_out.display()
+        );
+        println!("{}", emulated::tail(&o.qemu_out, 20));
+        println!("    --- GPIO trace ({}), last lines:", o.trace.display());
+        println!("{}", emulated::tail(&o.trace, 10));
+    }
+    ok
+}
+
+/// Runs the scenario of `side` in a child process (this program with `--single`): the
+/// simulators take true time 0 as their start, and the host harness's real clock starts
+/// at its first use in a process, so each scenario needs a process of its own. Returns
+/// the child's report and whether it passed.
+fn run_child(side: Side, args: &Args) -> (String, bool) {
+    let fail = |why: String| (format!("FAIL {:<8} {why}\n", side.name()), false);
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => return fail(format!("cannot find this program: {e}")),
+    };
+    // The child's report goes to a file (no pipe to drain while waiting for it).
+    let log_path = args.options.work.join(format!("{}.report", side.name()));
+    let log = std::fs::create_dir_all(&args.options.work)
+        .and_then(|()| std::fs::File::create(&log_path))
+        .and_then(|f| Ok((f.try_clone()?, f)));
+    let (out, err) = match log {
+        Ok(f) => f,
+        Err(e) => return fail(format!("{}: {e}", log_path.display())),
+    };
+    let child = std::process::Command::new(exe)
+        .arg("--single")
+        .arg("--elf")
+        .arg(&args.options.elf)
+        .arg("--qemu")
+        .arg(&args.options.qemu)
+        .arg("--timeout")
+        .arg(args.options.timeout.as_secs().to_string())
+        .arg("--work")
+        .arg(&args.options.work)
+        .arg(side.name())
+        .stdin(std::process::Stdio::null())
+        .stdout(out)
+        .stderr(err)
+        .spawn();
+    let mut child = match child {
+        Ok(c) => c,
+        Err(e) => return fail(format!("cannot start the scenario: {e}")),
+    };
+    // The child bounds its own waits; this is the last resort (it then leaves its QEMU,
+    // which the child would have ended, to the kill of the child's process).
+    let deadline = std::time::Instant::now() + args.options.timeout + Duration::from_secs(30);
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if std::time::Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            _ => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+        }
+    };
+    let text = std::fs::read(&log_path).unwrap_or_default();
+    let text = String::from_utf8_lossy(&text).into_owned();
+    match status {
+        Some(s) if s.success() => (text, true),
+        Some(_) if text.starts_with("FAIL") => (text, false),
+        Some(s) => fail(format!("the scenario process ended: {s}\n{text}")),
+        None => fail(format!("the scenario process hung and was killed\n{text}")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -93,13 +198,22 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let run = |side: Side| {
-        let options = Options {
-            work: args.options.work.join(side.name()),
-            ..args.options.clone()
+    if args.single {
+        // One scenario in this process (see `run_child`).
+        let mut ok = true;
+        for &side in &args.sides {
+            let options = Options {
+                work: args.options.work.join(side.name()),
+                ..args.options.clone()
+            };
+            ok &= report(&emulated::run(side, &options));
+        }
+        return if ok {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
         };
-        emulated::run(side, &options)
-    };
+    }
     // Two at a time by default: each scenario mostly waits for the bridge's time discipline
     // (some 30 s of samples before the first sync), and two emulated boards share a
     // 2-core machine without starving each other (four did: the XF Robot driver's 3.6 kB/s
@@ -107,13 +221,14 @@ fn main() -> ExitCode {
     // the lightest.
     let next = AtomicUsize::new(0);
     let order: Vec<Side> = args.sides.clone();
-    let mut outcomes: Vec<_> = std::thread::scope(|scope| {
+    let mut results: Vec<(Side, String, bool)> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..args.jobs.min(order.len()))
             .map(|_| {
                 scope.spawn(|| {
                     let mut done = Vec::new();
                     while let Some(&side) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
-                        done.push(run(side));
+                        let (text, ok) = run_child(side, &args);
+                        done.push((side, text, ok));
                     }
                     done
                 })
@@ -125,42 +240,12 @@ fn main() -> ExitCode {
             .flatten()
             .collect()
     });
-    outcomes.sort_by_key(|o| Side::ALL.iter().position(|s| *s == o.side));
-    let mut failed = args.sides.len().saturating_sub(outcomes.len());
-    for o in &outcomes {
-        let side = o.side;
-        let ok = o.passed();
-        let figures: Vec<String> = o
-            .checks
-            .iter()
-            .map(|c| format!("{}: {}", c.name, c.detail))
-            .collect();
-        println!(
-            "{} {:<8} ({:.0} s) {}",
-            if ok { "PASS" } else { "FAIL" },
-            side.name(),
-            o.wall.as_secs_f64(),
-            figures.join(" | ")
-        );
+    results.sort_by_key(|(side, _, _)| Side::ALL.iter().position(|s| s == side));
+    let mut failed = args.sides.len().saturating_sub(results.len());
+    for (_, text, ok) in &results {
+        print!("{text}");
         if !ok {
             failed += 1;
-            for c in o.checks.iter().filter(|c| !c.ok) {
-                println!("    failed: {}: {}", c.name, c.detail);
-            }
-            if o.checks.len() < emulated::CHECKS {
-                println!(
-                    "    {} of {} checks reached",
-                    o.checks.len(),
-                    emulated::CHECKS
-                );
-            }
-            println!(
-                "    --- QEMU output ({}), last lines:",
-                o.qemu_out.display()
-            );
-            println!("{}", emulated::tail(&o.qemu_out, 20));
-            println!("    --- GPIO trace ({}), last lines:", o.trace.display());
-            println!("{}", emulated::tail(&o.trace, 10));
         }
     }
     if args.keep || failed > 0 {
