@@ -6,8 +6,8 @@
 //! ```text
 //! qemu-e2e --elf PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [SIDE...]
 //! ```
-//! Sides: siyi, viewlink, gcu, k40t (default: all, `--jobs` at a time, 2 by
-//! default). Prints one line
+//! Sides: siyi, viewlink, gcu, k40t (default: all, `--jobs` at a time, 2 by default),
+//! each in a child process (`--single SIDE`, internal: see `run_child`). Prints one line
 //! per scenario (`PASS`/`FAIL`, the side, its figures), the failed checks, and on a
 //! failure the tail of QEMU's output and of its GPIO trace. Exit code 0 when every
 //! scenario passed.
