@@ -2,5 +2,7 @@
 //! list messages), the simulated peers of the bridge ([`sim`]) and, as integration
 //! tests, the native test suites.
 
+pub mod cli;
+pub mod runner;
 pub mod sim;
 pub mod tool;
