@@ -279,6 +279,9 @@ fn generate(text: &str) -> Result<String, String> {
         if let Some(v) = k.int("firmware_x10", 0, 255)? {
             set("gcu.firmware_x10", v.to_string());
         }
+        if let Some(v) = k.int("gimbal_code", 0, 255)? {
+            set("gcu.gimbal_code", v.to_string());
+        }
         k.finish()?;
     }
     if let Some(t) = top.table("pod")? {

@@ -630,9 +630,38 @@ fn tracking_a_point_and_a_box() {
 }
 
 #[test]
-fn tracking_refused_by_the_pod_is_reported_stopped() {
-    // The K40T tracks only with AI recognition on: it refuses the track box.
+fn tracking_switches_ai_recognition_on_first() {
+    // The K40T tracks a box only with AI recognition on (0x000324's note): the bridge
+    // switches it on before the first box, once.
     let mut s = healthy_scenario();
+    s.fc.set_tracking(Tracking::Point(0.5, 0.5));
+    s.run_for(2 * S);
+    let ai = s.pod.received_of::<k40t::AiRecognition>();
+    let boxes = s.pod.received_of::<TrackBox>();
+    assert_eq!(ai.len(), 1);
+    assert_eq!(ai[0].2.enable, Toggle::On);
+    assert_eq!(ai[0].2.classes, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    assert!(ai[0].0 <= boxes[0].0, "AI on before the box");
+    assert!(s.pod.camera().track.is_some());
+    assert_eq!(s.fc.tracking, TrackingStatus::Tracking);
+    assert!(s.engine.pod_state().ai);
+    // Stop and track again: AI is already on.
+    s.fc.set_tracking(Tracking::None);
+    s.run_for(S);
+    s.fc.set_tracking(Tracking::Point(0.25, 0.25));
+    s.run_for(S);
+    assert_eq!(s.pod.received_of::<k40t::AiRecognition>().len(), 1);
+    assert_eq!(s.fc.tracking, TrackingStatus::Tracking);
+}
+
+#[test]
+fn tracking_refused_by_the_pod_is_reported_stopped() {
+    let mut nak = std::collections::BTreeMap::new();
+    nak.insert(0x0324, AckCode::Failure);
+    let mut s = healthy_scenario_with(PodSimConfig {
+        nak,
+        ..PodSimConfig::default()
+    });
     s.fc.set_tracking(Tracking::Point(0.5, 0.5));
     s.run_for(2 * S);
     assert_eq!(last_of::<TrackBox>(&s).unwrap().enable, Toggle::On);

@@ -3,6 +3,7 @@
 
 pub mod ap_siyi;
 pub mod ap_viewpro;
+pub mod ap_xfrobot;
 pub mod fc_k40t;
 pub mod line;
 pub mod peer;

@@ -74,21 +74,26 @@ impl ViewlinkIdentity {
     };
 }
 
-/// How the bridge presents itself to a GCU flight controller.
+/// How the bridge presents itself to a GCU flight controller (the sub data frame of
+/// every reply).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GcuIdentity {
-    /// Hardware version times ten.
+    /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
     pub hardware_x10: u8,
-    /// Firmware version times ten.
+    /// Firmware version times ten (reply byte 39).
     pub firmware_x10: u8,
+    /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
+    /// of the listed models: 0xFF by default, which no table entry uses.
+    pub gimbal_code: u8,
 }
 
 impl GcuIdentity {
-    /// Hardware 1.0, firmware 1.0.
+    /// Hardware 1.0, firmware 1.0, gimbal code 0xFF (not a listed model).
     pub const DEFAULT: Self = Self {
         hardware_x10: 10,
         firmware_x10: 10,
+        gimbal_code: 0xFF,
     };
 }
 
@@ -129,6 +134,11 @@ pub struct PodConfig {
     pub yaw_positive_left: bool,
     /// The pod reports pitch positive down (default false: positive up).
     pub pitch_positive_down: bool,
+    /// Target categories of the AI recognition the bridge switches on before box
+    /// tracking (0x000319 bytes 3..12: ids of the pod model's label file; the document
+    /// names none). Default 0..=9, the first ten (with the usual YOLO labels: person,
+    /// bicycle, car, motorcycle, aeroplane, bus, train, truck, boat, traffic light).
+    pub ai_classes: [u8; 10],
 }
 
 impl PodConfig {
@@ -149,6 +159,7 @@ impl PodConfig {
         angle_deadband_cdeg: 20,
         yaw_positive_left: false,
         pitch_positive_down: false,
+        ai_classes: [0, 1, 2, 3, 4, 5, 6, 7, 8, 9],
     };
 }
 

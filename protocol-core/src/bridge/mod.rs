@@ -51,7 +51,7 @@ use pod::{PodDriver, PodNotice};
 use queue::FrameQueue;
 use sync::{SyncEdge, SyncScheduler};
 
-use crate::k40t::{self, K40tFraming, Packet};
+use crate::k40t::{self, Frame, K40tFraming};
 use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 use event::EventQueue;
 
@@ -416,13 +416,16 @@ impl Core {
     /// One valid frame from the pod.
     fn pod_frame(&mut self, now: Instant, f: &[u8]) {
         self.out.counters.pod_frames = self.out.counters.pod_frames.saturating_add(1);
-        let Ok(packet) = Packet::decode(f) else {
+        let Ok(frame) = Frame::new_checked(f) else {
             return;
         };
-        let notices = self.pod.handle(now, &packet, &mut self.out);
+        let Some(header) = frame.header() else {
+            return;
+        };
+        let notices = self.pod.handle(now, &frame, header, &mut self.out);
         {
             let (fc, mut ctx) = self.ctx(now);
-            fc.pod_frame(&mut ctx, f, &packet);
+            fc.pod_frame(&mut ctx, f, frame.id(), header);
         }
         for n in notices.iter() {
             self.notice(now, n);

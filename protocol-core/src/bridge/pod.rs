@@ -25,14 +25,15 @@ use super::time::{Duration, Instant};
 use crate::gimbal::GimbalMode;
 use crate::gimbal::{Command, Motion, Ranging, Target, View};
 use crate::k40t::{
-    self, Ack, AckCode, Address, CameraVersionQuery, ContinuousZoom, CrcCoverage, Focus, FocusMode,
-    GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction, GimbalStatus, GimbalVersionAck,
-    GimbalVersionQuery, GpsReply, GpsRequest, Header, HybridZoom, ImageMode, ImageModeSetting,
-    IrDigitalZoom, IrGain, IrGainMode, IrPalette, IrStatus, LaserMode, LaserPeriodic, LaserRange,
-    Lens, Message, OnOff, Packet, PhotoSensors, PhotoState, PitchMotion, PointToAim, Record,
-    RecordAction, RecordSensors, RecordState, Request, ShootAction, Status, SystemStatus,
-    TakePhoto, Text, TimeSync, Toggle, TrackBox, Version, VisibleStatus, YawMotion, ZoomControl,
-    ZoomState,
+    self, AckCode, Address, AiRecognition, CameraVersionAck, CameraVersionQuery, ContinuousZoom,
+    CrcCoverage, Focus, FocusMode, Frame, GimbalAngle, GimbalAttitude, GimbalControl,
+    GimbalFunction, GimbalStatus, GimbalVersionAck, GimbalVersionQuery, GpsReply, GpsRequest,
+    Header, HybridZoom, ImageMode, ImageModeSetting, IrDigitalZoom, IrGain, IrGainMode, IrPalette,
+    IrStatus, Kind, LaserDistance, LaserMode, LaserPeriodic, LaserPeriodicStatus, LaserRange, Lens,
+    MessageData, OnOff, PhotoSensors, PhotoState, PhotoStatus, PitchMotion, PointToAim, Record,
+    RecordAction, RecordSensors, RecordState, RecordStatus, Request, ResponseCode, ShootAction,
+    SystemStatus, TakePhoto, Text, TimeSync, Toggle, TrackBox, UpgradeStatus, Version,
+    VisibleStatus, YawMotion, ZoomControl, ZoomState, ZoomStatus,
 };
 
 /// Commands tracked for their ACK at once.
@@ -77,6 +78,8 @@ pub struct PodState {
     pub mode: Option<GimbalMode>,
     /// The continuous ranging the bridge last switched on.
     pub ranging: bool,
+    /// The pod acknowledged AI recognition on (0x000319), which its box tracking needs.
+    pub ai: bool,
 }
 
 impl PodState {
@@ -284,6 +287,7 @@ impl PodDriver {
                 camera_version: None,
                 mode: None,
                 ranging: false,
+                ai: false,
             },
             last_report: None,
             next_probe: None,
@@ -340,18 +344,18 @@ impl PodDriver {
     fn send(&mut self, request: Request, critical: bool, out: &mut Outputs) -> Option<u8> {
         let header = self.header_for(request.base());
         let seq = header.seq;
-        Self::queue(header, Message::Request(request), critical, false, out).then_some(seq)
+        Self::queue(header, request, critical, false, out).then_some(seq)
     }
 
     fn queue(
         header: Header,
-        message: Message<'_>,
+        request: Request,
         critical: bool,
         front: bool,
         out: &mut Outputs,
     ) -> bool {
         let mut buf = [0u8; k40t::MAX_FRAME_LEN];
-        match (Packet { header, message }).emit(&mut buf) {
+        match request.emit(&header, &mut buf) {
             Ok(n) => out.queue_pod(buf.get(..n).unwrap_or_default(), critical, front),
             Err(_) => false,
         }
@@ -459,6 +463,18 @@ impl PodDriver {
                 None
             }
             other => {
+                // "AI detection must be turned on to perform frame selection target
+                // tracking" (0x000324): switched on first, once; it stays on.
+                if let Command::Track(Some(_)) = other
+                    && !self.state.ai
+                {
+                    let ai = Request::AiRecognition(AiRecognition {
+                        enable: Toggle::On,
+                        model: 0,
+                        classes: self.cfg.ai_classes,
+                    });
+                    self.send_tracked(now, ai, out);
+                }
                 let request = camera_request(other, &self.state)?;
                 if let Command::Laser(r) = other {
                     self.state.ranging = r == Ranging::Continuous;
@@ -552,28 +568,28 @@ impl PodDriver {
     pub(crate) fn handle(
         &mut self,
         now: Instant,
-        packet: &Packet<'_>,
+        frame: &Frame<&[u8]>,
+        header: Header,
         out: &mut Outputs,
     ) -> Notices {
         let mut notices = Notices::default();
-        let src = packet.header.src;
-        let report = match packet.message {
-            Message::Request(r) => self.on_report(now, r, src, packet.header, &mut notices, out),
-            Message::Ack(a) => {
-                self.on_ack(now, &a, packet.header.seq, &mut notices, out);
+        let report = match frame.id().kind {
+            Kind::Request => self.on_report(now, frame, header, &mut notices, out),
+            Kind::Ack => {
+                self.on_ack(now, frame, header.seq, &mut notices, out);
                 false
             }
-            Message::Status(s) => {
-                self.on_status(now, s);
+            Kind::Status => {
+                self.on_status(now, frame);
                 false
             }
-            Message::Raw(_) => false,
+            Kind::Other(_) => false,
         };
         if report {
             if self.cfg.learn && !self.learned_coverage {
                 self.learned_coverage = true;
-                if self.coverage != packet.header.coverage {
-                    self.coverage = packet.header.coverage;
+                if self.coverage != header.coverage {
+                    self.coverage = header.coverage;
                 }
                 out.event(Event::PodCoverage(self.coverage));
             }
@@ -606,26 +622,36 @@ impl PodDriver {
     fn on_report(
         &mut self,
         now: Instant,
-        r: Request,
-        src: Address,
+        frame: &Frame<&[u8]>,
         header: Header,
         notices: &mut Notices,
         out: &mut Outputs,
     ) -> bool {
-        let gimbal_report = matches!(r, Request::GimbalStatus(_) | Request::GimbalAttitude(_));
-        match r {
-            Request::GimbalStatus(s) => self.state.gimbal_status = Some(s),
-            Request::GimbalAttitude(a) => self.state.attitude = Some((self.normalise(a), now)),
-            Request::SystemStatus(s) => self.state.system = Some(s),
-            Request::IrStatus(s) => self.state.ir = Some((s, now)),
-            Request::VisibleStatus(s) => self.state.visible = Some(s),
-            Request::UpgradeStatus(_) => {}
-            Request::GpsRequest(request) => {
+        let src = header.src;
+        // Only the messages the bridge uses are decoded (see `typed`).
+        let gimbal_report = if let Some(s) = typed::<GimbalStatus>(frame) {
+            self.state.gimbal_status = Some(s);
+            true
+        } else if let Some(a) = typed::<GimbalAttitude>(frame) {
+            self.state.attitude = Some((self.normalise(a), now));
+            true
+        } else if let Some(s) = typed::<SystemStatus>(frame) {
+            self.state.system = Some(s);
+            false
+        } else if let Some(s) = typed::<IrStatus>(frame) {
+            self.state.ir = Some((s, now));
+            false
+        } else if let Some(s) = typed::<VisibleStatus>(frame) {
+            self.state.visible = Some(s);
+            false
+        } else if typed::<UpgradeStatus>(frame).is_some() {
+            false
+        } else {
+            if let Some(request) = typed::<GpsRequest>(frame) {
                 notices.push(PodNotice::GpsRequest { header, request });
-                return false;
             }
-            _ => return false,
-        }
+            return false;
+        };
         if self.cfg.learn {
             let (learned, addr) = if gimbal_report {
                 (&mut self.learned_gimbal, &mut self.gimbal)
@@ -664,18 +690,27 @@ impl PodDriver {
     fn on_ack(
         &mut self,
         now: Instant,
-        ack: &Ack,
+        frame: &Frame<&[u8]>,
         seq: u8,
         notices: &mut Notices,
         out: &mut Outputs,
     ) {
-        let base = ack.base();
-        let code = ack.code().code();
-        match ack {
-            Ack::GimbalVersion(v) => self.state.gimbal_version = Some(*v),
-            Ack::CameraVersion(v) => self.state.camera_version = Some(v.version),
-            Ack::LaserRange(d) => self.state.laser_dm = Some((d.distance_dm, now)),
-            _ => {}
+        let base = frame.id().base;
+        // Every ACK opens with its response code (a shorter payload is zero-extended).
+        let p = frame.payload();
+        let code = ResponseCode {
+            raw: [
+                p.first().copied().unwrap_or(0),
+                p.get(1).copied().unwrap_or(0),
+            ],
+        }
+        .code();
+        if let Some(v) = typed::<GimbalVersionAck>(frame) {
+            self.state.gimbal_version = Some(v);
+        } else if let Some(v) = typed::<CameraVersionAck>(frame) {
+            self.state.camera_version = Some(v.version);
+        } else if let Some(d) = typed::<LaserDistance>(frame) {
+            self.state.laser_dm = Some((d.distance_dm, now));
         }
         let tracked = self
             .pending
@@ -685,11 +720,15 @@ impl PodDriver {
             let request = slot.map(|p| p.request);
             *slot = None;
             if code == AckCode::Ok {
-                if let Some(Request::Record(r)) = request {
-                    self.state.recording = Some(match r.action {
-                        RecordAction::Start => RecordState::Recording,
-                        _ => RecordState::Stopped,
-                    });
+                match request {
+                    Some(Request::Record(r)) => {
+                        self.state.recording = Some(match r.action {
+                            RecordAction::Start => RecordState::Recording,
+                            _ => RecordState::Stopped,
+                        });
+                    }
+                    Some(Request::AiRecognition(a)) => self.state.ai = a.enable == Toggle::On,
+                    _ => {}
                 }
             } else {
                 out.event(Event::PodRefused { base, code });
@@ -700,13 +739,15 @@ impl PodDriver {
         }
     }
 
-    fn on_status(&mut self, now: Instant, s: Status) {
-        match s {
-            Status::TakePhoto(p) => self.state.photo = Some(p.state),
-            Status::Record(r) => self.state.recording = Some(r.state),
-            Status::HybridZoom(z) => self.state.zoom = Some(z.state),
-            Status::LaserPeriodic(d) => self.state.laser_dm = Some((d.0.distance_dm, now)),
-            _ => {}
+    fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) {
+        if let Some(p) = typed::<PhotoStatus>(frame) {
+            self.state.photo = Some(p.state);
+        } else if let Some(r) = typed::<RecordStatus>(frame) {
+            self.state.recording = Some(r.state);
+        } else if let Some(z) = typed::<ZoomStatus>(frame) {
+            self.state.zoom = Some(z.state);
+        } else if let Some(d) = typed::<LaserPeriodicStatus>(frame) {
+            self.state.laser_dm = Some((d.0.distance_dm, now));
         }
     }
 
@@ -741,7 +782,7 @@ impl PodDriver {
             }
             // Same sequence number: the pod can tell a repeat from a new command.
             let header = self.header(p.request.base(), p.seq);
-            Self::queue(header, Message::Request(p.request), false, false, out);
+            Self::queue(header, p.request, false, false, out);
             out.counters.pod_retries = out.counters.pod_retries.saturating_add(1);
             if let Some(Some(slot)) = self.pending.get_mut(i) {
                 slot.tries_left = slot.tries_left.saturating_sub(1);
@@ -826,7 +867,7 @@ impl PodDriver {
             tz_minuteswest,
             tz_dsttime: 0,
         });
-        Self::queue(header, Message::Request(sync), true, true, out)
+        Self::queue(header, sync, true, true, out)
     }
 
     /// Queues the ACK of a GPS request (critical: never dropped).
@@ -842,13 +883,11 @@ impl PodDriver {
             seq: request.seq,
             coverage: self.coverage,
         };
-        Self::queue(
-            header,
-            Message::Ack(Ack::GpsRequest(reply)),
-            true,
-            false,
-            out,
-        )
+        let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+        match k40t::encode(&reply, &header, &mut buf) {
+            Ok(n) => out.queue_pod(buf.get(..n).unwrap_or_default(), true, false),
+            Err(_) => false,
+        }
     }
 }
 
@@ -1012,6 +1051,13 @@ fn target_box(t: Target) -> (u16, u16, u16, u16) {
     (x0.min(1920), y0.min(1080), x1.min(1920), y1.min(1080))
 }
 
+/// The frame's payload as `M` when it carries `M` and decodes; `None` otherwise. The
+/// driver decodes only the messages it uses, one layout each, so the firmware does not
+/// carry the decoders of the hundred others (`Frame::decode_as`).
+fn typed<M: MessageData>(frame: &Frame<&[u8]>) -> Option<M> {
+    frame.decode_as::<M>().and_then(Result::ok)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1021,6 +1067,7 @@ mod tests {
         CameraVersionAck, DialSpeed, GimbalAttitude, HybridZoomAck, Kind, MessageData, MsgId,
         TakePhotoAck,
     };
+    use crate::k40t::{Message, Packet};
 
     fn outputs() -> Outputs {
         Outputs {
@@ -1080,8 +1127,9 @@ mod tests {
     }
 
     fn feed(pod: &mut PodDriver, now: Instant, frame: &[u8], out: &mut Outputs) -> Vec<PodNotice> {
-        let p = Packet::decode(frame).unwrap();
-        pod.handle(now, &p, out).iter().collect()
+        let f = Frame::new_checked(frame).unwrap();
+        let header = f.header().unwrap();
+        pod.handle(now, &f, header, out).iter().collect()
     }
 
     fn rates(yaw: i32, pitch: i32) -> Command {

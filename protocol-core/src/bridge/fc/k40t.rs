@@ -27,8 +27,8 @@ use crate::bridge::fixes::Fix;
 use crate::bridge::time::{Duration, Instant};
 use crate::gimbal::Command;
 use crate::k40t::{
-    self, Ack, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, Message,
-    Packet, PitchMotion, Request, ResponseCode, TimeSync, YawMotion,
+    self, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, MessageData,
+    MsgId, PitchMotion, ResponseCode, TimeSync, YawMotion,
 };
 use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
@@ -144,13 +144,13 @@ impl K40tSide {
     }
 
     /// A valid pod frame: forwarded to the FC, ACKs with the FC's own number.
-    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
-        let id = packet.message.id();
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
         if id.kind == Kind::Ack {
-            let found =
-                self.st.forwarded.iter_mut().find(|f| {
-                    f.is_some_and(|f| f.base == id.base && f.pod_seq == packet.header.seq)
-                });
+            let found = self
+                .st
+                .forwarded
+                .iter_mut()
+                .find(|f| f.is_some_and(|f| f.base == id.base && f.pod_seq == header.seq));
             // Not found: the ACK of one of the bridge's own frames, not forwarded.
             if let Some(slot) = found {
                 let fc_seq = slot.map_or(0, |f| f.fc_seq);
@@ -188,20 +188,27 @@ impl K40tState {
     fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         ctx.seen();
         self.last_frame = Some(ctx.now);
-        let Ok(packet) = Packet::decode(f) else {
+        let Some((frame, header)) = Frame::new_checked(f)
+            .ok()
+            .and_then(|frame| frame.header().map(|header| (frame, header)))
+        else {
             ctx.ignored();
             return;
         };
-        match packet.message {
-            Message::Request(Request::TimeSync(t)) => {
-                self.time_sync(ctx, t, packet.header);
-                return;
-            }
-            Message::Request(Request::GimbalControl(c)) => self.turning = turns(c),
-            Message::Ack(Ack::GpsRequest(reply)) => self.gps_reply(ctx, packet.header, reply),
-            _ => {}
+        // Only the three messages the side acts on are decoded; every other valid frame
+        // is forwarded as it is (the pod judges its payload).
+        if let Some(t) = typed::<TimeSync>(&frame) {
+            self.time_sync(ctx, t, header);
+            return;
         }
-        if packet.message.id().kind != Kind::Request {
+        if let Some(c) = typed::<GimbalControl>(&frame) {
+            self.turning = turns(c);
+        }
+        if let Some(reply) = typed::<GpsReply>(&frame) {
+            self.gps_reply(ctx, header, reply);
+        }
+        let id = frame.id();
+        if id.kind != Kind::Request {
             // An ACK of a pod request (0x010310): it carries the pod's own number.
             ctx.out.queue_pod(f, true, false);
             return;
@@ -212,18 +219,16 @@ impl K40tState {
         self.next_slot = self.next_slot.wrapping_add(1);
         if let Some(s) = self.forwarded.get_mut(slot) {
             *s = Some(Forwarded {
-                base: packet.message.id().base,
+                base: id.base,
                 pod_seq,
-                fc_seq: packet.header.seq,
+                fc_seq: header.seq,
             });
         }
         forward_with_seq(f, pod_seq, |out| ctx.out.queue_pod(out, false, false));
-        if let Message::Request(r) = packet.message {
-            ctx.out.event(crate::bridge::Event::Translated {
-                fc_id: r.base(),
-                pod_base: r.base(),
-            });
-        }
+        ctx.out.event(crate::bridge::Event::Translated {
+            fc_id: id.base,
+            pod_base: id.base,
+        });
     }
 
     /// The FC's time sync: a UTC sample, ACKed by the bridge, not forwarded.
@@ -298,4 +303,9 @@ fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
     frame.set_seq(seq);
     frame.fill_checksum(coverage);
     out(dst);
+}
+
+/// The frame's payload as `M` when it carries `M` and decodes.
+fn typed<M: MessageData>(frame: &Frame<&[u8]>) -> Option<M> {
+    frame.decode_as::<M>().and_then(Result::ok)
 }

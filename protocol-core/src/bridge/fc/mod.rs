@@ -11,7 +11,7 @@ use super::pod::{PodDriver, PodNotice, PodState};
 use super::time::Instant;
 use super::{Config, Outputs};
 use crate::gimbal::Command;
-use crate::k40t::{GpsRequest, Header, Packet};
+use crate::k40t::{GpsRequest, Header, MsgId};
 use crate::wire::Stats;
 
 /// What an FC side may use of the engine during one call.
@@ -73,6 +73,8 @@ impl Ctx<'_> {
     }
 }
 
+#[cfg(feature = "gcu")]
+mod gcu;
 mod k40t;
 #[cfg(feature = "siyi")]
 mod siyi;
@@ -95,6 +97,9 @@ pub(crate) enum FcSide {
     /// Viewlink (Viewpro).
     #[cfg(feature = "viewlink")]
     Viewlink(viewlink::ViewlinkSide),
+    /// XF Robot GCU.
+    #[cfg(feature = "gcu")]
+    Gcu(gcu::GcuSide),
 }
 
 /// Calls `$method` on the side in use; `Disabled` gives `$default`.
@@ -107,6 +112,8 @@ macro_rules! fc_dispatch {
             FcSide::Siyi($side) => $call,
             #[cfg(feature = "viewlink")]
             FcSide::Viewlink($side) => $call,
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu($side) => $call,
         }
     };
 }
@@ -120,6 +127,8 @@ impl FcSide {
             }
             #[cfg(feature = "viewlink")]
             super::FcProtocol::Viewlink => FcSide::Viewlink(viewlink::ViewlinkSide::new()),
+            #[cfg(feature = "gcu")]
+            super::FcProtocol::Gcu => FcSide::Gcu(gcu::GcuSide::new()),
             super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
             #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
@@ -149,10 +158,10 @@ impl FcSide {
     }
 
     /// Every valid frame from the pod (the K40T side forwards them).
-    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], packet: &Packet<'_>) {
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
         // Only the K40T side forwards pod frames.
         if let FcSide::K40t(side) = self {
-            side.pod_frame(ctx, bytes, packet);
+            side.pod_frame(ctx, bytes, id, header);
         }
     }
 
@@ -162,6 +171,8 @@ impl FcSide {
             FcSide::Siyi(side) => side.pod_notice(ctx, notice),
             #[cfg(feature = "viewlink")]
             FcSide::Viewlink(side) => side.pod_notice(ctx, notice),
+            #[cfg(feature = "gcu")]
+            FcSide::Gcu(side) => side.pod_notice(ctx, notice),
             // The K40T side forwards the ACKs themselves.
             FcSide::K40t(_) | FcSide::Disabled => {
                 let _ = (ctx, notice);
