@@ -11,7 +11,8 @@ use protocol_core::bridge::FcProtocol;
 use crate::runner::pin::RtcSpec;
 use crate::runner::port::PortSpec;
 
-/// Decode gimbal-protocol captures, list the messages, and run the K40T bridge on Linux.
+/// Decode gimbal-protocol captures, list the messages, run the K40T bridge on Linux and
+/// the simulated flight controller and pod on real ports.
 ///
 /// Exit status: 0 on success, 1 on a run-time failure (a port that cannot be opened, an
 /// expectation of a simulator not met), 2 for bad arguments.
@@ -44,7 +45,7 @@ pub enum Command {
     ///
     /// Prints every engine event, RTC_IO edge and time sync (and with --trace every
     /// frame) on stdout, as text or one JSON object per line (--events json). Stops on
-    /// Ctrl-C or after --seconds, with a summary of the counters on stderr.
+    /// Ctrl-C or after --seconds, with a `stopped` and a `counters` event.
     Bridge(Box<BridgeArgs>),
     /// Run a simulated ArduPilot mount driver (the flight controller's side) on a port,
     /// in real time, printing what it observes as JSON lines.
@@ -313,7 +314,8 @@ pub enum Fallback {
 #[derive(Debug, Args)]
 #[command(after_long_help = PORT_HELP)]
 pub struct SimFcArgs {
-    /// The ArduPilot driver to simulate (gcu: not in this build yet).
+    /// The flight controller to simulate (ArduPilot's SIYI, Viewpro or XF Robot
+    /// driver, or a K40T-speaking FC).
     #[arg(value_enum, ignore_case = true)]
     pub fc: Fc,
     /// Where the bridge is (not `sim`).

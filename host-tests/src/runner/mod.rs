@@ -2,7 +2,12 @@
 //! ports (serial, TCP, simulators) pumped by std threads into the bridge's pipes, the
 //! RTC_IO output, and the events printed as text or JSON lines.
 
+pub mod bridge;
 pub mod events;
 pub mod output;
 pub mod pin;
 pub mod port;
+pub mod simfc;
+pub mod sims;
+pub mod trace;
+pub mod watch;

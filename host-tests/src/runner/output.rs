@@ -210,6 +210,14 @@ impl Output {
         }
     }
 
+    /// Events are JSON lines.
+    #[must_use]
+    pub fn is_json(&self) -> bool {
+        self.inner
+            .lock()
+            .is_ok_and(|i| i.format == EventFormat::Json)
+    }
+
     /// Stdout could not be written (closed): the run should stop.
     #[must_use]
     pub fn is_broken(&self) -> bool {
