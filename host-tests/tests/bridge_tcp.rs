@@ -1,0 +1,269 @@
+//! `gimbal bridge` end to end over loopback TCP: the bridge process listens for the FC,
+//! the pod and the RTC_IO line; `gimbal sim-fc siyi` (the simulated ArduPilot SIYI
+//! driver) and `gimbal sim-pod` (the simulated K40T, its RTC_IO input over TCP) connect
+//! as separate processes. The bridge's JSON events and the simulators' are checked.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use serde_json::Value;
+
+/// Kills the process if the test fails before it ends.
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn gimbal(args: &[&str]) -> Proc {
+    Proc(
+        Command::new(env!("CARGO_BIN_EXE_gimbal"))
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run gimbal"),
+    )
+}
+
+/// The JSON lines of a process's stdout as they come.
+fn lines(p: &mut Proc) -> mpsc::Receiver<Value> {
+    let (tx, rx) = mpsc::channel();
+    let stdout = p.0.stdout.take().expect("stdout");
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            let Ok(line) = line else { break };
+            let v: Value = serde_json::from_str(&line)
+                .unwrap_or_else(|e| panic!("not one JSON object per line: {e}: {line}"));
+            if tx.send(v).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Waits for the process to end (at most `limit`) and returns its events and status.
+fn finish(mut p: Proc, rx: &mpsc::Receiver<Value>, limit: Duration) -> (Vec<Value>, i32, String) {
+    let end = Instant::now() + limit;
+    let status = loop {
+        if let Some(s) = p.0.try_wait().expect("wait") {
+            break s;
+        }
+        assert!(Instant::now() < end, "gimbal did not stop in time");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    if let Some(mut e) = p.0.stderr.take() {
+        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
+    }
+    let mut events = Vec::new();
+    while let Ok(v) = rx.recv_timeout(Duration::from_secs(2)) {
+        events.push(v);
+    }
+    (events, status.code().unwrap_or(-1), stderr)
+}
+
+fn named<'a>(events: &'a [Value], name: &str) -> Vec<&'a Value> {
+    events.iter().filter(|e| e["event"] == name).collect()
+}
+
+#[test]
+fn bridge_between_simulated_ardupilot_and_pod_processes_over_tcp() {
+    let started = Instant::now();
+    let mut bridge = gimbal(&[
+        "bridge",
+        "--fc",
+        "siyi",
+        "--fc-port",
+        "tcp-listen:127.0.0.1:0",
+        "--pod-port",
+        "tcp-listen:127.0.0.1:0",
+        "--rtc-io",
+        "tcp-listen:127.0.0.1:0",
+        "--events",
+        "json",
+        "--seconds",
+        "14",
+        // Syncs every 2 s and a UTC estimate trusted after 2 s of samples: the run
+        // shows several syncs in seconds instead of minutes.
+        "--sync-period-ms",
+        "2000",
+        "--discipline-bin-ms",
+        "1000",
+        "--discipline-min-bins",
+        "2",
+        "--discipline-min-span-ms",
+        "2000",
+    ]);
+    let bridge_rx = lines(&mut bridge);
+    // The listening addresses (port 0: the system picked free ones).
+    let mut early = Vec::new();
+    let address = |label: &str, early: &mut Vec<Value>| -> String {
+        loop {
+            if let Some(e) = early
+                .iter()
+                .find(|e| e["event"] == "port_listening" && e["port"] == label)
+            {
+                return e["address"].as_str().expect("address").to_string();
+            }
+            let e = bridge_rx
+                .recv_timeout(Duration::from_secs(10))
+                .expect("the bridge says where it listens");
+            early.push(e);
+        }
+    };
+    let fc_addr = format!("tcp:{}", address("fc", &mut early));
+    let pod_addr = format!("tcp:{}", address("pod", &mut early));
+    let rtc_addr = format!("tcp:{}", address("rtc_io", &mut early));
+
+    let mut fc = gimbal(&[
+        "sim-fc",
+        "siyi",
+        "--port",
+        &fc_addr,
+        "--seconds",
+        "13",
+        "--photo-every",
+        "4",
+        "--expect-healthy",
+    ]);
+    let fc_rx = lines(&mut fc);
+    let mut pod = gimbal(&[
+        "sim-pod",
+        "--port",
+        &pod_addr,
+        "--rtc-io",
+        &rtc_addr,
+        "--seconds",
+        "13",
+        "--expect-syncs",
+        "1",
+    ]);
+    let pod_rx = lines(&mut pod);
+
+    let (fc_events, fc_code, fc_err) = finish(fc, &fc_rx, Duration::from_secs(20));
+    let (pod_events, pod_code, pod_err) = finish(pod, &pod_rx, Duration::from_secs(20));
+    let (rest, bridge_code, bridge_err) = finish(bridge, &bridge_rx, Duration::from_secs(20));
+    let mut events = early;
+    events.extend(rest);
+    assert_eq!(bridge_code, 0, "bridge: {bridge_err}");
+    assert_eq!(fc_code, 0, "sim-fc: {fc_err}");
+    assert_eq!(pod_code, 0, "sim-pod: {pod_err}");
+    assert!(
+        started.elapsed() < Duration::from_secs(25),
+        "{:?}",
+        started.elapsed()
+    );
+
+    for e in events.iter().chain(&fc_events).chain(&pod_events) {
+        assert!(e["t_us"].is_u64(), "{e}");
+        let name = e["event"].as_str().expect("event name");
+        assert!(
+            !name.is_empty() && name.bytes().all(|b| b.is_ascii_lowercase() || b == b'_'),
+            "{name}"
+        );
+    }
+
+    // The three connections were accepted, both links came up.
+    for port in ["fc", "pod", "rtc_io"] {
+        assert!(
+            events
+                .iter()
+                .any(|e| e["event"] == "port_connected" && e["port"] == port),
+            "{port} never connected"
+        );
+    }
+    assert_eq!(named(&events, "fc_link_up").len(), 1);
+    assert_eq!(named(&events, "pod_link_up").len(), 1);
+    assert_eq!(named(&events, "utc_valid").len(), 1);
+
+    // Time syncs: the UTC they carry is the host's (the simulated FC reads the system
+    // clock), on the 2 s grid, each right after its RTC_IO rising edge.
+    let syncs = named(&events, "time_sync");
+    assert!(syncs.len() >= 2, "{syncs:?}");
+    let now_ms = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap()
+        .as_millis() as u64;
+    for (i, s) in syncs.iter().enumerate() {
+        let utc = s["utc_ms"].as_u64().expect("utc_ms");
+        assert_eq!(utc % 2000, 0, "{s}");
+        assert!(now_ms.abs_diff(utc) < 30_000, "{utc} vs now {now_ms}");
+        if i > 0 {
+            assert_eq!(utc - syncs[i - 1]["utc_ms"].as_u64().unwrap(), 2000);
+        }
+        let at = events.iter().position(|e| std::ptr::eq(e, *s)).unwrap();
+        let edge = events[..at]
+            .iter()
+            .rev()
+            .find(|e| e["event"] == "rtc_io")
+            .expect("an rtc_io event before the time_sync");
+        assert_eq!(edge["level"], "high", "{edge}");
+        assert_eq!(
+            s["edge_us"], edge["t_us"],
+            "the sync carries its edge's instant"
+        );
+        assert!(edge["t_us"].as_u64() <= s["t_us"].as_u64());
+    }
+    let highs = events
+        .iter()
+        .filter(|e| e["event"] == "rtc_io" && e["level"] == "high")
+        .count();
+    let lows = events
+        .iter()
+        .filter(|e| e["event"] == "rtc_io" && e["level"] == "low")
+        .count();
+    assert_eq!(highs, syncs.len());
+    assert!(
+        lows + 1 >= highs && lows <= highs,
+        "{highs} high, {lows} low"
+    );
+    for d in named(&events, "edge_to_frame") {
+        assert_eq!(
+            d["len"], 28,
+            "the 0x00030E is the first frame after the edge"
+        );
+        assert!(d["delay_us"].as_u64().unwrap() < 20_000, "{d}");
+    }
+    // A photo taken after UTC is known is geotagged.
+    assert!(
+        events
+            .iter()
+            .any(|e| e["event"] == "geotag" && e["answered"] == true),
+        "{:?}",
+        named(&events, "geotag")
+    );
+    let stopped = named(&events, "stopped");
+    assert_eq!(stopped.len(), 1);
+    assert_eq!(stopped[0]["reason"], "seconds_elapsed");
+    let counters = named(&events, "counters");
+    assert_eq!(counters[0]["time_syncs"].as_u64(), Some(syncs.len() as u64));
+    assert_eq!(counters[0]["fc_rejected"], 0);
+    assert!(counters[0]["fc_frames"].as_u64().unwrap() > 100);
+
+    // The simulated ArduPilot became healthy and stayed so.
+    let health = named(&fc_events, "sim_fc_health");
+    assert_eq!(health.len(), 1, "{health:?}");
+    assert_eq!(health[0]["healthy"], true);
+    let summary = named(&fc_events, "summary");
+    assert_eq!(summary[0]["healthy"], true);
+    assert_eq!(summary[0]["parse_errors"], 0);
+
+    // The pod applied the syncs the bridge sent, with the same UTC.
+    let applied: Vec<u64> = named(&pod_events, "sim_pod_sync")
+        .iter()
+        .filter(|s| s["outcome"] == "applied")
+        .map(|s| s["utc_ms"].as_u64().unwrap())
+        .collect();
+    assert!(!applied.is_empty(), "{pod_events:?}");
+    for utc in &applied {
+        assert!(syncs.iter().any(|s| s["utc_ms"] == *utc), "{utc}");
+    }
+}
