@@ -429,3 +429,52 @@ fn bridge_prints_a_human_log_without_json() {
         "{lines:?}"
     );
 }
+
+#[test]
+fn ctrl_c_stops_the_bridge_cleanly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gimbal"))
+        .args([
+            "bridge",
+            "--fc",
+            "gcu",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--events",
+            "json",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run gimbal");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(5) {
+            let _ = child.kill();
+            panic!("still running 5 s after SIGINT");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let o = child.wait_with_output().expect("output");
+    let events: Vec<Value> = stdout_lines(&o)
+        .iter()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    let stopped = events
+        .iter()
+        .find(|e| e["event"] == "stopped")
+        .expect("a stopped event");
+    assert_eq!(stopped["reason"], "interrupted");
+    let secs = stopped["seconds"].as_f64().unwrap();
+    assert!((1.0..5.0).contains(&secs), "{secs}");
+    assert_eq!(events.last().unwrap()["event"], "counters");
+    assert!(events.iter().any(|e| e["event"] == "fc_link_up"));
+}

@@ -71,14 +71,17 @@ impl Tracer {
                     m.insert(k, v);
                 }
             }
+            // The decoder's text without its capture offset (`@000123 `): the offset
+            // in a stream is the JSON form's.
+            let text = tool::render(protocol.as_ref(), item, false);
+            let text = match text.split_once(' ') {
+                Some((at, rest)) if at.starts_with('@') => rest.to_string(),
+                _ => text,
+            };
+            let arrow = if self.dir == "rx" { "->" } else { "<-" };
             m.insert(
                 "text".into(),
-                json!(format!(
-                    "{} {} {}",
-                    self.port,
-                    if self.dir == "rx" { "->" } else { "<-" },
-                    tool::render(protocol.as_ref(), item, false)
-                )),
+                json!(format!("{} {arrow} {text}", self.port)),
             );
             events.push(m);
         }
@@ -174,6 +177,8 @@ mod tests {
         let second = t.feed(&frame);
         assert_eq!(second[0]["offset"], frame.len() as u64);
         assert_eq!(ev[0]["name"], "HybridZoom");
+        let text = ev[0]["text"].as_str().unwrap();
+        assert!(text.starts_with("pod <- 0x000304 HybridZoom "), "{text}");
         assert_eq!(ev[0]["msg_id"], 0x304);
         assert_eq!(second[0]["name"], ev[0]["name"]);
         assert_eq!(second[0]["raw"], ev[0]["raw"]);
