@@ -194,10 +194,16 @@ fn bridge_between_simulated_ardupilot_and_pod_processes_over_tcp() {
         .as_millis() as u64;
     for (i, s) in syncs.iter().enumerate() {
         let utc = s["utc_ms"].as_u64().expect("utc_ms");
-        assert_eq!(utc % 2000, 0, "{s}");
+        // On the 2 s grid; a pin raised late (a loaded machine) is re-stamped with the
+        // UTC of the instant it rose: within milliseconds of the grid.
+        let off_grid = (utc % 2000).min(2000 - utc % 2000);
+        assert!(off_grid < 50, "{s}");
         assert!(now_ms.abs_diff(utc) < 30_000, "{utc} vs now {now_ms}");
+        // Later each time, by whole periods (a loaded machine has been seen to leave
+        // one period without a sync).
         if i > 0 {
-            assert_eq!(utc - syncs[i - 1]["utc_ms"].as_u64().unwrap(), 2000);
+            let step = utc - syncs[i - 1]["utc_ms"].as_u64().unwrap();
+            assert!(step > 1900 && (step + 100) % 2000 < 200, "{step}");
         }
         let at = events.iter().position(|e| std::ptr::eq(e, *s)).unwrap();
         let edge = events[..at]
@@ -266,4 +272,88 @@ fn bridge_between_simulated_ardupilot_and_pod_processes_over_tcp() {
     for utc in &applied {
         assert!(syncs.iter().any(|s| s["utc_ms"] == *utc), "{utc}");
     }
+}
+
+/// Waits for the first event matching `f`, keeping every event seen in `seen`.
+fn wait_for(
+    rx: &mpsc::Receiver<Value>,
+    seen: &mut Vec<Value>,
+    what: &str,
+    f: impl Fn(&Value) -> bool,
+) -> Value {
+    let end = Instant::now() + Duration::from_secs(10);
+    loop {
+        let left = end.saturating_duration_since(Instant::now());
+        let e = rx
+            .recv_timeout(left)
+            .unwrap_or_else(|_| panic!("no {what} within 10 s; saw {seen:?}"));
+        seen.push(e.clone());
+        if f(&e) {
+            return e;
+        }
+    }
+}
+
+#[test]
+fn a_lost_flight_controller_is_retried_with_backoff_and_reconnected() {
+    // A port nothing listens on yet.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut bridge = gimbal(&[
+        "bridge",
+        "--fc",
+        "gcu",
+        "--fc-port",
+        &format!("tcp:127.0.0.1:{port}"),
+        "--pod-port",
+        "sim",
+        "--events",
+        "json",
+        "--seconds",
+        "20",
+    ]);
+    let rx = lines(&mut bridge);
+    let mut seen = Vec::new();
+    let is = |name: &'static str| move |e: &Value| e["event"] == name;
+    // Refused: retried after 250 ms, then 500 ms.
+    let first = wait_for(&rx, &mut seen, "port_error", is("port_error"));
+    assert_eq!(first["port"], "fc");
+    assert!(
+        first["error"]
+            .as_str()
+            .unwrap()
+            .contains("connection refused"),
+        "{first}"
+    );
+    assert_eq!(first["retry_ms"], 250);
+    let second = wait_for(&rx, &mut seen, "port_error", is("port_error"));
+    assert_eq!(second["retry_ms"], 500);
+
+    let listen = format!("tcp-listen:127.0.0.1:{port}");
+    let sim_args = ["sim-fc", "gcu", "--port", &listen, "--seconds", "30"];
+    let fc = gimbal(&sim_args);
+    wait_for(&rx, &mut seen, "port_connected", is("port_connected"));
+    wait_for(&rx, &mut seen, "fc_link_up", is("fc_link_up"));
+    // The simulated FC goes away: the bridge sees the close, then the link time out.
+    drop(fc);
+    let closed = wait_for(&rx, &mut seen, "port_closed", is("port_closed"));
+    assert_eq!(closed["port"], "fc");
+    let down = wait_for(&rx, &mut seen, "fc_link_down", is("fc_link_down"));
+    let gap = down["t_us"].as_u64().unwrap() - closed["t_us"].as_u64().unwrap();
+    assert!(
+        (1_000_000..3_500_000).contains(&gap),
+        "link down {gap} µs after close"
+    );
+    // It comes back: reconnected (after refused retries) and the link is up again.
+    let fc = gimbal(&sim_args);
+    let again = wait_for(&rx, &mut seen, "port_connected", is("port_connected"));
+    assert_eq!(again["port"], "fc");
+    wait_for(&rx, &mut seen, "fc_link_up", is("fc_link_up"));
+    drop(fc);
+    drop(bridge);
+    let ups = seen.iter().filter(|e| e["event"] == "fc_link_up").count();
+    assert_eq!(ups, 2);
 }
