@@ -107,9 +107,7 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
         c.discipline.min_span = Duration::from_millis(v);
     }
     let mut timing = Timing::from_config(&c);
-    let both_sim = args.fc_port.is_sim() && args.pod_port.is_sim();
-    let idle_ms = args.idle_ms.unwrap_or(if both_sim { 5 } else { 20 });
-    timing.idle_min = Duration::from_millis(idle_ms);
+    timing.idle_min = Duration::from_millis(args.idle_ms.unwrap_or(20));
     Ok((c, timing))
 }
 
