@@ -25,7 +25,7 @@ use crate::sim::peer::{PodPin, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};
 
 /// How often the run checks for Ctrl-C, the end, the simulators and the status line.
-const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
+pub const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
 
 /// The bridge's configuration from the command line: `Config::for_fc(fc)` with every
 /// option given applied, and the task timing (`idle_ms`).
@@ -256,7 +256,6 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 outgoing: None,
                 tap_in: None,
                 tap_out: None,
-                before_input: None,
             })?
             .writer,
         ),
@@ -289,7 +288,6 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 outgoing: Some(tx),
                 tap_in: trace(label, "rx"),
                 tap_out: trace(label, "tx"),
-                before_input: None,
             })?;
         }
     }

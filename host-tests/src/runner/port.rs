@@ -455,9 +455,6 @@ pub type SharedWriter = Arc<Mutex<Option<Conn>>>;
 /// Bytes seen on a port (for `--trace`).
 pub type Tap = Arc<dyn Fn(&[u8]) + Send + Sync>;
 
-/// Called before bytes that arrived go into the incoming pipe.
-pub type Hook = Arc<dyn Fn() + Send + Sync>;
-
 /// A real port and what to do with its bytes.
 pub struct Pump {
     /// Its name in events: `fc`, `pod`, `rtc_io`.
@@ -476,8 +473,6 @@ pub struct Pump {
     pub tap_in: Option<Tap>,
     /// Sees bytes sent.
     pub tap_out: Option<Tap>,
-    /// Runs before arriving bytes go into the pipe.
-    pub before_input: Option<Hook>,
 }
 
 /// A running port.
@@ -500,7 +495,7 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
         let writer = writer.clone();
         let out = p.out.clone();
         let label = p.label;
-        let (incoming, tap_in, before) = (p.incoming, p.tap_in, p.before_input);
+        let (incoming, tap_in) = (p.incoming, p.tap_in);
         std::thread::Builder::new()
             .name(format!("{label}-rx"))
             .spawn(move || {
@@ -533,9 +528,6 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                             Ok(0) => {}
                             Ok(n) => {
                                 let bytes = buf.get(..n).unwrap_or_default();
-                                if let Some(h) = &before {
-                                    h();
-                                }
                                 if let Some(t) = &tap_in {
                                     t(bytes);
                                 }
@@ -765,7 +757,6 @@ mod tests {
             outgoing: Some(outgoing),
             tap_in: None,
             tap_out: None,
-            before_input: None,
         })
         .unwrap();
         let listening = out.captured();
@@ -851,7 +842,6 @@ mod tests {
             outgoing: None,
             tap_in: None,
             tap_out: None,
-            before_input: None,
         })
         .unwrap();
         let mut errors = Vec::new();

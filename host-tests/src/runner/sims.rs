@@ -43,7 +43,6 @@ fn open(
         outgoing: Some(from_sim),
         tap_in: None,
         tap_out: None,
-        before_input: None,
     })?;
     Ok((to_sim, from_sim))
 }
@@ -134,7 +133,6 @@ pub fn run_pod(
                 outgoing: None,
                 tap_in: None,
                 tap_out: None,
-                before_input: None,
             })?;
             Some(edges)
         }
