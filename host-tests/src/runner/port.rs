@@ -824,6 +824,50 @@ mod tests {
     }
 
     #[test]
+    fn a_serial_device_is_pumped_both_ways() {
+        use serialport::SerialPort;
+        // A pseudo-terminal: the test holds the master end, the pump opens the other
+        // end by its path, as it would /dev/ttyUSB0.
+        let (mut master, slave) = serialport::TTYPort::pair().expect("a pty");
+        let path = slave.name().expect("the pty's path");
+        drop(slave);
+        let out = Output::capture();
+        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
+        let outgoing: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
+        start(Pump {
+            label: "pod",
+            spec: format!("{path}:57600").parse().unwrap(),
+            baud: 57_600,
+            out: out.clone(),
+            incoming: Some(incoming),
+            outgoing: Some(outgoing),
+            tap_in: None,
+            tap_out: None,
+        })
+        .unwrap();
+        let opened = out.captured();
+        assert_eq!(opened[0]["event"], "port_opened");
+        assert_eq!(opened[0]["device"], path.as_str());
+        assert_eq!(opened[0]["baud"], 57_600);
+        let frame = [0xfd, 0x03, 0x04, 0x01, 0x07, 0x00, 0x0a, 0x0d];
+        master.write_all(&frame).unwrap();
+        let mut got = [0u8; 8];
+        let mut n = 0;
+        while n < got.len() {
+            n += host::block_on(incoming.read(&mut got[n..]));
+        }
+        assert_eq!(
+            got, frame,
+            "bytes arrive unchanged (raw mode: no CR/LF mapping)"
+        );
+        host::block_on(outgoing.write_all(&[0x0a, 0x0d, 0x55]));
+        master.set_timeout(Duration::from_secs(10)).unwrap();
+        let mut back = [0u8; 3];
+        master.read_exact(&mut back).unwrap();
+        assert_eq!(back, [0x0a, 0x0d, 0x55]);
+    }
+
+    #[test]
     fn a_refused_connection_is_retried_with_backoff() {
         // A port that was free a moment ago: nothing listens there.
         let port = TcpListener::bind("127.0.0.1:0")
