@@ -200,9 +200,10 @@ pub struct BridgeArgs {
     /// the end).
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub counters_every: Option<f64>,
-    /// A line is idle (a broken frame is given up) after this silence, ms [default: 20:
-    /// USB serial adapters and TCP deliver bytes in bursts, and a busy host's threads
-    /// run late].
+    /// A line is idle (a burst ends, a broken frame is given up) after this silence, ms
+    /// [default: 8]. Keep it below the FC's gap between bursts (GCU: 12 ms); for a USB
+    /// adapter, lower its latency timer (FTDI: `echo 1 >
+    /// /sys/bus/usb-serial/devices/ttyUSB0/latency_timer`).
     #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..=1000))]
     pub idle_ms: Option<u64>,
     /// With `--fc-port sim`: the simulated flight controller takes a picture every this

@@ -27,6 +27,13 @@ use crate::sim::pod::{PodSimConfig, SimPod};
 /// How often the run checks for Ctrl-C, the end, the simulators and the status line.
 pub const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
 
+/// Line idle, ms, unless `--idle-ms`: above the MCU's 5 ms (USB adapters and TCP deliver
+/// bytes in bursts, a busy host runs threads late), and below the shortest silence
+/// between two FC bursts that the engine must see (ArduPilot's XF Robot driver sends a
+/// package every 20 ms, ~8 ms long at 115200: 12 ms of silence; at 20 ms the GCU side
+/// never sees a burst end and its GPS time samples are unusable).
+pub const DEFAULT_IDLE_MS: u64 = 8;
+
 /// The bridge's configuration from the command line: `Config::for_fc(fc)` with every
 /// option given applied, and the task timing (`idle_ms`).
 ///
@@ -107,7 +114,7 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
         c.discipline.min_span = Duration::from_millis(v);
     }
     let mut timing = Timing::from_config(&c);
-    timing.idle_min = Duration::from_millis(args.idle_ms.unwrap_or(20));
+    timing.idle_min = Duration::from_millis(args.idle_ms.unwrap_or(DEFAULT_IDLE_MS));
     Ok((c, timing))
 }
 

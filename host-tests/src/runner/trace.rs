@@ -46,10 +46,16 @@ impl Tracer {
         };
         self.pending.extend_from_slice(bytes);
         let mut items = protocol.scan(&self.pending);
-        let keep_from = match items.last() {
-            Some(Item::Truncated { offset, .. }) if self.pending.len() <= MAX_PENDING => {
+        // From the first frame cut off by the end of what arrived, everything waits for
+        // more bytes (the scanner may see another frame start inside it).
+        let cut = items
+            .iter()
+            .position(|i| matches!(i, Item::Truncated { .. }))
+            .filter(|_| self.pending.len() <= MAX_PENDING);
+        let keep_from = match cut.and_then(|at| items.get(at)) {
+            Some(Item::Truncated { offset, .. }) => {
                 let o = *offset;
-                items.pop();
+                items.truncate(cut.unwrap_or(items.len()));
                 o
             }
             _ => self.pending.len(),
@@ -174,6 +180,17 @@ mod tests {
         assert_eq!(ev[0]["port"], "pod");
         assert_eq!(ev[0]["dir"], "tx");
         assert_eq!(ev[0]["offset"], 0);
+        // A SIYI frame whose sequence byte is the start byte, cut right after it.
+        let siyi = crate::tool::parse_hex("55 66 01 00 00 55 01 15 de 10").unwrap();
+        let mut s = Tracer::new("siyi", "fc", "rx");
+        for cut in 1..siyi.len() {
+            let mut s2 = Tracer::new("siyi", "fc", "rx");
+            let mut ev = s2.feed(&siyi[..cut]);
+            ev.extend(s2.feed(&siyi[cut..]));
+            assert_eq!(ev.len(), 1, "cut at {cut}: {ev:?}");
+            assert_eq!(ev[0]["raw"], "5566010000550115de10", "cut at {cut}");
+        }
+        assert_eq!(s.feed(&siyi).len(), 1);
         let second = t.feed(&frame);
         assert_eq!(second[0]["offset"], frame.len() as u64);
         assert_eq!(ev[0]["name"], "HybridZoom");
