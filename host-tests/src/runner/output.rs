@@ -130,6 +130,8 @@ struct Inner {
     format: EventFormat,
     /// A status line is on stderr (cleared before the next line of output).
     status_shown: bool,
+    /// Stdout is a terminal (the status line shares it: clear it before each line).
+    stdout_tty: bool,
     /// Lines written so far (tests use a capture instead of stdout).
     capture: Option<Vec<Map<String, Value>>>,
 }
@@ -148,6 +150,7 @@ impl Output {
             inner: Arc::new(Mutex::new(Inner {
                 format,
                 status_shown: false,
+                stdout_tty: std::io::stdout().is_terminal(),
                 capture: None,
             })),
             broken: Arc::new(AtomicBool::new(false)),
@@ -193,7 +196,7 @@ impl Output {
             c.push(obj);
             return;
         }
-        if inner.status_shown {
+        if inner.status_shown && inner.stdout_tty {
             let mut err = std::io::stderr().lock();
             let _ = write!(err, "\r\x1b[2K");
             let _ = err.flush();
@@ -249,10 +252,11 @@ impl Output {
     }
 }
 
-/// Whether a status line belongs on stderr: stdout and stderr are both terminals.
+/// Whether a status line belongs on stderr: stderr is a terminal (whether the events go
+/// to the same terminal or to a pipe).
 #[must_use]
 pub fn wants_status_line() -> bool {
-    std::io::stdout().is_terminal() && std::io::stderr().is_terminal()
+    std::io::stderr().is_terminal()
 }
 
 #[cfg(test)]
