@@ -152,9 +152,329 @@ fn bad_usage_is_an_error_with_status_2() {
         &["frobnicate", "k40t"],
         &[],
         &["decode", "k40t", "0"],
+        &["decode", "k40t", "--json", "--nosuch"],
+        &["messages"],
+        &["bridge", "--fc", "siyi", "--fc-port", "sim"],
+        &[
+            "bridge",
+            "--fc",
+            "mavlink",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+        ],
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "ttyUSB0",
+            "--pod-port",
+            "sim",
+        ],
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "tcp:host",
+            "--pod-port",
+            "sim",
+        ],
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--rtc-io",
+            "gpio17",
+        ],
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--seconds",
+            "-1",
+        ],
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--sync-period-ms",
+            "999",
+        ],
+        // Two different rates for one link: found after parsing, still a usage error.
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "/dev/null:9600",
+            "--fc-baud",
+            "57600",
+            "--pod-port",
+            "sim",
+        ],
+        &["sim-fc", "siyi", "--port", "sim"],
+        &["sim-pod"],
+        &["completions", "tcsh"],
     ] {
         let o = gimbal(args, None);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         assert!(!o.stderr.is_empty());
     }
+}
+
+#[test]
+fn every_subcommand_has_help_and_completions_are_generated() {
+    let top = stdout_lines(&gimbal(&["--help"], None)).join("\n");
+    let subcommands = [
+        "decode",
+        "messages",
+        "bridge",
+        "sim-fc",
+        "sim-pod",
+        "completions",
+    ];
+    for sub in subcommands {
+        assert!(top.contains(sub), "{sub} missing from --help:\n{top}");
+        let help = stdout_lines(&gimbal(&[sub, "--help"], None)).join("\n");
+        assert!(
+            help.contains(&format!("Usage: gimbal {sub}")),
+            "{sub} --help:\n{help}"
+        );
+    }
+    let bridge = stdout_lines(&gimbal(&["bridge", "--help"], None)).join("\n");
+    for option in [
+        "--fc-port",
+        "--pod-port",
+        "--rtc-io",
+        "--events",
+        "--trace",
+        "--seconds",
+        "--sync-period-ms",
+        "--sync-width-ms",
+        "--leap-seconds",
+        "--siyi-hardware-id",
+        "--viewlink-model",
+        "--gcu-firmware-x10",
+        "--k40t-geotag-fallback-ms",
+        "--tz-minuteswest",
+        "tcp-listen:",
+    ] {
+        assert!(bridge.contains(option), "{option} missing:\n{bridge}");
+    }
+    for (shell, marker) in [
+        ("bash", "_gimbal()"),
+        ("zsh", "#compdef gimbal"),
+        ("fish", "complete -c gimbal"),
+    ] {
+        let script = stdout_lines(&gimbal(&["completions", shell], None)).join("\n");
+        assert!(script.contains(marker), "{shell}: {marker} missing");
+        assert!(
+            script.contains("sim-pod") && script.contains("--fc-port"),
+            "{shell}"
+        );
+    }
+}
+
+#[test]
+fn a_missing_serial_device_is_a_clear_runtime_error() {
+    let o = gimbal(
+        &[
+            "bridge",
+            "--fc",
+            "gcu",
+            "--fc-port",
+            "/dev/no-such-gimbal-tty:57600",
+            "--pod-port",
+            "sim",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("fc port /dev/no-such-gimbal-tty") && err.contains("no such device"),
+        "{err}"
+    );
+    let o = gimbal(
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--rtc-io",
+            "gpiochip99:4",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("RTC_IO /dev/gpiochip99 line 4"), "{err}");
+}
+
+#[test]
+fn bridge_with_simulated_ports_traces_decoded_frames_both_ways() {
+    let o = gimbal(
+        &[
+            "bridge",
+            "--fc",
+            "viewlink",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--events",
+            "json",
+            "--trace",
+            "--seconds",
+            "2.5",
+        ],
+        None,
+    );
+    let events: Vec<Value> = stdout_lines(&o)
+        .iter()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    for e in &events {
+        assert!(e["t_us"].is_u64(), "{e}");
+        assert!(e["event"].is_string(), "{e}");
+    }
+    let names: Vec<&str> = events
+        .iter()
+        .map(|e| e["event"].as_str().unwrap())
+        .collect();
+    assert_eq!(names[0], "bridge_started");
+    assert_eq!(events[0]["fc"], "viewlink");
+    assert!(
+        names.contains(&"fc_link_up") && names.contains(&"pod_link_up"),
+        "{names:?}"
+    );
+    assert_eq!(names[names.len() - 2..], ["stopped", "counters"]);
+    assert_eq!(events[names.len() - 2]["reason"], "seconds_elapsed");
+    let frames: Vec<&Value> = events.iter().filter(|e| e["event"] == "frame").collect();
+    for (port, protocol) in [("fc", "viewlink"), ("pod", "k40t")] {
+        for dir in ["rx", "tx"] {
+            let decoded: Vec<&&Value> = frames
+                .iter()
+                .filter(|f| f["port"] == port && f["dir"] == dir && f["name"].is_string())
+                .collect();
+            assert!(!decoded.is_empty(), "no decoded {port} {dir} frame");
+            for f in &decoded {
+                assert_eq!(f["protocol"], protocol, "{f}");
+                assert!(f["raw"].as_str().is_some_and(|r| r.len() >= 8), "{f}");
+                assert!(f.get("text").is_none(), "{f}");
+            }
+        }
+    }
+    // Frames the bridge received are the engine's counts.
+    let counters = &events[names.len() - 1];
+    let fc_rx = frames
+        .iter()
+        .filter(|f| f["port"] == "fc" && f["dir"] == "rx" && f["name"].is_string())
+        .count() as u64;
+    let counted = counters["fc_frames"].as_u64().unwrap();
+    assert!(
+        fc_rx.abs_diff(counted) <= 2,
+        "{fc_rx} traced, {counted} counted"
+    );
+}
+
+#[test]
+fn bridge_prints_a_human_log_without_json() {
+    let o = gimbal(
+        &[
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--seconds",
+            "1.5",
+        ],
+        None,
+    );
+    let lines = stdout_lines(&o);
+    assert!(lines.iter().all(|l| !l.starts_with('{')), "{lines:?}");
+    let link = lines
+        .iter()
+        .find(|l| l.contains("fc_link_up"))
+        .expect("fc_link_up line");
+    // `    0.001773 fc_link_up`: seconds with microseconds, then the name.
+    let (secs, rest) = link.trim_start().split_once(' ').unwrap();
+    assert!(secs.parse::<f64>().is_ok_and(|s| s < 1.5), "{link}");
+    assert_eq!(rest.trim(), "fc_link_up");
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("stopped") && l.contains("reason=seconds_elapsed")),
+        "{lines:?}"
+    );
+}
+
+#[test]
+fn ctrl_c_stops_the_bridge_cleanly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gimbal"))
+        .args([
+            "bridge",
+            "--fc",
+            "gcu",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--events",
+            "json",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run gimbal");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(5) {
+            let _ = child.kill();
+            panic!("still running 5 s after SIGINT");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let o = child.wait_with_output().expect("output");
+    let events: Vec<Value> = stdout_lines(&o)
+        .iter()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    let stopped = events
+        .iter()
+        .find(|e| e["event"] == "stopped")
+        .expect("a stopped event");
+    assert_eq!(stopped["reason"], "interrupted");
+    let secs = stopped["seconds"].as_f64().unwrap();
+    assert!((1.0..5.0).contains(&secs), "{secs}");
+    assert_eq!(events.last().unwrap()["event"], "counters");
+    assert!(events.iter().any(|e| e["event"] == "fc_link_up"));
 }

@@ -1,88 +1,141 @@
-//! `gimbal`: decode gimbal-protocol serial captures and list the supported messages.
+//! `gimbal`: decode gimbal-protocol serial captures, list the supported messages, run
+//! the bridge on Linux and the simulators on real ports. `gimbal --help` and
+//! `gimbal <command> --help` say how; the command line is defined in
+//! `host_tests::cli`.
 //!
-//! ```text
-//! cargo gimbal decode <protocol> [--json] [HEX... | --file PATH]   (stdin if neither)
-//! cargo gimbal messages <protocol>
-//! ```
-//! Protocols: k40t, siyi, viewlink, gcu. A capture is hex text (any separators, `0x`
-//! prefixes allowed) or raw binary bytes.
+//! Exit status: 0 on success, 1 on a run-time failure (a port that cannot be opened,
+//! a simulator's expectation not met), 2 for bad arguments.
 
 use std::io::{Read, Write};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
+use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser};
+use host_tests::cli::{Cli, Command, DecodeArgs};
+use host_tests::runner::output::Output;
+use host_tests::runner::{bridge, sims};
 use host_tests::tool::{self, looks_like_hex, parse_hex};
 
-const USAGE: &str = "usage:
-  gimbal decode <protocol> [--json] [HEX... | --file PATH]   decode a capture (stdin if no HEX/--file)
-  gimbal messages <protocol>                                list every message id the codec supports
-protocols: k40t, siyi, viewlink, gcu";
+/// Set by Ctrl-C (SIGINT) or SIGTERM: the run stops cleanly.
+static STOP: AtomicBool = AtomicBool::new(false);
 
-fn read_capture(hex_args: &[String], file: Option<&str>) -> Result<Vec<u8>, String> {
-    if !hex_args.is_empty() {
-        return parse_hex(&hex_args.join(" "));
+/// A failure: bad arguments found after parsing (exit 2) or a run-time error (exit 1).
+enum Failure {
+    Usage(String),
+    Runtime(String),
+}
+
+fn read_capture(args: &DecodeArgs) -> Result<Vec<u8>, Failure> {
+    if !args.hex.is_empty() {
+        return parse_hex(&args.hex.join(" ")).map_err(Failure::Usage);
     }
-    let bytes = match file {
-        Some(path) => std::fs::read(path).map_err(|e| format!("{path}: {e}"))?,
+    let bytes = match &args.file {
+        Some(path) => {
+            std::fs::read(path).map_err(|e| Failure::Runtime(format!("{}: {e}", path.display())))?
+        }
         None => {
             let mut b = Vec::new();
             std::io::stdin()
                 .read_to_end(&mut b)
-                .map_err(|e| format!("stdin: {e}"))?;
+                .map_err(|e| Failure::Runtime(format!("stdin: {e}")))?;
             b
         }
     };
     if looks_like_hex(&bytes) {
-        parse_hex(&String::from_utf8_lossy(&bytes))
+        parse_hex(&String::from_utf8_lossy(&bytes)).map_err(Failure::Usage)
     } else {
         Ok(bytes)
     }
 }
 
-fn run(args: &[String]) -> Result<(), String> {
-    let (command, rest) = args.split_first().ok_or(USAGE)?;
-    let (name, rest) = rest.split_first().ok_or(USAGE)?;
-    let protocol =
-        tool::protocol(name).ok_or_else(|| format!("unknown protocol {name:?}\n{USAGE}"))?;
+fn write_lines(lines: impl IntoIterator<Item = String>) -> Result<(), Failure> {
     let mut out = std::io::stdout().lock();
-    match command.as_str() {
-        "messages" => {
-            for line in protocol.messages() {
-                writeln!(out, "{line}").map_err(|e| e.to_string())?;
+    for line in lines {
+        if let Err(e) = writeln!(out, "{line}") {
+            // `| head`: not an error of ours.
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                return Ok(());
             }
-            Ok(())
+            return Err(Failure::Runtime(e.to_string()));
         }
-        "decode" => {
-            let mut json = false;
-            let mut file = None;
-            let mut hex_args = Vec::new();
-            let mut it = rest.iter();
-            while let Some(a) = it.next() {
-                match a.as_str() {
-                    "--json" => json = true,
-                    "--file" => file = Some(it.next().ok_or("--file needs a path")?.as_str()),
-                    _ => hex_args.push(a.clone()),
-                }
-            }
-            let capture = read_capture(&hex_args, file)?;
-            let items = protocol.scan(&capture);
-            for item in &items {
-                writeln!(out, "{}", tool::render(protocol.as_ref(), item, json))
-                    .map_err(|e| e.to_string())?;
-            }
+    }
+    Ok(())
+}
+
+/// Ctrl-C and SIGTERM stop the run; a second Ctrl-C exits at once.
+fn install_stop_handler() {
+    let result = ctrlc::set_handler(|| {
+        if STOP.swap(true, Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+    });
+    if let Err(e) = result {
+        eprintln!("gimbal: cannot handle Ctrl-C ({e}); stop with SIGKILL");
+    }
+}
+
+fn expectation(met: bool, what: &str) -> Result<(), Failure> {
+    if met {
+        Ok(())
+    } else {
+        Err(Failure::Runtime(format!(
+            "{what}: expectation not met (see the summary)"
+        )))
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Command::Messages(a) => {
+            let p = tool::protocol(a.protocol.name())
+                .ok_or_else(|| Failure::Usage(format!("no codec {}", a.protocol.name())))?;
+            write_lines(p.messages())
+        }
+        Command::Decode(a) => {
+            let p = tool::protocol(a.protocol.name())
+                .ok_or_else(|| Failure::Usage(format!("no codec {}", a.protocol.name())))?;
+            let capture = read_capture(&a)?;
+            let items = p.scan(&capture);
+            write_lines(items.iter().map(|i| tool::render(p.as_ref(), i, a.json)))?;
             eprintln!("{}", tool::summary(&items));
             Ok(())
         }
-        _ => Err(USAGE.to_string()),
+        Command::Completions { shell } => {
+            clap_complete::generate(shell, &mut Cli::command(), "gimbal", &mut std::io::stdout());
+            Ok(())
+        }
+        Command::Bridge(a) => {
+            // Contradicting options are usage errors, found before any port is opened.
+            bridge::config_of(&a).map_err(Failure::Usage)?;
+            install_stop_handler();
+            let out = Output::stdout(a.events);
+            bridge::run(&a, &out, &STOP).map_err(Failure::Runtime)?;
+            Ok(())
+        }
+        Command::SimFc(a) => {
+            install_stop_handler();
+            let out = Output::stdout(a.events);
+            let (_, met) = sims::run_fc(&a, &out, &STOP).map_err(Failure::Runtime)?;
+            expectation(met, "sim-fc")
+        }
+        Command::SimPod(a) => {
+            install_stop_handler();
+            let out = Output::stdout(a.events);
+            let (_, met) = sims::run_pod(&a, &out, &STOP).map_err(Failure::Runtime)?;
+            expectation(met, "sim-pod")
+        }
     }
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match run(&args) {
+    let cli = Cli::parse();
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Err(Failure::Usage(e)) => Cli::command().error(ErrorKind::ValueValidation, e).exit(),
+        Err(Failure::Runtime(e)) => {
             eprintln!("gimbal: {e}");
-            ExitCode::from(2)
+            ExitCode::FAILURE
         }
     }
 }

@@ -1,0 +1,632 @@
+//! The `gimbal` command line, as `clap` derive types: every subcommand, its options and
+//! their help. The binary (`src/bin/gimbal.rs`) parses [`Cli`] and dispatches; the
+//! parsing of port specifications and option values lives with the types they produce
+//! ([`PortSpec`], [`RtcSpec`], [`parse_version`], ...) so that it is unit-tested.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use protocol_core::bridge::FcProtocol;
+
+use crate::runner::pin::RtcSpec;
+use crate::runner::port::PortSpec;
+
+/// Decode gimbal-protocol captures, list the messages, run the K40T bridge on Linux and
+/// the simulated flight controller and pod on real ports.
+///
+/// Exit status: 0 on success, 1 on a run-time failure (a port that cannot be opened, an
+/// expectation of a simulator not met), 2 for bad arguments.
+#[derive(Debug, Parser)]
+#[command(
+    name = "gimbal",
+    version,
+    propagate_version = true,
+    arg_required_else_help = true
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Decode a capture: hex text or raw bytes, from arguments, a file or stdin.
+    ///
+    /// One line per frame (or bad frame, garbage, truncated frame) on stdout; a summary
+    /// line on stderr. A capture is hex text (any separators, `0x` prefixes allowed) or
+    /// raw binary bytes.
+    Decode(DecodeArgs),
+    /// List every message id the codec of a protocol supports.
+    Messages(MessagesArgs),
+    /// Run the bridge (the firmware's own tasks) between a flight controller and a K40T
+    /// pod on real ports: serial devices, TCP, or the built-in simulators.
+    ///
+    /// Prints every engine event, RTC_IO edge and time sync (and with --trace every
+    /// frame) on stdout, as text or one JSON object per line (--events json). Stops on
+    /// Ctrl-C or after --seconds, with a `stopped` and a `counters` event.
+    Bridge(Box<BridgeArgs>),
+    /// Run a simulated ArduPilot mount driver (the flight controller's side) on a port,
+    /// in real time, printing what it observes as JSON lines.
+    SimFc(SimFcArgs),
+    /// Run the simulated K40T pod on a port, in real time, printing what it observes as
+    /// JSON lines.
+    SimPod(SimPodArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    ///
+    /// For example: `gimbal completions bash > ~/.local/share/bash-completion/completions/gimbal`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+}
+
+/// A protocol the capture decoder knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[value(rename_all = "lower")]
+pub enum Codec {
+    /// The K40T pod protocol.
+    K40t,
+    /// The SIYI SDK.
+    Siyi,
+    /// Viewlink (Viewpro).
+    Viewlink,
+    /// XF Robot GCU.
+    Gcu,
+}
+
+impl Codec {
+    /// The name the tool's adapters use.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Codec::K40t => "k40t",
+            Codec::Siyi => "siyi",
+            Codec::Viewlink => "viewlink",
+            Codec::Gcu => "gcu",
+        }
+    }
+}
+
+/// `gimbal decode`.
+#[derive(Debug, Args)]
+pub struct DecodeArgs {
+    /// The protocol of the capture.
+    #[arg(value_enum, ignore_case = true)]
+    pub protocol: Codec,
+    /// One JSON object per line instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Read the capture from this file (hex text or raw bytes).
+    #[arg(long, value_name = "PATH", conflicts_with = "hex")]
+    pub file: Option<PathBuf>,
+    /// The capture as hex bytes (stdin is read when neither HEX nor --file is given).
+    #[arg(value_name = "HEX")]
+    pub hex: Vec<String>,
+}
+
+/// `gimbal messages`.
+#[derive(Debug, Args)]
+pub struct MessagesArgs {
+    /// The protocol.
+    #[arg(value_enum, ignore_case = true)]
+    pub protocol: Codec,
+}
+
+/// The flight controller's protocol on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+#[value(rename_all = "lower")]
+pub enum Fc {
+    /// SIYI SDK (ArduPilot MNT1_TYPE 8): the bridge acts as a SIYI gimbal.
+    Siyi,
+    /// Viewlink (ArduPilot MNT1_TYPE 11): the bridge acts as a Viewpro gimbal.
+    Viewlink,
+    /// XF Robot GCU (ArduPilot MNT1_TYPE 14): the bridge acts as a GCU.
+    Gcu,
+    /// K40T itself: the bridge forwards and owns RTC_IO.
+    K40t,
+}
+
+impl Fc {
+    /// The engine's protocol.
+    #[must_use]
+    pub const fn protocol(self) -> FcProtocol {
+        match self {
+            Fc::Siyi => FcProtocol::Siyi,
+            Fc::Viewlink => FcProtocol::Viewlink,
+            Fc::Gcu => FcProtocol::Gcu,
+            Fc::K40t => FcProtocol::K40t,
+        }
+    }
+
+    /// The name on the command line and in events.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Fc::Siyi => "siyi",
+            Fc::Viewlink => "viewlink",
+            Fc::Gcu => "gcu",
+            Fc::K40t => "k40t",
+        }
+    }
+}
+
+/// How events are printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum EventFormat {
+    /// One line of text per event.
+    #[default]
+    Human,
+    /// One JSON object per line: `{"t_us": ..., "event": "...", ...}`.
+    Json,
+}
+
+const PORT_HELP: &str = "PORT: a serial device `/dev/ttyUSB0[:BAUD]` (or `serial:PATH[:BAUD]`), \
+`tcp:HOST:PORT` (connect, reconnect when lost), `tcp-listen:[HOST:]PORT` (accept one \
+connection at a time; port 0 picks a free one, printed in a `port_listening` event), or `sim`";
+
+/// `gimbal bridge`.
+#[derive(Debug, Args)]
+#[command(after_long_help = PORT_HELP)]
+pub struct BridgeArgs {
+    /// The flight controller's protocol.
+    #[arg(long, value_enum, ignore_case = true)]
+    pub fc: Fc,
+    /// The flight controller's port (`sim`: the simulated ArduPilot driver of --fc).
+    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    pub fc_port: PortSpec,
+    /// The pod's port (`sim`: the simulated K40T pod, with RTC_IO wired to it).
+    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    pub pod_port: PortSpec,
+    /// The RTC_IO output: `gpiochip0:LINE[:active-low]` (a GPIO line through the
+    /// kernel's character device), `log` (no pin; the edges are events),
+    /// `tcp:HOST:PORT` or `tcp-listen:[HOST:]PORT` (each edge as one byte, `1` rising,
+    /// `0` falling: for `gimbal sim-pod --rtc-io` and emulators). Edges are always
+    /// printed as `rtc_io` events.
+    #[arg(long, value_name = "RTC", default_value = "log", value_parser = parse_rtc)]
+    pub rtc_io: RtcSpec,
+    /// Event output format.
+    #[arg(long, value_enum, default_value_t = EventFormat::Human)]
+    pub events: EventFormat,
+    /// Also print every frame in both directions, decoded as `gimbal decode --json`
+    /// prints it (event `frame`).
+    #[arg(long)]
+    pub trace: bool,
+    /// Stop after this many seconds (default: run until Ctrl-C).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub seconds: Option<f64>,
+    /// Print the counters (event `counters`) every this many seconds (default: only at
+    /// the end).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub counters_every: Option<f64>,
+    /// A line is idle (a burst ends, a broken frame is given up) after this silence, ms
+    /// [default: 8]. Keep it below the FC's gap between bursts (GCU: 12 ms); for a USB
+    /// adapter, lower its latency timer (FTDI: `echo 1 >
+    /// /sys/bus/usb-serial/devices/ttyUSB0/latency_timer`).
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub idle_ms: Option<u64>,
+    /// With `--fc-port sim`: the simulated flight controller takes a picture every this
+    /// many seconds (each one is geotagged by the bridge).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub sim_photo_every: Option<f64>,
+    /// The bridge's configuration (the keys of bridge-fw/bridge.toml).
+    #[command(flatten)]
+    pub config: ConfigArgs,
+}
+
+/// The bridge's configuration: every key of `bridge-fw/bridge.toml`, same ranges, same
+/// defaults (`protocol_core::bridge::Config::DEFAULT`).
+#[derive(Debug, Args, Default)]
+#[command(next_help_heading = "Bridge configuration (the keys of bridge-fw/bridge.toml)")]
+pub struct ConfigArgs {
+    /// FC link baud rate, 8N1 [default: the FC port's :BAUD, else 115200].
+    #[arg(long, value_name = "BAUD", value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    pub fc_baud: Option<u32>,
+    /// Pod link baud rate, 8N1 [default: the pod port's :BAUD, else 115200].
+    #[arg(long, value_name = "BAUD", value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    pub pod_baud: Option<u32>,
+    /// GPS time minus UTC, seconds [default: 18].
+    #[arg(long, value_name = "S", value_parser = clap::value_parser!(u8))]
+    pub leap_seconds: Option<u8>,
+    /// Time zone sent to the pod in 0x00030E, minutes west of Greenwich (0: the pod
+    /// keeps UTC) [default: 0].
+    #[arg(long, value_name = "MIN", allow_negative_numbers = true,
+          value_parser = clap::value_parser!(i32).range(-1440..=1440))]
+    pub tz_minuteswest: Option<i32>,
+    /// The FC link is down after this long without a valid frame, ms [default: 2000].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(100..=60_000))]
+    pub fc_link_timeout_ms: Option<u64>,
+    /// The pod is stopped when the FC sends no motion for this long while it turns, ms
+    /// [default: 500].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(50..=60_000))]
+    pub fc_silence_stop_ms: Option<u64>,
+    /// K40T FC: the bridge answers the pod's GPS request itself when the FC has not
+    /// within this time, ms, or `off` [default: 200].
+    #[arg(long, value_name = "MS|off", value_parser = parse_fallback)]
+    pub k40t_geotag_fallback_ms: Option<Fallback>,
+    /// RTC_IO pulse period, ms: one edge every period, on the UTC grid [default: 10000].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1000..=3_600_000))]
+    pub sync_period_ms: Option<u64>,
+    /// RTC_IO pulse width, ms [default: 50].
+    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..=900))]
+    pub sync_width_ms: Option<u64>,
+    /// SIYI: the 12-character hardware id; its first two characters pick the model in
+    /// ArduPilot ("7A" = ZT30: 30x zoom, laser, lens, thermal) [default: 7A0000000001].
+    #[arg(long, value_name = "ID", value_parser = parse_hardware_id)]
+    pub siyi_hardware_id: Option<[u8; 12]>,
+    /// SIYI: camera firmware MAJOR.MINOR.PATCH (ArduPilot needs it non-zero) [default: 0.3.1].
+    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    pub siyi_camera_version: Option<[u8; 3]>,
+    /// SIYI: gimbal firmware [default: 0.3.1].
+    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    pub siyi_gimbal_version: Option<[u8; 3]>,
+    /// SIYI: zoom firmware [default: 0.1.0].
+    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    pub siyi_zoom_version: Option<[u8; 3]>,
+    /// SIYI: largest zoom reported, times ten [default: 300].
+    #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u16).range(10..))]
+    pub siyi_max_zoom_x10: Option<u16>,
+    /// Viewlink: the model text answered to the 0xE4 query, up to 10 ASCII characters
+    /// [default: K40TBRIDGE].
+    #[arg(long, value_name = "TEXT", value_parser = parse_model)]
+    pub viewlink_model: Option<[u8; 10]>,
+    /// Viewlink: firmware MAJOR.MINOR.PATCH, each 0..=99, answered to 0xD0 as the text
+    /// `S20MMmmpp` [default: 0.1.0].
+    #[arg(long, value_name = "X.Y.Z", value_parser = parse_viewlink_firmware)]
+    pub viewlink_firmware: Option<[u8; 20]>,
+    /// GCU: hardware version times ten [default: 10].
+    #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
+    pub gcu_hardware_x10: Option<u8>,
+    /// GCU: firmware version times ten [default: 10].
+    #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
+    pub gcu_firmware_x10: Option<u8>,
+    /// The pod reports yaw positive to the left.
+    #[arg(long)]
+    pub pod_yaw_positive_left: bool,
+    /// The pod reports pitch positive down.
+    #[arg(long)]
+    pub pod_pitch_positive_down: bool,
+    /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
+    /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
+    #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
+          value_parser = clap::value_parser!(u64).range(500..=60_000))]
+    pub discipline_bin_ms: Option<u64>,
+    /// Advanced: bins needed before a clock estimate is trusted [default: 5].
+    #[arg(long, value_name = "N", help_heading = "Time discipline (advanced)",
+          value_parser = clap::value_parser!(u8).range(2..=32))]
+    pub discipline_min_bins: Option<u8>,
+    /// Advanced: local time the trusted bins must span, ms [default: 16000].
+    #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
+          value_parser = clap::value_parser!(u64).range(1000..=600_000))]
+    pub discipline_min_span_ms: Option<u64>,
+}
+
+/// `--k40t-geotag-fallback-ms`: a time or `off`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fallback {
+    /// Answer after this many ms.
+    Ms(u64),
+    /// Never answer in the FC's place.
+    Off,
+}
+
+/// `gimbal sim-fc`.
+#[derive(Debug, Args)]
+#[command(after_long_help = PORT_HELP)]
+pub struct SimFcArgs {
+    /// The flight controller to simulate (ArduPilot's SIYI, Viewpro or XF Robot
+    /// driver, or a K40T-speaking FC).
+    #[arg(value_enum, ignore_case = true)]
+    pub fc: Fc,
+    /// Where the bridge is (not `sim`).
+    #[arg(long, value_name = "PORT", value_parser = parse_peer_port)]
+    pub port: PortSpec,
+    /// Line rate for pacing and serial devices [default: the port's :BAUD, else 115200].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    pub baud: Option<u32>,
+    /// Stop after this many seconds (default: run until Ctrl-C).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub seconds: Option<f64>,
+    /// Take a picture every this many seconds (from the start).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub photo_every: Option<f64>,
+    /// Turn the mount at this yaw rate from the start, °/s (positive right).
+    #[arg(long, value_name = "DPS", allow_negative_numbers = true)]
+    pub yaw_rate: Option<f64>,
+    /// Turn the mount at this pitch rate from the start, °/s (positive up).
+    #[arg(long, value_name = "DPS", allow_negative_numbers = true)]
+    pub pitch_rate: Option<f64>,
+    /// Exit with status 1 unless the driver is healthy at the end.
+    #[arg(long)]
+    pub expect_healthy: bool,
+    /// Output format (JSON lines by default).
+    #[arg(long, value_enum, default_value_t = EventFormat::Json)]
+    pub events: EventFormat,
+}
+
+/// `gimbal sim-pod`.
+#[derive(Debug, Args)]
+#[command(after_long_help = PORT_HELP)]
+pub struct SimPodArgs {
+    /// Where the bridge's pod link is (not `sim`).
+    #[arg(long, value_name = "PORT", value_parser = parse_peer_port)]
+    pub port: PortSpec,
+    /// Where the bridge's RTC_IO edges come from: `tcp:HOST:PORT` or
+    /// `tcp-listen:[HOST:]PORT`, one byte per edge (`1`/`H`/0x01 rising, `0`/`L`/0x00
+    /// falling), as `gimbal bridge --rtc-io tcp...` sends them. Without it the pod sees
+    /// no edge and applies no time sync (outcome `no_edge`).
+    #[arg(long, value_name = "PORT", value_parser = parse_rtc_input)]
+    pub rtc_io: Option<PortSpec>,
+    /// Line rate for pacing and serial devices [default: the port's :BAUD, else 115200].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    pub baud: Option<u32>,
+    /// Stop after this many seconds (default: run until Ctrl-C).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub seconds: Option<f64>,
+    /// Exit with status 1 unless at least this many time syncs were applied.
+    #[arg(long, value_name = "N")]
+    pub expect_syncs: Option<u32>,
+    /// Exit with status 1 unless at least this many photos were geotagged (a GPS reply
+    /// with code OK).
+    #[arg(long, value_name = "N")]
+    pub expect_geotags: Option<u32>,
+    /// Output format (JSON lines by default).
+    #[arg(long, value_enum, default_value_t = EventFormat::Json)]
+    pub events: EventFormat,
+}
+
+fn parse_port(s: &str) -> Result<PortSpec, String> {
+    s.parse()
+}
+
+/// A port of a simulator: anything but `sim`.
+fn parse_peer_port(s: &str) -> Result<PortSpec, String> {
+    match s.parse::<PortSpec>()? {
+        PortSpec::Sim => Err(
+            "`sim` is for `gimbal bridge`; a simulator needs a serial device or TCP port".into(),
+        ),
+        p => Ok(p),
+    }
+}
+
+fn parse_rtc(s: &str) -> Result<RtcSpec, String> {
+    s.parse()
+}
+
+/// An RTC_IO input of the simulated pod: a TCP port (connect or listen).
+fn parse_rtc_input(s: &str) -> Result<PortSpec, String> {
+    match s.parse::<PortSpec>()? {
+        p @ (PortSpec::Tcp { .. } | PortSpec::TcpListen { .. }) => Ok(p),
+        _ => Err(format!(
+            "`{s}`: the pod's RTC_IO input is `tcp:HOST:PORT` or `tcp-listen:[HOST:]PORT`"
+        )),
+    }
+}
+
+/// A positive number of seconds (fractions allowed).
+///
+/// # Errors
+/// Not a number, not positive, or more than a year.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds"))?;
+    if v.is_finite() && v > 0.0 && v <= 366.0 * 86_400.0 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "`{s}`: expected a positive number of seconds (at most a year)"
+        ))
+    }
+}
+
+/// `MAJOR.MINOR.PATCH`, each 0..=255.
+///
+/// # Errors
+/// Anything else.
+pub fn parse_version(s: &str) -> Result<[u8; 3], String> {
+    let parts: Vec<&str> = s.split('.').collect();
+    let bad = || format!("`{s}`: expected MAJOR.MINOR.PATCH, each 0..=255");
+    let [a, b, c] = parts.as_slice() else {
+        return Err(bad());
+    };
+    let n = |x: &str| x.parse::<u8>().map_err(|_| bad());
+    Ok([n(a)?, n(b)?, n(c)?])
+}
+
+/// The Viewlink firmware text `S20MMmmpp`, padded with zeros to 20 bytes (as
+/// `bridge-fw/build.rs` makes it).
+///
+/// # Errors
+/// Not a version, or a part above 99.
+pub fn parse_viewlink_firmware(s: &str) -> Result<[u8; 20], String> {
+    let [major, minor, patch] = parse_version(s)?;
+    if major > 99 || minor > 99 || patch > 99 {
+        return Err(format!("`{s}`: each of MAJOR.MINOR.PATCH must be 0..=99"));
+    }
+    let text = format!("S20{major:02}{minor:02}{patch:02}");
+    let mut out = [0u8; 20];
+    for (slot, b) in out.iter_mut().zip(text.bytes()) {
+        *slot = b;
+    }
+    Ok(out)
+}
+
+/// Exactly 12 ASCII characters.
+///
+/// # Errors
+/// Anything else.
+pub fn parse_hardware_id(s: &str) -> Result<[u8; 12], String> {
+    s.as_bytes()
+        .try_into()
+        .ok()
+        .filter(|_| s.is_ascii())
+        .ok_or_else(|| format!("`{s}`: expected 12 ASCII characters (e.g. 7A0000000001)"))
+}
+
+/// 1 to 10 printable ASCII characters, padded with zeros.
+///
+/// # Errors
+/// Anything else.
+pub fn parse_model(s: &str) -> Result<[u8; 10], String> {
+    if s.is_empty() || s.len() > 10 || !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
+        return Err(format!(
+            "`{s}`: expected 1 to 10 printable ASCII characters"
+        ));
+    }
+    let mut out = [0u8; 10];
+    for (slot, b) in out.iter_mut().zip(s.bytes()) {
+        *slot = b;
+    }
+    Ok(out)
+}
+
+fn parse_fallback(s: &str) -> Result<Fallback, String> {
+    if s.eq_ignore_ascii_case("off") || s.eq_ignore_ascii_case("never") {
+        return Ok(Fallback::Off);
+    }
+    match s.parse::<u64>() {
+        Ok(ms) if (1..=10_000).contains(&ms) => Ok(Fallback::Ms(ms)),
+        _ => Err(format!("`{s}`: expected a time in ms (1..=10000) or `off`")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn values() {
+        assert_eq!(parse_version("0.3.1"), Ok([0, 3, 1]));
+        assert!(parse_version("0.3").is_err());
+        assert!(parse_version("1.2.256").is_err());
+        assert_eq!(
+            &parse_viewlink_firmware("1.2.3").unwrap()[..10],
+            b"S20010203\0"
+        );
+        assert!(parse_viewlink_firmware("100.0.0").is_err());
+        assert_eq!(parse_hardware_id("7A0000000001"), Ok(*b"7A0000000001"));
+        assert!(parse_hardware_id("7A").is_err());
+        assert_eq!(parse_model("ABC"), Ok(*b"ABC\0\0\0\0\0\0\0"));
+        assert!(parse_model("ELEVENCHARS").is_err());
+        assert_eq!(parse_fallback("off"), Ok(Fallback::Off));
+        assert_eq!(parse_fallback("250"), Ok(Fallback::Ms(250)));
+        assert!(parse_fallback("0").is_err());
+        assert_eq!(parse_seconds("2.5"), Ok(2.5));
+        assert!(parse_seconds("0").is_err());
+        assert!(parse_seconds("-1").is_err());
+        assert!(parse_seconds("nan").is_err());
+    }
+
+    #[test]
+    fn a_bridge_command_line_parses_into_its_options() {
+        let cli = Cli::try_parse_from([
+            "gimbal",
+            "bridge",
+            "--fc",
+            "SIYI",
+            "--fc-port",
+            "/dev/ttyAMA0:921600",
+            "--pod-port",
+            "tcp:127.0.0.1:5000",
+            "--rtc-io",
+            "gpiochip0:17",
+            "--tz-minuteswest",
+            "-480",
+            "--sync-period-ms",
+            "2000",
+            "--events",
+            "json",
+        ])
+        .unwrap();
+        let Command::Bridge(b) = cli.command else {
+            panic!("not bridge")
+        };
+        assert_eq!(b.fc, Fc::Siyi);
+        assert_eq!(
+            b.fc_port,
+            PortSpec::Serial {
+                path: "/dev/ttyAMA0".into(),
+                baud: Some(921_600)
+            }
+        );
+        assert_eq!(
+            b.pod_port,
+            PortSpec::Tcp {
+                host: "127.0.0.1".into(),
+                port: 5000
+            }
+        );
+        assert_eq!(
+            b.rtc_io,
+            RtcSpec::Gpio {
+                chip: "/dev/gpiochip0".into(),
+                line: 17,
+                active_low: false
+            }
+        );
+        assert_eq!(b.config.tz_minuteswest, Some(-480));
+        assert_eq!(b.config.sync_period_ms, Some(2000));
+        assert_eq!(b.events, EventFormat::Json);
+        assert!(!b.trace);
+    }
+
+    #[test]
+    fn bad_values_are_usage_errors() {
+        for args in [
+            &[
+                "gimbal",
+                "bridge",
+                "--fc",
+                "nosuch",
+                "--fc-port",
+                "sim",
+                "--pod-port",
+                "sim",
+            ][..],
+            &[
+                "gimbal",
+                "bridge",
+                "--fc",
+                "siyi",
+                "--fc-port",
+                "nowhere",
+                "--pod-port",
+                "sim",
+            ],
+            &["gimbal", "bridge", "--fc", "siyi", "--fc-port", "sim"],
+            &[
+                "gimbal",
+                "bridge",
+                "--fc",
+                "siyi",
+                "--fc-port",
+                "sim",
+                "--pod-port",
+                "sim",
+                "--sync-period-ms",
+                "10",
+            ],
+            &["gimbal", "sim-pod", "--port", "tcp:localhost:99999"],
+            &["gimbal", "sim-pod", "--port", "sim"],
+            &[
+                "gimbal",
+                "sim-pod",
+                "--port",
+                "tcp:a:1",
+                "--rtc-io",
+                "/dev/ttyS0",
+            ],
+        ] {
+            let e = Cli::try_parse_from(args).unwrap_err();
+            assert_eq!(e.exit_code(), 2, "{args:?}: {e}");
+        }
+    }
+}

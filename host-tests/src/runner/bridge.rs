@@ -1,0 +1,417 @@
+//! `gimbal bridge`: the firmware's own tasks (`bridge_fw::host::bridge`: both links, the
+//! engine/timer task with the RTC_IO pin, the log and watchdog tasks) on the host's real
+//! clock, with std threads pumping serial devices and TCP connections into their pipes,
+//! or the simulators on the same executor for `sim` ports.
+
+use core::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use bridge_fw::host::{self, Clock, HostLinks, HostShared};
+use bridge_fw::{Record, Timing};
+use embassy_futures::select::{Either4, select4};
+use embassy_time::{Duration as EmbassyDuration, Timer};
+use protocol_core::bridge::{Config, Duration, Engine};
+use serde_json::{Value, json};
+
+use super::events;
+use super::output::{Output, now_us, wants_status_line};
+use super::pin::{GpioLine, RtcSpec, RunnerPin};
+use super::port::{self, Pump, link_baud};
+use super::simfc::{AnyFc, system_utc_us};
+use super::trace::{TapRead, TapWrite, tap};
+use super::watch::{FcWatcher, PodWatcher};
+use crate::cli::{BridgeArgs, ConfigArgs, Fallback};
+use crate::sim::peer::{PodPin, run_peer};
+use crate::sim::pod::{PodSimConfig, SimPod};
+
+/// How often the run checks for Ctrl-C, the end, the simulators and the status line.
+pub const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
+
+/// Line idle, ms, unless `--idle-ms`: above the MCU's 5 ms (USB adapters and TCP deliver
+/// bytes in bursts, a busy host runs threads late), and below the shortest silence
+/// between two FC bursts that the engine must see (ArduPilot's XF Robot driver sends a
+/// package every 20 ms, ~8 ms long at 115200: 12 ms of silence; at 20 ms the GCU side
+/// never sees a burst end and its GPS time samples are unusable).
+pub const DEFAULT_IDLE_MS: u64 = 8;
+
+/// The bridge's configuration from the command line: `Config::for_fc(fc)` with every
+/// option given applied, and the task timing (`idle_ms`).
+///
+/// # Errors
+/// Options that contradict each other (a port's `:BAUD` and `--fc-baud`, a pulse as
+/// long as its period).
+pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
+    let mut c = Config::for_fc(args.fc.protocol());
+    let a: &ConfigArgs = &args.config;
+    c.fc_baud = link_baud(&args.fc_port, a.fc_baud, "--fc-port")?;
+    c.pod_baud = link_baud(&args.pod_port, a.pod_baud, "--pod-port")?;
+    if let Some(v) = a.leap_seconds {
+        c.leap_seconds = v;
+    }
+    if let Some(v) = a.tz_minuteswest {
+        c.tz_minuteswest = v;
+    }
+    if let Some(v) = a.fc_link_timeout_ms {
+        c.fc_link_timeout = Duration::from_millis(v);
+    }
+    if let Some(v) = a.fc_silence_stop_ms {
+        c.fc_silence_stop = Duration::from_millis(v);
+    }
+    match a.k40t_geotag_fallback_ms {
+        Some(Fallback::Ms(ms)) => c.k40t_geotag_fallback = Some(Duration::from_millis(ms)),
+        Some(Fallback::Off) => c.k40t_geotag_fallback = None,
+        None => {}
+    }
+    if let Some(v) = a.sync_period_ms {
+        c.sync.period = Duration::from_millis(v);
+    }
+    if let Some(v) = a.sync_width_ms {
+        c.sync.width = Duration::from_millis(v);
+    }
+    if c.sync.width >= c.sync.period {
+        return Err(format!(
+            "--sync-width-ms {} must be shorter than the period ({} ms)",
+            c.sync.width.as_millis(),
+            c.sync.period.as_millis()
+        ));
+    }
+    if let Some(v) = a.siyi_hardware_id {
+        c.siyi.hardware_id = v;
+    }
+    if let Some(v) = a.siyi_camera_version {
+        c.siyi.camera_version = v;
+    }
+    if let Some(v) = a.siyi_gimbal_version {
+        c.siyi.gimbal_version = v;
+    }
+    if let Some(v) = a.siyi_zoom_version {
+        c.siyi.zoom_version = v;
+    }
+    if let Some(v) = a.siyi_max_zoom_x10 {
+        c.siyi.max_zoom_x10 = v;
+    }
+    if let Some(v) = a.viewlink_model {
+        c.viewlink.model = v;
+    }
+    if let Some(v) = a.viewlink_firmware {
+        c.viewlink.firmware = v;
+    }
+    if let Some(v) = a.gcu_hardware_x10 {
+        c.gcu.hardware_x10 = v;
+    }
+    if let Some(v) = a.gcu_firmware_x10 {
+        c.gcu.firmware_x10 = v;
+    }
+    c.pod.yaw_positive_left = a.pod_yaw_positive_left;
+    c.pod.pitch_positive_down = a.pod_pitch_positive_down;
+    if let Some(v) = a.discipline_bin_ms {
+        c.discipline.bin_len = Duration::from_millis(v);
+    }
+    if let Some(v) = a.discipline_min_bins {
+        c.discipline.min_bins = v;
+    }
+    if let Some(v) = a.discipline_min_span_ms {
+        c.discipline.min_span = Duration::from_millis(v);
+    }
+    let mut timing = Timing::from_config(&c);
+    timing.idle_min = Duration::from_millis(args.idle_ms.unwrap_or(DEFAULT_IDLE_MS));
+    Ok((c, timing))
+}
+
+/// What the status line shows, from the events.
+#[derive(Debug, Default)]
+struct StatusState {
+    fc: bool,
+    pod: bool,
+    utc: bool,
+    syncs: u32,
+    geotags: u32,
+    errors: u32,
+}
+
+impl StatusState {
+    fn note(&mut self, event: &str) {
+        match event {
+            "fc_link_up" => self.fc = true,
+            "fc_link_down" => self.fc = false,
+            "pod_link_up" => self.pod = true,
+            "pod_link_down" => self.pod = false,
+            "utc_valid" => self.utc = true,
+            "utc_lost" => self.utc = false,
+            "time_sync" => self.syncs += 1,
+            "geotag" => self.geotags += 1,
+            "read_error" | "write_error" | "rtc_io_error" | "stalled" => self.errors += 1,
+            _ => {}
+        }
+    }
+
+    fn line(&self, secs: u64) -> String {
+        let ud = |b: bool| if b { "up" } else { "down" };
+        format!(
+            "[{secs}s] fc {} | pod {} | utc {} | syncs {} | geotags {} | errors {}",
+            ud(self.fc),
+            ud(self.pod),
+            if self.utc { "valid" } else { "unknown" },
+            self.syncs,
+            self.geotags,
+            self.errors
+        )
+    }
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ended {
+    /// `--seconds` elapsed.
+    Time,
+    /// Ctrl-C (or SIGTERM).
+    Interrupted,
+    /// Stdout was closed.
+    OutputClosed,
+}
+
+impl Ended {
+    /// snake_case name for the `stopped` event.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Ended::Time => "seconds_elapsed",
+            Ended::Interrupted => "interrupted",
+            Ended::OutputClosed => "output_closed",
+        }
+    }
+}
+
+/// Waits for the end of a run: `stop` set, `deadline_us` passed, or stdout closed;
+/// `tick` runs every [`TICK`] meanwhile.
+pub async fn until_stopped(
+    stop: &AtomicBool,
+    deadline_us: Option<u64>,
+    out: &Output,
+    mut tick: impl FnMut(u64),
+) -> Ended {
+    loop {
+        let now = now_us();
+        if stop.load(Ordering::Relaxed) {
+            return Ended::Interrupted;
+        }
+        if out.is_broken() {
+            return Ended::OutputClosed;
+        }
+        if deadline_us.is_some_and(|d| now >= d) {
+            return Ended::Time;
+        }
+        tick(now);
+        Timer::after(TICK).await;
+    }
+}
+
+fn secs_to_us(s: f64) -> u64 {
+    // Within a year (checked when parsed): no overflow.
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let us = (s * 1e6) as u64;
+    us
+}
+
+/// Runs the bridge until Ctrl-C (`stop`), `--seconds` or a closed stdout. Prints a
+/// `bridge_started` event first and `stopped` and `counters` last.
+///
+/// # Errors
+/// A port or the RTC_IO output cannot be opened (a peer that is not there yet is no
+/// error: it is retried), or the options contradict each other.
+#[allow(clippy::too_many_lines)]
+pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, String> {
+    let (config, timing) = config_of(args)?;
+    let links: &'static HostLinks = Box::leak(Box::new(HostLinks::new()));
+    let shared = HostShared::new(Engine::new(config), timing);
+    let fc_codec = args.fc.name();
+    let trace = |port: &'static str, dir: &'static str| {
+        args.trace
+            .then(|| tap(out, if port == "fc" { fc_codec } else { "k40t" }, port, dir))
+    };
+
+    out.emit(
+        "bridge_started",
+        json!({
+            "fc": fc_codec, "fc_port": args.fc_port.to_string(),
+            "pod_port": args.pod_port.to_string(), "rtc_io": args.rtc_io.to_string(),
+            "fc_baud": config.fc_baud, "pod_baud": config.pod_baud,
+            "sync_period_ms": config.sync.period.as_millis(),
+            "sync_width_ms": config.sync.width.as_millis(),
+            "version": env!("CARGO_PKG_VERSION"),
+        }),
+    );
+
+    // The RTC_IO outputs: opened first, so that a missing GPIO line is an error before
+    // any connection is made.
+    let gpio = match &args.rtc_io {
+        RtcSpec::Gpio {
+            chip,
+            line,
+            active_low,
+        } => Some(GpioLine::open(chip, *line, *active_low)?),
+        _ => None,
+    };
+    let rtc_tcp = match &args.rtc_io {
+        RtcSpec::Tcp(spec) => Some(
+            port::start(Pump {
+                label: "rtc_io",
+                spec: spec.clone(),
+                baud: 115_200,
+                out: out.clone(),
+                incoming: None,
+                outgoing: None,
+                tap_in: None,
+                tap_out: None,
+            })?
+            .writer,
+        ),
+        _ => None,
+    };
+
+    for (label, spec, baud, rx, tx) in [
+        (
+            "fc",
+            &args.fc_port,
+            config.fc_baud,
+            &links.fc_rx,
+            &links.fc_tx,
+        ),
+        (
+            "pod",
+            &args.pod_port,
+            config.pod_baud,
+            &links.pod_rx,
+            &links.pod_tx,
+        ),
+    ] {
+        if !spec.is_sim() {
+            port::start(Pump {
+                label,
+                spec: spec.clone(),
+                baud,
+                out: out.clone(),
+                incoming: Some(rx),
+                outgoing: Some(tx),
+                tap_in: trace(label, "rx"),
+                tap_out: trace(label, "tx"),
+            })?;
+        }
+    }
+
+    let fc_sim = RefCell::new(AnyFc::new(args.fc, now_us(), system_utc_us()));
+    let pod_sim = RefCell::new(SimPod::new(PodSimConfig::default()));
+    let status = RefCell::new(StatusState::default());
+    let show_status = wants_status_line();
+    let start_us = now_us();
+    let deadline = args.seconds.map(|s| start_us + secs_to_us(s));
+    let photo_every = args.sim_photo_every.map(secs_to_us);
+    let counters_every = args.counters_every.map(secs_to_us);
+
+    let mut fc_watch = FcWatcher::default();
+    let mut pod_watch = PodWatcher::default();
+    let ended = host::run(Clock::Real, || async {
+        let pin = RunnerPin {
+            pod: args.pod_port.is_sim().then(|| PodPin::new(&pod_sim)),
+            gpio,
+            tcp: rtc_tcp,
+        };
+        let sink = |r: &Record| {
+            let (t, name, fields) = events::record_event(r);
+            status.borrow_mut().note(name);
+            out.emit_at(t, name, fields);
+        };
+        let bridge = host::bridge(&shared, links, pin, sink, || {});
+        let fc_peer = async {
+            if args.fc_port.is_sim() {
+                run_peer(
+                    &fc_sim,
+                    TapRead {
+                        inner: &links.fc_tx,
+                        tap: trace("fc", "tx"),
+                    },
+                    TapWrite {
+                        inner: &links.fc_rx,
+                        tap: trace("fc", "rx"),
+                    },
+                    config.fc_baud,
+                )
+                .await
+            } else {
+                core::future::pending().await
+            }
+        };
+        let pod_peer = async {
+            if args.pod_port.is_sim() {
+                run_peer(
+                    &pod_sim,
+                    TapRead {
+                        inner: &links.pod_tx,
+                        tap: trace("pod", "tx"),
+                    },
+                    TapWrite {
+                        inner: &links.pod_rx,
+                        tap: trace("pod", "rx"),
+                    },
+                    config.pod_baud,
+                )
+                .await
+            } else {
+                core::future::pending().await
+            }
+        };
+        let mut next_photo = photo_every.map(|p| start_us + p);
+        let mut next_counters = counters_every.map(|p| start_us + p);
+        let mut next_status = start_us;
+        let monitor = until_stopped(stop, deadline, out, |now| {
+            if args.fc_port.is_sim() {
+                fc_watch.check(&fc_sim.borrow(), now, out);
+                if let (Some(at), Some(every)) = (next_photo, photo_every)
+                    && now >= at
+                {
+                    fc_watch.photo(&mut fc_sim.borrow_mut(), out);
+                    next_photo = Some(at + every);
+                }
+            }
+            if args.pod_port.is_sim() {
+                pod_watch.check(&pod_sim.borrow(), out);
+            }
+            if let (Some(at), Some(every)) = (next_counters, counters_every)
+                && now >= at
+            {
+                out.emit(
+                    "counters",
+                    events::counters(&shared.with(|e: &mut Engine| e.counters())),
+                );
+                next_counters = Some(at + every);
+            }
+            if show_status && now >= next_status {
+                out.status(&status.borrow().line((now - start_us) / 1_000_000));
+                next_status = now + 500_000;
+            }
+        });
+        match select4(bridge, fc_peer, pod_peer, monitor).await {
+            Either4::First(never) => match never {},
+            Either4::Second(Err(e)) | Either4::Third(Err(e)) => {
+                Err(format!("a simulator stopped: {e:?}"))
+            }
+            Either4::Second(Ok(never)) | Either4::Third(Ok(never)) => match never {},
+            Either4::Fourth(ended) => Ok(ended),
+        }
+    })?;
+    out.clear_status();
+    let counters = events::counters(&shared.with(|e: &mut Engine| e.counters()));
+    let mut stopped = json!({
+        "reason": ended.name(),
+        "seconds": (now_us() - start_us) as f64 / 1e6,
+    });
+    if args.fc_port.is_sim() {
+        stopped["sim_fc"] = fc_watch.summary(&fc_sim.borrow(), now_us());
+    }
+    if args.pod_port.is_sim() {
+        stopped["sim_pod"] = PodWatcher::summary(&pod_sim.borrow());
+    }
+    out.emit("stopped", stopped);
+    out.emit("counters", counters.clone());
+    Ok(counters)
+}

@@ -1,0 +1,239 @@
+//! The bridge's log records as events: one name and a flat set of fields per engine
+//! [`Event`] and per task record ([`What`]). The match is exhaustive on purpose: a new
+//! event of the engine does not compile until it has a name here (and in the README's
+//! table).
+
+use bridge_fw::{Heartbeat, Level, Port, Record, What};
+use protocol_core::bridge::{Counters, Event};
+use protocol_core::k40t::{Address, CrcCoverage};
+use serde_json::{Value, json};
+
+/// `fc` or `pod`.
+#[must_use]
+pub const fn port_name(p: Port) -> &'static str {
+    match p {
+        Port::Fc => "fc",
+        Port::Pod => "pod",
+    }
+}
+
+/// `high` or `low`.
+#[must_use]
+pub const fn level_name(l: Level) -> &'static str {
+    match l {
+        Level::High => "high",
+        Level::Low => "low",
+    }
+}
+
+fn address(a: Address) -> String {
+    format!("{:02x}:{:02x}", a.system, a.component)
+}
+
+/// An engine event: its name and fields.
+#[must_use]
+pub fn engine_event(e: &Event) -> (&'static str, Value) {
+    match *e {
+        Event::FcLinkUp => ("fc_link_up", json!({})),
+        Event::FcLinkDown => ("fc_link_down", json!({})),
+        Event::PodLinkUp => ("pod_link_up", json!({})),
+        Event::PodLinkDown => ("pod_link_down", json!({})),
+        Event::UtcValid => ("utc_valid", json!({})),
+        Event::UtcLost => ("utc_lost", json!({})),
+        Event::TimeSync { edge, utc_ms } => (
+            "time_sync",
+            json!({"utc_ms": utc_ms, "edge_us": edge.as_micros()}),
+        ),
+        Event::Geotag {
+            time_of_day_ms,
+            answered,
+        } => (
+            "geotag",
+            json!({"time_of_day_ms": time_of_day_ms, "answered": answered}),
+        ),
+        Event::Translated { fc_id, pod_base } => (
+            "translated",
+            json!({"fc_id": fc_id, "pod_id": format!("0x{pod_base:06x}")}),
+        ),
+        Event::PodRefused { base, code } => (
+            "pod_refused",
+            json!({"pod_id": format!("0x{base:06x}"), "code": serde_json::to_value(code).unwrap_or(Value::Null)}),
+        ),
+        Event::PodTimeout { base } => ("pod_timeout", json!({"pod_id": format!("0x{base:06x}")})),
+        Event::FcSilenceStop => ("fc_silence_stop", json!({})),
+        Event::RateClamped { requested_cdeg_s } => (
+            "rate_clamped",
+            json!({"requested_cdeg_s": requested_cdeg_s}),
+        ),
+        Event::PodAddresses { gimbal, camera } => (
+            "pod_addresses",
+            json!({"gimbal": address(gimbal), "camera": address(camera)}),
+        ),
+        Event::PodCoverage(c) => (
+            "pod_coverage",
+            json!({"crc": match c {
+                CrcCoverage::IncludeStx => "include-stx",
+                CrcCoverage::ExcludeStx => "exclude-stx",
+            }}),
+        ),
+        Event::Dropped { port, frames } => (
+            "dropped",
+            json!({"port": port_name(port), "frames": frames}),
+        ),
+    }
+}
+
+/// The loops a [`Heartbeat`] names.
+#[must_use]
+pub fn loops(h: Heartbeat) -> Vec<&'static str> {
+    [
+        (Heartbeat::ENGINE, "engine"),
+        (Heartbeat::FC_RX, "fc_rx"),
+        (Heartbeat::FC_TX, "fc_tx"),
+        (Heartbeat::POD_RX, "pod_rx"),
+        (Heartbeat::POD_TX, "pod_tx"),
+    ]
+    .into_iter()
+    .filter(|(bit, _)| h.0 & bit.0 != 0)
+    .map(|(_, name)| name)
+    .collect()
+}
+
+/// A record of the bridge's tasks: its time (µs), name and fields.
+#[must_use]
+pub fn record_event(r: &Record) -> (u64, &'static str, Value) {
+    let (name, fields) = match r.what {
+        What::Engine(e) => engine_event(&e),
+        What::Pin(l) => ("rtc_io", json!({"level": level_name(l)})),
+        What::PinError(l) => ("rtc_io_error", json!({"level": level_name(l)})),
+        What::EdgeToFrame { delay, len } => (
+            "edge_to_frame",
+            json!({"delay_us": delay.as_micros(), "len": len}),
+        ),
+        What::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
+        What::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
+        What::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
+    };
+    (r.at.as_micros(), name, fields)
+}
+
+/// The engine's counters as event fields.
+#[must_use]
+pub fn counters(c: &Counters) -> Value {
+    serde_json::to_value(c).unwrap_or(Value::Null)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use protocol_core::bridge::{Duration, Instant};
+    use protocol_core::k40t::AckCode;
+
+    fn ev(what: What) -> (u64, &'static str, Value) {
+        record_event(&Record {
+            at: Instant::from_micros(42),
+            what,
+        })
+    }
+
+    #[test]
+    fn the_required_events_have_their_fields() {
+        assert_eq!(
+            ev(What::Pin(Level::High)),
+            (42, "rtc_io", json!({"level": "high"}))
+        );
+        assert_eq!(
+            ev(What::Pin(Level::Low)),
+            (42, "rtc_io", json!({"level": "low"}))
+        );
+        assert_eq!(
+            ev(What::Engine(Event::TimeSync {
+                edge: Instant::from_micros(40),
+                utc_ms: 1_795_428_040_000
+            })),
+            (
+                42,
+                "time_sync",
+                json!({"utc_ms": 1_795_428_040_000u64, "edge_us": 40})
+            )
+        );
+        assert_eq!(
+            ev(What::Engine(Event::Geotag {
+                time_of_day_ms: 36_000_000,
+                answered: true
+            })),
+            (
+                42,
+                "geotag",
+                json!({"time_of_day_ms": 36_000_000, "answered": true})
+            )
+        );
+        for (e, name) in [
+            (Event::FcLinkUp, "fc_link_up"),
+            (Event::FcLinkDown, "fc_link_down"),
+            (Event::PodLinkUp, "pod_link_up"),
+            (Event::PodLinkDown, "pod_link_down"),
+            (Event::UtcValid, "utc_valid"),
+            (Event::UtcLost, "utc_lost"),
+            (Event::FcSilenceStop, "fc_silence_stop"),
+        ] {
+            assert_eq!(ev(What::Engine(e)), (42, name, json!({})));
+        }
+    }
+
+    #[test]
+    fn the_other_events() {
+        assert_eq!(
+            ev(What::EdgeToFrame {
+                delay: Duration::from_micros(12),
+                len: 28
+            })
+            .2,
+            json!({"delay_us": 12, "len": 28})
+        );
+        assert_eq!(
+            ev(What::Stalled(Heartbeat(
+                Heartbeat::ENGINE.0 | Heartbeat::POD_TX.0
+            )))
+            .2,
+            json!({"loops": ["engine", "pod_tx"]})
+        );
+        assert_eq!(ev(What::WriteError(Port::Pod)).2, json!({"port": "pod"}));
+        assert_eq!(
+            ev(What::Engine(Event::Translated {
+                fc_id: 7,
+                pod_base: 0x10
+            }))
+            .2,
+            json!({"fc_id": 7, "pod_id": "0x000010"})
+        );
+        let (_, name, f) = ev(What::Engine(Event::PodRefused {
+            base: 0x302,
+            code: AckCode::Failure,
+        }));
+        assert_eq!(name, "pod_refused");
+        assert_eq!(f["pod_id"], "0x000302");
+        assert_eq!(f["code"]["name"], "Failure");
+        assert_eq!(
+            ev(What::Engine(Event::PodAddresses {
+                gimbal: Address::GIMBAL,
+                camera: Address::POD
+            }))
+            .2,
+            json!({"gimbal": "03:01", "camera": "04:01"})
+        );
+        assert_eq!(
+            ev(What::Engine(Event::Dropped {
+                port: Port::Fc,
+                frames: 2
+            })),
+            (42, "dropped", json!({"port": "fc", "frames": 2}))
+        );
+        let c = counters(&Counters {
+            time_syncs: 3,
+            ..Counters::default()
+        });
+        assert_eq!(c["time_syncs"], 3);
+        assert_eq!(c["fc_frames"], 0);
+    }
+}

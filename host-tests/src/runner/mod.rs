@@ -1,0 +1,13 @@
+//! The Linux bridge runner behind `gimbal bridge`, `gimbal sim-fc` and `gimbal sim-pod`:
+//! ports (serial, TCP, simulators) pumped by std threads into the bridge's pipes, the
+//! RTC_IO output, and the events printed as text or JSON lines.
+
+pub mod bridge;
+pub mod events;
+pub mod output;
+pub mod pin;
+pub mod port;
+pub mod simfc;
+pub mod sims;
+pub mod trace;
+pub mod watch;

@@ -1,0 +1,171 @@
+//! Any of the simulated flight controllers behind one type, for `--fc-port sim` and
+//! `gimbal sim-fc`: the ArduPilot SIYI, Viewpro and XF Robot drivers and the K40T FC, on
+//! the host's real UTC.
+
+use serde_json::{Value, json};
+
+use crate::cli::Fc;
+use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
+use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
+use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
+use crate::sim::fc_k40t::FcK40t;
+use crate::sim::scenario::FcSim;
+
+/// The K40T FC counts as healthy while frames from the bridge arrived this recently.
+const K40T_HEALTHY_US: u64 = 2_000_000;
+
+/// A simulated flight controller of any protocol.
+#[allow(clippy::large_enum_variant)]
+pub enum AnyFc {
+    /// ArduPilot `AP_Mount_Siyi`.
+    Siyi(ApSiyi),
+    /// ArduPilot `AP_Mount_Viewpro`.
+    Viewlink(ApViewpro),
+    /// ArduPilot `AP_Mount_XFRobot`.
+    Gcu(ApXfRobot),
+    /// A flight controller speaking K40T.
+    K40t(FcK40t),
+}
+
+/// The host's UTC now, µs since the Unix epoch.
+#[must_use]
+pub fn system_utc_us() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_micros()).unwrap_or(u64::MAX))
+}
+
+impl AnyFc {
+    /// The simulator of `fc` whose UTC is the host's: at task time `now_us` it reads
+    /// `utc_now_us`.
+    #[must_use]
+    pub fn new(fc: Fc, now_us: u64, utc_now_us: u64) -> Self {
+        let utc_at_zero_us = utc_now_us.saturating_sub(now_us);
+        match fc {
+            Fc::Siyi => AnyFc::Siyi(ApSiyi::new(ApSiyiConfig {
+                utc_at_zero_us,
+                ..ApSiyiConfig::default()
+            })),
+            Fc::Viewlink => AnyFc::Viewlink(ApViewpro::new(ApViewproConfig {
+                utc_at_zero_us,
+                ..ApViewproConfig::default()
+            })),
+            Fc::Gcu => AnyFc::Gcu(ApXfRobot::new(ApXfRobotConfig {
+                utc_at_zero_us,
+                ..ApXfRobotConfig::default()
+            })),
+            Fc::K40t => {
+                let mut f = FcK40t::default();
+                f.utc_at_zero_us = utc_at_zero_us;
+                AnyFc::K40t(f)
+            }
+        }
+    }
+
+    fn sim(&mut self) -> &mut dyn FcSim {
+        match self {
+            AnyFc::Siyi(f) => f,
+            AnyFc::Viewlink(f) => f,
+            AnyFc::Gcu(f) => f,
+            AnyFc::K40t(f) => f,
+        }
+    }
+
+    fn sim_ref(&self) -> &dyn FcSim {
+        match self {
+            AnyFc::Siyi(f) => f,
+            AnyFc::Viewlink(f) => f,
+            AnyFc::Gcu(f) => f,
+            AnyFc::K40t(f) => f,
+        }
+    }
+
+    /// The driver's `healthy()` (K40T: a frame from the bridge within 2 s).
+    #[must_use]
+    pub fn healthy(&self, now_us: u64) -> bool {
+        match self {
+            AnyFc::Siyi(f) => f.healthy(),
+            AnyFc::Viewlink(f) => f.healthy(),
+            AnyFc::Gcu(f) => f.healthy(),
+            AnyFc::K40t(f) => f
+                .received
+                .last()
+                .is_some_and(|r| now_us.saturating_sub(r.at_us) < K40T_HEALTHY_US),
+        }
+    }
+
+    /// Takes a picture. False when this simulator cannot (the K40T FC sends no camera
+    /// command) or the driver refused (busy).
+    pub fn take_picture(&mut self) -> bool {
+        match self {
+            AnyFc::Siyi(f) => {
+                f.take_picture();
+                true
+            }
+            AnyFc::Viewlink(f) => {
+                f.take_picture();
+                true
+            }
+            AnyFc::Gcu(f) => f.take_picture(),
+            AnyFc::K40t(_) => false,
+        }
+    }
+
+    /// Turns the mount at these rates, °/s (yaw positive right, pitch positive up).
+    /// False for the K40T FC (it sends no motion).
+    pub fn set_rates(&mut self, yaw_dps: f64, pitch_dps: f64) -> bool {
+        let siyi = ap_siyi::MountTarget::Rate {
+            yaw_dps,
+            pitch_dps,
+            yaw_is_ef: false,
+        };
+        match self {
+            AnyFc::Siyi(f) => f.target = Some(siyi),
+            AnyFc::Viewlink(f) => f.target = Some(siyi),
+            AnyFc::Gcu(f) => {
+                f.target = Some(ap_xfrobot::MountTarget::Rate {
+                    pitch_dps,
+                    yaw_dps,
+                    yaw_is_ef: false,
+                });
+            }
+            AnyFc::K40t(_) => return false,
+        }
+        true
+    }
+
+    /// Frames the driver could not parse.
+    #[must_use]
+    pub fn parse_errors(&self) -> u32 {
+        match self {
+            AnyFc::Siyi(f) => f.parse_errors,
+            AnyFc::Viewlink(f) => f.parse_errors,
+            AnyFc::Gcu(f) => f.parse_errors,
+            AnyFc::K40t(_) => 0,
+        }
+    }
+
+    /// A summary of the run.
+    #[must_use]
+    pub fn summary(&self, now_us: u64) -> Value {
+        json!({
+            "healthy": self.healthy(now_us),
+            "parse_errors": self.parse_errors(),
+        })
+    }
+}
+
+impl FcSim for AnyFc {
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        self.sim().receive(now_us, bytes);
+    }
+    fn poll(&mut self, now_us: u64) {
+        self.sim().poll(now_us);
+    }
+    fn next_wakeup(&self) -> u64 {
+        self.sim_ref().next_wakeup()
+    }
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        self.sim().transmit()
+    }
+}
