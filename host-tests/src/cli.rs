@@ -53,6 +53,13 @@ pub enum Command {
     /// Run the simulated K40T pod on a port, in real time, printing what it observes as
     /// JSON lines.
     SimPod(SimPodArgs),
+    /// The bridge working, without hardware: the firmware's tasks between a simulated
+    /// ArduPilot driver and a simulated K40T pod, in accelerated simulated time.
+    ///
+    /// Prints the FC reaching healthy, a scripted flight (look down, pan, zoom, record,
+    /// photos) with the frames it causes on both links, each time sync with its UTC and
+    /// error, each geotag with the interpolated fix, and a summary table.
+    Demo(DemoArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     ///
     /// For example: `gimbal completions bash > ~/.local/share/bash-completion/completions/gimbal`.
@@ -60,6 +67,17 @@ pub enum Command {
         /// The shell.
         shell: clap_complete::Shell,
     },
+}
+
+/// `gimbal demo`.
+#[derive(Debug, Clone, Args)]
+pub struct DemoArgs {
+    /// The flight controller's protocol (its simulated ArduPilot driver is used).
+    #[arg(long, value_enum, ignore_case = true, default_value = "siyi")]
+    pub fc: Fc,
+    /// Simulated seconds to fly (a photo every 15 s after 51 s).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(10..=3600))]
+    pub seconds: u32,
 }
 
 /// A protocol the capture decoder knows.

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
 use host_tests::cli::{Cli, Command, DecodeArgs};
+use host_tests::demo;
 use host_tests::runner::output::Output;
 use host_tests::runner::{bridge, sims};
 use host_tests::tool::{self, looks_like_hex, parse_hex};
@@ -99,6 +100,15 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let items = p.scan(&capture);
             write_lines(items.iter().map(|i| tool::render(p.as_ref(), i, a.json)))?;
             eprintln!("{}", tool::summary(&items));
+            Ok(())
+        }
+        Command::Demo(a) => {
+            let opts = demo::DemoOptions {
+                fc: a.fc.protocol(),
+                seconds: a.seconds,
+            };
+            let mut out = std::io::stdout().lock();
+            demo::run(&opts, &mut out).map_err(|e| Failure::Runtime(format!("demo: {e}")))?;
             Ok(())
         }
         Command::Completions { shell } => {
