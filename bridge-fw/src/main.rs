@@ -1,26 +1,142 @@
-//! Bridge firmware for the STM32L475VG (B-L475E-IOT01A).
+//! Bridge firmware for the STM32L475VG (B-L475E-IOT01A): the board binding ([`board`])
+//! and the Embassy tasks, each a thin wrapper of a task of the `bridge_fw` library with
+//! the concrete types.
 //!
-//! Placeholder until the bridge issue lands: it brings the chip up with Embassy, logs
-//! over defmt/RTT and blinks LED2 (PB14) at 1 Hz, proving that the toolchain, memory map,
-//! linker scripts and protocol-core build for the target.
+//! Flavours: `hw` (default; embassy-stm32's time driver, 80 MHz) and `qemu` (QEMU 10's
+//! `b-l475e-iot01a`: SysTick time driver, 16 MHz, the vendored embassy-stm32's QEMU
+//! workarounds, semihosting boot line). See the README.
 #![no_std]
 #![no_main]
+// The binary only brings the board up: its `expect`s are start-up checks of fixed things (a
+// task pool taken twice, a UART configuration the peripheral refuses), build or board
+// errors that panic-probe reports over defmt before anything runs. The tasks (library)
+// keep the lint.
+#![allow(clippy::expect_used)]
 
+#[cfg(all(feature = "hw", feature = "qemu"))]
+compile_error!(
+    "`qemu` replaces the hardware time driver: build it with `--no-default-features --features qemu,fc-all`"
+);
+
+mod board;
+#[cfg(feature = "qemu")]
+#[allow(unsafe_code)]
+mod systick_driver;
+
+use bridge_fw::{Engine, Port, Record, Shared, Timing, What};
+use defmt_rtt as _;
 use embassy_executor::Spawner;
-use embassy_stm32::gpio::{Level, Output, Speed};
-use embassy_time::Timer;
-use {defmt_rtt as _, panic_probe as _};
+use embassy_stm32::gpio::Output;
+use embassy_stm32::peripherals::IWDG;
+use embassy_stm32::usart::{BufferedUartRx, BufferedUartTx};
+use embassy_stm32::wdg::IndependentWatchdog;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use embassy_time::Duration;
+#[cfg(feature = "hw")]
+use panic_probe as _;
+use static_cell::StaticCell;
+
+/// The tasks' shared state, concrete.
+type Sh = Shared<CriticalSectionRawMutex, Engine>;
+
+/// The watchdog check period (the supervised loops mark their heartbeat every 100 ms).
+const WATCHDOG_PERIOD: Duration = Duration::from_millis(250);
 
 #[embassy_executor::main]
-async fn main(_spawner: Spawner) {
-    let p = embassy_stm32::init(Default::default());
-    let mut led = Output::new(p.PB14, Level::Low, Speed::Low);
-    defmt::info!(
-        "bridge-fw placeholder; K40T codec knows {} message ids",
-        protocol_core::k40t::CATALOG.len()
-    );
-    loop {
-        led.toggle();
-        Timer::after_millis(500).await;
+async fn main(spawner: Spawner) {
+    let b = board::init();
+
+    #[cfg(feature = "qemu")]
+    {
+        let core = cortex_m::Peripherals::take().expect("core peripherals taken twice");
+        systick_driver::init(core.SYST, b.hclk);
+        semihosting::println!(
+            "bridge-fw (qemu): up, HCLK {} Hz, FC {:?}",
+            b.hclk,
+            defmt_fc(b.config.fc)
+        );
     }
+    #[allow(unused_mut)]
+    let mut timing = Timing::from_config(&b.config);
+    // QEMU hands the guest received bytes one per main-loop turn (about one a millisecond
+    // in the traces, later when the host is busy): a frame spreads over tens of
+    // milliseconds of emulated time, and a 5 ms idle could cut it.
+    #[cfg(feature = "qemu")]
+    {
+        timing.idle_min = protocol_core::bridge::Duration::from_millis(50);
+    }
+    defmt::info!(
+        "bridge-fw: up, HCLK {} Hz, FC {}, {}",
+        b.hclk,
+        b.config.fc,
+        timing
+    );
+    static SHARED: StaticCell<Sh> = StaticCell::new();
+    let shared: &'static Sh = SHARED.init_with(|| Shared::new(Engine::new(b.config), timing));
+
+    let (fc_tx, fc_rx) = b.fc.split();
+    let (pod_tx, pod_rx) = b.pod.split();
+    spawner.spawn(fc_link(shared, fc_rx, fc_tx).expect("task fc_link"));
+    spawner.spawn(pod_link(shared, pod_rx, pod_tx).expect("task pod_link"));
+    spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
+    spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
+    spawner.spawn(led(shared, b.led).expect("task led"));
+    spawner.spawn(log(shared).expect("task log"));
+}
+
+#[cfg(feature = "qemu")]
+fn defmt_fc(fc: protocol_core::bridge::FcProtocol) -> &'static str {
+    use protocol_core::bridge::FcProtocol;
+    match fc {
+        FcProtocol::Siyi => "siyi",
+        FcProtocol::Viewlink => "viewlink",
+        FcProtocol::Gcu => "gcu",
+        FcProtocol::K40t => "k40t",
+    }
+}
+
+#[embassy_executor::task]
+async fn fc_link(sh: &'static Sh, rx: BufferedUartRx<'static>, tx: BufferedUartTx<'static>) -> ! {
+    bridge_fw::link(sh, Port::Fc, rx, tx).await
+}
+
+#[embassy_executor::task]
+async fn pod_link(sh: &'static Sh, rx: BufferedUartRx<'static>, tx: BufferedUartTx<'static>) -> ! {
+    bridge_fw::link(sh, Port::Pod, rx, tx).await
+}
+
+#[embassy_executor::task]
+async fn engine(sh: &'static Sh, rtc_io: Output<'static>) -> ! {
+    bridge_fw::engine_task(sh, rtc_io).await
+}
+
+#[embassy_executor::task]
+async fn watchdog(sh: &'static Sh, mut wd: IndependentWatchdog<'static, IWDG>) -> ! {
+    bridge_fw::watchdog_task(sh, WATCHDOG_PERIOD, || wd.pet()).await
+}
+
+#[embassy_executor::task]
+async fn led(sh: &'static Sh, led: Output<'static>) -> ! {
+    bridge_fw::led_task(sh, led).await
+}
+
+#[embassy_executor::task]
+async fn log(sh: &'static Sh) -> ! {
+    bridge_fw::log_task(sh, |r: &Record| match r.what {
+        What::ReadError(_) | What::WriteError(_) | What::PinError(_) | What::Stalled(_) => {
+            defmt::warn!("{}", r);
+        }
+        _ => defmt::info!("{}", r),
+    })
+    .await
+}
+
+/// Emulated board: report a fault on QEMU's stdout and end QEMU with a failure code, so a
+/// CI run fails at once instead of timing out.
+#[cfg(feature = "qemu")]
+#[allow(unsafe_code)]
+#[cortex_m_rt::exception]
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    semihosting::eprintln!("bridge-fw (qemu): HardFault, PC {:#010x}", frame.pc());
+    semihosting::process::exit(1)
 }

@@ -67,6 +67,8 @@ pub mod gcu;
 
 #[cfg(feature = "bridge")]
 pub mod bridge;
+#[cfg(feature = "bridge")]
+pub mod gimbal;
 
 pub use error::{Error, Result};
 

@@ -310,6 +310,15 @@ macro_rules! k40t_kind_impl {
             pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
                 match self { $( Self::$name(m) => k40t_write!(m, w $(; $def)?), )* }
             }
+            /// Encodes this payload as a whole frame with `header` into `buf` and
+            /// returns its length (as [`Packet::emit`], without the other kinds'
+            /// encoders).
+            ///
+            /// # Errors
+            /// [`Error::BufferTooSmall`] when `buf` is shorter than the frame.
+            pub fn emit(&self, header: &Header, buf: &mut [u8]) -> Result<usize> {
+                emit_frame(*header, self.id(), self.payload_len(), buf, |w| self.encode(w))
+            }
         }
     };
 }
@@ -633,6 +642,44 @@ wire_derive! {
     }
 }
 
+impl<T: AsRef<[u8]>> Frame<T> {
+    /// The header, with the CRC coverage that makes the frame valid (`None` when neither
+    /// does). The frame must have passed [`Frame::check_len`].
+    #[must_use]
+    pub fn header(&self) -> Option<Header> {
+        Some(Header {
+            dst: self.dst(),
+            src: self.src(),
+            seq: self.seq(),
+            coverage: self.detect_coverage()?,
+        })
+    }
+
+    /// The payload as message `M`: `None` when the frame carries another message, else
+    /// `M` decoded exactly as [`Message::decode`] decodes it. A program that handles a
+    /// few messages decodes them this way and keeps the decoders of the other hundred
+    /// out of its binary (the bridge firmware saves about 12 KB of flash).
+    ///
+    /// ```
+    /// use protocol_core::k40t::{self, Address, Frame, GimbalAttitude, Header, HybridZoom};
+    /// let zoom = HybridZoom { start: 0, zoom_x10: 40 };
+    /// let header = Header::new(Address::new(4, 1), Address::new(2, 1), 7);
+    /// let mut buf = [0u8; 64];
+    /// let n = k40t::encode(&zoom, &header, &mut buf)?;
+    /// let frame = Frame::new_checked(&buf[..n])?;
+    /// assert_eq!(frame.decode_as::<HybridZoom>(), Some(Ok(zoom)));
+    /// assert_eq!(frame.decode_as::<GimbalAttitude>(), None);
+    /// # Ok::<(), protocol_core::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Inside the `Some`: [`Error::BadLength`] when the payload is longer than `M`'s
+    /// layout (a shorter one is zero-extended, see the module documentation).
+    pub fn decode_as<M: MessageData>(&self) -> Option<Result<M>> {
+        (self.id() == M::ID).then(|| decode_payload::<M>(self.payload()))
+    }
+}
+
 impl<'a> Packet<'a> {
     /// Parses a frame view. The CRC is verified under both coverages and the one that
     /// matches is recorded in the header.
@@ -765,6 +812,71 @@ mod tests {
         assert_eq!(
             Frame::new_checked(&ZOOM[..]).unwrap().detect_coverage(),
             Some(CrcCoverage::ExcludeStx)
+        );
+    }
+
+    /// `Frame::decode_as` gives what `Message::decode` gives, for the right type only,
+    /// with the same length rules; `Request::emit` encodes as `Packet::emit`.
+    #[test]
+    fn decode_as_and_emit_per_kind_agree_with_the_enums() {
+        let zoom = Frame::new_checked(&ZOOM[..]).unwrap();
+        assert_eq!(
+            zoom.decode_as::<HybridZoom>(),
+            Some(Ok(HybridZoom {
+                start: 0,
+                zoom_x10: 45
+            }))
+        );
+        assert_eq!(zoom.decode_as::<HybridZoomAck>(), None);
+        assert_eq!(zoom.decode_as::<ZoomStatus>(), None);
+        assert_eq!(zoom.header(), Some(Packet::decode(&ZOOM).unwrap().header));
+        let ack = Frame::new_checked(&ZOOM_ACK[..]).unwrap();
+        assert_eq!(
+            ack.decode_as::<HybridZoomAck>(),
+            Some(Ok(HybridZoomAck {
+                code: ResponseCode::OK
+            }))
+        );
+        // A bad CRC: no header.
+        let mut bad = ZOOM;
+        bad[11] ^= 1;
+        assert_eq!(Frame::new_checked(&bad[..]).unwrap().header(), None);
+
+        let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, 9);
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        // Shorter payload: zero-extended by both; longer: BadLength from both.
+        for payload in [&[0x2D][..], &[0x00, 0x2D, 0x00, 0x07][..]] {
+            let raw = Packet {
+                header,
+                message: Message::Raw(Raw {
+                    id: HybridZoom::ID,
+                    payload,
+                }),
+            };
+            let n = raw.emit(&mut buf).unwrap();
+            let frame = Frame::new_checked(&buf[..n]).unwrap();
+            let via_enum = Packet::decode(&buf[..n]).map(|p| p.message.get::<HybridZoom>());
+            let via_type = frame.decode_as::<HybridZoom>().unwrap().map(Some);
+            assert_eq!(via_type, via_enum, "{payload:?}");
+        }
+
+        // Per-kind emit: byte-identical to Packet::emit.
+        let request = Request::GimbalVersion(GimbalVersionQuery {
+            command: 1,
+            reserved: 0,
+        });
+        let n = request.emit(&header, &mut buf).unwrap();
+        let mut again = [0u8; MAX_FRAME_LEN];
+        let m = Packet {
+            header,
+            message: Message::Request(request),
+        }
+        .emit(&mut again)
+        .unwrap();
+        assert_eq!(buf[..n], again[..m]);
+        assert_eq!(
+            request.emit(&header, &mut buf[..n - 1]),
+            Err(Error::BufferTooSmall)
         );
     }
 

@@ -1,0 +1,145 @@
+//! The B-L475E-IOT01A binding: clocks, pins, UARTs, RTC_IO, LED2, watchdog, strap pins.
+//!
+//! | signal | MCU pin | board connector | level | to |
+//! | --- | --- | --- | --- | --- |
+//! | FC TX (UART4, AF8) | PA0 | Arduino D1 | 3.3 V | FC's RX |
+//! | FC RX (UART4, AF8) | PA1 | Arduino D0 | 3.3 V (5 V tolerant) | FC's TX |
+//! | pod TX (USART2, AF7) | PD5 | PMOD pin 2 (PMOD_UART2_TX) | 3.3 V | pod's RX |
+//! | pod RX (USART2, AF7) | PD6 | PMOD pin 3 (PMOD_UART2_RX) | 3.3 V (5 V tolerant) | pod's TX |
+//! | RTC_IO (push-pull out) | PD14 | Arduino D2 | 3.3 V | pod's RTC_IO |
+//! | FC strap A (in, pull-up) | PA3 | Arduino D4 | open / GND | (all-FC builds) |
+//! | FC strap B (in, pull-up) | PA4 | Arduino D7 | open / GND | (all-FC builds) |
+//! | LED2 | PB14 | on board | | |
+//!
+//! USART1 (the ST-LINK virtual COM port) stays free; USART3 is wired to the on-board
+//! modules, not to a header.
+
+use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
+use embassy_stm32::peripherals::IWDG;
+use embassy_stm32::usart::{self, BufferedUart};
+use embassy_stm32::wdg::IndependentWatchdog;
+use embassy_stm32::{bind_interrupts, peripherals};
+use protocol_core::bridge::Config;
+use static_cell::StaticCell;
+
+bind_interrupts!(struct Irqs {
+    UART4 => usart::BufferedInterruptHandler<peripherals::UART4>;
+    USART2 => usart::BufferedInterruptHandler<peripherals::USART2>;
+});
+
+/// Bytes of each UART ring buffer (22 ms at 115200: far more than any task's latency).
+const UART_BUF: usize = 256;
+
+/// The watchdog's time-out (LSI 32 kHz nominal, 29.5..34 kHz: 0.69..0.81 s): more than two
+/// feed periods, so one late check does not reset, and a stall resets in under 1 s.
+pub const WATCHDOG_TIMEOUT_US: u32 = 750_000;
+
+/// What the firmware runs on.
+pub struct Board {
+    /// The FC link.
+    pub fc: BufferedUart<'static>,
+    /// The pod link.
+    pub pod: BufferedUart<'static>,
+    /// RTC_IO, low.
+    pub rtc_io: Output<'static>,
+    /// LED2, off.
+    pub led: Output<'static>,
+    /// The independent watchdog, running.
+    pub watchdog: IndependentWatchdog<'static, IWDG>,
+    /// The configuration, FC protocol resolved (straps read if the build says so).
+    pub config: Config,
+    /// HCLK, Hz.
+    pub hclk: u32,
+}
+
+/// Clock tree. Hardware: 80 MHz from the PLL on HSI16. The emulated board must keep HCLK
+/// at 16 MHz or less: QEMU does not model the flash interface (FLASH_ACR reads 0) and
+/// embassy-stm32 polls until it reads back the wait states it wrote, 0 only up to 16 MHz.
+fn clock_config() -> embassy_stm32::Config {
+    use embassy_stm32::rcc::Sysclk;
+    let mut config = embassy_stm32::Config::default();
+    config.rcc.hsi = true;
+    #[cfg(not(feature = "qemu"))]
+    {
+        use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource};
+        // 16 MHz HSI / 1 * 10 / 2 = 80 MHz.
+        config.rcc.pll = Some(Pll {
+            source: PllSource::HSI,
+            prediv: PllPreDiv::DIV1,
+            mul: PllMul::MUL10,
+            divp: None,
+            divq: None,
+            divr: Some(PllRDiv::DIV2),
+        });
+        config.rcc.sys = Sysclk::PLL1_R;
+    }
+    #[cfg(feature = "qemu")]
+    {
+        config.rcc.sys = Sysclk::HSI;
+    }
+    config
+}
+
+/// Brings the board up. Panics only on a board or build error (a UART configuration
+/// the peripheral refuses, a buffer taken twice).
+pub fn init() -> Board {
+    let p = embassy_stm32::init(clock_config());
+    let hclk = embassy_stm32::rcc::clocks(&p.RCC)
+        .hclk1
+        .to_hertz()
+        .map_or(0, |hz| hz.0);
+
+    let config = bridge_fw::config::resolve(|| {
+        let a = Input::new(p.PA3, Pull::Up);
+        let b = Input::new(p.PA4, Pull::Up);
+        // Let the pull-ups charge the header pins (40 kΩ, some 10 pF: well under 1 µs).
+        cortex_m::asm::delay(hclk / 100_000);
+        (a.is_low(), b.is_low())
+    });
+
+    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
+    watchdog.unleash();
+
+    let uart = |baud: u32| {
+        let mut c = usart::Config::default(); // 8N1
+        c.baudrate = baud;
+        // Wake the reader on every byte: frames are handled as they arrive, and QEMU's
+        // USART never raises IDLE, the other thing that wakes a buffered read.
+        c.eager_reads = Some(1);
+        c
+    };
+    static FC_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    static FC_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    static POD_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    static POD_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    let fc = BufferedUart::new(
+        p.UART4,
+        p.PA1,
+        p.PA0,
+        FC_TX.init([0; UART_BUF]),
+        FC_RX.init([0; UART_BUF]),
+        Irqs,
+        uart(config.fc_baud),
+    )
+    .expect("FC UART configuration");
+    let pod = BufferedUart::new(
+        p.USART2,
+        p.PD6,
+        p.PD5,
+        POD_TX.init([0; UART_BUF]),
+        POD_RX.init([0; UART_BUF]),
+        Irqs,
+        uart(config.pod_baud),
+    )
+    .expect("pod UART configuration");
+
+    Board {
+        fc,
+        pod,
+        rtc_io: Output::new(p.PD14, Level::Low, Speed::VeryHigh),
+        led: Output::new(p.PB14, Level::Low, Speed::Low),
+        watchdog,
+        config,
+        hclk,
+    }
+}

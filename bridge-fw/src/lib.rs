@@ -1,0 +1,70 @@
+//! The bridge's tasks, written once: on the STM32 (the `bridge-fw` binary, `src/main.rs`)
+//! and on the host ([`host`], feature `host`).
+//!
+//! Everything that decides something lives in [`protocol_core::bridge::Engine`]; these
+//! tasks only move bytes, read the clock and drive pins. Each is a plain `async fn` that
+//! takes its resources, generic over [`embedded_io_async::Read`]/[`Write`](embedded_io_async::Write),
+//! [`embedded_hal::digital::OutputPin`] and `embassy_time`, and never returns:
+//!
+//! | task | what it does |
+//! | --- | --- |
+//! | [`link_reader`] | UART → [`Engine::receive_fc`]/[`receive_pod`](Engine::receive_pod); a silence of [`Timing::idle`] after bytes → [`fc_idle`](Engine::fc_idle)/[`pod_idle`](Engine::pod_idle) |
+//! | [`link_writer`] | engine → UART, one whole frame at a time; on the pod link it holds a frame that would still be on the wire at a planned RTC_IO edge |
+//! | [`link`] | both of the above for one port |
+//! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names (a timer alarm): pin, clock, [`pin_done`](Engine::pin_done) in one critical section, then the pod writer is woken |
+//! | [`watchdog_task`] | feeds the watchdog only while the engine task and all four link loops make progress |
+//! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
+//! | [`log_task`] | engine events and the tasks' own [`Record`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
+//!
+//! The tasks share one [`Shared`]: the engine behind a blocking mutex (never held across
+//! an `.await`), and [`Signal`](embassy_sync::signal::Signal)s that wake the writers, the
+//! engine task and the logger when the engine has something new.
+//!
+//! # RTC_IO edge → first byte of the 0x00030E
+//! The engine task sleeps on a timer alarm set to the edge's instant. When it fires, in one
+//! critical section: the pin goes high, the clock is read, and [`Engine::pin_done`] puts
+//! the 0x00030E at the head of the pod queue. Nothing that can wait lies between these.
+//! The pod writer is then woken; its delay to the first byte is one executor hand-over
+//! plus the frame already on the wire. The writer avoids the latter: it does not start a
+//! frame that would still be on the wire at a planned edge ([`link_writer`]), and it waits
+//! for each frame to leave the UART (`flush`) before taking the next, so at most one
+//! frame is ever in the UART's buffer. Every first pod frame after an edge is logged with
+//! its measured delay ([`What::EdgeToFrame`]).
+//!
+//! [`Engine`]: protocol_core::bridge::Engine
+//! [`Engine::receive_fc`]: protocol_core::bridge::Engine::receive_fc
+#![cfg_attr(not(feature = "host"), no_std)]
+
+pub mod config;
+mod engine;
+mod led;
+mod link;
+mod log;
+mod shared;
+mod timer;
+mod watchdog;
+
+#[cfg(feature = "host")]
+pub mod host;
+
+pub use engine::{BridgeEngine, Status};
+pub use led::{Blink, led_pattern, led_task};
+pub use link::{link, link_reader, link_writer};
+pub use log::{EventSink, Record, What, log_task};
+pub use shared::{Heartbeat, Shared, Timing};
+pub use timer::engine_task;
+pub use watchdog::watchdog_task;
+
+pub use protocol_core::bridge::{Config, Engine, Event, Instant, Level, PinAction, Port};
+
+/// The engine's clock: embassy-time's, in microseconds since boot.
+#[must_use]
+pub fn now() -> Instant {
+    Instant::from_micros(embassy_time::Instant::now().as_micros())
+}
+
+/// An engine instant as an embassy-time instant (same origin, same unit).
+#[must_use]
+pub fn to_embassy(at: Instant) -> embassy_time::Instant {
+    embassy_time::Instant::from_micros(at.as_micros())
+}

@@ -1,0 +1,218 @@
+//! What the tasks share: the engine, the wake-ups between tasks, the heartbeat.
+
+use core::cell::RefCell;
+use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
+
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_sync::channel::Channel;
+use embassy_sync::signal::Signal;
+use protocol_core::bridge::{Config, Duration, Instant, Port};
+
+use crate::engine::BridgeEngine;
+use crate::log::{Record, What};
+
+/// Records (pin edges, link errors, delays) waiting for the log task.
+const RECORDS: usize = 8;
+
+/// Time constants of the tasks (none of them a protocol decision: line timing and
+/// supervision only). [`Timing::from_config`] derives them from the baud rates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Timing {
+    /// FC link baud rate (8N1: ten bits a byte).
+    pub fc_baud: u32,
+    /// Pod link baud rate.
+    pub pod_baud: u32,
+    /// A line is idle after this many byte times without a byte...
+    pub idle_bytes: u32,
+    /// ... and never sooner than this (the embassy-time alarm's granularity, the
+    /// sender's own gaps).
+    pub idle_min: Duration,
+    /// Longest sleep of a task that the watchdog supervises: each marks its heartbeat at
+    /// least this often while it is healthy.
+    pub heartbeat: Duration,
+}
+
+impl Timing {
+    /// 20 byte times (1.7 ms at 115200), at least 5 ms; heartbeat every 100 ms.
+    ///
+    /// A line idle only flushes a broken candidate (a complete frame is handled on its
+    /// last byte), while a false idle in the middle of a frame loses that frame: so the
+    /// floor is generous. A host runner reading USB serial adapters (which deliver bytes
+    /// in bursts, milliseconds apart) should raise [`Timing::idle_min`] to 20 ms or more.
+    #[must_use]
+    pub const fn from_config(config: &Config) -> Self {
+        Timing {
+            fc_baud: config.fc_baud,
+            pod_baud: config.pod_baud,
+            idle_bytes: 20,
+            idle_min: Duration::from_millis(5),
+            heartbeat: Duration::from_millis(100),
+        }
+    }
+
+    /// The baud rate of `port`.
+    #[must_use]
+    pub const fn baud(&self, port: Port) -> u32 {
+        match port {
+            Port::Fc => self.fc_baud,
+            Port::Pod => self.pod_baud,
+        }
+    }
+
+    /// Time on the wire of `bytes` bytes on `port` (8N1), rounded up.
+    #[must_use]
+    pub const fn wire_time(&self, port: Port, bytes: usize) -> Duration {
+        let baud = self.baud(port);
+        let baud = if baud == 0 { 1 } else { baud as u64 };
+        let bits = (bytes as u64).saturating_mul(10).saturating_mul(1_000_000);
+        Duration::from_micros(bits.div_ceil(baud))
+    }
+
+    /// Silence after which `port`'s line counts as idle.
+    #[must_use]
+    pub const fn idle(&self, port: Port) -> Duration {
+        let t = self.wire_time(port, self.idle_bytes as usize);
+        if t.as_micros() < self.idle_min.as_micros() {
+            self.idle_min
+        } else {
+            t
+        }
+    }
+}
+
+/// One bit per supervised loop; [`Heartbeat::ALL`] when every one ran since the last check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Heartbeat(pub u8);
+
+impl Heartbeat {
+    /// The engine/timer task.
+    pub const ENGINE: Self = Self(1);
+    /// The FC reader.
+    pub const FC_RX: Self = Self(2);
+    /// The FC writer.
+    pub const FC_TX: Self = Self(4);
+    /// The pod reader.
+    pub const POD_RX: Self = Self(8);
+    /// The pod writer.
+    pub const POD_TX: Self = Self(16);
+    /// Every loop.
+    pub const ALL: Self = Self(31);
+
+    /// The reader's bit of `port`.
+    #[must_use]
+    pub const fn rx(port: Port) -> Self {
+        match port {
+            Port::Fc => Self::FC_RX,
+            Port::Pod => Self::POD_RX,
+        }
+    }
+
+    /// The writer's bit of `port`.
+    #[must_use]
+    pub const fn tx(port: Port) -> Self {
+        match port {
+            Port::Fc => Self::FC_TX,
+            Port::Pod => Self::POD_TX,
+        }
+    }
+}
+
+/// The engine and the task-side state around it.
+pub(crate) struct State<E> {
+    pub(crate) engine: E,
+    /// The last rising edge not yet followed by a pod frame (for [`What::EdgeToFrame`]).
+    pub(crate) edge: Option<Instant>,
+}
+
+/// Everything the tasks share. `M` is the mutex kind: `CriticalSectionRawMutex` on the
+/// MCU (one core, interrupt-safe) and on the host (threads may feed the pipes).
+pub struct Shared<M: RawMutex, E> {
+    state: Mutex<M, RefCell<State<E>>>,
+    timing: Timing,
+    pub(crate) wake_engine: Signal<M, ()>,
+    pub(crate) wake_fc_tx: Signal<M, ()>,
+    pub(crate) wake_pod_tx: Signal<M, ()>,
+    pub(crate) wake_log: Signal<M, ()>,
+    pub(crate) records: Channel<M, Record, RECORDS>,
+    alive: AtomicU8,
+    records_dropped: AtomicU32,
+}
+
+impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
+    /// The shared state around `engine`.
+    pub const fn new(engine: E, timing: Timing) -> Self {
+        Shared {
+            state: Mutex::new(RefCell::new(State { engine, edge: None })),
+            timing,
+            wake_engine: Signal::new(),
+            wake_fc_tx: Signal::new(),
+            wake_pod_tx: Signal::new(),
+            wake_log: Signal::new(),
+            records: Channel::new(),
+            alive: AtomicU8::new(0),
+            records_dropped: AtomicU32::new(0),
+        }
+    }
+
+    /// The tasks' time constants.
+    pub const fn timing(&self) -> &Timing {
+        &self.timing
+    }
+
+    /// Runs `f` on the engine (a blocking lock: `f` must not wait), then wakes every task
+    /// that may have something new to do. For readers of the engine's state (a status
+    /// display, a test) as well as the tasks.
+    pub fn with<R>(&self, f: impl FnOnce(&mut E) -> R) -> R {
+        let r = self.with_state(|s| f(&mut s.engine));
+        self.wake_engine.signal(());
+        self.wake_outputs();
+        r
+    }
+
+    /// Runs `f` on the state, waking nobody.
+    pub(crate) fn with_state<R>(&self, f: impl FnOnce(&mut State<E>) -> R) -> R {
+        self.state.lock(|s| f(&mut s.borrow_mut()))
+    }
+
+    /// Wakes the writers and the log task.
+    pub(crate) fn wake_outputs(&self) {
+        self.wake_fc_tx.signal(());
+        self.wake_pod_tx.signal(());
+        self.wake_log.signal(());
+    }
+
+    /// The writer of `port`'s wake-up.
+    pub(crate) fn wake_tx(&self, port: Port) -> &Signal<M, ()> {
+        match port {
+            Port::Fc => &self.wake_fc_tx,
+            Port::Pod => &self.wake_pod_tx,
+        }
+    }
+
+    /// Marks progress of one supervised loop.
+    pub fn alive(&self, bit: Heartbeat) {
+        self.alive.fetch_or(bit.0, Ordering::Relaxed);
+    }
+
+    /// The loops that made progress since the last call (and starts counting again).
+    pub fn take_alive(&self) -> Heartbeat {
+        Heartbeat(self.alive.swap(0, Ordering::Relaxed))
+    }
+
+    /// Queues a record for the log task (never waits: counted and dropped when full).
+    pub fn record(&self, at: Instant, what: What) {
+        if self.records.try_send(Record { at, what }).is_err() {
+            self.records_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+        self.wake_log.signal(());
+    }
+
+    /// Records dropped because the log task lagged.
+    pub fn records_dropped(&self) -> u32 {
+        self.records_dropped.load(Ordering::Relaxed)
+    }
+}

@@ -1,0 +1,92 @@
+//! The engine/timer task: `poll` when the engine asks, RTC_IO at the instants it names.
+
+use embassy_futures::select::select;
+use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_time::Timer;
+use embedded_hal::digital::OutputPin;
+use protocol_core::bridge::{Instant, Level};
+
+use crate::engine::BridgeEngine;
+use crate::log::What;
+use crate::shared::{Heartbeat, Shared};
+use crate::{now, to_embassy};
+
+/// Drives the engine's clock and the RTC_IO pin forever.
+///
+/// Each turn: [`poll`](protocol_core::bridge::Engine::poll) if
+/// [`poll_at`](protocol_core::bridge::Engine::poll_at) is due, then sleep until the
+/// earliest of the next poll, the next pin change ([`pin`](protocol_core::bridge::Engine::pin)),
+/// [`Timing::heartbeat`](crate::Timing::heartbeat), or new input from a reader. When the
+/// pin's instant comes (a timer alarm), in one critical section with nothing that can
+/// wait in between: the pin is set, the clock read, and
+/// [`pin_done`](protocol_core::bridge::Engine::pin_done) told that instant (for a rising
+/// edge the engine puts the 0x00030E at the head of the pod queue); then the pod writer
+/// is woken.
+///
+/// A `poll_at` that is not later than the poll just made (the engine keeps naming the
+/// sync lead while a settled edge approaches) waits for the edge or for input instead of
+/// spinning.
+pub async fn engine_task<M: RawMutex, E: BridgeEngine, P: OutputPin>(
+    shared: &Shared<M, E>,
+    mut pin: P,
+) -> ! {
+    let heartbeat = shared.timing().heartbeat;
+    loop {
+        let start = now();
+        let (action, poll_at) = shared.with_state(|s| {
+            if s.engine.poll_at().is_some_and(|t| t <= start) {
+                s.engine.poll(start);
+            }
+            (s.engine.pin(), s.engine.poll_at())
+        });
+        shared.wake_outputs();
+        shared.alive(Heartbeat::ENGINE);
+
+        let mut wake = start.saturating_add(heartbeat);
+        if let Some(t) = poll_at.filter(|&t| t > start) {
+            wake = wake.min(t);
+        }
+        if let Some(a) = action {
+            wake = wake.min(a.at);
+        }
+        if action.is_some_and(|a| a.at <= start) {
+            fire(shared, &mut pin);
+            continue;
+        }
+        select(Timer::at(to_embassy(wake)), shared.wake_engine.wait()).await;
+        if action.is_some_and(|a| a.at <= now()) {
+            fire(shared, &mut pin);
+        }
+    }
+}
+
+/// Applies the engine's pin action if it is due: pin, clock, `pin_done` under the lock.
+fn fire<M: RawMutex, E: BridgeEngine, P: OutputPin>(shared: &Shared<M, E>, pin: &mut P) {
+    let done: Option<(Level, Instant, bool)> = shared.with_state(|s| {
+        let a = s.engine.pin().filter(|a| a.at <= now())?;
+        let ok = match a.level {
+            Level::High => pin.set_high(),
+            Level::Low => pin.set_low(),
+        }
+        .is_ok();
+        let at = now();
+        // The engine has no "edge failed": a pin that cannot be set (none of the
+        // supported ones can fail) is reported as set, and logged below.
+        s.engine.pin_done(a.level, at);
+        if a.level == Level::High {
+            s.edge = Some(at);
+        }
+        Some((a.level, at, ok))
+    });
+    let Some((level, at, ok)) = done else {
+        return;
+    };
+    if level == Level::High {
+        shared.wake_pod_tx.signal(());
+    }
+    shared.wake_outputs();
+    if !ok {
+        shared.record(at, What::PinError(level));
+    }
+    shared.record(at, What::Pin(level));
+}

@@ -1,0 +1,34 @@
+//! Watchdog feed: only while every supervised loop makes progress.
+
+use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_time::{Duration, Ticker};
+
+use crate::engine::BridgeEngine;
+use crate::log::What;
+use crate::now;
+use crate::shared::{Heartbeat, Shared};
+
+/// Every `period`, feeds the watchdog (`feed`) if the engine task and the four link
+/// loops (FC and pod, reader and writer) have each marked their heartbeat since the
+/// last check; else logs which did not ([`What::Stalled`]) and does not feed.
+///
+/// Each loop marks its heartbeat at least every [`Timing::heartbeat`](crate::Timing::heartbeat)
+/// (100 ms) while healthy, so `period` must be longer than that (the firmware uses
+/// 250 ms) and the watchdog's time-out longer than two periods (the firmware's: 750 ms;
+/// a stall then resets the MCU within 0.75 to 1 s of the last feed, at most 1 s).
+pub async fn watchdog_task<M: RawMutex, E: BridgeEngine, F: FnMut()>(
+    shared: &Shared<M, E>,
+    period: Duration,
+    mut feed: F,
+) -> ! {
+    let mut ticker = Ticker::every(period);
+    loop {
+        ticker.next().await;
+        let alive = shared.take_alive();
+        if alive.0 & Heartbeat::ALL.0 == Heartbeat::ALL.0 {
+            feed();
+        } else {
+            shared.record(now(), What::Stalled(Heartbeat(Heartbeat::ALL.0 & !alive.0)));
+        }
+    }
+}

@@ -1,0 +1,711 @@
+//! A simulated ArduPilot `AP_Mount_Siyi` driver: the flight controller as a SIYI gimbal
+//! sees it, following `../shared/FC-TRAFFIC.md` (SIYI section) and the driver's code.
+//!
+//! - **Loop.** `update()` runs at 50 Hz on the FC's own crystal ([`ApSiyiConfig::ppm`]),
+//!   each run a few hundred microseconds late ([`ApSiyiConfig::loop_jitter_us`]). Every
+//!   frame one run writes leaves in one burst, after a per-run transport jitter (uniform
+//!   in `0..ApSiyiConfig::jitter_us`, 10 ms by default; [`ApSiyiConfig::jitter_per_frame`]
+//!   draws it per frame instead).
+//! - **Start-up, gated in order** (nothing later happens until the earlier step is
+//!   answered): 0x02 hardware id at 1 Hz until any reply; 0x01 firmware at 1 Hz until a
+//!   reply of 8 or 12 bytes with a non-zero camera version; with
+//!   [`ApSiyiConfig::codec_gate`] (newer releases), 0x20 for streams 0 and 1 until a reply of
+//!   at least 8 bytes for each: until then no attitude is requested.
+//! - **Steady state.** 1 Hz: 0x0A, and 0x30 (UTC, µs) five times once the clock is valid.
+//!   Every ≥ 50 ms 0x0D; on a ZT30 every > 100 ms 0x15; ZT30/ZT6 0x14 (thermal min/max);
+//!   every > 100 ms 0x22 (aircraft attitude) and 0x3E (position). Motion every run: 0x07
+//!   rates, from a rate target or from an angle target through the P controller (gain 1.5)
+//!   on the last 0x0D (0/0 when no 0x0D for 200 ms); before a rotation whose yaw frame
+//!   changed, 0x0C lock/follow then 0x0A.
+//! - **Parser.** `55 66`, CTRL and SEQ ignored, a frame with more data than
+//!   [`ApSiyiConfig::max_data`] (32; 12 before 2024) dropped, CRC-16/XMODEM over the whole
+//!   frame, reset to the header on failure (no rewind).
+//! - **Health.** Firmware received and a 0x0D reply within the last second.
+//!
+//! Time is true time in µs. The FC's clock is `fc(t) = t·(1 + ppm) + boot`; its UTC is
+//! `fc + shift` (ArduPilot's `AP_RTC`: boot clock plus a shift set once from GPS), with
+//! the shift chosen so that the FC's UTC equals [`ApSiyiConfig::utc_at_zero_us`] at true
+//! time 0: the reference for the bridge's time sync is [`ApSiyi::fc_utc_us`].
+
+use protocol_core::Direction;
+use protocol_core::siyi::{
+    self, AbsoluteZoom, AutoFocus, CameraFunction, CameraFunctionType, Center, CenterPosition,
+    CodecQuery, FcAttitude, FcPosition, FeedbackInfo, FirmwareVersionQuery, FocusDirection,
+    GimbalAttitudeQuery, GimbalConfigQuery, GimbalRotation, GlobalTemperatureRequest,
+    HardwareIdQuery, Header, LaserDistanceQuery, ManualFocus, ManualZoom, MessageData, MotionMode,
+    Packet, RecordStatus, SetStitching, SetThermalGain, SetThermalPalette, Stitching,
+    StitchingMode, StreamType, ThermalGain, ThermalPalette, UtcTime, ZoomDirection, ZoomLevel,
+};
+use protocol_core::wire::crc16_xmodem;
+
+use super::scenario::FcSim;
+
+/// Settings of the simulated driver.
+#[derive(Debug, Clone)]
+pub struct ApSiyiConfig {
+    /// FC crystal error, ppm.
+    pub ppm: f64,
+    /// Per-run transport jitter bound, µs (uniform in `0..jitter_us`).
+    pub jitter_us: u64,
+    /// Draw the jitter per frame, not per run.
+    pub jitter_per_frame: bool,
+    /// Lateness of each run, µs (uniform in `0..loop_jitter_us`).
+    pub loop_jitter_us: u64,
+    /// Largest reply data accepted (32 current, 12 before 2024).
+    pub max_data: usize,
+    /// Newer releases: wait for the codec specs of streams 0 and 1.
+    pub codec_gate: bool,
+    /// The FC's UTC at true time 0, µs since the Unix epoch.
+    pub utc_at_zero_us: u64,
+    /// The FC's clock reads this at true time 0, µs.
+    pub boot_us: u64,
+    /// When the FC's clock becomes valid (GPS), true µs.
+    pub utc_valid_at_us: u64,
+    /// Seed of the random jitter.
+    pub seed: u64,
+    /// Send 0x3E positions (a GPS fix exists).
+    pub position: bool,
+}
+
+impl Default for ApSiyiConfig {
+    fn default() -> Self {
+        ApSiyiConfig {
+            ppm: 0.0,
+            jitter_us: 10_000,
+            jitter_per_frame: false,
+            loop_jitter_us: 500,
+            max_data: 32,
+            codec_gate: true,
+            // 2026-11-23T10:00:00.123456Z
+            utc_at_zero_us: 1_795_428_000_123_456,
+            boot_us: 3_000_000,
+            utc_valid_at_us: 0,
+            seed: 1,
+            position: true,
+        }
+    }
+}
+
+/// What the mount is told to do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MountTarget {
+    /// Turn at these rates (deg/s; yaw positive right, pitch positive up).
+    Rate {
+        /// Yaw rate.
+        yaw_dps: f64,
+        /// Pitch rate.
+        pitch_dps: f64,
+        /// Yaw in the earth frame (lock).
+        yaw_is_ef: bool,
+    },
+    /// Hold these angles (deg; body-frame yaw).
+    Angle {
+        /// Yaw, positive right.
+        yaw_deg: f64,
+        /// Pitch, positive up.
+        pitch_deg: f64,
+    },
+}
+
+/// The simulated aircraft: a straight line at constant speed and height.
+#[derive(Debug, Clone, Copy)]
+pub struct Aircraft {
+    /// Latitude at true time 0, degrees.
+    pub lat0_deg: f64,
+    /// Longitude at true time 0, degrees.
+    pub lon0_deg: f64,
+    /// Altitude above mean sea level, m.
+    pub alt_msl_m: f64,
+    /// Ground speed, m/s, heading north-east.
+    pub speed_m_s: f64,
+    /// Heading, degrees.
+    pub heading_deg: f64,
+}
+
+impl Default for Aircraft {
+    fn default() -> Self {
+        Aircraft {
+            lat0_deg: 47.397_742,
+            lon0_deg: 8.545_594,
+            alt_msl_m: 488.0,
+            speed_m_s: 8.0,
+            heading_deg: 45.0,
+        }
+    }
+}
+
+impl Aircraft {
+    /// Latitude, longitude (1e-7 deg) at true time `t_us`.
+    #[must_use]
+    pub fn position_e7(&self, t_us: u64) -> (i32, i32) {
+        let d = self.speed_m_s * t_us as f64 / 1e6;
+        let h = self.heading_deg.to_radians();
+        let lat = self.lat0_deg + d * h.cos() / 111_320.0;
+        let lon = self.lon0_deg + d * h.sin() / (111_320.0 * self.lat0_deg.to_radians().cos());
+        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
+    }
+
+    /// Roll, pitch, yaw (degrees) at true time `t_us`: a gentle roll oscillation.
+    #[must_use]
+    pub fn attitude_deg(&self, t_us: u64) -> (f64, f64, f64) {
+        let s = t_us as f64 / 1e6;
+        (5.0 * (s * 0.5).sin(), -3.0, self.heading_deg)
+    }
+}
+
+/// A reply the driver received, with the true time of its arrival.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Received {
+    /// True time of arrival.
+    pub at_us: u64,
+    /// Command id.
+    pub id: u8,
+    /// Data bytes.
+    pub data: Vec<u8>,
+}
+
+/// The simulated `AP_Mount_Siyi`.
+#[derive(Debug)]
+pub struct ApSiyi {
+    /// Settings.
+    pub config: ApSiyiConfig,
+    /// The aircraft.
+    pub aircraft: Aircraft,
+    rng: u64,
+    now_us: u64,
+    /// FC-clock ms of the next update run.
+    next_run_fc_ms: u64,
+    out: Vec<(u64, Vec<u8>)>,
+    seq: u16,
+    // Parser.
+    buf: Vec<u8>,
+    // Driver state.
+    got_hardware_id: bool,
+    /// The model from the hardware id's first two characters.
+    pub model: Option<[u8; 2]>,
+    fw_received: bool,
+    codec_record: bool,
+    codec_main: bool,
+    last_send_ms: Option<u64>,
+    last_att_req_ms: Option<u64>,
+    last_range_req_ms: Option<u64>,
+    last_therm_req_ms: Option<u64>,
+    last_att_send_ms: Option<u64>,
+    last_zoom_ms: Option<u64>,
+    sent_time_count: u8,
+    /// `_config_info.motion_mode` as the driver believes it.
+    motion_mode: Option<MotionMode>,
+    /// `_config_info.record_status`.
+    pub record_status: RecordStatus,
+    /// The last 0x0D: (true ms of arrival, yaw, pitch, roll in degrees, ArduPilot's sign
+    /// convention: yaw negated back to positive right).
+    pub attitude: Option<(u64, f64, f64, f64)>,
+    /// The last zoom ratio replied (0x05).
+    pub zoom_mult: Option<f64>,
+    /// The last rangefinder reading (0x15), as ArduPilot reads it.
+    pub rangefinder: Option<(u64, u16)>,
+    /// The last thermal min/max (0.01 °C).
+    pub thermal: Option<(i16, i16)>,
+    /// 0x0B messages.
+    pub feedback: Vec<(u64, FeedbackInfo)>,
+    /// Every reply received.
+    pub received: Vec<Received>,
+    /// Every frame sent: (true time it was written, id).
+    pub sent: Vec<(u64, u8)>,
+    /// The mount target.
+    pub target: Option<MountTarget>,
+    zoom_rate: i8,
+    /// Frames dropped by the parser (CRC or too long).
+    pub parse_errors: u32,
+    /// True times at which `healthy()` changed, with the new value.
+    pub health_log: Vec<(u64, bool)>,
+    healthy: bool,
+}
+
+impl ApSiyi {
+    /// A driver that starts at true time 0.
+    #[must_use]
+    pub fn new(config: ApSiyiConfig) -> Self {
+        let rng = config.seed.max(1);
+        // The first run on the FC's 20 ms grid after true time 0.
+        let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
+        ApSiyi {
+            config,
+            aircraft: Aircraft::default(),
+            rng,
+            now_us: 0,
+            next_run_fc_ms: first_run_fc_ms,
+            out: Vec::new(),
+            seq: 0,
+            buf: Vec::new(),
+            got_hardware_id: false,
+            model: None,
+            fw_received: false,
+            codec_record: false,
+            codec_main: false,
+            last_send_ms: None,
+            last_att_req_ms: None,
+            last_range_req_ms: None,
+            last_therm_req_ms: None,
+            last_att_send_ms: None,
+            last_zoom_ms: None,
+            sent_time_count: 0,
+            motion_mode: None,
+            record_status: RecordStatus::Off,
+            attitude: None,
+            zoom_mult: None,
+            rangefinder: None,
+            thermal: None,
+            feedback: Vec::new(),
+            received: Vec::new(),
+            sent: Vec::new(),
+            target: None,
+            zoom_rate: 0,
+            parse_errors: 0,
+            health_log: Vec::new(),
+            healthy: false,
+        }
+    }
+
+    fn random(&mut self) -> u64 {
+        // xorshift64*
+        self.rng ^= self.rng >> 12;
+        self.rng ^= self.rng << 25;
+        self.rng ^= self.rng >> 27;
+        self.rng.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    fn uniform(&mut self, bound: u64) -> u64 {
+        if bound == 0 { 0 } else { self.random() % bound }
+    }
+
+    /// The FC's clock (µs) at true time `t_us`.
+    #[must_use]
+    pub fn fc_us(&self, t_us: u64) -> u64 {
+        (t_us as f64 * (1.0 + self.config.ppm * 1e-6)) as u64 + self.config.boot_us
+    }
+
+    /// True time at which the FC's clock reads `fc_us`.
+    #[must_use]
+    pub fn true_of_fc(&self, fc_us: u64) -> u64 {
+        ((fc_us.saturating_sub(self.config.boot_us)) as f64 / (1.0 + self.config.ppm * 1e-6)).ceil()
+            as u64
+    }
+
+    /// The FC's UTC (µs) at true time `t_us`.
+    #[must_use]
+    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
+        self.fc_us(t_us) - self.fc_us(0) + self.config.utc_at_zero_us
+    }
+
+    /// `healthy()` of the driver now.
+    #[must_use]
+    pub fn healthy(&self) -> bool {
+        self.healthy
+    }
+
+    /// The firmware reply has been accepted.
+    #[must_use]
+    pub fn initialised(&self) -> bool {
+        self.fw_received
+    }
+
+    /// Take a picture (0x0C 0).
+    pub fn take_picture(&mut self) {
+        self.send(&CameraFunction {
+            function: CameraFunctionType::TakePhoto,
+        });
+    }
+
+    /// Start or stop recording: a toggle only when the last 0x0A says it is needed.
+    pub fn record_video(&mut self, start: bool) {
+        let on = self.record_status == RecordStatus::On;
+        if start != on && self.record_status != RecordStatus::NoCard {
+            self.send(&CameraFunction {
+                function: CameraFunctionType::RecordToggle,
+            });
+        }
+        self.send(&GimbalConfigQuery {});
+    }
+
+    /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
+    pub fn set_zoom_rate(&mut self, rate: i8) {
+        self.zoom_rate = rate.signum();
+        self.send_zoom_rate();
+        self.last_zoom_ms = Some(self.fc_ms());
+    }
+
+    fn send_zoom_rate(&mut self) {
+        let direction = match self.zoom_rate {
+            1 => ZoomDirection::In,
+            -1 => ZoomDirection::Out,
+            _ => ZoomDirection::Stop,
+        };
+        self.send(&ManualZoom { direction });
+    }
+
+    /// Zoom to a percentage of the model's range (0x0F).
+    pub fn set_zoom_pct(&mut self, pct: f64) {
+        let max = if self.model == Some(*b"7A") {
+            30.0
+        } else {
+            6.0
+        };
+        let mult = 1.0 + (max - 1.0) * pct.clamp(0.0, 100.0) / 100.0;
+        let level = ZoomLevel {
+            integer: mult.trunc() as u8,
+            tenths: ((mult.fract() * 10.0) as u8).min(9),
+        };
+        self.send(&AbsoluteZoom(level));
+    }
+
+    /// Focus rate: -1 near, 0 hold, 1 far.
+    pub fn set_focus_rate(&mut self, rate: i8) {
+        let direction = match rate.signum() {
+            1 => FocusDirection::Far,
+            -1 => FocusDirection::Near,
+            _ => FocusDirection::Stop,
+        };
+        self.send(&ManualFocus { direction });
+    }
+
+    /// Autofocus at the picture's centre.
+    pub fn autofocus(&mut self) {
+        self.send(&AutoFocus {
+            start: 1,
+            x: 960,
+            y: 540,
+        });
+    }
+
+    /// Lens (ZT30 table of the driver).
+    pub fn set_lens(&mut self, lens: u8) {
+        const TABLE: [u8; 9] = [3, 5, 7, 0, 1, 2, 4, 6, 8];
+        if let Some(&mode) = TABLE.get(usize::from(lens)) {
+            self.send(&SetStitching(Stitching {
+                mode: StitchingMode::from_value(mode),
+            }));
+        }
+    }
+
+    /// Thermal palette setting (SIYI numbering).
+    pub fn set_thermal_palette(&mut self, palette: u8) {
+        self.send(&SetThermalPalette(ThermalPalette {
+            palette: siyi::Palette::from_value(palette),
+        }));
+    }
+
+    /// Thermal gain setting (0 low, 1 high).
+    pub fn set_thermal_gain(&mut self, gain: u8) {
+        self.send(&SetThermalGain(ThermalGain {
+            gain: siyi::Gain::from_value(gain),
+        }));
+    }
+
+    /// Centre the gimbal (0x08 1).
+    pub fn center(&mut self) {
+        self.send(&Center {
+            position: CenterPosition::OneKeyCenter,
+        });
+    }
+
+    fn fc_ms(&self) -> u64 {
+        self.fc_us(self.now_us) / 1000
+    }
+
+    /// Queues one request frame for the current run.
+    fn send<M: MessageData>(&mut self, m: &M) {
+        let mut buf = [0u8; 64];
+        let Ok(n) = siyi::encode(m, &Header::request(self.seq), &mut buf) else {
+            return;
+        };
+        self.seq = self.seq.wrapping_add(1);
+        self.sent.push((self.now_us, M::ID));
+        let frame = buf[..n].to_vec();
+        if self.config.jitter_per_frame {
+            let at = self.now_us + self.uniform(self.config.jitter_us);
+            self.out.push((at, frame));
+        } else {
+            match self.out.last_mut() {
+                Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
+                _ => {
+                    let at = self.now_us + self.uniform(self.config.jitter_us);
+                    self.out.push((at, frame));
+                }
+            }
+        }
+    }
+
+    /// One `update()` run.
+    fn update(&mut self) {
+        let now_ms = self.fc_ms();
+        let t = self.now_us;
+        if self.last_send_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last_send_ms = Some(now_ms);
+            if !self.got_hardware_id {
+                self.send(&HardwareIdQuery {});
+                return;
+            } else if !self.fw_received {
+                self.send(&FirmwareVersionQuery {});
+                return;
+            }
+            self.send(&GimbalConfigQuery {});
+            if self.sent_time_count < 5 && t >= self.config.utc_valid_at_us {
+                self.send(&UtcTime {
+                    unix_us: self.fc_utc_us(t),
+                });
+                self.sent_time_count += 1;
+            }
+            if self.config.codec_gate && !(self.codec_record && self.codec_main) {
+                for stream in [StreamType::Record, StreamType::Main] {
+                    self.send(&CodecQuery { stream });
+                }
+            }
+        }
+        if self.config.codec_gate && !(self.codec_record && self.codec_main) {
+            return;
+        }
+        if self.last_att_req_ms.is_none_or(|l| now_ms - l >= 50) {
+            self.last_att_req_ms = Some(now_ms);
+            self.send(&GimbalAttitudeQuery {});
+        }
+        let zt30 = self.model == Some(*b"7A");
+        if zt30 && self.last_range_req_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last_range_req_ms = Some(now_ms);
+            self.send(&LaserDistanceQuery {});
+        }
+        if (zt30 || self.model == Some(*b"83"))
+            && self.last_therm_req_ms.is_none_or(|l| now_ms - l > 1000)
+        {
+            self.last_therm_req_ms = Some(now_ms);
+            self.send(&GlobalTemperatureRequest {
+                flag: siyi::MeasureFlag::from_value(2),
+            });
+        }
+        if self.last_att_send_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last_att_send_ms = Some(now_ms);
+            let time_boot_ms = now_ms as u32;
+            let (r, p, y) = self.aircraft.attitude_deg(t);
+            self.send(&FcAttitude {
+                time_boot_ms,
+                roll_rad: r.to_radians() as f32,
+                pitch_rad: p.to_radians() as f32,
+                yaw_rad: y.to_radians() as f32,
+                roll_rate_rad_s: 0.0,
+                pitch_rate_rad_s: 0.0,
+                yaw_rate_rad_s: 0.0,
+            });
+            if self.config.position {
+                let (lat_e7, lon_e7) = self.aircraft.position_e7(t);
+                let alt = (self.aircraft.alt_msl_m * 100.0) as i32;
+                self.send(&FcPosition {
+                    time_boot_ms,
+                    lat_e7,
+                    lon_e7,
+                    alt_msl_cm: alt,
+                    alt_ellipsoid_cm: alt + 4_800,
+                    vel_north_mm_s: 5_657,
+                    vel_east_mm_s: 5_657,
+                    vel_down_mm_s: 0,
+                });
+            }
+        }
+        // Zoom control: a non-zero rate is repeated at 1 Hz.
+        if self.zoom_rate != 0 && self.last_zoom_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last_zoom_ms = Some(now_ms);
+            self.send_zoom_rate();
+        }
+        self.send_target();
+    }
+
+    fn send_target(&mut self) {
+        let Some(target) = self.target else {
+            return;
+        };
+        let (yaw_s, pitch_s, ef) = match target {
+            MountTarget::Rate {
+                yaw_dps,
+                pitch_dps,
+                yaw_is_ef,
+            } => (
+                (100.0 * yaw_dps / 90.0).clamp(-100.0, 100.0),
+                (100.0 * pitch_dps / 90.0).clamp(-100.0, 100.0),
+                yaw_is_ef,
+            ),
+            MountTarget::Angle { yaw_deg, pitch_deg } => {
+                let fresh = self
+                    .attitude
+                    .is_some_and(|(at, ..)| self.now_us.saturating_sub(at) < 200_000);
+                match self.attitude.filter(|_| fresh) {
+                    None => (0.0, 0.0, false),
+                    Some((_, yaw, pitch, _)) => (
+                        (100.0 * (yaw_deg - yaw) * 1.5 / 90.0).clamp(-100.0, 100.0),
+                        (100.0 * (pitch_deg - pitch) * 1.5 / 90.0).clamp(-100.0, 100.0),
+                        false,
+                    ),
+                }
+            }
+        };
+        let mode = if ef {
+            MotionMode::Lock
+        } else {
+            MotionMode::Follow
+        };
+        if self.motion_mode != Some(mode) {
+            self.send(&CameraFunction {
+                function: if ef {
+                    CameraFunctionType::LockMode
+                } else {
+                    CameraFunctionType::FollowMode
+                },
+            });
+            self.motion_mode = Some(mode);
+            self.send(&GimbalConfigQuery {});
+        }
+        self.send(&GimbalRotation {
+            yaw: yaw_s as i8,
+            pitch: pitch_s as i8,
+        });
+    }
+
+    /// ArduPilot's byte parser.
+    fn parse(&mut self, now_us: u64, bytes: &[u8]) {
+        for &b in bytes {
+            self.buf.push(b);
+            let n = self.buf.len();
+            let reset = match n {
+                1 => b != 0x55,
+                2 => b != 0x66,
+                5 => {
+                    usize::from(u16::from_le_bytes([self.buf[3], self.buf[4]]))
+                        > self.config.max_data
+                }
+                _ if n >= 10 => {
+                    let len = usize::from(u16::from_le_bytes([self.buf[3], self.buf[4]]));
+                    if n == 10 + len {
+                        let crc = crc16_xmodem(&self.buf[..n - 2]);
+                        if crc == u16::from_le_bytes([self.buf[n - 2], self.buf[n - 1]]) {
+                            let id = self.buf[7];
+                            let data = self.buf[8..n - 2].to_vec();
+                            self.process(now_us, id, &data);
+                        } else {
+                            self.parse_errors += 1;
+                        }
+                        true
+                    } else {
+                        false
+                    }
+                }
+                _ => false,
+            };
+            if reset {
+                if n >= 5 && n != 10 + usize::from(u16::from_le_bytes([self.buf[3], self.buf[4]])) {
+                    self.parse_errors += 1;
+                }
+                self.buf.clear();
+            }
+        }
+    }
+
+    fn process(&mut self, now_us: u64, id: u8, data: &[u8]) {
+        self.received.push(Received {
+            at_us: now_us,
+            id,
+            data: data.to_vec(),
+        });
+        let le = |i: usize| i16::from_le_bytes([data[i], data[i + 1]]);
+        match id {
+            0x01 if (data.len() == 12 || data.len() == 8) && data[..3] != [0, 0, 0] => {
+                self.fw_received = true;
+            }
+            0x02 => {
+                self.got_hardware_id = true;
+                if data.len() >= 2 {
+                    self.model = Some([data[0], data[1]]);
+                }
+            }
+            0x05 if data.len() == 2 => {
+                self.zoom_mult = Some(f64::from(u16::from_le_bytes([data[0], data[1]])) * 0.1);
+            }
+            0x0A if data.len() >= 5 => {
+                self.record_status = RecordStatus::from_value(data[3]);
+                self.motion_mode = Some(MotionMode::from_value(data[4]));
+            }
+            0x0B if data.len() == 1 => {
+                self.feedback
+                    .push((now_us, FeedbackInfo::from_value(data[0])));
+            }
+            0x0D if data.len() == 12 => {
+                self.attitude = Some((
+                    now_us,
+                    -f64::from(le(0)) * 0.1,
+                    f64::from(le(2)) * 0.1,
+                    f64::from(le(4)) * 0.1,
+                ));
+            }
+            0x14 if data.len() == 12 => self.thermal = Some((le(0), le(2))),
+            0x15 if data.len() >= 2 => {
+                self.rangefinder = Some((now_us, u16::from_le_bytes([data[0], data[1]])));
+            }
+            0x20 if data.len() >= 8 => match StreamType::from_value(data[0]) {
+                StreamType::Record => self.codec_record = true,
+                StreamType::Main => self.codec_main = true,
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+
+    fn update_health(&mut self) {
+        let fresh = self
+            .attitude
+            .is_some_and(|(at, ..)| self.now_us.saturating_sub(at) <= 1_000_000);
+        let healthy = self.fw_received && fresh;
+        if healthy != self.healthy {
+            self.healthy = healthy;
+            self.health_log.push((self.now_us, healthy));
+        }
+    }
+
+    /// True time of the next update run.
+    fn next_run_us(&self) -> u64 {
+        self.true_of_fc(self.next_run_fc_ms * 1000)
+    }
+
+    /// Decodes a reply as the bridge meant it (for assertions).
+    #[must_use]
+    pub fn decoded(frame: &[u8]) -> Option<Packet<'_>> {
+        Packet::decode(frame, Direction::FromGimbal).ok()
+    }
+}
+
+impl FcSim for ApSiyi {
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        self.now_us = self.now_us.max(now_us);
+        self.parse(now_us, bytes);
+        self.update_health();
+    }
+
+    fn poll(&mut self, now_us: u64) {
+        self.now_us = self.now_us.max(now_us);
+        while self.next_run_us() <= now_us {
+            let fc_ms = self.next_run_fc_ms;
+            // The run starts late by the loop jitter; what it reads and writes is stamped
+            // then.
+            let late = self.uniform(self.config.loop_jitter_us);
+            self.now_us = self.true_of_fc(fc_ms * 1000) + late;
+            self.update();
+            self.next_run_fc_ms = fc_ms + 20;
+        }
+        self.now_us = now_us;
+        self.update_health();
+    }
+
+    fn next_wakeup(&self) -> u64 {
+        self.next_run_us()
+    }
+
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        std::mem::take(&mut self.out)
+    }
+}

@@ -1,0 +1,172 @@
+//! A simulated flight controller that speaks the K40T protocol itself (as 0x02/0x01):
+//! it sends commands, a 0x00030E every 10 s right after its own (unwired) RTC_IO pulse,
+//! and answers the pod's GPS requests from its position, unless told not to.
+
+use protocol_core::k40t::{
+    self, Address, CrcCoverage, GpsReply, Header, K40tFraming, Message, MessageData, Packet,
+    Request, ResponseCode, TimeSync,
+};
+use protocol_core::wire::{Deframer, Event};
+
+use super::ap_siyi::Aircraft;
+use super::scenario::FcSim;
+
+/// A frame the FC received, with the true time of its arrival.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Received {
+    /// True time of arrival.
+    pub at_us: u64,
+    /// The frame.
+    pub frame: Vec<u8>,
+}
+
+/// The simulated K40T flight controller.
+pub struct FcK40t {
+    now_us: u64,
+    seq: u8,
+    deframer: Deframer<K40tFraming, { k40t::MAX_FRAME_LEN }>,
+    out: Vec<(u64, Vec<u8>)>,
+    next_sync_us: u64,
+    /// The FC's UTC at true time 0, µs.
+    pub utc_at_zero_us: u64,
+    /// Answer the pod's GPS requests.
+    pub answer_gps: bool,
+    /// The aircraft.
+    pub aircraft: Aircraft,
+    /// Every frame received from the bridge.
+    pub received: Vec<Received>,
+    /// Frames the FC sent: (true time, sequence number, message id).
+    pub sent: Vec<(u64, u8, u32)>,
+}
+
+impl std::fmt::Debug for FcK40t {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FcK40t")
+            .field("now_us", &self.now_us)
+            .field("received", &self.received.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Default for FcK40t {
+    fn default() -> Self {
+        FcK40t {
+            now_us: 0,
+            seq: 0,
+            deframer: Deframer::new(K40tFraming::any()),
+            out: Vec::new(),
+            next_sync_us: 1_000_000,
+            utc_at_zero_us: 1_795_428_000_123_456,
+            answer_gps: true,
+            aircraft: Aircraft::default(),
+            received: Vec::new(),
+            sent: Vec::new(),
+        }
+    }
+}
+
+impl FcK40t {
+    /// The FC's UTC at true time `t_us`.
+    #[must_use]
+    pub fn utc_us(&self, t_us: u64) -> u64 {
+        self.utc_at_zero_us + t_us
+    }
+
+    /// Sends a request to the pod now.
+    pub fn send<M: MessageData>(&mut self, m: &M) {
+        let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, self.seq);
+        self.seq = self.seq.wrapping_add(1);
+        let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+        if let Ok(n) = k40t::encode(m, &header, &mut buf) {
+            self.sent.push((self.now_us, header.seq, M::ID.to_u32()));
+            self.out.push((self.now_us, buf[..n].to_vec()));
+        }
+    }
+
+    /// The frames received of message `M`, decoded, with their headers.
+    #[must_use]
+    pub fn received_of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+        self.received
+            .iter()
+            .filter_map(|r| {
+                let p = Packet::decode(&r.frame).ok()?;
+                Some((r.at_us, p.header, p.message.get::<M>()?))
+            })
+            .collect()
+    }
+
+    fn answer(&mut self, header: Header, request: k40t::GpsRequest) {
+        let (lat_e7, lon_e7) = self.aircraft.position_e7(self.now_us);
+        let reply = GpsReply {
+            code: ResponseCode::OK,
+            hour: request.hour,
+            minute: request.minute,
+            second: request.second,
+            millisecond: request.millisecond,
+            lon_e7,
+            lat_e7,
+            rel_alt_dm: 500,
+            alt_msl_dm: (self.aircraft.alt_msl_m * 10.0) as i16,
+            yaw_cdeg: (self.aircraft.heading_deg * 100.0) as i16,
+            roll_cdeg: 0,
+            pitch_cdeg: 0,
+        };
+        let h = Header {
+            dst: header.src,
+            src: Address::FLIGHT_CONTROLLER,
+            seq: header.seq,
+            coverage: CrcCoverage::ExcludeStx,
+        };
+        let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+        if let Ok(n) = k40t::encode(&reply, &h, &mut buf) {
+            self.out.push((self.now_us, buf[..n].to_vec()));
+        }
+    }
+}
+
+impl FcSim for FcK40t {
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        self.now_us = self.now_us.max(now_us);
+        let mut frames = Vec::new();
+        self.deframer.push(bytes, |e| {
+            if let Event::Frame(f) = e {
+                frames.push(f.to_vec());
+            }
+        });
+        for f in frames {
+            if let Ok(p) = Packet::decode(&f)
+                && let Message::Request(Request::GpsRequest(r)) = p.message
+                && self.answer_gps
+            {
+                self.answer(p.header, r);
+            }
+            self.received.push(Received {
+                at_us: now_us,
+                frame: f,
+            });
+        }
+    }
+
+    fn poll(&mut self, now_us: u64) {
+        self.now_us = self.now_us.max(now_us);
+        while self.next_sync_us <= now_us {
+            self.now_us = self.next_sync_us;
+            let unix_ms = self.utc_us(self.now_us) / 1000;
+            self.send(&TimeSync {
+                unix_ms,
+                tz_minuteswest: 0,
+                tz_dsttime: 0,
+            });
+            self.next_sync_us += 10_000_000;
+        }
+        self.now_us = now_us;
+    }
+
+    fn next_wakeup(&self) -> u64 {
+        self.next_sync_us
+    }
+
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        std::mem::take(&mut self.out)
+    }
+}

@@ -1,0 +1,296 @@
+//! The bridge engine between a simulated flight controller and a simulated pod, on
+//! simulated serial lines, in simulated time.
+//!
+//! True time is `u64` microseconds. The bridge's clock drifts against it by
+//! [`Scenario::bridge_ppm`] (the engine only ever sees its own clock); the peers run on
+//! true time (an FC simulator models its own clock). Every line carries bytes at the baud
+//! rate and delivers them in chunks with an idle event after each burst, as the
+//! firmware's UART does. The RTC_IO pin is applied exactly at the instant the engine
+//! names (the firmware's timer alarm) and seen by the pod at the same instant.
+
+use protocol_core::bridge::{Config, Engine, Event, Instant, Level};
+
+use super::line::Line;
+use super::pod::SimPod;
+
+/// A simulated flight controller: sans-IO, true time in microseconds.
+pub trait FcSim {
+    /// Bytes from the bridge, the last of them arriving at `now_us`.
+    fn receive(&mut self, now_us: u64, bytes: &[u8]);
+    /// Periodic work due at `now_us`.
+    fn poll(&mut self, now_us: u64);
+    /// When [`FcSim::poll`] is next due (`u64::MAX`: never).
+    fn next_wakeup(&self) -> u64;
+    /// Bytes to send, each batch with the instant it starts on the wire (not before
+    /// the poll that produced it).
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)>;
+}
+
+/// A flight controller that says nothing.
+#[derive(Debug, Default)]
+pub struct SilentFc {
+    /// Bytes received from the bridge.
+    pub received: Vec<u8>,
+}
+
+impl FcSim for SilentFc {
+    fn receive(&mut self, _now_us: u64, bytes: &[u8]) {
+        self.received.extend_from_slice(bytes);
+    }
+    fn poll(&mut self, _now_us: u64) {}
+    fn next_wakeup(&self) -> u64 {
+        u64::MAX
+    }
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        Vec::new()
+    }
+}
+
+/// One RTC_IO change, as applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PinEdge {
+    /// True time.
+    pub at_us: u64,
+    /// The level set.
+    pub level: Level,
+}
+
+/// The engine, its peers and the four lines.
+pub struct Scenario<F: FcSim> {
+    /// True time now.
+    pub now_us: u64,
+    /// The bridge's clock error against true time, parts per million.
+    pub bridge_ppm: i64,
+    /// The engine under test.
+    pub engine: Engine,
+    /// The flight controller.
+    pub fc: F,
+    /// The pod.
+    pub pod: SimPod,
+    /// FC -> bridge.
+    pub fc_line: Line,
+    /// Bridge -> FC.
+    pub to_fc_line: Line,
+    /// Pod -> bridge.
+    pub pod_line: Line,
+    /// Bridge -> pod.
+    pub to_pod_line: Line,
+    /// Every RTC_IO change.
+    pub pin_edges: Vec<PinEdge>,
+    /// Every engine event, with the true time it was drained.
+    pub events: Vec<(u64, Event)>,
+    /// Cut the FC cable (no bytes either way).
+    pub fc_cut: bool,
+}
+
+impl<F: FcSim> Scenario<F> {
+    /// A scenario at true time 0 with a bridge clock `bridge_ppm` off.
+    pub fn new(config: Config, fc: F, pod: SimPod, bridge_ppm: i64) -> Self {
+        Scenario {
+            now_us: 0,
+            bridge_ppm,
+            fc_line: Line::new(config.fc_baud),
+            to_fc_line: Line::new(config.fc_baud),
+            pod_line: Line::new(config.pod_baud),
+            to_pod_line: Line::new(config.pod_baud),
+            engine: Engine::new(config),
+            fc,
+            pod,
+            pin_edges: Vec::new(),
+            events: Vec::new(),
+            fc_cut: false,
+        }
+    }
+
+    /// The bridge's clock at true time `t_us` (starting at 1 s, so it is never 0).
+    pub fn local(&self, t_us: u64) -> Instant {
+        let drift = i128::from(t_us) * i128::from(self.bridge_ppm) / 1_000_000;
+        let l = i128::from(t_us) + drift + 1_000_000;
+        Instant::from_micros(u64::try_from(l.max(0)).unwrap_or(0))
+    }
+
+    /// The true time at which the bridge's clock reads `at`.
+    pub fn true_of(&self, at: Instant) -> u64 {
+        let l = i128::from(at.as_micros()) - 1_000_000;
+        let t = l * 1_000_000 / (1_000_000 + i128::from(self.bridge_ppm));
+        // Round up so that the bridge's clock has reached `at`.
+        let mut t = u64::try_from(t.max(0)).unwrap_or(0);
+        while self.local(t) < at {
+            t += 1;
+        }
+        t
+    }
+
+    /// Runs until true time `end_us`.
+    pub fn run_until(&mut self, end_us: u64) {
+        while self.now_us < end_us {
+            let next = self
+                .next_event()
+                .unwrap_or(end_us)
+                .clamp(self.now_us, end_us);
+            self.now_us = next;
+            self.step();
+            if self.next_event().is_some_and(|t| t <= self.now_us) {
+                // Work that became due at the same instant: run it, but never loop
+                // forever on a peer that keeps asking for `now`.
+                self.step();
+                if self.next_event().is_some_and(|t| t <= self.now_us) {
+                    self.now_us += 1;
+                }
+            }
+        }
+    }
+
+    /// Runs for `us` more microseconds.
+    pub fn run_for(&mut self, us: u64) {
+        self.run_until(self.now_us + us);
+    }
+
+    fn next_event(&self) -> Option<u64> {
+        let engine_poll = self.engine.poll_at().map(|t| self.true_of(t));
+        let pin = self.engine.pin().map(|p| self.true_of(p.at));
+        [
+            engine_poll,
+            pin,
+            Some(self.fc.next_wakeup()).filter(|&t| t != u64::MAX),
+            Some(self.pod.next_wakeup()).filter(|&t| t != u64::MAX),
+            self.fc_line.next_event(),
+            self.to_fc_line.next_event(),
+            self.pod_line.next_event(),
+            self.to_pod_line.next_event(),
+            self.engine
+                .pod_frame()
+                .map(|_| self.to_pod_line.busy_until()),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Does everything due at `now_us`.
+    fn step(&mut self) {
+        let now = self.now_us;
+        let local = self.local(now);
+        // Lines into the bridge.
+        let (bytes, idle) = self.fc_line.deliver(now);
+        if !bytes.is_empty() && !self.fc_cut {
+            self.engine.receive_fc(local, &bytes);
+        }
+        if idle {
+            self.engine.fc_idle(local);
+        }
+        let (bytes, idle) = self.pod_line.deliver(now);
+        if !bytes.is_empty() {
+            self.engine.receive_pod(local, &bytes);
+        }
+        if idle {
+            self.engine.pod_idle(local);
+        }
+        // Lines out of the bridge.
+        let (bytes, _) = self.to_fc_line.deliver(now);
+        if !bytes.is_empty() && !self.fc_cut {
+            self.fc.receive(now, &bytes);
+        }
+        let (bytes, _) = self.to_pod_line.deliver(now);
+        if !bytes.is_empty() {
+            self.pod.receive(now, &bytes);
+        }
+        // RTC_IO at the instant the engine names.
+        while let Some(p) = self.engine.pin().filter(|p| p.at <= local) {
+            let at = self.true_of(p.at);
+            self.pod.rtc_edge(at, p.level == Level::High);
+            self.pin_edges.push(PinEdge {
+                at_us: at,
+                level: p.level,
+            });
+            self.engine.pin_done(p.level, p.at);
+            self.drain_engine();
+        }
+        if self.engine.poll_at().is_some_and(|t| t <= local) {
+            self.engine.poll(local);
+        }
+        if self.fc.next_wakeup() <= now {
+            self.fc.poll(now);
+        }
+        if self.pod.next_wakeup() <= now {
+            self.pod.poll(now);
+        }
+        self.drain_engine();
+        for (at, bytes) in self.fc.transmit() {
+            if !self.fc_cut {
+                self.fc_line.send(at.max(now), &bytes);
+            }
+        }
+        let bytes = self.pod.transmit();
+        if !bytes.is_empty() {
+            self.pod_line.send(now, &bytes);
+        }
+    }
+
+    /// Moves the engine's output frames onto the lines and collects its events.
+    fn drain_engine(&mut self) {
+        let now = self.now_us;
+        while let Some(f) = self.engine.fc_frame() {
+            let f = f.to_vec();
+            self.engine.fc_sent();
+            if !self.fc_cut {
+                self.to_fc_line.send(now, &f);
+            }
+        }
+        // One frame at a time, when the line is free (the firmware writes a frame and
+        // waits for it to leave before taking the next): a time-sync frame put at the
+        // head of the queue goes next.
+        if self.to_pod_line.busy_until() <= now
+            && let Some(f) = self.engine.pod_frame()
+        {
+            let f = f.to_vec();
+            self.engine.pod_sent();
+            self.to_pod_line.send(now, &f);
+        }
+        while let Some(e) = self.engine.next_event() {
+            self.events.push((now, e));
+        }
+    }
+
+    /// The events so far that match `f`.
+    pub fn events_where(&self, f: impl Fn(&Event) -> bool) -> Vec<(u64, Event)> {
+        self.events.iter().copied().filter(|(_, e)| f(e)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::pod::PodSimConfig;
+    use protocol_core::k40t::{CameraVersionQuery, GimbalVersionQuery, MessageData};
+
+    #[test]
+    fn the_pod_link_comes_up_and_versions_are_asked_once_connected() {
+        let mut s = Scenario::new(
+            Config::default(),
+            SilentFc::default(),
+            SimPod::new(PodSimConfig::default()),
+            40,
+        );
+        s.run_until(3_000_000);
+        assert!(s.engine.pod_state().link);
+        assert!(s.engine.pod_state().gimbal_version.is_some());
+        assert!(s.engine.pod_state().camera_version.is_some());
+        assert!(s.engine.pod_state().attitude.is_some());
+        assert_eq!(s.pod.received_count(CameraVersionQuery::ID.to_u32()), 1);
+        // Probe at start, then the query on connection.
+        assert!(s.pod.received_count(GimbalVersionQuery::ID.to_u32()) <= 2);
+        assert_eq!(s.events_where(|e| matches!(e, Event::PodLinkUp)).len(), 1);
+        assert!(s.pin_edges.is_empty(), "no UTC: no sync");
+        // The cable is cut: the link goes down, probing resumes at 1 Hz.
+        s.pod.set_silent(true);
+        let before = s.pod.received_count(GimbalVersionQuery::ID.to_u32());
+        s.run_for(5_000_000);
+        assert!(!s.engine.pod_state().link);
+        assert_eq!(s.events_where(|e| matches!(e, Event::PodLinkDown)).len(), 1);
+        s.pod.set_silent(false);
+        s.run_for(2_000_000);
+        assert!(s.engine.pod_state().link);
+        assert!(s.pod.received_count(GimbalVersionQuery::ID.to_u32()) > before);
+    }
+}

@@ -1,0 +1,151 @@
+//! The bridge between a flight controller that speaks K40T itself and the simulated
+//! pod: forwarding with consistent sequence numbers, RTC_IO owned by the bridge, the
+//! geotag fallback, FC silence.
+
+use host_tests::sim::fc_k40t::FcK40t;
+use host_tests::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
+use host_tests::sim::scenario::Scenario;
+use protocol_core::bridge::{Config, Event, FcProtocol, Level};
+use protocol_core::k40t::{
+    AckCode, DialSpeed, GimbalAttitude, GimbalControl, GimbalFunction, HybridZoom, HybridZoomAck,
+    PitchMotion, TakePhoto, TimeSync, TimeSyncAck, YawMotion,
+};
+
+const S: u64 = 1_000_000;
+
+fn scenario() -> Scenario<FcK40t> {
+    Scenario::new(
+        Config::for_fc(FcProtocol::K40t),
+        FcK40t::default(),
+        SimPod::new(PodSimConfig::default()),
+        20,
+    )
+}
+
+#[test]
+fn frames_are_forwarded_both_ways_with_consistent_sequence_numbers() {
+    let mut s = scenario();
+    s.run_until(2 * S);
+    // Pod reports reach the FC unchanged.
+    let reports = s.fc.received_of::<GimbalAttitude>();
+    assert!(reports.len() >= 15, "{}", reports.len());
+    let pod_sent = s.pod.sent_of::<GimbalAttitude>();
+    assert_eq!(reports.last().unwrap().1, pod_sent[reports.len() - 1].1);
+    // An FC command reaches the pod; its ACK comes back with the FC's own number.
+    s.fc.send(&HybridZoom {
+        start: 0,
+        zoom_x10: 45,
+    });
+    let fc_seq = s.fc.sent.last().unwrap().1;
+    s.run_for(S);
+    let got = s.pod.received_of::<HybridZoom>();
+    assert_eq!(got.len(), 1);
+    assert_eq!(got[0].2.zoom_x10, 45);
+    let acks = s.fc.received_of::<HybridZoomAck>();
+    assert_eq!(acks.len(), 1);
+    assert_eq!(acks[0].1.seq, fc_seq);
+    assert_eq!(acks[0].2.code.code(), AckCode::Ok);
+    // On the pod link the bridge numbers every frame it sends from one counter: the pod
+    // sees no repeated number from the flight controller's address.
+    let seqs: Vec<u8> = s.pod.received().iter().map(|r| r.header.seq).collect();
+    for w in seqs.windows(2) {
+        assert_eq!(w[1], w[0].wrapping_add(1), "{seqs:?}");
+    }
+}
+
+#[test]
+fn the_fc_time_sync_is_a_utc_sample_and_the_bridge_owns_rtc_io() {
+    let mut s = scenario();
+    s.run_until(120 * S);
+    // The FC's own 0x00030E never reaches the pod as the FC sent it; the FC gets an ACK.
+    assert!(s.fc.received_of::<TimeSyncAck>().len() >= 10);
+    let highs: Vec<_> = s
+        .pin_edges
+        .iter()
+        .filter(|e| e.level == Level::High)
+        .copied()
+        .collect();
+    assert!(highs.len() >= 5, "{} edges", highs.len());
+    let syncs = s.pod.syncs();
+    assert_eq!(
+        syncs.len(),
+        highs.len(),
+        "one 0x00030E per edge, none from the FC"
+    );
+    for (edge, sync) in highs.iter().zip(syncs) {
+        assert_eq!(sync.outcome, SyncOutcome::Applied);
+        assert_eq!(sync.unix_ms % 10_000, 0);
+        let err = sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64;
+        assert!(err.abs() < 5_000, "error {err} us");
+    }
+    assert_eq!(
+        s.pod.received_of::<TimeSync>().len(),
+        syncs.len(),
+        "no FC time sync forwarded"
+    );
+}
+
+#[test]
+fn the_bridge_answers_gps_requests_the_fc_leaves_unanswered() {
+    let mut s = scenario();
+    s.run_until(60 * S);
+    // The FC answers: its reply is forwarded (and becomes a fix of the history).
+    s.fc.send(&TakePhoto::default());
+    s.run_for(S / 2);
+    assert_eq!(s.pod.gps_replies().len(), 1);
+    assert_eq!(s.pod.gps_replies()[0].reply.code.code(), AckCode::Ok);
+    assert_eq!(s.engine.counters().geotags, 0, "the FC answered");
+    // The FC stops answering: 200 ms later the bridge answers from its history (the
+    // last fix is less than 1 s away).
+    s.fc.answer_gps = false;
+    s.fc.send(&TakePhoto::default());
+    s.run_for(S);
+    let replies = s.pod.gps_replies();
+    assert_eq!(replies.len(), 2);
+    assert_eq!(replies[1].reply.code.code(), AckCode::Ok);
+    assert_eq!(s.engine.counters().geotags, 1);
+    // Much later: no fix near the time asked, so a failure code and nothing invented.
+    s.run_for(10 * S);
+    s.fc.send(&TakePhoto::default());
+    s.run_for(S);
+    let replies = s.pod.gps_replies();
+    assert_eq!(replies.len(), 3);
+    assert_eq!(replies[2].reply.code.code(), AckCode::Failure);
+    assert_eq!(replies[2].reply.lat_e7, 0);
+    assert_eq!(s.engine.counters().geotags_failed, 1);
+}
+
+#[test]
+fn fc_silence_stops_the_pod() {
+    let mut s = scenario();
+    s.run_until(3 * S);
+    s.fc.send(&DialSpeed {
+        pitch_dps_x5: 50,
+        yaw_dps_x5: 50,
+        reserved: 0,
+    });
+    s.fc.send(&GimbalControl {
+        function: GimbalFunction::None,
+        yaw: YawMotion::Right,
+        pitch: PitchMotion::Stop,
+        reserved: 0,
+    });
+    s.run_for(S / 10);
+    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
+    s.fc_cut = true;
+    let cut = s.now_us;
+    s.run_for(2 * S);
+    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
+    let stop = s
+        .pod
+        .motions()
+        .iter()
+        .find(|m| {
+            m.at_us > cut
+                && matches!(m.command, MotionCommand::Control(c) if c.yaw == YawMotion::Stop)
+        })
+        .expect("a stop")
+        .at_us;
+    assert!(stop - cut <= 700_000, "{} ms", (stop - cut) / 1000);
+    assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);
+}

@@ -1,0 +1,129 @@
+//! The firmware's own tasks (bridge-fw, on the host under virtual time) between the
+//! simulated ArduPilot SIYI driver and the simulated pod, connected by pipes: what the
+//! engine scenarios check, through the task code that runs on the MCU.
+
+use core::cell::RefCell;
+
+use bridge_fw::host::{self, Clock, HostLinks, HostShared};
+use bridge_fw::{Record, Timing, What};
+use embassy_futures::select::{Either3, select, select3};
+use embassy_time::{Duration, Timer};
+use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
+use host_tests::sim::peer::{PodPin, run_peer};
+use host_tests::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
+use protocol_core::bridge::{Config, Engine, Event, FcProtocol, Level};
+
+struct Run {
+    fc: ApSiyi,
+    pod: SimPod,
+    records: Vec<Record>,
+}
+
+/// Runs the bridge tasks for `secs` of virtual time; `script` acts on the FC at given
+/// seconds.
+fn run(secs: u64, mut script: impl FnMut(u64, &mut ApSiyi)) -> Run {
+    let config = Config::for_fc(FcProtocol::Siyi);
+    let shared = HostShared::new(Engine::new(config), Timing::from_config(&config));
+    let links = HostLinks::new();
+    let fc = RefCell::new(ApSiyi::new(ApSiyiConfig::default()));
+    let pod = RefCell::new(SimPod::new(PodSimConfig::default()));
+    let records = RefCell::new(Vec::new());
+    host::run(Clock::Virtual, || async {
+        let sink = |r: &Record| records.borrow_mut().push(*r);
+        let bridge = host::bridge(&shared, &links, PodPin::new(&pod), sink, || {});
+        let peers = select(
+            run_peer(&fc, &links.fc_tx, &links.fc_rx, config.fc_baud),
+            run_peer(&pod, &links.pod_tx, &links.pod_rx, config.pod_baud),
+        );
+        let clock = async {
+            for s in 0..secs {
+                script(s, &mut fc.borrow_mut());
+                Timer::after(Duration::from_secs(1)).await;
+            }
+        };
+        match select3(bridge, peers, clock).await {
+            Either3::First(never) => match never {},
+            Either3::Second(ended) => panic!("a peer ended: {ended:?}"),
+            Either3::Third(()) => {}
+        }
+    });
+    Run {
+        fc: fc.into_inner(),
+        pod: pod.into_inner(),
+        records: records.into_inner(),
+    }
+}
+
+#[test]
+fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
+    let r = run(75, |s, fc| {
+        if s == 10 {
+            fc.target = Some(MountTarget::Rate {
+                yaw_dps: 20.0,
+                pitch_dps: 0.0,
+                yaw_is_ef: false,
+            });
+        }
+        if s == 13 {
+            fc.target = Some(MountTarget::Rate {
+                yaw_dps: 0.0,
+                pitch_dps: 0.0,
+                yaw_is_ef: false,
+            });
+        }
+        if s == 65 {
+            fc.take_picture();
+        }
+    });
+    // Healthy within the start-up, and stays so.
+    assert!(r.fc.healthy(), "{:?}", r.fc.health_log);
+    assert_eq!(r.fc.health_log.len(), 1);
+    assert!(r.fc.health_log[0].0 < 5_000_000);
+    assert_eq!(r.fc.parse_errors, 0);
+    // The rate turned the pod, and it stopped.
+    assert!(r.pod.motions().len() >= 2, "{:?}", r.pod.motions());
+    assert_eq!(r.pod.gimbal().yaw_rate_dps, 0.0);
+    let yaw = r.pod.gimbal().yaw_deg;
+    assert!((40.0..=80.0).contains(&yaw.abs()), "yaw {yaw}");
+    // Time syncs: one per 10 s once UTC is known, each applied, on the UTC grid, each
+    // RTC_IO edge recorded by the pin task and followed by the 0x00030E.
+    let syncs = r.pod.syncs();
+    assert!(syncs.len() >= 2, "{syncs:?}");
+    for s in syncs {
+        assert_eq!(s.outcome, SyncOutcome::Applied, "{s:?}");
+        assert_eq!(s.unix_ms % 10_000, 0);
+        let truth = r.fc.fc_utc_us(s.edge_us.expect("edge"));
+        assert!(
+            (s.unix_ms * 1000).abs_diff(truth) < 10_000,
+            "{s:?} vs {truth}"
+        );
+    }
+    let highs = r
+        .records
+        .iter()
+        .filter(|x| x.what == What::Pin(Level::High))
+        .count();
+    assert_eq!(highs, syncs.len());
+    let delays: Vec<u64> = r
+        .records
+        .iter()
+        .filter_map(|x| match x.what {
+            What::EdgeToFrame { delay, len } => Some((delay.as_micros(), len)),
+            _ => None,
+        })
+        .map(|(d, len)| {
+            assert_eq!(len, 28, "the 0x00030E is the first frame after the edge");
+            d
+        })
+        .collect();
+    assert_eq!(delays.len(), syncs.len());
+    // The photo is geotagged.
+    assert_eq!(r.pod.photos().len(), 1);
+    let reply = r.pod.gps_replies().last().expect("a GPS reply");
+    assert_eq!(reply.reply.code.code(), protocol_core::k40t::AckCode::Ok);
+    assert!(
+        r.records
+            .iter()
+            .any(|x| matches!(x.what, What::Engine(Event::Geotag { answered: true, .. })))
+    );
+}

@@ -1,0 +1,203 @@
+//! What the engine reports for logging: [`Event`]s (small, `Copy`, queued) and
+//! [`Counters`] (read any time).
+
+use super::time::Instant;
+use crate::k40t::{AckCode, Address, CrcCoverage};
+
+wire_derive! {
+    [Eq, Hash]
+    /// One of the two serial links.
+    pub enum Port {
+        /// The flight controller's.
+        Fc,
+        /// The pod's.
+        Pod,
+    }
+}
+
+wire_derive! {
+    [Eq, Hash]
+    /// Something worth logging. Drained with [`Engine::next_event`](super::Engine::next_event);
+    /// when more than the queue holds are pending, the oldest are dropped (counted in
+    /// [`Counters::events_dropped`]).
+    pub enum Event {
+        /// The FC's first valid frame after silence.
+        FcLinkUp,
+        /// No valid frame from the FC for [`Config::fc_link_timeout`](super::Config::fc_link_timeout).
+        FcLinkDown,
+        /// The pod's first report after silence.
+        PodLinkUp,
+        /// No report from the pod for the pod link time-out.
+        PodLinkDown,
+        /// UTC became known well enough to send time syncs.
+        UtcValid,
+        /// UTC is no longer known (holdover expired or the time source stepped): no
+        /// more time syncs until it is valid again.
+        UtcLost,
+        /// RTC_IO rose at `edge` and a 0x00030E carrying `utc_ms` went to the head of the
+        /// pod queue.
+        TimeSync {
+            /// Local instant of the rising edge.
+            edge: Instant,
+            /// The UTC the frame carries, ms since the Unix epoch.
+            utc_ms: u64,
+        },
+        /// The pod asked (0x000310) for the aircraft's position at a time of day.
+        Geotag {
+            /// The time of day asked, ms since midnight UTC.
+            time_of_day_ms: u32,
+            /// A fix was given (else the reply carried a failure code).
+            answered: bool,
+        },
+        /// An FC command became a pod command.
+        Translated {
+            /// The FC protocol's message id.
+            fc_id: u16,
+            /// The K40T base id sent.
+            pod_base: u16,
+        },
+        /// The pod answered a command with a failure code.
+        PodRefused {
+            /// The command's base id.
+            base: u16,
+            /// The code.
+            code: AckCode,
+        },
+        /// A command got no ACK after all its tries.
+        PodTimeout {
+            /// The command's base id.
+            base: u16,
+        },
+        /// The FC stopped sending motion while the pod turned: the bridge stopped it.
+        FcSilenceStop,
+        /// A rate was beyond what the pod can turn (30 °/s) and was clamped.
+        RateClamped {
+            /// The rate asked, 0.01 °/s.
+            requested_cdeg_s: i32,
+        },
+        /// The pod's addresses, as its reports show them.
+        PodAddresses {
+            /// Source of the gimbal reports.
+            gimbal: Address,
+            /// Source of the camera reports.
+            camera: Address,
+        },
+        /// The CRC coverage the pod uses.
+        PodCoverage(CrcCoverage),
+        /// Output frames dropped because a queue was full.
+        Dropped {
+            /// The queue's port.
+            port: Port,
+            /// Frames dropped.
+            frames: u8,
+        },
+    }
+}
+
+wire_derive! {
+    [Eq, Hash, Default]
+    /// Running totals (saturating).
+    pub struct Counters {
+        /// Valid frames from the FC.
+        pub fc_frames: u32,
+        /// FC candidates rejected (checksum, length, truncated).
+        pub fc_rejected: u32,
+        /// Valid FC frames the engine could not use (undecodable, wrong direction).
+        pub fc_ignored: u32,
+        /// Bytes from the FC outside any valid frame.
+        pub fc_garbage_bytes: u32,
+        /// Frames queued for the FC.
+        pub fc_sent: u32,
+        /// Valid frames from the pod.
+        pub pod_frames: u32,
+        /// Pod candidates rejected.
+        pub pod_rejected: u32,
+        /// Bytes from the pod outside any valid frame.
+        pub pod_garbage_bytes: u32,
+        /// Frames queued for the pod.
+        pub pod_sent: u32,
+        /// Commands sent again after a time-out.
+        pub pod_retries: u32,
+        /// Output frames dropped (queue full).
+        pub dropped: u32,
+        /// Events dropped (event queue full).
+        pub events_dropped: u32,
+        /// RTC_IO pulses with their 0x00030E.
+        pub time_syncs: u32,
+        /// GPS requests answered with a fix.
+        pub geotags: u32,
+        /// GPS requests answered with a failure.
+        pub geotags_failed: u32,
+    }
+}
+
+/// A bounded event queue; the oldest event goes when it is full.
+#[derive(Debug, Clone)]
+pub(crate) struct EventQueue {
+    items: [Option<Event>; EVENTS],
+    head: usize,
+    len: usize,
+}
+
+/// Events the queue holds.
+pub(crate) const EVENTS: usize = 16;
+
+impl EventQueue {
+    pub(crate) const fn new() -> Self {
+        EventQueue {
+            items: [None; EVENTS],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    /// Queues `e`; returns false when an older event was dropped for it.
+    pub(crate) fn push(&mut self, e: Event) -> bool {
+        let kept = self.len < EVENTS;
+        if !kept {
+            self.head = (self.head.saturating_add(1)) % EVENTS;
+            self.len = self.len.saturating_sub(1);
+        }
+        let at = (self.head.saturating_add(self.len)) % EVENTS;
+        if let Some(slot) = self.items.get_mut(at) {
+            *slot = Some(e);
+        }
+        self.len = self.len.saturating_add(1);
+        kept
+    }
+
+    pub(crate) fn pop(&mut self) -> Option<Event> {
+        if self.len == 0 {
+            return None;
+        }
+        let e = self.items.get_mut(self.head).and_then(Option::take);
+        self.head = (self.head.saturating_add(1)) % EVENTS;
+        self.len = self.len.saturating_sub(1);
+        e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn event_queue_keeps_the_newest() {
+        let mut q = EventQueue::new();
+        for i in 0..EVENTS + 3 {
+            let kept = q.push(Event::PodTimeout {
+                base: u16::try_from(i).unwrap(),
+            });
+            assert_eq!(kept, i < EVENTS);
+        }
+        let mut bases = vec![];
+        while let Some(Event::PodTimeout { base }) = q.pop() {
+            bases.push(base);
+        }
+        assert_eq!(
+            bases,
+            (3..u16::try_from(EVENTS + 3).unwrap()).collect::<Vec<_>>()
+        );
+        assert_eq!(q.pop(), None);
+    }
+}

@@ -1,0 +1,311 @@
+//! The K40T side: the flight controller speaks the pod's own protocol; the bridge
+//! forwards both ways and owns RTC_IO.
+//!
+//! - **Forwarding.** Every valid FC frame goes to the pod with its message bytes
+//!   unchanged (no decoding and re-encoding: unknown messages pass too); every valid pod
+//!   frame goes to the FC unchanged.
+//! - **Sequence numbers stay consistent on the pod link.** The bridge sends frames of
+//!   its own to the pod as the flight controller (time syncs, version probes, GPS
+//!   answers), so it numbers every frame it sends there from one counter: a forwarded FC
+//!   frame gets the next sequence number (and its CRC, in the frame's own coverage, is
+//!   computed again). The pod's ACK carries that number; the bridge gives the FC's own
+//!   number back to the ACK before forwarding it. ACKs of the bridge's own frames are not
+//!   forwarded.
+//! - **RTC_IO.** The FC's 0x00030E is not forwarded: it is a UTC sample for the
+//!   discipline (the FC sends it right after its own pulse, which is not wired to the
+//!   pod), ACKed by the bridge; the bridge sends its own pulse and 0x00030E.
+//! - **Geotag.** The pod's GPS request (0x000310) is forwarded; the FC's answer
+//!   (0x010310) is forwarded and becomes a fix of the history. When the FC has not
+//!   answered within [`Config::k40t_geotag_fallback`](crate::bridge::Config) (200 ms),
+//!   the bridge answers from its fix history (or with the failure code).
+//! - **FC silence.** When the FC's last motion command (0x000010) turns the pod and the
+//!   FC sends nothing for [`Config::fc_silence_stop`](crate::bridge::Config), the bridge
+//!   stops the pod.
+
+use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::fixes::Fix;
+use crate::bridge::time::{Duration, Instant};
+use crate::gimbal::Command;
+use crate::k40t::{
+    self, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, MessageData,
+    MsgId, PitchMotion, ResponseCode, TimeSync, YawMotion,
+};
+use crate::wire::{Deframer, Event as DeframerEvent, Stats};
+
+use super::Ctx;
+
+/// FC sequence numbers remembered for the ACKs of forwarded requests.
+const SEQ_MAP: usize = 8;
+
+/// The K40T side.
+#[derive(Debug, Clone)]
+pub(crate) struct K40tSide {
+    deframer: Deframer<K40tFraming, { k40t::MAX_FRAME_LEN }>,
+    st: K40tState,
+}
+
+/// A forwarded request: the base id, the number the pod sees and the FC's own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Forwarded {
+    base: u16,
+    pod_seq: u8,
+    fc_seq: u8,
+}
+
+/// A GPS request of the pod, forwarded to the FC and not yet answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct GpsPending {
+    header: Header,
+    request: GpsRequest,
+    /// When the bridge answers it itself.
+    due: Instant,
+}
+
+#[derive(Debug, Clone)]
+struct K40tState {
+    /// [`Config::fc_silence_stop`](crate::bridge::Config), for `poll_at`.
+    silence: Duration,
+    burst_bytes: u32,
+    forwarded: [Option<Forwarded>; SEQ_MAP],
+    next_slot: usize,
+    gps: Option<GpsPending>,
+    /// The FC's last motion turns the pod.
+    turning: bool,
+    last_frame: Option<Instant>,
+}
+
+impl K40tSide {
+    pub(crate) fn new(silence: Duration) -> Self {
+        K40tSide {
+            deframer: Deframer::new(K40tFraming::any()),
+            st: K40tState {
+                silence,
+                burst_bytes: 0,
+                forwarded: [None; SEQ_MAP],
+                next_slot: 0,
+                gps: None,
+                turning: false,
+                last_frame: None,
+            },
+        }
+    }
+
+    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
+        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
+        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
+        let st = &mut self.st;
+        self.deframer.push(bytes, |ev| {
+            if let DeframerEvent::Frame(f) = ev {
+                st.fc_frame(ctx, f);
+            }
+        });
+    }
+
+    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
+        let st = &mut self.st;
+        self.deframer.flush(|ev| {
+            if let DeframerEvent::Frame(f) = ev {
+                st.fc_frame(ctx, f);
+            }
+        });
+        self.st.burst_bytes = 0;
+    }
+
+    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some(g) = self.st.gps.filter(|g| ctx.now >= g.due) {
+            self.st.gps = None;
+            ctx.geotag(g.header, g.request);
+        }
+        let silent = self
+            .st
+            .last_frame
+            .is_none_or(|t| ctx.now.saturating_duration_since(t) >= ctx.config.fc_silence_stop);
+        if self.st.turning && silent {
+            self.st.turning = false;
+            ctx.command(
+                0x0010,
+                Command::Rates {
+                    yaw_cdeg_s: 0,
+                    pitch_cdeg_s: 0,
+                },
+            );
+            ctx.out.event(crate::bridge::Event::FcSilenceStop);
+        }
+    }
+
+    pub(crate) fn poll_at(&self) -> Option<Instant> {
+        let gps = self.st.gps.map(|g| g.due);
+        let stop = self
+            .st
+            .last_frame
+            .filter(|_| self.st.turning)
+            .map(|t| t.saturating_add(self.st.silence));
+        gps.into_iter().chain(stop).min()
+    }
+
+    /// A valid pod frame: forwarded to the FC, ACKs with the FC's own number.
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
+        if id.kind == Kind::Ack {
+            let found = self
+                .st
+                .forwarded
+                .iter_mut()
+                .find(|f| f.is_some_and(|f| f.base == id.base && f.pod_seq == header.seq));
+            // Not found: the ACK of one of the bridge's own frames, not forwarded.
+            if let Some(slot) = found {
+                let fc_seq = slot.map_or(0, |f| f.fc_seq);
+                *slot = None;
+                forward_with_seq(bytes, fc_seq, |f| ctx.reply(f));
+            }
+            return;
+        }
+        ctx.reply(bytes);
+    }
+
+    /// The pod asks for GPS: forwarded to the FC, answered by the bridge on time-out.
+    pub(crate) fn gps_request(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        header: Header,
+        request: GpsRequest,
+    ) -> bool {
+        // The frame itself was forwarded by `pod_frame`.
+        self.st.gps = ctx.config.k40t_geotag_fallback.map(|wait| GpsPending {
+            header,
+            request,
+            due: ctx.now.saturating_add(wait),
+        });
+        true
+    }
+
+    pub(crate) fn deframer_stats(&self) -> Stats {
+        self.deframer.stats()
+    }
+}
+
+impl K40tState {
+    /// One valid frame from the FC.
+    fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        ctx.seen();
+        self.last_frame = Some(ctx.now);
+        let Some((frame, header)) = Frame::new_checked(f)
+            .ok()
+            .and_then(|frame| frame.header().map(|header| (frame, header)))
+        else {
+            ctx.ignored();
+            return;
+        };
+        // Only the three messages the side acts on are decoded; every other valid frame
+        // is forwarded as it is (the pod judges its payload).
+        if let Some(t) = typed::<TimeSync>(&frame) {
+            self.time_sync(ctx, t, header);
+            return;
+        }
+        if let Some(c) = typed::<GimbalControl>(&frame) {
+            self.turning = turns(c);
+        }
+        if let Some(reply) = typed::<GpsReply>(&frame) {
+            self.gps_reply(ctx, header, reply);
+        }
+        let id = frame.id();
+        if id.kind != Kind::Request {
+            // An ACK of a pod request (0x010310): it carries the pod's own number.
+            ctx.out.queue_pod(f, true, false);
+            return;
+        }
+        // A request: forwarded with the bridge's sequence number on the pod link.
+        let pod_seq = ctx.pod.next_seq();
+        let slot = self.next_slot % SEQ_MAP;
+        self.next_slot = self.next_slot.wrapping_add(1);
+        if let Some(s) = self.forwarded.get_mut(slot) {
+            *s = Some(Forwarded {
+                base: id.base,
+                pod_seq,
+                fc_seq: header.seq,
+            });
+        }
+        forward_with_seq(f, pod_seq, |out| ctx.out.queue_pod(out, false, false));
+        ctx.out.event(crate::bridge::Event::Translated {
+            fc_id: id.base,
+            pod_base: id.base,
+        });
+    }
+
+    /// The FC's time sync: a UTC sample, ACKed by the bridge, not forwarded.
+    fn time_sync(&mut self, ctx: &mut Ctx<'_>, t: TimeSync, header: Header) {
+        let s = Sample::new(ctx.now, t.unix_ms.saturating_mul(1000), 1000)
+            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud));
+        ctx.time.utc_sample(s);
+        let ack = k40t::TimeSyncAck {
+            code: ResponseCode::OK,
+        };
+        let reply = Header {
+            dst: header.src,
+            src: header.dst,
+            ..header
+        };
+        let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+        if let Ok(n) = k40t::encode(&ack, &reply, &mut buf) {
+            ctx.reply(buf.get(..n).unwrap_or_default());
+        }
+    }
+
+    /// The FC answers the pod's GPS request: the answer is a fix, and the request is no
+    /// longer pending.
+    fn gps_reply(&mut self, ctx: &mut Ctx<'_>, header: Header, reply: GpsReply) {
+        if self.gps.is_some_and(|g| g.header.seq == header.seq) {
+            self.gps = None;
+        }
+        if !reply.code.is_ok() {
+            return;
+        }
+        let asked = crate::bridge::time::TimeOfDay::new(
+            reply.hour,
+            reply.minute,
+            reply.second,
+            reply.millisecond,
+        );
+        let at = asked
+            .and_then(|tod| ctx.time.utc(ctx.now)?.nearest_with_time_of_day(tod))
+            .and_then(|utc| ctx.time.local_of(utc));
+        if let Some(at) = at {
+            ctx.fixes.push(Fix {
+                at,
+                lat_e7: reply.lat_e7,
+                lon_e7: reply.lon_e7,
+                alt_msl_dm: reply.alt_msl_dm,
+                rel_alt_dm: reply.rel_alt_dm,
+                yaw_cdeg: reply.yaw_cdeg,
+                roll_cdeg: reply.roll_cdeg,
+                pitch_cdeg: reply.pitch_cdeg,
+            });
+        }
+    }
+}
+
+/// A motion command that turns the gimbal.
+fn turns(c: GimbalControl) -> bool {
+    c.yaw != YawMotion::Stop || c.pitch != PitchMotion::Stop
+}
+
+/// Hands `f` to `out` with its sequence number set to `seq` and its CRC computed again
+/// in the frame's own coverage.
+fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
+    let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+    let Some(dst) = buf.get_mut(..f.len()) else {
+        return;
+    };
+    dst.copy_from_slice(f);
+    let mut frame = Frame::new_unchecked(&mut *dst);
+    let coverage = Frame::new_unchecked(f)
+        .detect_coverage()
+        .unwrap_or_default();
+    frame.set_seq(seq);
+    frame.fill_checksum(coverage);
+    out(dst);
+}
+
+/// The frame's payload as `M` when it carries `M` and decodes.
+fn typed<M: MessageData>(frame: &Frame<&[u8]>) -> Option<M> {
+    frame.decode_as::<M>().and_then(Result::ok)
+}
