@@ -19,8 +19,11 @@
 //! - **resync**: a frame built by the encoder, between garbage the fuzzer chooses, comes
 //!   out unless a valid frame of the garbage overlaps it.
 //!
-//! The bridge engine, once it lands, gets a `bridge` target here (see `fuzz/README.md`).
+//! - **bridge**: the bridge engine fed arbitrary FC and pod bytes and times, for each FC
+//!   protocol: no panic, the queues within their bounds, every output frame valid, a
+//!   valid FC request answered (see [`bridge`]).
 
+pub mod bridge;
 pub mod deframe;
 pub mod gcu;
 pub mod input;
@@ -74,6 +77,10 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "gcu_decode",
         run: gcu::decode,
+    },
+    Target {
+        name: "bridge",
+        run: bridge::run,
     },
     Target {
         name: "gcu_deframe",

@@ -194,6 +194,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             out
         }
         "resync" => crate::resync::seeds(),
+        "bridge" => crate::bridge::seeds(),
         _ => panic!("no target {name}"),
     }
 }

@@ -1,6 +1,6 @@
 //! Proof at link time that protocol-core cannot panic: this thumbv7em binary calls every
 //! public decode, parse, emit, encode and deframe entry point of the four codecs (and
-//! the shared `wire` module) with inputs the optimiser cannot see through
+//! the shared `wire` module), and every entry point of the bridge engine, with inputs the optimiser cannot see through
 //! (`core::hint::black_box`), and its panic handler calls a function that exists
 //! nowhere. Built in release (the firmware's profile: opt-level z, fat LTO), it links
 //! only if every panicking branch (a slice index, an `unwrap`, a division, a failed
@@ -15,6 +15,7 @@
 // Results go to `black_box`, which keeps them (and the code computing them) alive.
 #![allow(unused_must_use)]
 
+mod bridge;
 mod constructors;
 mod gcu;
 mod k40t;
@@ -43,6 +44,7 @@ fn main() -> ! {
         viewlink::exercise(input(), out);
         gcu::exercise(input(), out);
         constructors::exercise(input(), out);
+        bridge::exercise(input(), out);
     }
 }
 

@@ -27,3 +27,64 @@ pub(crate) fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
 }
 pub use cursor::{Reader, Writer};
 pub use deframer::{Deframer, Event, Framing, Scanned, Scanner, Stats};
+
+/// Moves `buf[src]` to start at `dest`, like `buf.copy_within(src, dest)` without its
+/// panicking path (it stays out of line at opt-level z; see [`copy`]): parts out of
+/// range are not copied. In pieces whose source and destination are disjoint (a
+/// `memcpy` each), front first when moving left, back first when moving right.
+#[cfg_attr(not(feature = "bridge"), allow(dead_code))]
+pub(crate) fn copy_within(buf: &mut [u8], src: core::ops::Range<usize>, dest: usize) {
+    if dest <= src.start {
+        let step = src.start.saturating_sub(dest);
+        let (mut from, mut to) = (src.start, dest);
+        while from < src.end && step > 0 {
+            let Some((head, tail)) = buf.split_at_mut_checked(from) else {
+                return;
+            };
+            let n = src.end.saturating_sub(from).min(step);
+            copy(
+                head.get_mut(to..).unwrap_or_default(),
+                tail.get(..n).unwrap_or_default(),
+            );
+            from = from.saturating_add(n);
+            to = to.saturating_add(n);
+        }
+    } else {
+        let step = dest.saturating_sub(src.start);
+        let mut end = src.end;
+        while end > src.start {
+            let n = end.saturating_sub(src.start).min(step);
+            let from = end.saturating_sub(n);
+            // `from + step >= end`: the destination piece lies after the source piece.
+            let Some((head, tail)) = buf.split_at_mut_checked(from.saturating_add(step)) else {
+                return;
+            };
+            copy(
+                tail.get_mut(..n).unwrap_or_default(),
+                head.get(from..end).unwrap_or_default(),
+            );
+            end = from;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// `copy_within` does what `<[u8]>::copy_within` does, for every in-range move of a
+    /// 12-byte buffer, overlapping or not, either way.
+    #[test]
+    fn copy_within_matches_core() {
+        let start: Vec<u8> = (1..=12).collect();
+        for a in 0..=12 {
+            for b in a..=12 {
+                for dest in 0..=12 - (b - a) {
+                    let mut ours = start.clone();
+                    let mut core = start.clone();
+                    super::copy_within(&mut ours, a..b, dest);
+                    core.copy_within(a..b, dest);
+                    assert_eq!(ours, core, "{a}..{b} to {dest}");
+                }
+            }
+        }
+    }
+}
