@@ -232,6 +232,25 @@ fn mavlink_parse(stream: &[u8]) -> usize {
     mavlink_messages(black_box(stream))
 }
 
+// The bridge engine, per FC frame translated: a SIYI 0x07 rate command in (deframe,
+// decode, translate), a K40T gimbal control out (encode, queue, taken by the driver).
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(codec_bench::bridge_siyi_rates())))]
+fn bridge_siyi_rate(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+    let (pod, fc) = run.run();
+    // A gimbal control per command (and the odd retry of the pod driver's own query).
+    assert!(pod >= codec_bench::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    black_box((pod, fc))
+}
+
+// The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
+// state updated).
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(codec_bench::bridge_pod_attitudes())))]
+fn bridge_pod_attitude(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+    black_box(run.run())
+}
+
 library_benchmark_group!(
     name = codec,
     benchmarks = [
@@ -257,7 +276,9 @@ library_benchmark_group!(
         gcu_reply_decode,
         gcu_reply_decode_encode,
         mavlink_raw,
-        mavlink_parse
+        mavlink_parse,
+        bridge_siyi_rate,
+        bridge_pod_attitude
     ]
 );
 

@@ -215,3 +215,130 @@ pub fn gcu_reply_stream() -> Stream {
         .collect();
     Stream::new(&replies, |f| 0..f.len() - 2)
 }
+
+/// The bridge engine at work on a prepared input: an engine already running (pod link
+/// up, FC link up), and the frames to give it, one at a time, `step` apart (more than
+/// the pod driver's motion interval, so that every command goes out).
+#[derive(Debug)]
+pub struct BridgeRun {
+    /// The engine.
+    pub engine: protocol_core::bridge::Engine,
+    /// The frames, in order.
+    pub frames: Vec<Vec<u8>>,
+    /// They come from the FC (else from the pod).
+    pub from_fc: bool,
+    /// The local time.
+    pub now: protocol_core::bridge::Instant,
+    /// Time between two frames.
+    pub step: protocol_core::bridge::Duration,
+}
+
+/// Rounds of bridge frames (each a frame per benchmark round).
+const BRIDGE_FRAMES: usize = 64;
+
+impl BridgeRun {
+    /// Gives each frame to the engine at its instant, then takes every frame it queued
+    /// (as a driver does). Returns (frames for the pod, frames for the FC).
+    pub fn run(&mut self) -> (usize, usize) {
+        let (mut pod, mut fc) = (0, 0);
+        let mut buf = [0u8; 256];
+        for f in &self.frames {
+            self.now = self.now.saturating_add(self.step);
+            if self.from_fc {
+                self.engine.receive_fc(self.now, f);
+            } else {
+                self.engine.receive_pod(self.now, f);
+            }
+            while self.engine.take_pod_frame(&mut buf).is_some() {
+                pod += 1;
+            }
+            while self.engine.take_fc_frame(&mut buf).is_some() {
+                fc += 1;
+            }
+            while self.engine.next_event().is_some() {}
+        }
+        (pod, fc)
+    }
+}
+
+/// A K40T gimbal attitude report from the pod (yaw in 0.01°).
+fn pod_attitude(seq: u8, yaw_cdeg: i16) -> Vec<u8> {
+    use protocol_core::bridge::Config;
+    use protocol_core::k40t::*;
+    let c = Config::DEFAULT.pod;
+    let mut payload = [0u8; 32];
+    payload[..2].copy_from_slice(&yaw_cdeg.to_le_bytes());
+    let len = Message::decode(GimbalAttitude::ID, &[]).map_or(0, |m| m.payload_len());
+    let message = Message::decode(GimbalAttitude::ID, &payload[..len]).expect("attitude");
+    let p = Packet {
+        header: Header::new(c.gimbal, c.own, seq),
+        message,
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = p.emit(&mut buf).expect("emit");
+    buf[..n].to_vec()
+}
+
+/// A SIYI engine with the pod and FC links up (an attitude report, a heartbeat), its
+/// queues empty.
+fn siyi_engine() -> BridgeRun {
+    use protocol_core::bridge::{Config, Duration, Engine, FcProtocol, Instant};
+    let mut run = BridgeRun {
+        engine: Engine::new(Config {
+            fc: FcProtocol::Siyi,
+            ..Config::DEFAULT
+        }),
+        frames: vec![pod_attitude(0, 0)],
+        from_fc: false,
+        now: Instant::from_millis(1000),
+        step: Duration::from_millis(150),
+    };
+    run.run();
+    run.frames = vec![siyi_rate(0, 0)];
+    run.from_fc = true;
+    run.run();
+    run
+}
+
+/// A SIYI 0x07 gimbal rotation request (speeds -100..100).
+fn siyi_rate(seq: u16, speed: i8) -> Vec<u8> {
+    use protocol_core::Direction;
+    use protocol_core::siyi::*;
+    let [s] = speed.to_le_bytes();
+    let data = [s, s];
+    let message = Message::decode(0x07, &data, Direction::ToGimbal).expect("0x07");
+    let p = Packet {
+        header: Header::request(seq),
+        message,
+    };
+    let mut buf = [0u8; DEFAULT_MAX_FRAME_LEN];
+    let n = p.emit(&mut buf).expect("emit");
+    buf[..n].to_vec()
+}
+
+/// SIYI rate commands (0x07) from the FC, the speed changing every frame: each one
+/// translated into a K40T gimbal control for the pod.
+#[must_use]
+pub fn bridge_siyi_rates() -> BridgeRun {
+    let mut run = siyi_engine();
+    run.frames = (0..BRIDGE_FRAMES)
+        .map(|i| siyi_rate(i as u16 + 1, if i % 2 == 0 { 60 } else { -60 }))
+        .collect();
+    run
+}
+
+/// Gimbal attitude reports from the pod, absorbed into the pod state (the SIYI side
+/// answers from it when asked).
+#[must_use]
+pub fn bridge_pod_attitudes() -> BridgeRun {
+    let mut run = siyi_engine();
+    run.frames = (0..BRIDGE_FRAMES)
+        .map(|i| pod_attitude(i as u8 + 1, i as i16 * 10))
+        .collect();
+    run.from_fc = false;
+    run.step = protocol_core::bridge::Duration::from_millis(20);
+    run
+}
+
+/// Frames each bridge benchmark gives the engine.
+pub const BRIDGE_RUN_FRAMES: usize = BRIDGE_FRAMES;

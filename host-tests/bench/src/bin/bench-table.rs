@@ -83,6 +83,18 @@ fn main() {
     );
     row("raw-frame reader", "mavlink_raw", k40t_frames);
     row("parse (frame + message)", "mavlink_parse", k40t_frames);
+    let frames = codec_bench::BRIDGE_RUN_FRAMES;
+    println!("| **bridge engine** (SIYI FC side, {frames} frames, outputs taken) | | | | |");
+    row(
+        "SIYI 0x07 rate in, K40T control out",
+        "bridge_siyi_rate",
+        frames,
+    );
+    row(
+        "pod attitude report absorbed",
+        "bridge_pod_attitude",
+        frames,
+    );
 
     println!();
     println!("| {:<48} | {:>5} | {:>5} |", "ratio", "z", "3");
