@@ -19,6 +19,8 @@ compile_error!(
 );
 
 mod board;
+#[allow(unsafe_code)]
+mod stack;
 #[cfg(feature = "qemu")]
 #[allow(unsafe_code)]
 mod systick_driver;
@@ -44,6 +46,7 @@ const WATCHDOG_PERIOD: Duration = Duration::from_millis(250);
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
+    stack::paint();
     let b = board::init();
 
     #[cfg(feature = "qemu")]
@@ -82,6 +85,38 @@ async fn main(spawner: Spawner) {
     spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
     spawner.spawn(led(shared, b.led).expect("task led"));
     spawner.spawn(log(shared).expect("task log"));
+    spawner.spawn(stack_watch().expect("task stack_watch"));
+}
+
+/// Logs the stack's high-water mark since start-up ended (every task and interrupt):
+/// every minute over defmt, and on QEMU every 10 s on its stdout (the emulated-board
+/// scenarios report it).
+#[embassy_executor::task]
+async fn stack_watch() -> ! {
+    // Start-up builds the engine on the stack (in `main`'s frame) before moving it into
+    // its static: report that once, then, `main` having returned, paint again so that
+    // what follows is the tasks' and interrupts' own depth.
+    let (boot, total) = stack::high_water();
+    defmt::info!("stack: start-up used {} of {} bytes", boot, total);
+    #[cfg(feature = "qemu")]
+    semihosting::println!(
+        "bridge-fw (qemu): stack at start-up {} of {} bytes",
+        boot,
+        total
+    );
+    stack::paint();
+    let period = if cfg!(feature = "qemu") { 10 } else { 60 };
+    loop {
+        embassy_time::Timer::after_secs(period).await;
+        let (used, total) = stack::high_water();
+        defmt::info!("stack: {} of {} bytes used at most", used, total);
+        #[cfg(feature = "qemu")]
+        semihosting::println!(
+            "bridge-fw (qemu): stack high-water {} of {} bytes",
+            used,
+            total
+        );
+    }
 }
 
 #[cfg(feature = "qemu")]

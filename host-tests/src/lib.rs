@@ -2,5 +2,6 @@
 //! list messages), the simulated peers of the bridge ([`sim`]) and, as integration
 //! tests, the native test suites.
 
+pub mod demo;
 pub mod sim;
 pub mod tool;

@@ -1,6 +1,8 @@
 //! The firmware's own tasks (bridge-fw, on the host under virtual time) between the
 //! simulated ArduPilot SIYI driver and the simulated pod, connected by pipes: what the
-//! engine scenarios check, through the task code that runs on the MCU.
+//! engine scenarios check, through the task code that runs on the MCU. The shared
+//! scenarios (start-up, commands and telemetry, sync and geotag, FC silence, pod loss,
+//! garbage) are in `task_scenarios/mod.rs`.
 
 use core::cell::RefCell;
 
@@ -12,6 +14,9 @@ use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use host_tests::sim::peer::{PodPin, run_peer};
 use host_tests::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use protocol_core::bridge::{Config, Engine, Event, FcProtocol, Level};
+use task_scenarios::{Bounds, S};
+
+mod task_scenarios;
 
 struct Run {
     fc: ApSiyi,
@@ -126,4 +131,47 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
             .iter()
             .any(|x| matches!(x.what, What::Engine(Event::Geotag { answered: true, .. })))
     );
+}
+
+const BOUNDS: Bounds = Bounds {
+    healthy_within_us: 5 * S,
+    sync_error_us: 5_000,
+    unhealthy_after_pod_loss_us: 2_500_000,
+    healthy_after_pod_back_us: 2 * S,
+    silence_stop_event: true,
+    bridge_geotags: true,
+};
+
+#[test]
+fn startup_to_healthy() {
+    task_scenarios::startup_to_healthy::<ApSiyi>(BOUNDS);
+}
+
+#[test]
+fn commands_reach_the_pod_and_its_attitude_the_fc() {
+    task_scenarios::commands_and_telemetry::<ApSiyi>();
+}
+
+#[test]
+fn time_syncs_edge_then_frame_and_photos_geotagged() {
+    task_scenarios::sync_and_geotag::<ApSiyi>(BOUNDS, "siyi");
+}
+
+#[test]
+fn fc_silence_stops_the_pod_within_0_6_s() {
+    let delay = task_scenarios::fc_silence_stops_motion::<ApSiyi>(BOUNDS);
+    println!(
+        "siyi: pod still {} ms after the FC cable was cut",
+        delay / 1000
+    );
+}
+
+#[test]
+fn pod_loss_is_seen_as_a_lost_gimbal_then_recovery() {
+    task_scenarios::pod_loss::<ApSiyi>(BOUNDS);
+}
+
+#[test]
+fn garbage_on_both_lines_keeps_it_healthy() {
+    task_scenarios::garbage_on_both_lines::<ApSiyi>();
 }

@@ -1,10 +1,16 @@
 //! A simulated flight controller that speaks the K40T protocol itself (as 0x02/0x01):
 //! it sends commands, a 0x00030E every 10 s right after its own (unwired) RTC_IO pulse,
 //! and answers the pod's GPS requests from its position, unless told not to.
+//!
+//! No ArduPilot driver speaks K40T, so "healthy" is this simulator's own rule, in the
+//! spirit of the others: a pod attitude report (0x000002) received within the last
+//! second ([`FcK40t::healthy`], [`FcK40t::health_log`]). A motion held with
+//! [`FcK40t::hold_motion`] is repeated every [`MOTION_REPEAT_US`] while it turns the pod,
+//! as a stick held over would (the bridge stops a pod whose FC falls silent).
 
 use protocol_core::k40t::{
-    self, Address, CrcCoverage, GpsReply, Header, K40tFraming, Message, MessageData, Packet,
-    Request, ResponseCode, TimeSync,
+    self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40tFraming,
+    Message, MessageData, Packet, PitchMotion, Request, ResponseCode, TimeSync, YawMotion,
 };
 use protocol_core::wire::{Deframer, Event};
 
@@ -37,6 +43,13 @@ pub struct FcK40t {
     pub received: Vec<Received>,
     /// Frames the FC sent: (true time, sequence number, message id).
     pub sent: Vec<(u64, u8, u32)>,
+    /// True time of the last pod attitude report received.
+    last_report_us: Option<u64>,
+    /// The motion repeated while it turns, and when it is next due.
+    held: Option<(GimbalControl, u64)>,
+    healthy: bool,
+    /// True times at which [`FcK40t::healthy`] changed, with the new value.
+    pub health_log: Vec<(u64, bool)>,
 }
 
 impl std::fmt::Debug for FcK40t {
@@ -61,15 +74,48 @@ impl Default for FcK40t {
             aircraft: Aircraft::default(),
             received: Vec::new(),
             sent: Vec::new(),
+            last_report_us: None,
+            held: None,
+            healthy: false,
+            health_log: Vec::new(),
         }
     }
 }
+
+/// A report older than this leaves the FC unhealthy.
+const HEALTH_TIMEOUT_US: u64 = 1_000_000;
+/// A held motion is sent again this often while it turns the pod.
+pub const MOTION_REPEAT_US: u64 = 200_000;
 
 impl FcK40t {
     /// The FC's UTC at true time `t_us`.
     #[must_use]
     pub fn utc_us(&self, t_us: u64) -> u64 {
         self.utc_at_zero_us + t_us
+    }
+
+    /// A pod attitude report came within the last second.
+    #[must_use]
+    pub fn healthy(&self) -> bool {
+        self.healthy
+    }
+
+    fn update_health(&mut self, now_us: u64) {
+        let fresh = self
+            .last_report_us
+            .is_some_and(|t| now_us <= t + HEALTH_TIMEOUT_US);
+        if fresh != self.healthy {
+            self.healthy = fresh;
+            self.health_log.push((now_us, fresh));
+        }
+    }
+
+    /// Sends `control` now and, while it turns the pod, again every
+    /// [`MOTION_REPEAT_US`] until another motion is held.
+    pub fn hold_motion(&mut self, control: GimbalControl) {
+        self.send(&control);
+        let turns = control.yaw != YawMotion::Stop || control.pitch != PitchMotion::Stop;
+        self.held = turns.then_some((control, self.now_us + MOTION_REPEAT_US));
     }
 
     /// Sends a request to the pod now.
@@ -134,17 +180,22 @@ impl FcSim for FcK40t {
             }
         });
         for f in frames {
-            if let Ok(p) = Packet::decode(&f)
-                && let Message::Request(Request::GpsRequest(r)) = p.message
-                && self.answer_gps
-            {
-                self.answer(p.header, r);
+            if let Ok(p) = Packet::decode(&f) {
+                if p.message.get::<GimbalAttitude>().is_some() {
+                    self.last_report_us = Some(now_us);
+                }
+                if let Message::Request(Request::GpsRequest(r)) = p.message
+                    && self.answer_gps
+                {
+                    self.answer(p.header, r);
+                }
             }
             self.received.push(Received {
                 at_us: now_us,
                 frame: f,
             });
         }
+        self.update_health(now_us);
     }
 
     fn poll(&mut self, now_us: u64) {
@@ -159,11 +210,23 @@ impl FcSim for FcK40t {
             });
             self.next_sync_us += 10_000_000;
         }
+        while let Some((control, at)) = self.held.filter(|(_, at)| *at <= now_us) {
+            self.now_us = at;
+            self.send(&control);
+            self.held = Some((control, at + MOTION_REPEAT_US));
+        }
         self.now_us = now_us;
+        self.update_health(now_us);
     }
 
     fn next_wakeup(&self) -> u64 {
-        self.next_sync_us
+        // The next sync, and the instant the last report gets too old.
+        let stale = self
+            .last_report_us
+            .filter(|_| self.healthy)
+            .map_or(u64::MAX, |t| t + HEALTH_TIMEOUT_US + 1);
+        let held = self.held.map_or(u64::MAX, |(_, at)| at);
+        self.next_sync_us.min(stale).min(held)
     }
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {

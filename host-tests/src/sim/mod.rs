@@ -7,5 +7,7 @@ pub mod ap_xfrobot;
 pub mod fc_k40t;
 pub mod line;
 pub mod peer;
+pub mod pilot;
 pub mod pod;
 pub mod scenario;
+pub mod tasks;

@@ -4,10 +4,11 @@
 //! serial port), on `embassy_time`'s clock: virtual time for tests and the demo, real
 //! time for the Linux runner's `sim` ports.
 //!
-//! Simulated true time is `embassy_time::Instant::now()` in microseconds. Bytes leave at
-//! the line's rate: at most [`CHUNK`] bytes per write, the next write not before the
-//! previous bytes would have left the wire (10 bits per byte at the baud rate), so the
-//! bridge sees arrivals as a UART would deliver them.
+//! Simulated true time is `embassy_time::Instant::now()` in microseconds. Bytes travel
+//! at the line's rate (10 bits per byte at the baud rate) in chunks of at most [`CHUNK`]
+//! bytes, one after the other; each chunk is written to the stream when its last byte
+//! has arrived, so the bridge sees arrivals as a UART would deliver them (a frame's last
+//! byte one frame time after its first left the peer).
 //!
 //! The peers are shared with their observers through a [`RefCell`]: the executor runs
 //! every task on one thread and no borrow is held across an `.await`.
@@ -96,7 +97,8 @@ where
 {
     let byte_us = 10_000_000 / u64::from(baud.max(1));
     let mut out: VecDeque<(u64, Vec<u8>)> = VecDeque::new();
-    let mut line_free_us = 0u64;
+    // The chunk on the wire, and when its last byte reaches the bridge.
+    let mut on_wire: Option<(u64, Vec<u8>)> = None;
     let mut buf = [0u8; 256];
     loop {
         let now = now_us();
@@ -107,24 +109,36 @@ where
             }
             out.extend(p.peer_transmit(now));
         }
-        // Write what is due, one chunk at the line's pace.
-        if let Some((at, bytes)) = out.front_mut()
+        // A chunk is handed over when its last byte has arrived, as a UART receiver
+        // delivers it; the next one starts on the wire then.
+        if let Some((due, chunk)) = on_wire.take() {
+            if due <= now {
+                to_bridge
+                    .write_all(&chunk)
+                    .await
+                    .map_err(|_| PeerError::Write)?;
+                continue;
+            }
+            on_wire = Some((due, chunk));
+        }
+        if on_wire.is_none()
+            && let Some((at, bytes)) = out.front_mut()
             && *at <= now
-            && line_free_us <= now
         {
             let n = bytes.len().min(CHUNK);
-            to_bridge
-                .write_all(bytes.get(..n).unwrap_or_default())
-                .await
-                .map_err(|_| PeerError::Write)?;
-            bytes.drain(..n);
+            let chunk: Vec<u8> = bytes.drain(..n).collect();
             if bytes.is_empty() {
                 out.pop_front();
             }
-            line_free_us = now.saturating_add(byte_us.saturating_mul(n as u64));
+            if !chunk.is_empty() {
+                on_wire = Some((now.saturating_add(byte_us.saturating_mul(n as u64)), chunk));
+            }
             continue;
         }
-        let next_out = out.front().map(|(at, _)| (*at).max(line_free_us));
+        let next_out = match &on_wire {
+            Some((due, _)) => Some(*due),
+            None => out.front().map(|(at, _)| *at),
+        };
         let next = [Some(peer.borrow().peer_next_wakeup()), next_out]
             .into_iter()
             .flatten()
@@ -191,5 +205,69 @@ impl OutputPin for PodPin<'_> {
     fn set_high(&mut self) -> Result<(), Self::Error> {
         self.pod.borrow_mut().rtc_edge(now_us(), true);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::scenario::FcSim;
+    use bridge_fw::host::{self, Clock, HostPipe};
+    use embassy_futures::select::select;
+
+    /// Sends one burst of `len` bytes at true time `at`.
+    struct Burst {
+        at: u64,
+        len: usize,
+        sent: bool,
+    }
+
+    impl FcSim for Burst {
+        fn receive(&mut self, _now_us: u64, _bytes: &[u8]) {}
+        fn poll(&mut self, _now_us: u64) {}
+        fn next_wakeup(&self) -> u64 {
+            u64::MAX
+        }
+        fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+            if core::mem::replace(&mut self.sent, true) {
+                Vec::new()
+            } else {
+                vec![(self.at, (0..self.len as u8).collect())]
+            }
+        }
+    }
+
+    #[test]
+    fn bytes_reach_the_bridge_when_their_last_bit_has_arrived() {
+        let peer = RefCell::new(Burst {
+            at: 1_000,
+            len: 40,
+            sent: false,
+        });
+        let to_peer = HostPipe::new();
+        let from_peer = HostPipe::new();
+        let mut arrivals = Vec::new();
+        host::run(Clock::Virtual, || {
+            let reader = async {
+                let mut buf = [0u8; 64];
+                let mut total = 0;
+                while total < 40 {
+                    let n = from_peer.read(&mut buf).await;
+                    total += n;
+                    arrivals.push((now_us(), n));
+                }
+            };
+            select(run_peer(&peer, &to_peer, &from_peer, 115_200), reader)
+        });
+        // 86 µs a byte at 115200 baud; chunks of 16: each is handed over when its last
+        // byte is in, never before.
+        assert_eq!(
+            arrivals,
+            vec![
+                (1_000 + 16 * 86, 16),
+                (1_000 + 32 * 86, 16),
+                (1_000 + 40 * 86, 8)
+            ]
+        );
     }
 }

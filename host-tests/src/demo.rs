@@ -1,0 +1,811 @@
+//! The demo: the bridge's firmware tasks (the `bridge-fw` crate on the host, in virtual
+//! time) between a simulated flight controller and the simulated K40T pod, flying a
+//! short scripted flight, told as a timeline a person can read, then a summary table.
+//!
+//! ```no_run
+//! use host_tests::demo::{self, DemoOptions};
+//! use protocol_core::bridge::FcProtocol;
+//!
+//! let summary = demo::run(
+//!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60 },
+//!     &mut std::io::stdout(),
+//! )?;
+//! assert!(summary.healthy_at_s.is_some());
+//! # Ok::<(), std::io::Error>(())
+//! ```
+//!
+//! What is shown:
+//! - the FC reaching healthy (its driver's own rule), the links coming up or going down;
+//! - each step of the script (look down, pan, zoom, record, photos), with the frames it
+//!   caused on both links (decoded, one line each) and the commands the engine translated;
+//! - the first frame of every kind on each link (routine traffic is shown once);
+//! - each time sync: the RTC_IO edge, the UTC the 0x00030E carried, the delay from the
+//!   edge to its first byte, and its error against the simulated FC's true UTC;
+//! - each geotag request of the pod with the fix the bridge answered, and how far that
+//!   fix is from where the aircraft really was when the photo was taken;
+//! - a summary: healthy at, commands translated, syncs and their error (p50, max),
+//!   geotags answered, bytes per link direction, frames and records dropped.
+
+use std::io::{self, Write};
+use std::time::Instant as WallInstant;
+
+use protocol_core::bridge::{Event, FcProtocol};
+use protocol_core::k40t::K40tFraming;
+use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
+
+use crate::sim::ap_siyi::ApSiyi;
+use crate::sim::ap_viewpro::ApViewpro;
+use crate::sim::ap_xfrobot::ApXfRobot;
+use crate::sim::fc_k40t::FcK40t;
+use crate::sim::pilot::{Described, Pilot, describe_k40t, k40t_name, k40t_routine};
+use crate::sim::tasks::{Bench, Outcome};
+
+/// What to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DemoOptions {
+    /// The FC protocol (the simulated FC that speaks it is picked from it).
+    pub fc: FcProtocol,
+    /// Simulated seconds.
+    pub seconds: u32,
+}
+
+impl Default for DemoOptions {
+    fn default() -> Self {
+        DemoOptions {
+            fc: FcProtocol::Siyi,
+            seconds: 60,
+        }
+    }
+}
+
+/// The figures of one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    /// The FC protocol.
+    pub fc: FcProtocol,
+    /// Simulated seconds run.
+    pub seconds: u32,
+    /// When the FC's driver first called the mount healthy, s.
+    pub healthy_at_s: Option<f64>,
+    /// Healthy at the end of the run.
+    pub healthy_at_end: bool,
+    /// FC commands the engine turned into pod commands (repeats included: a driver
+    /// that streams its rate command 50 times a second is translated 50 times).
+    pub commands_translated: u32,
+    /// Distinct (FC command, pod command) pairs among them.
+    pub command_kinds: u32,
+    /// Time syncs sent (RTC_IO edge + 0x00030E).
+    pub syncs: u32,
+    /// Of those, applied by the pod.
+    pub syncs_applied: u32,
+    /// Median of |UTC carried − the FC's true UTC at the edge|, µs.
+    pub sync_error_p50_us: Option<u64>,
+    /// Largest of those, µs.
+    pub sync_error_max_us: Option<u64>,
+    /// Largest delay from an RTC_IO rising edge to the first byte of its 0x00030E, µs.
+    pub edge_to_frame_max_us: Option<u64>,
+    /// Geotag requests from the pod.
+    pub geotags_requested: u32,
+    /// Of those, answered with a fix.
+    pub geotags_answered: u32,
+    /// Largest distance between an answered fix and the aircraft's true position when
+    /// the photo was taken, m.
+    pub geotag_error_max_m: Option<f64>,
+    /// Photos the pod took.
+    pub photos: u32,
+    /// The pod recorded video at some point of the run.
+    pub recorded: bool,
+    /// Bytes FC → bridge.
+    pub bytes_fc_to_bridge: u64,
+    /// Bytes bridge → FC.
+    pub bytes_bridge_to_fc: u64,
+    /// Bytes pod → bridge.
+    pub bytes_pod_to_bridge: u64,
+    /// Bytes bridge → pod.
+    pub bytes_bridge_to_pod: u64,
+    /// Output frames the engine dropped (a queue was full).
+    pub frames_dropped: u32,
+    /// Log records the tasks could not hand over in time.
+    pub records_dropped: u32,
+}
+
+/// One step of the scripted flight.
+#[derive(Debug, Clone, Copy)]
+enum Step {
+    Point(f64, f64),
+    Turn(f64, f64),
+    Zoom(i8),
+    Record(bool),
+    Photo,
+}
+
+impl Step {
+    fn say(self) -> String {
+        match self {
+            Step::Point(yaw, pitch) => {
+                if pitch <= -89.0 {
+                    format!("look down (yaw {yaw:.0}°, pitch {pitch:.0}°)")
+                } else {
+                    format!("point at yaw {yaw:.0}°, pitch {pitch:.0}°")
+                }
+            }
+            Step::Turn(y, p) if y == 0.0 && p == 0.0 => "stop turning".to_string(),
+            Step::Turn(y, p) => format!("pan at {y:.0}°/s (pitch {p:.0}°/s)"),
+            Step::Zoom(r) if r > 0 => "zoom in".to_string(),
+            Step::Zoom(r) if r < 0 => "zoom out".to_string(),
+            Step::Zoom(_) => "stop zooming".to_string(),
+            Step::Record(true) => "start recording".to_string(),
+            Step::Record(false) => "stop recording".to_string(),
+            Step::Photo => "take a photo".to_string(),
+        }
+    }
+
+    fn apply<P: Pilot>(self, fc: &mut P) {
+        match self {
+            Step::Point(y, p) => fc.point(y, p),
+            Step::Turn(y, p) => fc.turn(y, p),
+            Step::Zoom(r) => fc.zoom(r),
+            Step::Record(on) => fc.record(on),
+            Step::Photo => fc.take_picture(),
+        }
+    }
+}
+
+/// The scripted flight: (second, step). Photos come after the first time sync (UTC is
+/// known 30 to 40 s after start, syncs are on the 10 s UTC grid: the first one comes
+/// at 40 or 50 s), so that the pod's clock is UTC when it asks for their geotag; a
+/// longer run takes one more photo every 15 s.
+fn script(seconds: u32) -> Vec<(u64, Step)> {
+    let mut s = vec![
+        (5, Step::Point(0.0, -90.0)),
+        (10, Step::Turn(20.0, 0.0)),
+        (13, Step::Turn(0.0, 0.0)),
+        (16, Step::Zoom(1)),
+        (18, Step::Zoom(0)),
+        (20, Step::Record(true)),
+        (51, Step::Photo),
+        (54, Step::Photo),
+        (57, Step::Photo),
+        (58, Step::Record(false)),
+    ];
+    let mut t = 65;
+    while t < u64::from(seconds) {
+        s.push((t, Step::Photo));
+        t += 15;
+    }
+    s.retain(|&(t, _)| t < u64::from(seconds));
+    s
+}
+
+/// Runs the demo and writes its story to `out`.
+///
+/// # Errors
+/// Only those of writing to `out`.
+pub fn run(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
+    match opts.fc {
+        FcProtocol::Siyi => run_with::<ApSiyi>(opts, out),
+        FcProtocol::Viewlink => run_with::<ApViewpro>(opts, out),
+        FcProtocol::Gcu => run_with::<ApXfRobot>(opts, out),
+        FcProtocol::K40t => run_with::<FcK40t>(opts, out),
+    }
+}
+
+/// The protocol's name on the command line.
+#[must_use]
+pub const fn fc_name(fc: FcProtocol) -> &'static str {
+    match fc {
+        FcProtocol::Siyi => "siyi",
+        FcProtocol::Viewlink => "viewlink",
+        FcProtocol::Gcu => "gcu",
+        FcProtocol::K40t => "k40t",
+    }
+}
+
+/// A line of the timeline.
+struct Line {
+    t_us: u64,
+    /// Order among lines of the same instant.
+    rank: u8,
+    who: &'static str,
+    text: String,
+}
+
+/// How long after a script step its frames and translations are shown.
+const WINDOW_US: u64 = 1_000_000;
+/// Frames shown per link direction within one step's window.
+const PER_WINDOW: usize = 3;
+
+/// The four link directions, for the frame lines.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dir {
+    FcIn,
+    FcOut,
+    PodIn,
+    PodOut,
+}
+
+impl Dir {
+    const fn label(self) -> &'static str {
+        match self {
+            Dir::FcIn => "FC → bridge",
+            Dir::FcOut => "bridge → FC",
+            Dir::PodIn => "pod → bridge",
+            Dir::PodOut => "bridge → pod",
+        }
+    }
+}
+
+/// Pod-link frames shown whenever they are new: time syncs (0x00030E) and geotag
+/// requests and replies (0x000310).
+fn pod_anytime(id: u32) -> bool {
+    matches!(id & 0xFFFF, 0x030E | 0x0310)
+}
+
+/// The frames of a recorded direction: (instant its last chunk went through, bytes).
+fn frames_of<F: Framing>(framing: F, log: &[(u64, Vec<u8>)]) -> Vec<(u64, Vec<u8>)> {
+    let mut d = Deframer::<F, 1024>::new(framing);
+    let mut frames = Vec::new();
+    for (t, chunk) in log {
+        d.push(chunk, |ev| {
+            if let WireEvent::Frame(f) = ev {
+                frames.push((*t, f.to_vec()));
+            }
+        });
+    }
+    frames
+}
+
+/// Picks the frames worth a line: the first of every kind; within a script step's
+/// window the commands (not routine traffic) that are new, i.e. changed since the
+/// previous frame of their id or the first of their id for over a second (at most
+/// [`PER_WINDOW`] per direction and window); new commands outside the windows too when
+/// `anytime(id)` (on the pod link: time syncs, geotag requests and replies).
+fn frame_lines(
+    dir: Dir,
+    frames: &[(u64, Vec<u8>)],
+    describe: impl Fn(&[u8]) -> Option<Described>,
+    routine: impl Fn(u32) -> bool,
+    anytime: impl Fn(u32) -> bool,
+    steps: &[(u64, Step)],
+    lines: &mut Vec<Line>,
+) {
+    // Per id: the last description and when it was seen.
+    let mut seen: Vec<(u32, String, u64)> = Vec::new();
+    let mut shown_in_window: Vec<usize> = vec![0; steps.len()];
+    for (t, f) in frames {
+        let Some(d) = describe(f) else { continue };
+        let text = d.to_string();
+        let (first, new) = match seen.iter_mut().find(|(id, _, _)| *id == d.id) {
+            None => {
+                seen.push((d.id, text.clone(), *t));
+                (true, true)
+            }
+            Some((_, prev, at)) => {
+                let new = *prev != text || t.saturating_sub(*at) > 1_000_000;
+                prev.clone_from(&text);
+                *at = *t;
+                (false, new)
+            }
+        };
+        let command = !routine(d.id);
+        let window = steps
+            .iter()
+            .position(|&(s, _)| (s * 1_000_000..s * 1_000_000 + WINDOW_US).contains(t));
+        let show = first
+            || (command
+                && new
+                && match window.and_then(|w| shown_in_window.get_mut(w)) {
+                    Some(n) if *n < PER_WINDOW => {
+                        *n += 1;
+                        true
+                    }
+                    Some(_) => false,
+                    None => anytime(d.id),
+                });
+        if show {
+            let note = if first && !command {
+                "  (routine; shown once)"
+            } else {
+                ""
+            };
+            lines.push(Line {
+                t_us: *t,
+                rank: 3,
+                who: dir.label(),
+                text: format!("{}{note}", short(&text, 130)),
+            });
+        }
+    }
+}
+
+/// `s` cut at `max` characters.
+fn short(s: &str, max: usize) -> String {
+    if s.chars().count() <= max {
+        s.to_string()
+    } else {
+        let mut t: String = s.chars().take(max - 1).collect();
+        t.push('…');
+        t
+    }
+}
+
+/// UTC (ms since the Unix epoch) as `2026-11-23T10:00:40.000Z`.
+#[must_use]
+pub fn utc_text(unix_ms: u64) -> String {
+    let days = unix_ms / 86_400_000;
+    let ms_of_day = unix_ms % 86_400_000;
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02}T{}Z",
+        time_of_day_text(u32::try_from(ms_of_day).unwrap_or_default())
+    )
+}
+
+/// A time of day in ms as `10:00:40.000`.
+fn time_of_day_text(ms: u32) -> String {
+    format!(
+        "{:02}:{:02}:{:02}.{:03}",
+        ms / 3_600_000,
+        ms / 60_000 % 60,
+        ms / 1000 % 60,
+        ms % 1000
+    )
+}
+
+/// Distance between two positions in 1e-7 degrees, m (flat earth: metres apart).
+fn metres_apart(a: (i32, i32), b: (i32, i32)) -> f64 {
+    let lat = f64::from(a.0) * 1e-7;
+    let dn = f64::from(a.0 - b.0) * 1e-7 * 111_320.0;
+    let de = f64::from(a.1 - b.1) * 1e-7 * 111_320.0 * lat.to_radians().cos();
+    dn.hypot(de)
+}
+
+/// `v` (sorted) at quantile `q`.
+fn quantile(sorted: &[u64], q: f64) -> Option<u64> {
+    if sorted.is_empty() {
+        return None;
+    }
+    let i = ((sorted.len() - 1) as f64 * q).round() as usize;
+    sorted.get(i).copied()
+}
+
+fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
+    let wall = WallInstant::now();
+    let steps = script(opts.seconds);
+    let bench = Bench::new(P::with_seed(1));
+    bench.wires.record_all();
+    let (fc_baud, pod_baud) = (bench.config.fc_baud, bench.config.pod_baud);
+    let end_us = u64::from(opts.seconds) * 1_000_000;
+    let mut next = 0;
+    let mut recorded = false;
+    let o = bench.run(end_us, 100_000, |b, t| {
+        recorded |= b.pod.borrow().camera().recording.is_some();
+        while let Some(&(s, step)) = steps.get(next) {
+            if s * 1_000_000 > t {
+                break;
+            }
+            step.apply(&mut *b.fc.borrow_mut());
+            next += 1;
+        }
+    });
+    let wall = wall.elapsed();
+
+    let mut lines = Vec::new();
+    for &(s, step) in &steps {
+        lines.push(Line {
+            t_us: s * 1_000_000,
+            rank: 0,
+            who: "script",
+            text: step.say(),
+        });
+    }
+    // The FC's view: healthy or not.
+    for &(t, healthy) in o.fc.health_log() {
+        lines.push(Line {
+            t_us: t,
+            rank: 1,
+            who: "FC",
+            text: if healthy {
+                format!("healthy: {} calls the mount healthy", P::DRIVER)
+            } else {
+                format!("NOT healthy: {} lost the mount", P::DRIVER)
+            },
+        });
+    }
+    let summary = story(&o, &steps, opts, recorded, &mut lines);
+
+    // Frames on both links.
+    frame_lines(
+        Dir::FcIn,
+        &frames_of(P::framing(true), &o.wires.fc_in.log),
+        |f| P::describe(f, true),
+        |id| P::routine(id, true),
+        |_| false,
+        &steps,
+        &mut lines,
+    );
+    frame_lines(
+        Dir::FcOut,
+        &frames_of(P::framing(false), &o.wires.fc_out.log),
+        |f| P::describe(f, false),
+        |id| P::routine(id, false),
+        |_| false,
+        &steps,
+        &mut lines,
+    );
+    frame_lines(
+        Dir::PodOut,
+        &frames_of(K40tFraming::any(), &o.wires.pod_out.log),
+        describe_k40t,
+        |id| k40t_routine(id, false),
+        pod_anytime,
+        &steps,
+        &mut lines,
+    );
+    frame_lines(
+        Dir::PodIn,
+        &frames_of(K40tFraming::any(), &o.wires.pod_in.log),
+        describe_k40t,
+        |id| k40t_routine(id, true),
+        pod_anytime,
+        &steps,
+        &mut lines,
+    );
+    lines.sort_by_key(|l| (l.t_us, l.rank));
+
+    writeln!(
+        out,
+        "gimbal demo: {} ⇄ the bridge's firmware tasks (fc = {}) ⇄ K40T pod (simulated)",
+        P::DRIVER,
+        fc_name(P::PROTOCOL)
+    )?;
+    writeln!(
+        out,
+        "{} s of simulated time; FC link {} baud, pod link {} baud; time in simulated seconds\n",
+        opts.seconds, fc_baud, pod_baud
+    )?;
+    for l in &lines {
+        writeln!(
+            out,
+            "{:>8.3}  {:<13} {}",
+            l.t_us as f64 / 1e6,
+            l.who,
+            l.text
+        )?;
+    }
+    write_summary(out, &summary, wall)?;
+    Ok(summary)
+}
+
+/// Engine events, time syncs, geotags and photos as lines; the summary's figures.
+fn story<P: Pilot>(
+    o: &Outcome<P>,
+    steps: &[(u64, Step)],
+    opts: &DemoOptions,
+    recorded: bool,
+    lines: &mut Vec<Line>,
+) -> Summary {
+    let mut translated = 0u32;
+    let mut translated_seen: Vec<(u16, u16)> = Vec::new();
+    let mut shown_in_window: Vec<Vec<(u16, u16)>> = vec![Vec::new(); steps.len()];
+    let mut clamped_shown = false;
+    let edge_to_frame = o.edge_to_frame();
+    let mut errors = Vec::new();
+    let mut syncs = 0u32;
+    for (t, e) in o.events() {
+        let text = match e {
+            Event::Translated { fc_id, pod_base } => {
+                translated += 1;
+                let pair = (fc_id, pod_base);
+                let first = !translated_seen.contains(&pair);
+                if first {
+                    translated_seen.push(pair);
+                }
+                let window = steps
+                    .iter()
+                    .position(|&(s, _)| (s * 1_000_000..s * 1_000_000 + WINDOW_US).contains(&t))
+                    .and_then(|w| shown_in_window.get_mut(w));
+                let in_window = match window {
+                    Some(w) if !w.contains(&pair) => {
+                        w.push(pair);
+                        true
+                    }
+                    _ => false,
+                };
+                if !first && !in_window {
+                    continue;
+                }
+                format!(
+                    "translated {} → K40T 0x{pod_base:04X} {}",
+                    P::command_name(fc_id),
+                    k40t_name(pod_base)
+                )
+            }
+            Event::RateClamped { requested_cdeg_s } => {
+                if core::mem::replace(&mut clamped_shown, true) {
+                    continue;
+                }
+                format!(
+                    "rate clamped to the pod's 30 °/s (asked {:.1} °/s; shown once)",
+                    f64::from(requested_cdeg_s) / 100.0
+                )
+            }
+            Event::TimeSync { edge, utc_ms } => {
+                syncs += 1;
+                let edge_us = edge.as_micros();
+                let truth = o.fc.true_utc_us(edge_us);
+                let err = i128::from(utc_ms * 1000) - i128::from(truth);
+                errors.push(u64::try_from(err.unsigned_abs()).unwrap_or(u64::MAX));
+                let delay = edge_to_frame
+                    .iter()
+                    .find(|(at, _, _)| *at == edge_us)
+                    .map_or_else(
+                        || "no frame recorded after the edge".to_string(),
+                        |(_, d, len)| format!("{len} B, first byte {d} µs after the edge"),
+                    );
+                let pod = o
+                    .pod
+                    .syncs()
+                    .iter()
+                    .find(|s| s.edge_us == Some(edge_us) && s.unix_ms == utc_ms)
+                    .map_or_else(
+                        || "not seen by the pod".to_string(),
+                        |s| format!("pod: {:?}", s.outcome),
+                    );
+                lines.push(Line {
+                    t_us: edge_us,
+                    rank: 2,
+                    who: "time sync",
+                    text: format!(
+                        "RTC_IO high, then 0x00030E ({delay}) carrying {}; error vs the FC's true UTC {:+.3} ms; {pod}",
+                        utc_text(utc_ms),
+                        err as f64 / 1000.0
+                    ),
+                });
+                continue;
+            }
+            Event::Geotag { .. } => continue,
+            Event::FcLinkUp => "FC link up (first valid frame from the FC)".to_string(),
+            Event::FcLinkDown => "FC link DOWN (no valid frame from the FC)".to_string(),
+            Event::PodLinkUp => "pod link up (first report from the pod)".to_string(),
+            Event::PodLinkDown => "pod link DOWN (no report from the pod)".to_string(),
+            Event::UtcValid => {
+                "UTC known from the FC: time syncs start on the 10 s grid".to_string()
+            }
+            Event::UtcLost => "UTC lost: no more time syncs".to_string(),
+            Event::FcSilenceStop => {
+                "the FC went silent while the pod turned: pod stopped".to_string()
+            }
+            other => format!("{other:?}"),
+        };
+        lines.push(Line {
+            t_us: t,
+            rank: 2,
+            who: "bridge",
+            text,
+        });
+    }
+
+    // Photos and their geotags, from the pod's records.
+    let mut geotag_error_max_m: Option<f64> = None;
+    let mut answered = 0u32;
+    for p in o.pod.photos() {
+        lines.push(Line {
+            t_us: p.at_us,
+            rank: 2,
+            who: "pod",
+            text: format!("photo taken (pod clock {})", utc_text(p.pod_unix_ms)),
+        });
+    }
+    for req in o.pod.gps_requests() {
+        let tod = u32::try_from(req.pod_unix_ms % 86_400_000).unwrap_or_default();
+        let reply = req.reply.and_then(|i| o.pod.gps_replies().get(i));
+        let text = match reply {
+            Some(r) if r.reply.code.code() == protocol_core::k40t::AckCode::Ok => {
+                answered += 1;
+                let fix = (r.reply.lat_e7, r.reply.lon_e7);
+                let at = o.pod.photos().get(req.photo).map_or(req.at_us, |p| p.at_us);
+                let off = metres_apart(fix, o.fc.aircraft().position_e7(at));
+                geotag_error_max_m = Some(geotag_error_max_m.map_or(off, |m| m.max(off)));
+                format!(
+                    "pod asks where the aircraft was at {}: lat {:.7} lon {:.7} alt {:.1} m ({}; {:.2} m from the true position), answered {} ms later",
+                    time_of_day_text(tod),
+                    f64::from(fix.0) * 1e-7,
+                    f64::from(fix.1) * 1e-7,
+                    f64::from(r.reply.alt_msl_dm) / 10.0,
+                    if P::PROTOCOL == FcProtocol::K40t {
+                        "the FC's answer, forwarded"
+                    } else {
+                        "interpolated between the FC's fixes"
+                    },
+                    off,
+                    r.latency_us.unwrap_or_default() / 1000
+                )
+            }
+            Some(r) => format!(
+                "pod asks where the aircraft was at {}: no fix ({:?})",
+                time_of_day_text(tod),
+                r.reply.code.code()
+            ),
+            None => format!(
+                "pod asks where the aircraft was at {}: no answer",
+                time_of_day_text(tod)
+            ),
+        };
+        lines.push(Line {
+            t_us: req.at_us,
+            rank: 2,
+            who: "geotag",
+            text,
+        });
+    }
+
+    errors.sort_unstable();
+    let c = o.engine.counters();
+    Summary {
+        fc: P::PROTOCOL,
+        seconds: opts.seconds,
+        healthy_at_s: o
+            .fc
+            .health_log()
+            .iter()
+            .find(|(_, h)| *h)
+            .map(|(t, _)| *t as f64 / 1e6),
+        healthy_at_end: o.fc.healthy(),
+        commands_translated: translated,
+        command_kinds: translated_seen.len() as u32,
+        syncs,
+        syncs_applied: o
+            .pod
+            .syncs()
+            .iter()
+            .filter(|s| s.outcome == crate::sim::pod::SyncOutcome::Applied)
+            .count() as u32,
+        sync_error_p50_us: quantile(&errors, 0.5),
+        sync_error_max_us: errors.last().copied(),
+        edge_to_frame_max_us: edge_to_frame.iter().map(|(_, d, _)| *d).max(),
+        geotags_requested: o.pod.gps_requests().len() as u32,
+        geotags_answered: answered,
+        geotag_error_max_m,
+        photos: o.pod.photos().len() as u32,
+        recorded,
+        bytes_fc_to_bridge: o.wires.fc_in.bytes,
+        bytes_bridge_to_fc: o.wires.fc_out.bytes,
+        bytes_pod_to_bridge: o.wires.pod_in.bytes,
+        bytes_bridge_to_pod: o.wires.pod_out.bytes,
+        frames_dropped: c.dropped,
+        records_dropped: o.records_dropped,
+    }
+}
+
+fn write_summary(out: &mut dyn Write, s: &Summary, wall: std::time::Duration) -> io::Result<()> {
+    let ms = |us: Option<u64>| {
+        us.map_or_else(
+            || "-".to_string(),
+            |v| format!("{:.3} ms", v as f64 / 1000.0),
+        )
+    };
+    writeln!(
+        out,
+        "\nsummary ({}, {} s simulated in {:.2} s of wall time)",
+        fc_name(s.fc),
+        s.seconds,
+        wall.as_secs_f64()
+    )?;
+    let rows: Vec<(&str, String)> = vec![
+        (
+            "FC healthy at",
+            match s.healthy_at_s {
+                Some(t) => format!(
+                    "{t:.3} s ({} at the end)",
+                    if s.healthy_at_end {
+                        "still healthy"
+                    } else {
+                        "NOT healthy"
+                    }
+                ),
+                None => "never".to_string(),
+            },
+        ),
+        (
+            "commands translated",
+            format!("{} ({} kinds)", s.commands_translated, s.command_kinds),
+        ),
+        (
+            "time syncs",
+            format!(
+                "{} sent, {} applied by the pod; error p50 {}, max {}",
+                s.syncs,
+                s.syncs_applied,
+                ms(s.sync_error_p50_us),
+                ms(s.sync_error_max_us)
+            ),
+        ),
+        (
+            "RTC_IO edge → 0x00030E",
+            format!("max {}", ms(s.edge_to_frame_max_us)),
+        ),
+        (
+            "geotags answered",
+            format!(
+                "{} of {}{}",
+                s.geotags_answered,
+                s.geotags_requested,
+                s.geotag_error_max_m.map_or_else(String::new, |m| format!(
+                    " (fix within {m:.2} m of the truth)"
+                ))
+            ),
+        ),
+        (
+            "photos / recording",
+            format!(
+                "{} photos taken by the pod; {}",
+                s.photos,
+                if s.recorded {
+                    "video recorded"
+                } else {
+                    "no video"
+                }
+            ),
+        ),
+        (
+            "bytes FC link",
+            format!(
+                "{} FC → bridge, {} bridge → FC",
+                s.bytes_fc_to_bridge, s.bytes_bridge_to_fc
+            ),
+        ),
+        (
+            "bytes pod link",
+            format!(
+                "{} pod → bridge, {} bridge → pod",
+                s.bytes_pod_to_bridge, s.bytes_bridge_to_pod
+            ),
+        ),
+        (
+            "dropped",
+            format!(
+                "{} frames, {} log records",
+                s.frames_dropped, s.records_dropped
+            ),
+        ),
+    ];
+    for (k, v) in rows {
+        writeln!(out, "  {k:<24} {v}")?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn utc_text_reads_as_a_calendar_date() {
+        assert_eq!(utc_text(0), "1970-01-01T00:00:00.000Z");
+        assert_eq!(utc_text(1_795_428_040_000), "2026-11-23T10:00:40.000Z");
+        assert_eq!(utc_text(951_782_400_123), "2000-02-29T00:00:00.123Z");
+    }
+
+    #[test]
+    fn the_script_fits_the_run() {
+        assert!(script(30).iter().all(|&(t, _)| t < 30));
+        assert_eq!(script(60).len(), 10);
+        assert!(
+            script(60)
+                .iter()
+                .filter(|(_, s)| matches!(s, Step::Photo))
+                .all(|&(t, _)| t > 50)
+        );
+        assert_eq!(script(100).len(), 13);
+    }
+}

@@ -1,0 +1,380 @@
+//! The firmware's own tasks (`bridge-fw`, feature `host`) between a simulated flight
+//! controller ([`Pilot`]) and the simulated pod, on the host's pipes, in virtual time:
+//! the bench of the task-level scenarios and of the demo.
+//!
+//! ```text
+//!  Pilot ──(fc_in)──▶ FC link ─┐                     ┌─ pod link ──(pod_out)──▶ SimPod
+//!        ◀─(fc_out)── task    ─┴─ engine task, RTC_IO ┴─ task    ◀──(pod_in)───
+//! ```
+//!
+//! Each of the four directions passes through a [`Wire`] on the peer's side: it counts
+//! the bytes, can record them (the demo decodes them), cut them (a cable pulled out) or
+//! change them (garbage, bit flips: [`Corrupter`]), and can trickle them one byte at a
+//! time at the line's pace. RTC_IO goes to the pod through [`PodPin`]; every record of
+//! the tasks' log (engine events, pin changes, edge-to-frame delays) is kept.
+//!
+//! A [`Bench`] runs once ([`Bench::run`]): virtual time starts at 0 with each run. A
+//! script called every tick acts on the peers and the wires while the tasks run.
+
+use core::cell::RefCell;
+use core::convert::Infallible;
+
+use bridge_fw::host::{self, Clock, HostLinks, HostShared};
+use bridge_fw::{Record, Timing, What};
+use embassy_futures::select::{Either3, select, select3};
+use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
+use embedded_io_async::{ErrorType, Read, Write};
+use protocol_core::bridge::{Config, Engine, Event, Level};
+
+use super::line::Corrupter;
+use super::peer::{PodPin, now_us, run_peer};
+use super::pilot::Pilot;
+use super::pod::{PodSimConfig, SimPod};
+
+/// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
+#[derive(Default)]
+pub struct Wire {
+    /// The cable is cut: bytes are lost (counted in [`Wire::lost`]).
+    pub cut: bool,
+    /// Bytes that went through (after any corruption).
+    pub bytes: u64,
+    /// Bytes lost while cut.
+    pub lost: u64,
+    /// Keep every chunk that went through in [`Wire::log`].
+    pub recording: bool,
+    /// The chunks that went through, with the instant (µs) they did.
+    pub log: Vec<(u64, Vec<u8>)>,
+    /// Write one byte at a time, this many µs apart (into the bridge only).
+    pub trickle_us: Option<u64>,
+    corrupt: Option<Box<Corrupter>>,
+}
+
+impl core::fmt::Debug for Wire {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Wire")
+            .field("cut", &self.cut)
+            .field("bytes", &self.bytes)
+            .field("lost", &self.lost)
+            .field("chunks", &self.log.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Wire {
+    /// Changes every write with `f(now_us, bytes) -> bytes sent` (writes into the bridge
+    /// only).
+    pub fn set_corrupter(&mut self, f: Box<Corrupter>) {
+        self.corrupt = Some(f);
+    }
+
+    /// Stops changing bytes.
+    pub fn clear_corrupter(&mut self) {
+        self.corrupt = None;
+    }
+
+    /// What goes on the line for `bytes` now (`None`: lost to a cut).
+    fn pass(&mut self, bytes: &[u8]) -> Option<Vec<u8>> {
+        if self.cut {
+            self.lost += bytes.len() as u64;
+            return None;
+        }
+        let out = match self.corrupt.as_mut() {
+            Some(f) => f(now_us(), bytes),
+            None => bytes.to_vec(),
+        };
+        self.bytes += out.len() as u64;
+        if self.recording && !out.is_empty() {
+            self.log.push((now_us(), out.clone()));
+        }
+        Some(out)
+    }
+}
+
+/// The peer's writer (towards the bridge) through a [`Wire`].
+pub struct WireTx<'a, W> {
+    inner: W,
+    wire: &'a RefCell<Wire>,
+}
+
+impl<'a, W> WireTx<'a, W> {
+    /// `inner` through `wire`.
+    pub const fn new(inner: W, wire: &'a RefCell<Wire>) -> Self {
+        WireTx { inner, wire }
+    }
+}
+
+impl<W: ErrorType> ErrorType for WireTx<'_, W> {
+    type Error = W::Error;
+}
+
+impl<W: Write> Write for WireTx<'_, W> {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        let (out, trickle) = {
+            let mut w = self.wire.borrow_mut();
+            (w.pass(buf), w.trickle_us)
+        };
+        if let Some(out) = out {
+            match trickle {
+                Some(gap) => {
+                    for b in out {
+                        self.inner.write_all(&[b]).await?;
+                        Timer::after(Duration::from_micros(gap)).await;
+                    }
+                }
+                None => self.inner.write_all(&out).await?,
+            }
+        }
+        Ok(buf.len())
+    }
+
+    async fn flush(&mut self) -> Result<(), Self::Error> {
+        self.inner.flush().await
+    }
+}
+
+/// The peer's reader (from the bridge) through a [`Wire`] (cut and recording only).
+pub struct WireRx<'a, R> {
+    inner: R,
+    wire: &'a RefCell<Wire>,
+}
+
+impl<'a, R> WireRx<'a, R> {
+    /// `inner` through `wire`.
+    pub const fn new(inner: R, wire: &'a RefCell<Wire>) -> Self {
+        WireRx { inner, wire }
+    }
+}
+
+impl<R: ErrorType> ErrorType for WireRx<'_, R> {
+    type Error = R::Error;
+}
+
+impl<R: Read> Read for WireRx<'_, R> {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        loop {
+            let n = self.inner.read(buf).await?;
+            if n == 0 {
+                return Ok(0);
+            }
+            let got = buf.get(..n).unwrap_or_default();
+            let mut w = self.wire.borrow_mut();
+            if w.cut {
+                w.lost += n as u64;
+                continue;
+            }
+            w.bytes += n as u64;
+            if w.recording {
+                w.log.push((now_us(), got.to_vec()));
+            }
+            return Ok(n);
+        }
+    }
+}
+
+/// The four directions, named from the bridge's side as [`HostLinks`] is.
+#[derive(Debug, Default)]
+pub struct Wires<T = RefCell<Wire>> {
+    /// FC → bridge.
+    pub fc_in: T,
+    /// Bridge → FC.
+    pub fc_out: T,
+    /// Pod → bridge.
+    pub pod_in: T,
+    /// Bridge → pod.
+    pub pod_out: T,
+}
+
+impl Wires {
+    /// Records every direction.
+    pub fn record_all(&self) {
+        for w in [&self.fc_in, &self.fc_out, &self.pod_in, &self.pod_out] {
+            w.borrow_mut().recording = true;
+        }
+    }
+
+    /// Cuts (or mends) both directions of the FC cable.
+    pub fn cut_fc(&self, cut: bool) {
+        self.fc_in.borrow_mut().cut = cut;
+        self.fc_out.borrow_mut().cut = cut;
+    }
+
+    /// Cuts (or mends) both directions of the pod cable.
+    pub fn cut_pod(&self, cut: bool) {
+        self.pod_in.borrow_mut().cut = cut;
+        self.pod_out.borrow_mut().cut = cut;
+    }
+
+    fn into_inner(self) -> Wires<Wire> {
+        Wires {
+            fc_in: self.fc_in.into_inner(),
+            fc_out: self.fc_out.into_inner(),
+            pod_in: self.pod_in.into_inner(),
+            pod_out: self.pod_out.into_inner(),
+        }
+    }
+}
+
+/// The bridge's tasks, a simulated FC and the simulated pod, ready to run.
+pub struct Bench<P: Pilot> {
+    /// The bridge's configuration.
+    pub config: Config,
+    /// The flight controller.
+    pub fc: RefCell<P>,
+    /// The pod.
+    pub pod: RefCell<SimPod>,
+    /// The four directions.
+    pub wires: Wires,
+    records: RefCell<Vec<Record>>,
+    shared: HostShared,
+    links: HostLinks,
+}
+
+/// What a run leaves: the peers, the wires, the tasks' records and the engine.
+pub struct Outcome<P> {
+    /// The flight controller.
+    pub fc: P,
+    /// The pod.
+    pub pod: SimPod,
+    /// The four directions (with their logs when recorded).
+    pub wires: Wires<Wire>,
+    /// Every record of the tasks' log task, in order.
+    pub records: Vec<Record>,
+    /// Records the log task could not take in time (must be 0).
+    pub records_dropped: u32,
+    /// The engine at the end.
+    pub engine: Engine,
+    /// Virtual time at the end, µs.
+    pub end_us: u64,
+}
+
+impl<P: Pilot> Bench<P> {
+    /// The bridge configured for `P`'s protocol, `fc`, and the pod with its defaults.
+    pub fn new(fc: P) -> Self {
+        Self::with(
+            Config::for_fc(P::PROTOCOL),
+            fc,
+            SimPod::new(PodSimConfig::default()),
+        )
+    }
+
+    /// A bench of these parts.
+    pub fn with(config: Config, fc: P, pod: SimPod) -> Self {
+        Bench {
+            config,
+            fc: RefCell::new(fc),
+            pod: RefCell::new(pod),
+            wires: Wires::default(),
+            records: RefCell::new(Vec::new()),
+            shared: HostShared::new(Engine::new(config), Timing::from_config(&config)),
+            links: HostLinks::new(),
+        }
+    }
+
+    /// Runs `f` on the engine (for a script: read its state, its counters).
+    pub fn engine<R>(&self, f: impl FnOnce(&mut Engine) -> R) -> R {
+        self.shared.with(f)
+    }
+
+    /// The records so far.
+    pub fn records(&self) -> core::cell::Ref<'_, Vec<Record>> {
+        self.records.borrow()
+    }
+
+    /// Runs every task of the bridge (but the LED) and both peers until `end_us` of
+    /// virtual time; `script(bench, now_us)` is called at 0 and then every `tick_us`.
+    ///
+    /// # Panics
+    /// When a peer's stream fails (it never does on pipes).
+    pub fn run(self, end_us: u64, tick_us: u64, mut script: impl FnMut(&Self, u64)) -> Outcome<P> {
+        let baud = (self.config.fc_baud, self.config.pod_baud);
+        host::run(Clock::Virtual, || async {
+            let sink = |r: &Record| self.records.borrow_mut().push(*r);
+            let bridge = host::bridge(
+                &self.shared,
+                &self.links,
+                PodPin::new(&self.pod),
+                sink,
+                || {},
+            );
+            let fc = run_peer(
+                &self.fc,
+                WireRx::new(&self.links.fc_tx, &self.wires.fc_out),
+                WireTx::new(&self.links.fc_rx, &self.wires.fc_in),
+                baud.0,
+            );
+            let pod = run_peer(
+                &self.pod,
+                WireRx::new(&self.links.pod_tx, &self.wires.pod_out),
+                WireTx::new(&self.links.pod_rx, &self.wires.pod_in),
+                baud.1,
+            );
+            let clock = async {
+                let mut t = 0;
+                while t < end_us {
+                    script(&self, t);
+                    t = (t + tick_us.max(1)).min(end_us);
+                    Timer::at(EmbassyInstant::from_micros(t)).await;
+                }
+            };
+            match select3(bridge, select(fc, pod), clock).await {
+                Either3::First(never) => match never {},
+                Either3::Second(ended) => {
+                    let e: Result<Infallible, _> = match ended {
+                        embassy_futures::select::Either::First(r)
+                        | embassy_futures::select::Either::Second(r) => r,
+                    };
+                    #[allow(clippy::panic)]
+                    {
+                        panic!("a peer ended: {e:?}");
+                    }
+                }
+                Either3::Third(()) => {}
+            }
+        });
+        let engine = self.shared.with(|e| e.clone());
+        let records_dropped = self.shared.records_dropped();
+        Outcome {
+            fc: self.fc.into_inner(),
+            pod: self.pod.into_inner(),
+            wires: self.wires.into_inner(),
+            records: self.records.into_inner(),
+            records_dropped,
+            engine,
+            end_us,
+        }
+    }
+}
+
+impl<P> Outcome<P> {
+    /// The engine events, with the local instant the log task took them (µs).
+    pub fn events(&self) -> impl Iterator<Item = (u64, Event)> + '_ {
+        self.records.iter().filter_map(|r| match r.what {
+            What::Engine(e) => Some((r.at.as_micros(), e)),
+            _ => None,
+        })
+    }
+
+    /// RTC_IO changes to `level`, as the pin task made them (µs).
+    #[must_use]
+    pub fn pin_changes(&self, level: Level) -> Vec<u64> {
+        self.records
+            .iter()
+            .filter(|r| r.what == What::Pin(level))
+            .map(|r| r.at.as_micros())
+            .collect()
+    }
+
+    /// Every `EdgeToFrame` record: (edge instant µs, delay µs, frame length).
+    #[must_use]
+    pub fn edge_to_frame(&self) -> Vec<(u64, u64, u16)> {
+        self.records
+            .iter()
+            .filter_map(|r| match r.what {
+                What::EdgeToFrame { delay, len } => {
+                    Some((r.at.as_micros() - delay.as_micros(), delay.as_micros(), len))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,124 @@
+//! The demo (`host_tests::demo`) for each FC protocol: the bridge's firmware tasks
+//! between the simulated FC and the simulated pod, 60 s of simulated time. The FC calls
+//! the mount healthy, time syncs reach the pod and are accurate, every photo is
+//! geotagged, nothing is dropped, and it takes seconds, not minutes.
+//!
+//! `DEMO_PRINT=1 cargo test -p host-tests --test demo -- --nocapture` prints the stories.
+
+use std::time::{Duration, Instant};
+
+use host_tests::demo::{self, DemoOptions, Summary};
+use protocol_core::bridge::FcProtocol;
+
+fn run(fc: FcProtocol) -> (Summary, String) {
+    let start = Instant::now();
+    let mut out = Vec::new();
+    let s = demo::run(&DemoOptions { fc, seconds: 60 }, &mut out).expect("writes to a Vec");
+    let wall = start.elapsed();
+    let text = String::from_utf8(out).expect("UTF-8");
+    if std::env::var_os("DEMO_PRINT").is_some() {
+        println!("{text}");
+    }
+    // A few seconds in debug on a loaded machine; well under a second in release.
+    assert!(wall < Duration::from_secs(30), "{fc:?}: {wall:?}");
+    (s, text)
+}
+
+/// What every FC side shows; `sync_bound_us` is the side's time-sync error bound.
+fn check(fc: FcProtocol, sync_bound_us: u64) -> Summary {
+    let (s, text) = run(fc);
+    assert_eq!(s.fc, fc);
+    assert_eq!(s.seconds, 60);
+    // Healthy in the first seconds, and still at the end.
+    let healthy = s.healthy_at_s.expect("the FC calls the mount healthy");
+    assert!(healthy < 5.0, "{s:?}");
+    assert!(s.healthy_at_end, "{s:?}");
+    // The scripted commands went through (look down, pan, stop, zoom in/out, record,
+    // photos: at least five kinds).
+    assert!(s.command_kinds >= 5, "{s:?}");
+    assert!(s.commands_translated >= s.command_kinds);
+    // Syncs on the 10 s grid once UTC is known (40 or 50 s and 60 s at most), each
+    // applied by the pod, within the bound.
+    assert!((2..=3).contains(&s.syncs), "{s:?}");
+    assert_eq!(s.syncs_applied, s.syncs, "{s:?}");
+    let p50 = s.sync_error_p50_us.expect("p50");
+    let max = s.sync_error_max_us.expect("max");
+    assert!(p50 <= max && max < sync_bound_us, "{s:?}");
+    // The 0x00030E is the first pod frame after each edge (its delay is recorded).
+    assert!(s.edge_to_frame_max_us.is_some(), "{s:?}");
+    // Three photos, each geotagged within a metre of the truth; video recorded.
+    assert_eq!(s.photos, 3, "{s:?}");
+    assert_eq!(s.geotags_requested, 3, "{s:?}");
+    assert_eq!(s.geotags_answered, 3, "{s:?}");
+    assert!(s.geotag_error_max_m.expect("geotag error") < 1.0, "{s:?}");
+    assert!(s.recorded, "{s:?}");
+    // Traffic both ways on both links, nothing dropped.
+    for b in [
+        s.bytes_fc_to_bridge,
+        s.bytes_bridge_to_fc,
+        s.bytes_pod_to_bridge,
+        s.bytes_bridge_to_pod,
+    ] {
+        assert!(b > 500, "{s:?}");
+    }
+    assert_eq!((s.frames_dropped, s.records_dropped), (0, 0), "{s:?}");
+    // The story tells it.
+    for needle in [
+        "healthy:",
+        "script        look down",
+        "time sync     RTC_IO high",
+        "geotag        pod asks",
+        "bridge → pod  K40T 0x000302 TakePhoto",
+        "bridge → pod  K40T 0x00030E TimeSync",
+        "summary (",
+    ] {
+        assert!(text.contains(needle), "{fc:?}: no {needle:?} in\n{text}");
+    }
+    assert_eq!(text.matches("photo taken").count(), 3);
+    s
+}
+
+#[test]
+fn siyi() {
+    check(FcProtocol::Siyi, 5_000);
+}
+
+#[test]
+fn viewlink() {
+    check(FcProtocol::Viewlink, 5_000);
+}
+
+#[test]
+fn gcu() {
+    // ArduPilot's GCU driver relays the time of the last GPS fix, held between fixes and
+    // read by its 50 Hz loop: the GCU side's error follows that read phase, ±10 ms, and
+    // its bound (as in bridge_gcu.rs) is 15 ms.
+    check(FcProtocol::Gcu, 15_000);
+}
+
+#[test]
+fn k40t() {
+    let s = check(FcProtocol::K40t, 5_000);
+    // The FC speaks only when it has something to say; its own 0x00030E every 10 s.
+    assert!(s.bytes_fc_to_bridge < s.bytes_bridge_to_fc);
+}
+
+#[test]
+fn a_short_run_has_no_sync_and_says_so() {
+    let mut out = Vec::new();
+    let s = demo::run(
+        &DemoOptions {
+            fc: FcProtocol::Siyi,
+            seconds: 10,
+        },
+        &mut out,
+    )
+    .expect("writes");
+    assert_eq!((s.syncs, s.photos), (0, 0));
+    assert!(s.healthy_at_s.is_some());
+    let text = String::from_utf8(out).expect("UTF-8");
+    assert!(
+        text.contains("0 sent, 0 applied by the pod; error p50 -, max -"),
+        "{text}"
+    );
+}

@@ -1,0 +1,85 @@
+//! The GCU side through the firmware's tasks (virtual time, pipes): start-up to healthy,
+//! commands and telemetry, time sync with the RTC_IO edge before the 0x00030E, geotag,
+//! FC silence, pod loss, garbage on both lines. The scenarios are in
+//! `task_scenarios/mod.rs`; the bounds here are this side's.
+
+mod task_scenarios;
+
+use host_tests::sim::ap_xfrobot::ApXfRobot;
+use task_scenarios::{Bounds, S};
+
+const BOUNDS: Bounds = Bounds {
+    healthy_within_us: S,
+    sync_error_us: 15_000,
+    unhealthy_after_pod_loss_us: 2 * S,
+    healthy_after_pod_back_us: S,
+    silence_stop_event: false,
+    bridge_geotags: true,
+};
+
+#[test]
+fn startup_to_healthy() {
+    task_scenarios::startup_to_healthy::<ApXfRobot>(BOUNDS);
+}
+
+#[test]
+fn commands_reach_the_pod_and_its_attitude_the_fc() {
+    task_scenarios::commands_and_telemetry::<ApXfRobot>();
+}
+
+#[test]
+fn time_syncs_edge_then_frame_and_photos_geotagged() {
+    task_scenarios::sync_and_geotag::<ApXfRobot>(BOUNDS, "gcu");
+}
+
+#[test]
+fn fc_silence_stops_the_pod_within_0_6_s() {
+    let delay = task_scenarios::fc_silence_stops_motion::<ApXfRobot>(BOUNDS);
+    println!(
+        "gcu: pod still {} ms after the FC cable was cut",
+        delay / 1000
+    );
+}
+
+#[test]
+fn pod_loss_is_seen_as_a_lost_gimbal_then_recovery() {
+    task_scenarios::pod_loss::<ApXfRobot>(BOUNDS);
+}
+
+#[test]
+fn garbage_on_both_lines_keeps_it_healthy() {
+    task_scenarios::garbage_on_both_lines::<ApXfRobot>();
+}
+
+/// While the pod is lost the bridge still answers every package, in the short form
+/// (72 bytes, hardware-error bit) that ArduPilot ignores, as a GCU whose gimbal stopped
+/// reporting would: ArduPilot refuses a picture then.
+#[test]
+fn pod_loss_replies_are_short_with_the_hardware_error_bit() {
+    let mut refused = None;
+    let o = task_scenarios::bench::<ApXfRobot>().run(14 * S, task_scenarios::TICK, |b, t| {
+        if t == 6 * S {
+            b.wires.cut_pod(true);
+        }
+        if t == 10 * S {
+            refused = Some(!b.fc.borrow_mut().take_picture());
+        }
+        if t == 12 * S {
+            b.wires.cut_pod(false);
+        }
+    });
+    assert_eq!(refused, Some(true));
+    let during: Vec<_> =
+        o.fc.replies
+            .iter()
+            .filter(|r| r.at_us > 9 * S && r.at_us < 12 * S)
+            .collect();
+    assert!(during.len() > 100, "{}", during.len());
+    for r in &during {
+        assert_eq!(r.bytes.len(), 72);
+        assert_ne!(r.error_code() & 1 << 7, 0);
+    }
+    let last = o.fc.replies.last().expect("replies");
+    assert_eq!(last.bytes.len(), 73);
+    assert!(o.fc.healthy());
+}
