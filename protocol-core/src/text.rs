@@ -31,9 +31,8 @@ impl<const N: usize> Text<N> {
             return Err(Error::OutOfRange);
         }
         let mut raw = [0; N];
-        raw.get_mut(..s.len())
-            .ok_or(Error::OutOfRange)?
-            .copy_from_slice(s.as_bytes());
+        let dst = raw.get_mut(..s.len()).ok_or(Error::OutOfRange)?;
+        crate::wire::copy(dst, s.as_bytes());
         Ok(Text { raw })
     }
 

@@ -18,10 +18,8 @@ pub(crate) fn decode_payload<T: Field<Le>>(payload: &[u8]) -> Result<T> {
         n if n == T::LEN => payload,
         n if n > T::LEN => return Err(Error::BadLength),
         n => {
-            extended
-                .get_mut(..n)
-                .ok_or(Error::BadLength)?
-                .copy_from_slice(payload);
+            let dst = extended.get_mut(..n).ok_or(Error::BadLength)?;
+            crate::wire::copy(dst, payload);
             extended.get(..T::LEN).ok_or(Error::BadLength)?
         }
     };

@@ -295,9 +295,8 @@ impl HardwareId {
             return Err(Error::OutOfRange);
         }
         let mut raw = [0u8; 12];
-        raw.get_mut(..text.len())
-            .ok_or(Error::OutOfRange)?
-            .copy_from_slice(text.as_bytes());
+        let dst = raw.get_mut(..text.len()).ok_or(Error::OutOfRange)?;
+        crate::wire::copy(dst, text.as_bytes());
         Ok(HardwareId { raw })
     }
 
@@ -316,10 +315,9 @@ impl HardwareId {
         let mut raw = [0u8; 12];
         let hi = DIGITS.get(usize::from(id >> 4)).copied().unwrap_or(b'0');
         let lo = DIGITS.get(usize::from(id & 0x0F)).copied().unwrap_or(b'0');
-        let (prefix, rest) = raw.split_at_mut(2);
-        prefix.copy_from_slice(&[hi, lo]);
-        let n = rest.len();
-        rest.copy_from_slice(tail.raw.get(..n).unwrap_or_default());
+        let [first, second, rest @ ..] = &mut raw;
+        (*first, *second) = (hi, lo);
+        crate::wire::copy(rest, &tail.raw);
         Ok(HardwareId { raw })
     }
 

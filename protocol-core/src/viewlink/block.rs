@@ -228,10 +228,8 @@ impl<const N: usize> Bytes<N> {
     /// [`Error::OutOfRange`] for more than `N` bytes (or more than 255).
     pub fn new(data: &[u8]) -> Result<Self> {
         let mut b = Bytes::default();
-        b.buf
-            .get_mut(..data.len())
-            .ok_or(Error::OutOfRange)?
-            .copy_from_slice(data);
+        let dst = b.buf.get_mut(..data.len()).ok_or(Error::OutOfRange)?;
+        crate::wire::copy(dst, data);
         b.len = u8::try_from(data.len()).map_err(|_| Error::OutOfRange)?;
         Ok(b)
     }

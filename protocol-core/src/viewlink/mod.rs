@@ -268,13 +268,18 @@ macro_rules! viewlink_frames {
             /// Decodes the payload of a frame. Unknown ids give [`Message::Raw`].
             ///
             /// # Errors
-            /// [`Error::BadLength`] or [`Error::Truncated`] when a known id's payload
-            /// does not have the length its blocks take.
+            /// [`Error::BadLength`] when a known id's payload does not have the length
+            /// its blocks take (too few bytes too: the payload is complete, the frame's
+            /// length says so, so it is never [`Error::Truncated`]).
             pub fn decode(id: u8, payload: &'a [u8]) -> Result<Self> {
-                match id {
+                let decoded = match id {
                     $( $id => <$ty as Block>::from_bytes(payload).map(Message::$variant), )*
                     _ => Ok(Message::Raw(Raw { id, payload })),
-                }
+                };
+                decoded.map_err(|e| match e {
+                    Error::Truncated => Error::BadLength,
+                    other => other,
+                })
             }
 
             /// The frame id.

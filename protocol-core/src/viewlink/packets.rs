@@ -276,10 +276,11 @@ impl AiTargets {
             packet_index,
             ..AiTargets::default()
         };
-        p.targets
+        let dst = p
+            .targets
             .get_mut(..targets.len())
-            .ok_or(Error::OutOfRange)?
-            .copy_from_slice(targets);
+            .ok_or(Error::OutOfRange)?;
+        crate::wire::copy(dst, targets);
         p.count = u8::try_from(targets.len()).map_err(|_| Error::OutOfRange)?;
         Ok(p)
     }

@@ -201,7 +201,7 @@ impl<'a> Writer<'a> {
             .buf
             .get_mut(self.len..end)
             .ok_or(Error::BufferTooSmall)?;
-        dst.copy_from_slice(bytes);
+        super::copy(dst, bytes);
         self.len = end;
         Ok(())
     }

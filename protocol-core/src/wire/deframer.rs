@@ -265,11 +265,32 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     pub fn spare_capacity_mut(&mut self) -> &mut [u8] {
         self.apply_release();
         if self.start > N.saturating_sub(self.end) {
-            self.buf.copy_within(self.start..self.end, 0);
-            self.end = self.end.saturating_sub(self.start);
-            self.start = 0;
+            self.move_to_front();
         }
         self.buf.get_mut(self.end..).unwrap_or_default()
+    }
+
+    /// Moves the held bytes to the front of the buffer, in pieces of at most `start`
+    /// bytes so that each piece's source and destination are disjoint (a `memcpy` each;
+    /// one piece unless more is held than was consumed). `copy_within` would do it in one
+    /// call but keeps a panicking bounds check at opt-level z.
+    fn move_to_front(&mut self) {
+        let step = self.start;
+        let (mut from, mut to) = (self.start, 0);
+        while from < self.end && step > 0 {
+            let Some((head, tail)) = self.buf.split_at_mut_checked(from) else {
+                break;
+            };
+            let n = self.end.saturating_sub(from).min(step);
+            super::copy(
+                head.get_mut(to..).unwrap_or_default(),
+                tail.get(..n).unwrap_or_default(),
+            );
+            from = from.saturating_add(n);
+            to = to.saturating_add(n);
+        }
+        self.end = self.end.saturating_sub(self.start);
+        self.start = 0;
     }
 
     /// Marks `n` bytes written into [`Deframer::spare_capacity_mut`] as received (at
@@ -284,7 +305,7 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
         let spare = self.spare_capacity_mut();
         let n = spare.len().min(input.len());
         if let (Some(dst), Some(src)) = (spare.get_mut(..n), input.get(..n)) {
-            dst.copy_from_slice(src);
+            super::copy(dst, src);
         }
         self.commit(n);
         n

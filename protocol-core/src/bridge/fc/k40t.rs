@@ -295,7 +295,7 @@ fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
     let Some(dst) = buf.get_mut(..f.len()) else {
         return;
     };
-    dst.copy_from_slice(f);
+    crate::wire::copy(dst, f);
     let mut frame = Frame::new_unchecked(&mut *dst);
     let coverage = Frame::new_unchecked(f)
         .detect_coverage()

@@ -1,0 +1,285 @@
+//! Instruction counts (gungraun, Callgrind) of the four codecs' stages and of
+//! rust-mavlink on an equivalent MAVLink v2 stream: `scripts/bench` runs this at
+//! opt-level z (the firmware's release profile) and 3 and prints one table. The streams
+//! and stages: `codec_bench` (src/lib.rs). Each benchmark's input is built in its setup,
+//! which Callgrind does not count.
+
+use std::hint::black_box;
+use std::io::Read;
+
+use codec_bench::{CHUNK, Stream, deframe};
+use gungraun::{library_benchmark, library_benchmark_group, main};
+use mavlink::dialects::common::MavMessage;
+use mavlink::{MavlinkReader, MavlinkVersion, MessageData};
+
+/// A benchmark's input, leaked: freeing it would be counted in the benchmark.
+fn leak<T>(value: T) -> &'static T {
+    Box::leak(Box::new(value))
+}
+
+/// A message's id, CRC_EXTRA and full payload length.
+fn message<M: MessageData>() -> (u32, u8, usize) {
+    (M::ID, M::EXTRA_CRC, M::ENCODED_LEN)
+}
+
+/// Reads a slice at most [`CHUNK`] bytes at a time, as the deframers are fed.
+struct Chunked<'a>(&'a [u8]);
+
+impl Read for Chunked<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(CHUNK).min(self.0.len());
+        let (head, rest) = self.0.split_at(n);
+        buf[..n].copy_from_slice(head);
+        self.0 = rest;
+        Ok(n)
+    }
+}
+
+/// A MAVLink v2 stream with the K40T stream's frame count and payload lengths: each
+/// frame a common-dialect message without enumerations (any payload bytes parse), the
+/// shortest whose full length holds the payload; pseudo-random payload bytes, the last
+/// one non-zero (a v2 sender drops trailing zeros); CRC with the message's CRC_EXTRA.
+fn mavlink_stream() -> Vec<u8> {
+    use mavlink::dialects::common::*;
+    // (id, CRC_EXTRA, full payload length), shortest first.
+    let mut messages = [
+        message::<SYSTEM_TIME_DATA>(),
+        message::<TIMESYNC_DATA>(),
+        message::<VFR_HUD_DATA>(),
+        message::<RC_CHANNELS_RAW_DATA>(),
+        message::<ATTITUDE_DATA>(),
+        message::<RAW_IMU_DATA>(),
+        message::<MEMORY_VECT_DATA>(),
+        message::<SERVO_OUTPUT_RAW_DATA>(),
+        message::<RC_CHANNELS_DATA>(),
+        message::<ATTITUDE_QUATERNION_DATA>(),
+        message::<ATT_POS_MOCAP_DATA>(),
+        message::<ENCAPSULATED_DATA_DATA>(),
+    ];
+    messages.sort_by_key(|m| m.2);
+    let k40t = codec_bench::k40t_stream();
+    let mut rng = 0x4D41_564Cu64;
+    let mut out = Vec::new();
+    for (seq, len) in k40t.payload_lens().enumerate() {
+        let (id, extra, _) = *messages
+            .iter()
+            .find(|m| m.2 >= len)
+            .expect("a message long enough");
+        let id = id.to_le_bytes();
+        let start = out.len();
+        out.extend_from_slice(&[
+            0xFD, len as u8, 0, 0, seq as u8, 0x01, 0x01, id[0], id[1], id[2],
+        ]);
+        for i in 0..len {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let b = (rng >> 24) as u8;
+            out.push(if i + 1 == len && b == 0 { 1 } else { b });
+        }
+        let crc = mavlink::calculate_crc(&out[start + 1..], extra);
+        out.extend_from_slice(&crc.to_le_bytes());
+    }
+    // Both readers must take every frame (checked here, in the setup, not measured).
+    let frames = k40t.frames.len();
+    assert_eq!(mavlink_raw_frames(&out), frames, "rust-mavlink raw reader");
+    assert_eq!(mavlink_messages(&out), frames, "rust-mavlink parse");
+    out
+}
+
+/// Frames rust-mavlink's raw reader takes from `stream`.
+fn mavlink_raw_frames(stream: &[u8]) -> usize {
+    let mut reader = MavlinkReader::new(Chunked(stream));
+    let mut n = 0;
+    while let Ok(raw) = reader.read_raw_message::<MavMessage>(MavlinkVersion::V2) {
+        black_box(&raw);
+        n += 1;
+    }
+    n
+}
+
+/// Messages rust-mavlink parses from `stream`.
+fn mavlink_messages(stream: &[u8]) -> usize {
+    let mut reader = MavlinkReader::new(Chunked(stream));
+    let mut n = 0;
+    while let Ok(message) = reader.read_message::<MavMessage>(MavlinkVersion::V2) {
+        black_box(&message);
+        n += 1;
+    }
+    n
+}
+
+/// Declares, for one protocol, its four stages as benchmarks over one stream.
+macro_rules! protocol_benches {
+    (
+        $stream:ident, checksum: $checksum:expr, deframe: $deframe:expr,
+        decode: $decode:expr,
+        [$cs:ident, $df:ident, $dc:ident, $rt:ident]
+    ) => {
+        #[library_benchmark]
+        #[bench::stream(leak(codec_bench::$stream()))]
+        fn $cs(s: &Stream) -> u32 {
+            let checksum = $checksum;
+            black_box(s.covered.iter().fold(0u32, |acc, r| {
+                acc.wrapping_add(u32::from(checksum(&s.bytes[r.clone()])))
+            }))
+        }
+
+        #[library_benchmark]
+        #[bench::stream(leak(codec_bench::$stream()))]
+        fn $df(s: &Stream) -> usize {
+            let deframe = $deframe;
+            let frames = deframe(black_box(&s.bytes[..]));
+            assert_eq!(frames, s.frames.len());
+            frames
+        }
+
+        #[library_benchmark]
+        #[bench::stream(leak(codec_bench::$stream()))]
+        fn $dc(s: &Stream) -> usize {
+            let decode = $decode;
+            black_box(s.frames().filter(|f| decode(black_box(f)).is_ok()).count())
+        }
+
+        #[library_benchmark]
+        #[bench::stream(leak(codec_bench::$stream()))]
+        fn $rt(s: &Stream) -> usize {
+            let decode = $decode;
+            let mut out = [0u8; 300];
+            black_box(
+                s.frames()
+                    .map(|f| {
+                        decode(black_box(f))
+                            .and_then(|p| p.emit(&mut out))
+                            .unwrap_or(0)
+                    })
+                    .sum(),
+            )
+        }
+    };
+}
+
+protocol_benches!(
+    k40t_stream,
+    checksum: protocol_core::wire::crc16_mcrf4xx,
+    deframe: |b| deframe::<_, { protocol_core::k40t::MAX_FRAME_LEN }>(protocol_core::k40t::K40tFraming::any(), b),
+    decode: protocol_core::k40t::Packet::decode,
+    [k40t_checksum, k40t_deframe, k40t_decode, k40t_decode_encode]
+);
+
+protocol_benches!(
+    siyi_stream,
+    checksum: protocol_core::wire::crc16_xmodem,
+    deframe: |b| deframe::<_, { protocol_core::siyi::DEFAULT_MAX_FRAME_LEN }>(protocol_core::siyi::SiyiFraming::default(), b),
+    decode: protocol_core::siyi::Packet::decode_auto,
+    [siyi_checksum, siyi_deframe, siyi_decode, siyi_decode_encode]
+);
+
+protocol_benches!(
+    viewlink_stream,
+    checksum: protocol_core::wire::xor8,
+    deframe: |b| deframe::<_, { protocol_core::viewlink::MAX_FRAME_LEN }>(protocol_core::viewlink::ViewlinkFraming::new(), b),
+    decode: protocol_core::viewlink::Packet::decode,
+    [viewlink_checksum, viewlink_deframe, viewlink_decode, viewlink_decode_encode]
+);
+
+protocol_benches!(
+    gcu_host_stream,
+    checksum: protocol_core::wire::crc16_xmodem,
+    deframe: |b| deframe::<_, { protocol_core::gcu::MAX_FRAME_LEN }>(protocol_core::gcu::GcuFraming::host(), b),
+    decode: protocol_core::gcu::Packet::decode,
+    [gcu_host_checksum, gcu_host_deframe, gcu_host_decode, gcu_host_decode_encode]
+);
+
+protocol_benches!(
+    gcu_reply_stream,
+    checksum: protocol_core::wire::crc16_xmodem,
+    deframe: |b| deframe::<_, { protocol_core::gcu::MAX_FRAME_LEN }>(protocol_core::gcu::GcuFraming::gcu(), b),
+    decode: protocol_core::gcu::Packet::decode,
+    [gcu_reply_checksum, gcu_reply_deframe, gcu_reply_decode, gcu_reply_decode_encode]
+);
+
+// K40T as a receiver runs it: deframe, then decode each frame.
+#[library_benchmark]
+#[bench::stream(leak(codec_bench::k40t_stream()))]
+fn k40t_deframe_decode(s: &Stream) -> usize {
+    use protocol_core::k40t::{K40tFraming, MAX_FRAME_LEN, Packet};
+    use protocol_core::wire::{Deframer, Event};
+    let mut d = Deframer::<_, MAX_FRAME_LEN>::new(K40tFraming::any());
+    let mut n = 0;
+    for chunk in black_box(&s.bytes[..]).chunks(CHUNK) {
+        d.push(chunk, |e| {
+            if let Event::Frame(f) = e {
+                n += usize::from(Packet::decode(f).is_ok());
+            }
+        });
+    }
+    assert_eq!(n, s.frames.len());
+    n
+}
+
+// rust-mavlink's raw-frame reader: frames with a valid CRC (CRC_EXTRA looked up per id).
+#[library_benchmark]
+#[bench::stream(leak(mavlink_stream()))]
+fn mavlink_raw(stream: &[u8]) -> usize {
+    mavlink_raw_frames(black_box(stream))
+}
+
+// rust-mavlink's full parse: frames, CRC, and the typed message.
+#[library_benchmark]
+#[bench::stream(leak(mavlink_stream()))]
+fn mavlink_parse(stream: &[u8]) -> usize {
+    mavlink_messages(black_box(stream))
+}
+
+// The bridge engine, per FC frame translated: a SIYI 0x07 rate command in (deframe,
+// decode, translate), a K40T gimbal control out (encode, queue, taken by the driver).
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(codec_bench::bridge_siyi_rates())))]
+fn bridge_siyi_rate(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+    let (pod, fc) = run.run();
+    // A gimbal control per command (and the odd retry of the pod driver's own query).
+    assert!(pod >= codec_bench::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    black_box((pod, fc))
+}
+
+// The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
+// state updated).
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(codec_bench::bridge_pod_attitudes())))]
+fn bridge_pod_attitude(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+    black_box(run.run())
+}
+
+library_benchmark_group!(
+    name = codec,
+    benchmarks = [
+        k40t_checksum,
+        k40t_deframe,
+        k40t_decode,
+        k40t_decode_encode,
+        k40t_deframe_decode,
+        siyi_checksum,
+        siyi_deframe,
+        siyi_decode,
+        siyi_decode_encode,
+        viewlink_checksum,
+        viewlink_deframe,
+        viewlink_decode,
+        viewlink_decode_encode,
+        gcu_host_checksum,
+        gcu_host_deframe,
+        gcu_host_decode,
+        gcu_host_decode_encode,
+        gcu_reply_checksum,
+        gcu_reply_deframe,
+        gcu_reply_decode,
+        gcu_reply_decode_encode,
+        mavlink_raw,
+        mavlink_parse,
+        bridge_siyi_rate,
+        bridge_pod_attitude
+    ]
+);
+
+main!(library_benchmark_groups = codec);

@@ -1,0 +1,319 @@
+//! Target `bridge`: the bridge engine ([`protocol_core::bridge::Engine`]) driven by the
+//! fuzzer, for each FC protocol.
+//!
+//! The input: byte 0 picks the FC protocol (SIYI, Viewlink, GCU, K40T); then a program
+//! of operations, each an op byte and its arguments: FC bytes, pod bytes (a length byte
+//! and that many bytes), time going on by up to 65 s and a poll, the FC or pod line
+//! going idle, the RTC_IO edge the engine asked for, a drain of every output, and a
+//! valid frame from the catalogue (an FC frame of the protocol, or a pod frame from the
+//! pod's addresses), so that the fuzzer reaches the engine's states behind valid frames.
+//!
+//! Properties:
+//! - nothing panics (debug assertions on: no overflow either);
+//! - the queues hold what they promise: between two drains the frames for the FC take at
+//!   most [`FC_QUEUE`] bytes (each frame its length plus a 2-byte record header), those
+//!   for the pod at most [`POD_QUEUE`]; at most [`EVENTS`] events are waiting;
+//! - every frame for the FC is a valid frame of its protocol (checked by the reference
+//!   scans written from the documents), every frame for the pod a valid K40T frame;
+//! - whatever came before, once the lines went idle, a valid FC request is answered:
+//!   SIYI's firmware-version request (0x01) with the 0x01 reply of its sequence number;
+//!   Viewlink's handshake (0x00) with a 0x40 status while the pod reports its attitude;
+//!   a GCU host package with a GCU reply; a K40T request is forwarded to the pod.
+
+use std::sync::OnceLock;
+
+use protocol_core::Direction;
+use protocol_core::bridge::{Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, POD_QUEUE};
+use protocol_core::gcu::GCU_SYNC;
+use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
+use protocol_core::viewlink::{self, MessageData as _, SyncOrder};
+
+use crate::input::Input;
+
+/// Events the engine keeps waiting (`bridge::event`'s queue: 16).
+pub const EVENTS: usize = 16;
+/// Operations at most per input (a longer input's tail is ignored).
+const MAX_OPS: usize = 512;
+/// The FC protocols, in the order byte 0 picks them.
+pub const PROTOCOLS: [FcProtocol; 4] = [
+    FcProtocol::Siyi,
+    FcProtocol::Viewlink,
+    FcProtocol::Gcu,
+    FcProtocol::K40t,
+];
+
+/// The operations of a program (op byte modulo 8).
+pub mod op {
+    /// FC bytes: a length byte, then the bytes.
+    pub const FC_BYTES: u8 = 0;
+    /// Pod bytes: a length byte, then the bytes.
+    pub const POD_BYTES: u8 = 1;
+    /// Time goes on by a 16-bit little-endian number of milliseconds; then a poll.
+    pub const WAIT: u8 = 2;
+    /// The FC line goes idle.
+    pub const FC_IDLE: u8 = 3;
+    /// The pod line goes idle.
+    pub const POD_IDLE: u8 = 4;
+    /// The RTC_IO change the engine asks for, made at its instant (or now, if later).
+    pub const PIN: u8 = 5;
+    /// Every output taken and checked.
+    pub const DRAIN: u8 = 6;
+    /// A valid frame: a selector byte; op bit 3 set: a pod frame, else an FC frame.
+    pub const FRAME: u8 = 7;
+}
+
+/// Valid frames of each FC protocol (index as [`PROTOCOLS`]), and pod frames (every
+/// message of the catalogue, from the pod's gimbal address).
+struct Frames {
+    fc: [Vec<Vec<u8>>; 4],
+    pod: Vec<Vec<u8>>,
+}
+
+fn frames() -> &'static Frames {
+    static FRAMES: OnceLock<Frames> = OnceLock::new();
+    FRAMES.get_or_init(|| {
+        let fill: Vec<u8> = (0..=255u8).map(|i| i.wrapping_mul(151) ^ 0x5A).collect();
+        let siyi = crate::siyi::catalogue_frames(&fill)
+            .into_iter()
+            .filter(|f| f.get(2) == Some(&0x01)) // CTRL: need ACK (what an FC sends)
+            .collect();
+        let viewlink = crate::viewlink::catalogue_frames(&fill, SyncOrder::Standard);
+        let gcu = crate::gcu::catalogue_frames(&fill).0;
+        let k40t = crate::k40t::catalogue_frames(&fill, CrcCoverage::ExcludeStx);
+        let config = Config::DEFAULT;
+        let pod = crate::k40t::known_ids()
+            .into_iter()
+            .enumerate()
+            .map(|(i, id)| pod_frame(&config, id, &fill, i as u8))
+            .collect();
+        Frames {
+            fc: [siyi, viewlink, gcu, k40t],
+            pod,
+        }
+    })
+}
+
+/// A K40T frame as the pod sends it: from its gimbal address to the bridge.
+fn pod_frame(config: &Config, id: MsgId, fill: &[u8], seq: u8) -> Vec<u8> {
+    let len = k40t::Message::decode(id, &[]).map_or(0, |m| m.payload_len());
+    let mut payload = fill[..len.min(fill.len())].to_vec();
+    payload.resize(len, 0);
+    let message = k40t::Message::decode(id, &payload).expect("a payload of the layout's length");
+    let header = k40t::Header::new(config.pod.gimbal, config.pod.own, seq);
+    let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+    let n = k40t::Packet { header, message }
+        .emit(&mut buf)
+        .expect("encode a pod frame");
+    buf[..n].to_vec()
+}
+
+/// Takes every output and checks it; returns the frames for the FC and for the pod.
+fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    let mut fc = Vec::new();
+    while let Some(f) = engine.fc_frame() {
+        fc.push(f.to_vec());
+        engine.fc_sent();
+    }
+    let mut pod = Vec::new();
+    while let Some(f) = engine.pod_frame() {
+        pod.push(f.to_vec());
+        engine.pod_sent();
+    }
+    let mut events = 0;
+    while engine.next_event().is_some() {
+        events += 1;
+    }
+    assert!(events <= EVENTS, "{events} events waiting");
+    let used = |frames: &[Vec<u8>]| frames.iter().map(|f| f.len() + 2).sum::<usize>();
+    assert!(used(&fc) <= FC_QUEUE, "FC queue: {} bytes", used(&fc));
+    assert!(used(&pod) <= POD_QUEUE, "pod queue: {} bytes", used(&pod));
+    for f in &fc {
+        let valid = match protocol {
+            FcProtocol::Siyi => crate::siyi::valid(f, 255),
+            FcProtocol::Viewlink => crate::viewlink::valid(f, SyncOrder::Standard.bytes()),
+            FcProtocol::Gcu => crate::gcu::valid(f, GCU_SYNC),
+            FcProtocol::K40t => crate::k40t::valid(f, None, k40t::MAX_FRAME_LEN),
+        };
+        assert_eq!(
+            valid,
+            Some(f.len()),
+            "{protocol:?}: invalid frame for the FC {f:02X?}"
+        );
+    }
+    for f in &pod {
+        assert_eq!(
+            crate::k40t::valid(f, None, k40t::MAX_FRAME_LEN),
+            Some(f.len()),
+            "invalid frame for the pod {f:02X?}"
+        );
+    }
+    (fc, pod)
+}
+
+/// Runs one program; panics when a property fails.
+pub fn run(data: &[u8]) {
+    let mut input = Input::new(data);
+    let which = usize::from(input.byte()) % PROTOCOLS.len();
+    let protocol = PROTOCOLS[which];
+    let config = Config {
+        fc: protocol,
+        ..Config::DEFAULT
+    };
+    let mut engine = Engine::new(config);
+    let mut now = Instant::from_millis(1);
+    let frames = frames();
+    for _ in 0..MAX_OPS {
+        if input.rest().is_empty() {
+            break;
+        }
+        let op = input.byte();
+        match op % 8 {
+            op::FC_BYTES => {
+                let n = usize::from(input.byte());
+                engine.receive_fc(now, input.bytes(n));
+            }
+            op::POD_BYTES => {
+                let n = usize::from(input.byte());
+                engine.receive_pod(now, input.bytes(n));
+            }
+            op::WAIT => {
+                let ms = u16::from_le_bytes([input.byte(), input.byte()]);
+                now = now.saturating_add(Duration::from_millis(ms.into()));
+                engine.poll(now);
+            }
+            op::FC_IDLE => engine.fc_idle(now),
+            op::POD_IDLE => engine.pod_idle(now),
+            op::PIN => {
+                if let Some(p) = engine.pin() {
+                    now = now.max(p.at);
+                    engine.pin_done(p.level, now);
+                }
+            }
+            op::DRAIN => {
+                drain(&mut engine, protocol);
+            }
+            _ => {
+                let pick = usize::from(input.byte());
+                if op & 8 == 0 {
+                    let list = &frames.fc[which];
+                    engine.receive_fc(now, &list[pick % list.len()]);
+                } else {
+                    engine.receive_pod(now, &frames.pod[pick % frames.pod.len()]);
+                }
+            }
+        }
+        // The read-only views never fail either.
+        let _ = (engine.poll_at(), engine.counters(), engine.utc(now));
+        let _ = (engine.pod_state(), engine.utc_state(), engine.fc_link());
+    }
+    probe(&mut engine, protocol, now);
+}
+
+/// The lines go idle, a second passes, and a valid request comes from the FC: it is
+/// answered (see the module documentation).
+fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
+    drain(engine, protocol);
+    engine.fc_idle(now);
+    engine.pod_idle(now);
+    now = now.saturating_add(Duration::from_secs(1));
+    engine.poll(now);
+    drain(engine, protocol);
+    let config = *engine.config();
+    let request = match protocol {
+        FcProtocol::Siyi => crate::siyi::encoded(
+            0x01,
+            Direction::ToGimbal,
+            &[],
+            protocol_core::siyi::Header::request(0x4A3B),
+        ),
+        FcProtocol::Viewlink => {
+            // The status carries the pod's attitude: the pod reports it first.
+            let attitude = pod_frame(&config, k40t::GimbalAttitude::ID, &[1; 32], 0);
+            engine.receive_pod(now, &attitude);
+            drain(engine, protocol);
+            crate::viewlink::encoded(
+                viewlink::Handshake::ID,
+                &[0],
+                0,
+                viewlink::Header {
+                    sync: SyncOrder::Standard,
+                    counter: 0,
+                },
+            )
+        }
+        FcProtocol::Gcu => Some(crate::gcu::encoded(
+            protocol_core::gcu::CATALOG[0].id,
+            &[],
+            &[],
+            0x02,
+        )),
+        FcProtocol::K40t => Some(crate::k40t::encoded(
+            K40T_FORWARDED,
+            &[0x2D],
+            0x77,
+            CrcCoverage::ExcludeStx,
+        )),
+    }
+    .expect("the probe request encodes");
+    engine.receive_fc(now, &request);
+    engine.fc_idle(now);
+    let (fc, pod) = drain(engine, protocol);
+    let answered = match protocol {
+        // 55 66 CTRL LEN(2) SEQ(2) CMD: the firmware versions, same sequence number.
+        FcProtocol::Siyi => fc.iter().any(|f| f[5..8] == [0x3B, 0x4A, 0x01]),
+        FcProtocol::Viewlink => fc.iter().any(|f| {
+            viewlink::Frame::new_checked(&f[..]).is_ok_and(|fr| fr.id() == viewlink::Status::ID)
+        }),
+        FcProtocol::Gcu => fc.iter().any(|f| f.starts_with(&GCU_SYNC)),
+        FcProtocol::K40t => pod
+            .iter()
+            .any(|f| k40t::Frame::new_checked(&f[..]).is_ok_and(|fr| fr.id() == K40T_FORWARDED)),
+    };
+    assert!(
+        answered,
+        "{protocol:?}: request {request:02X?} not answered; FC got {fc:02X?}, pod got {pod:02X?}"
+    );
+}
+
+/// The K40T request the probe sends: zoom (0x000307), forwarded as it is.
+const K40T_FORWARDED: MsgId = MsgId::new(Kind::Request, 0x0307);
+
+/// Seeds: for each protocol, the catalogue's FC frames and pod reports, in raw bytes
+/// and as frame ops, with waits, idles, pin changes and drains.
+#[must_use]
+pub fn seeds() -> Vec<Vec<u8>> {
+    let frames = frames();
+    let mut out = Vec::new();
+    for (p, fc) in frames.fc.iter().enumerate() {
+        let p = p as u8;
+        // Each FC frame as raw bytes, then idle, a pod report, a wait and a drain.
+        for (i, f) in fc.iter().enumerate().step_by(3) {
+            let mut s = vec![p, op::FC_BYTES, f.len() as u8];
+            s.extend_from_slice(f);
+            s.extend([op::FC_IDLE, op::FRAME | 8, i as u8, op::WAIT, 20, 0]);
+            s.extend([op::PIN, op::WAIT, 0, 4, op::PIN, op::DRAIN]);
+            out.push(s);
+        }
+        // Every frame of the catalogue through the frame op, between pod reports.
+        let mut s = vec![p];
+        for i in 0..fc.len().min(255) {
+            s.extend([op::FRAME, i as u8, op::FRAME | 8, i as u8, op::WAIT, 50, 0]);
+            if i % 8 == 7 {
+                s.extend([op::PIN, op::DRAIN]);
+            }
+        }
+        out.push(s);
+        // Pod bytes in pieces, with garbage.
+        let mut s = vec![p];
+        for f in frames.pod.iter().take(12) {
+            let (a, b) = f.split_at(f.len() / 2);
+            s.extend([op::POD_BYTES, a.len() as u8 + 1, 0xFD]);
+            s.extend_from_slice(a);
+            s.extend([op::POD_BYTES, b.len() as u8]);
+            s.extend_from_slice(b);
+            s.extend([op::POD_IDLE, op::WAIT, 0xE8, 0x03]);
+        }
+        out.push(s);
+    }
+    out
+}
