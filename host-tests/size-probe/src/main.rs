@@ -1,13 +1,16 @@
 //! Code-size probe: a minimal thumbv7em binary that feeds opaque bytes through each
 //! enabled protocol's deframer, decodes every message and encodes it again. Built once
 //! per feature set by `scripts/size-report`; the difference to the build without any
-//! protocol is that protocol's code size.
+//! protocol is that protocol's code size. With `bridge`, the engine is driven too: the
+//! difference to the same codecs without it is the engine's code size.
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 use panic_halt as _;
 
+#[cfg(feature = "bridge")]
+mod bridge;
 #[cfg(feature = "gcu")]
 mod gcu;
 #[cfg(feature = "k40t")]
@@ -33,6 +36,8 @@ fn main() -> ! {
         black_box(viewlink::probe(input, &mut out));
         #[cfg(feature = "gcu")]
         black_box(gcu::probe(input, &mut out));
+        #[cfg(feature = "bridge")]
+        bridge::probe(input, &mut out);
         black_box((input, &mut out));
     }
 }
