@@ -81,6 +81,9 @@ pub struct Scenario<F: FcSim> {
     pub events: Vec<(u64, Event)>,
     /// Cut the FC cable (no bytes either way).
     pub fc_cut: bool,
+    /// Never tell the engine the FC line went idle (a caller without idle detection, or
+    /// one whose idle signal comes too late).
+    pub fc_idle_off: bool,
 }
 
 impl<F: FcSim> Scenario<F> {
@@ -99,6 +102,7 @@ impl<F: FcSim> Scenario<F> {
             pin_edges: Vec::new(),
             events: Vec::new(),
             fc_cut: false,
+            fc_idle_off: false,
         }
     }
 
@@ -176,7 +180,7 @@ impl<F: FcSim> Scenario<F> {
         if !bytes.is_empty() && !self.fc_cut {
             self.engine.receive_fc(local, &bytes);
         }
-        if idle {
+        if idle && !self.fc_idle_off {
             self.engine.fc_idle(local);
         }
         let (bytes, idle) = self.pod_line.deliver(now);

@@ -101,6 +101,12 @@ impl K40tSide {
         });
     }
 
+    /// The line was quiet before the bytes about to be received: they start a new burst
+    /// (the transit of a time value is counted from its burst's first byte).
+    pub(crate) fn new_burst(&mut self) {
+        self.st.burst_bytes = 0;
+    }
+
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let st = &mut self.st;
         self.deframer.flush(|ev| {

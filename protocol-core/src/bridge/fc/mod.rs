@@ -141,6 +141,10 @@ impl FcSide {
         });
     }
 
+    pub(crate) fn new_burst(&mut self) {
+        fc_dispatch!(self, side => side.new_burst(), {});
+    }
+
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         fc_dispatch!(self, side => side.idle(ctx), {
             let _ = ctx;

@@ -114,6 +114,13 @@ impl SiyiSide {
         });
     }
 
+    /// The line was quiet before the bytes about to be received: they start a new burst
+    /// (the transit of a time value is counted from its burst's first byte).
+    pub(crate) fn new_burst(&mut self) {
+        self.st.burst_bytes = 0;
+        self.st.burst_utc_us = None;
+    }
+
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let st = &mut self.st;
         self.deframer.flush(|ev| {
