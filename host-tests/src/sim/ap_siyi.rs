@@ -27,6 +27,7 @@
 //! the shift chosen so that the FC's UTC equals [`ApSiyiConfig::utc_at_zero_us`] at true
 //! time 0: the reference for the bridge's time sync is [`ApSiyi::fc_utc_us`].
 
+use super::{XorShift, crystal_us, true_of_crystal};
 use protocol_core::Direction;
 use protocol_core::siyi::{
     self, AbsoluteZoom, AutoFocus, CameraFunction, CameraFunctionType, Center, CenterPosition,
@@ -171,7 +172,7 @@ pub struct ApSiyi {
     pub config: ApSiyiConfig,
     /// The aircraft.
     pub aircraft: Aircraft,
-    rng: u64,
+    rng: XorShift,
     now_us: u64,
     /// FC-clock ms of the next update run.
     next_run_fc_ms: u64,
@@ -226,7 +227,7 @@ impl ApSiyi {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApSiyiConfig) -> Self {
-        let rng = config.seed.max(1);
+        let rng = XorShift(config.seed.max(1));
         // The first run on the FC's 20 ms grid after true time 0.
         let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         ApSiyi {
@@ -267,29 +268,16 @@ impl ApSiyi {
         }
     }
 
-    fn random(&mut self) -> u64 {
-        // xorshift64*
-        self.rng ^= self.rng >> 12;
-        self.rng ^= self.rng << 25;
-        self.rng ^= self.rng >> 27;
-        self.rng.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn uniform(&mut self, bound: u64) -> u64 {
-        if bound == 0 { 0 } else { self.random() % bound }
-    }
-
     /// The FC's clock (µs) at true time `t_us`.
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        (t_us as f64 * (1.0 + self.config.ppm * 1e-6)) as u64 + self.config.boot_us
+        crystal_us(t_us, self.config.ppm, self.config.boot_us)
     }
 
     /// True time at which the FC's clock reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        ((fc_us.saturating_sub(self.config.boot_us)) as f64 / (1.0 + self.config.ppm * 1e-6)).ceil()
-            as u64
+        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
     }
 
     /// The FC's UTC (µs) at true time `t_us`.
@@ -423,13 +411,13 @@ impl ApSiyi {
         self.sent.push((self.now_us, M::ID));
         let frame = buf[..n].to_vec();
         if self.config.jitter_per_frame {
-            let at = self.now_us + self.uniform(self.config.jitter_us);
+            let at = self.now_us + self.rng.uniform(self.config.jitter_us);
             self.out.push((at, frame));
         } else {
             match self.out.last_mut() {
                 Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
                 _ => {
-                    let at = self.now_us + self.uniform(self.config.jitter_us);
+                    let at = self.now_us + self.rng.uniform(self.config.jitter_us);
                     self.out.push((at, frame));
                 }
             }
@@ -692,7 +680,7 @@ impl FcSim for ApSiyi {
             let fc_ms = self.next_run_fc_ms;
             // The run starts late by the loop jitter; what it reads and writes is stamped
             // then.
-            let late = self.uniform(self.config.loop_jitter_us);
+            let late = self.rng.uniform(self.config.loop_jitter_us);
             self.now_us = self.true_of_fc(fc_ms * 1000) + late;
             self.update();
             self.next_run_fc_ms = fc_ms + 20;

@@ -43,6 +43,7 @@
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
+use super::{XorShift, crystal_us, true_of_crystal};
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
     MAttitude, MGps, ManualSpeed, MessageData, OperationCommand, Point, QueryParams, Sensor,
@@ -150,7 +151,7 @@ pub struct ApViewpro {
     pub config: ApViewproConfig,
     /// The aircraft.
     pub aircraft: Aircraft,
-    rng: u64,
+    rng: XorShift,
     now_us: u64,
     /// FC-clock ms of the next loop call.
     next_call_fc_ms: u64,
@@ -200,7 +201,7 @@ impl ApViewpro {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApViewproConfig) -> Self {
-        let rng = config.seed.max(1);
+        let rng = XorShift(config.seed.max(1));
         let first_call_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         ApViewpro {
             config,
@@ -235,29 +236,16 @@ impl ApViewpro {
         }
     }
 
-    fn random(&mut self) -> u64 {
-        // xorshift64*
-        self.rng ^= self.rng >> 12;
-        self.rng ^= self.rng << 25;
-        self.rng ^= self.rng >> 27;
-        self.rng.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn uniform(&mut self, bound: u64) -> u64 {
-        if bound == 0 { 0 } else { self.random() % bound }
-    }
-
     /// The FC's clock (µs) at true time `t_us`.
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        (t_us as f64 * (1.0 + self.config.ppm * 1e-6)) as u64 + self.config.boot_us
+        crystal_us(t_us, self.config.ppm, self.config.boot_us)
     }
 
     /// True time at which the FC's clock reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        ((fc_us.saturating_sub(self.config.boot_us)) as f64 / (1.0 + self.config.ppm * 1e-6)).ceil()
-            as u64
+        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
     }
 
     /// The FC's UTC (µs) at true time `t_us`.
@@ -289,7 +277,7 @@ impl ApViewpro {
         match self.out.last_mut() {
             Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
             _ => {
-                let at = self.now_us + self.uniform(self.config.jitter_us);
+                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
                 self.out.push((at, frame));
             }
         }
@@ -752,7 +740,7 @@ impl FcSim for ApViewpro {
         self.now_us = self.now_us.max(now_us);
         while self.next_call_us() <= now_us {
             let fc_ms = self.next_call_fc_ms;
-            let late = self.uniform(self.config.loop_jitter_us);
+            let late = self.rng.uniform(self.config.loop_jitter_us);
             self.now_us = self.true_of_fc(fc_ms * 1000) + late;
             self.update();
             self.update_health();

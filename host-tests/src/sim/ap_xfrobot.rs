@@ -35,6 +35,7 @@
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
+use super::{XorShift, crystal_us, true_of_crystal};
 use protocol_core::gcu::{
     self, Header, HostFrames, HostMain, HostPacket, HostStatus, HostSub, Message, Raw,
 };
@@ -257,7 +258,7 @@ pub struct ApXfRobot {
     pub target: Option<MountTarget>,
     /// A document host's control in place of ArduPilot's set attitude.
     pub host_control: Option<HostControl>,
-    rng: u64,
+    rng: XorShift,
     now_us: u64,
     next_run_fc_ms: u64,
     out: Vec<(u64, Vec<u8>)>,
@@ -290,7 +291,7 @@ impl ApXfRobot {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApXfRobotConfig) -> Self {
-        let rng = config.seed.max(1);
+        let rng = XorShift(config.seed.max(1));
         let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         ApXfRobot {
             config,
@@ -318,28 +319,16 @@ impl ApXfRobot {
         }
     }
 
-    fn random(&mut self) -> u64 {
-        self.rng ^= self.rng >> 12;
-        self.rng ^= self.rng << 25;
-        self.rng ^= self.rng >> 27;
-        self.rng.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn uniform(&mut self, bound: u64) -> u64 {
-        if bound == 0 { 0 } else { self.random() % bound }
-    }
-
     /// The FC's clock (µs) at true time `t_us`.
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        (t_us as f64 * (1.0 + self.config.ppm * 1e-6)) as u64 + self.config.boot_us
+        crystal_us(t_us, self.config.ppm, self.config.boot_us)
     }
 
     /// True time at which the FC's clock reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        ((fc_us.saturating_sub(self.config.boot_us)) as f64 / (1.0 + self.config.ppm * 1e-6)).ceil()
-            as u64
+        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
     }
 
     /// UTC as the GPS keeps it (µs since the Unix epoch) at true time `t_us`: the
@@ -384,7 +373,7 @@ impl ApXfRobot {
         match self.out.last_mut() {
             Some((at, b)) if *at >= self.now_us => b.extend_from_slice(&bytes),
             _ => {
-                let at = self.now_us + self.uniform(self.config.jitter_us);
+                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
                 self.out.push((at, bytes));
             }
         }
@@ -764,7 +753,7 @@ impl FcSim for ApXfRobot {
         self.now_us = self.now_us.max(now_us);
         while self.next_run_us() <= now_us {
             let fc_ms = self.next_run_fc_ms;
-            let late = self.uniform(self.config.loop_jitter_us);
+            let late = self.rng.uniform(self.config.loop_jitter_us);
             self.now_us = self.true_of_fc(fc_ms * 1000) + late;
             self.update();
             self.next_run_fc_ms = fc_ms + 20;

@@ -11,3 +11,58 @@ pub mod pilot;
 pub mod pod;
 pub mod scenario;
 pub mod tasks;
+
+/// xorshift64* (Vigna): the simulators' reproducible noise (fault injection, jitter).
+#[derive(Debug, Clone)]
+pub(crate) struct XorShift(pub(crate) u64);
+
+impl XorShift {
+    pub(crate) fn new(seed: u64) -> Self {
+        XorShift(if seed == 0 {
+            0x9E37_79B9_7F4A_7C15
+        } else {
+            seed
+        })
+    }
+
+    pub(crate) fn next_u64(&mut self) -> u64 {
+        let mut x = self.0;
+        x ^= x >> 12;
+        x ^= x << 25;
+        x ^= x >> 27;
+        self.0 = x;
+        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// True with probability `p`.
+    pub(crate) fn chance(&mut self, p: f64) -> bool {
+        p > 0.0 && ((self.next_u64() >> 11) as f64) / ((1u64 << 53) as f64) < p
+    }
+
+    /// Uniform in `0..n` (n > 0).
+    pub(crate) fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n.max(1) as u64) as usize
+    }
+
+    /// Uniform in `0..bound` (0 when `bound` is 0).
+    pub(crate) fn uniform(&mut self, bound: u64) -> u64 {
+        if bound == 0 {
+            0
+        } else {
+            self.next_u64() % bound
+        }
+    }
+}
+
+/// A simulated crystal clock (µs) at true time `t_us`: `ppm` fast, reading `boot_us` at
+/// true time 0.
+#[must_use]
+pub(crate) fn crystal_us(t_us: u64, ppm: f64, boot_us: u64) -> u64 {
+    (t_us as f64 * (1.0 + ppm * 1e-6)) as u64 + boot_us
+}
+
+/// True time at which the crystal clock of [`crystal_us`] reads `clock_us` (rounded up).
+#[must_use]
+pub(crate) fn true_of_crystal(clock_us: u64, ppm: f64, boot_us: u64) -> u64 {
+    ((clock_us.saturating_sub(boot_us)) as f64 / (1.0 + ppm * 1e-6)).ceil() as u64
+}

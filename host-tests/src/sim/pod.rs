@@ -181,6 +181,7 @@
 //! upgrades, restart and shutdown, IR image content, electronic zoom of the wide and IR
 //! lenses (recorded only).
 
+use super::XorShift;
 use std::collections::{BTreeMap, VecDeque};
 
 use protocol_core::k40t::{
@@ -833,39 +834,6 @@ enum Timer {
     Laser,
     PhotoShot,
     GpsTimeout,
-}
-
-/// xorshift64* (Vigna), enough for reproducible fault injection.
-#[derive(Debug, Clone)]
-struct XorShift(u64);
-
-impl XorShift {
-    fn new(seed: u64) -> Self {
-        XorShift(if seed == 0 {
-            0x9E37_79B9_7F4A_7C15
-        } else {
-            seed
-        })
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// True with probability `p`.
-    fn chance(&mut self, p: f64) -> bool {
-        p > 0.0 && ((self.next_u64() >> 11) as f64) / ((1u64 << 53) as f64) < p
-    }
-
-    /// Uniform in `0..n` (n > 0).
-    fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n.max(1) as u64) as usize
-    }
 }
 
 /// The simulated pod. See the module documentation.
