@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use host_tests::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
-use host_tests::sim::pod::{MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome};
+use host_tests::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use host_tests::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, FcProtocol, GcuIdentity, Level};
 use protocol_core::k40t::{
@@ -672,17 +672,7 @@ fn fc_silence_stops_the_pod() {
     s.fc_cut = true;
     let cut = s.now_us;
     s.run_for(2 * S);
-    let stop = s
-        .pod
-        .motions()
-        .iter()
-        .find(|m| {
-            m.at_us > cut
-                && matches!(m.command, MotionCommand::Control(c)
-                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
-        })
-        .expect("a stop")
-        .at_us;
+    let stop = s.pod.first_stop_after(cut).expect("a stop");
     assert!(stop - cut <= 600_000, "{} ms", (stop - cut) / 1000);
     assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
     assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);

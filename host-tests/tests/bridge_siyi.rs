@@ -149,17 +149,7 @@ fn fc_silence_stops_the_pod() {
     s.fc_cut = true;
     let cut = s.now_us;
     s.run_for(2 * S);
-    let stop = s
-        .pod
-        .motions()
-        .iter()
-        .find(|m| {
-            m.at_us > cut
-                && matches!(m.command, MotionCommand::Control(c)
-                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
-        })
-        .expect("a stop")
-        .at_us;
+    let stop = s.pod.first_stop_after(cut).expect("a stop");
     assert!(
         stop - cut <= 600_000,
         "stopped {} ms after the cut",
@@ -557,17 +547,7 @@ fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
     let garbage_before = s.engine.counters().fc_garbage_bytes;
     s.run_for(5 * S);
     assert!(s.engine.counters().fc_garbage_bytes - garbage_before > 5_000);
-    let stop = s
-        .pod
-        .motions()
-        .iter()
-        .find(|m| {
-            m.at_us > start
-                && matches!(m.command, MotionCommand::Control(c)
-                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
-        })
-        .expect("a stop")
-        .at_us;
+    let stop = s.pod.first_stop_after(start).expect("a stop");
     assert!(stop - start <= 700_000, "{} ms", (stop - start) / 1000);
     assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
     // Random bytes that happen to form a valid SIYI frame (a 16-bit CRC lets one in

@@ -3,7 +3,7 @@
 
 use host_tests::sim::ap_siyi::MountTarget;
 use host_tests::sim::ap_viewpro::{ApViewpro, ApViewproConfig, Tracking, TrackingStatus};
-use host_tests::sim::pod::{MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome};
+use host_tests::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use host_tests::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, FcProtocol, Level};
 use protocol_core::gimbal::GimbalMode;
@@ -250,17 +250,7 @@ fn fc_silence_stops_the_pod() {
     s.fc_cut = true;
     let cut = s.now_us;
     s.run_for(2 * S);
-    let stop = s
-        .pod
-        .motions()
-        .iter()
-        .find(|m| {
-            m.at_us > cut
-                && matches!(m.command, MotionCommand::Control(c)
-                    if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
-        })
-        .expect("a stop")
-        .at_us;
+    let stop = s.pod.first_stop_after(cut).expect("a stop");
     // ArduPilot's last A1 came up to 100 ms before the cut; the bridge waits 500 ms.
     assert!(
         stop - cut <= 600 * MS,

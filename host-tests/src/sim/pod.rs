@@ -1137,6 +1137,20 @@ impl SimPod {
         &self.motions
     }
 
+    /// When the first command to stop both axes (0x000010 yaw and pitch Stop) came after
+    /// true time `after_us`.
+    #[must_use]
+    pub fn first_stop_after(&self, after_us: u64) -> Option<u64> {
+        self.motions
+            .iter()
+            .find(|m| {
+                m.at_us > after_us
+                    && matches!(m.command, MotionCommand::Control(c)
+                        if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
+            })
+            .map(|m| m.at_us)
+    }
+
     /// The pod's clock at `now_us`, ms since the Unix epoch (0 before the epoch).
     #[must_use]
     pub fn clock_unix_ms(&self, now_us: u64) -> u64 {

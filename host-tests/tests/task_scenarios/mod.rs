@@ -8,10 +8,10 @@
 
 use bridge_fw::What;
 use host_tests::sim::pilot::{Pilot, describe_k40t};
-use host_tests::sim::pod::{MotionCommand, SyncOutcome};
+use host_tests::sim::pod::SyncOutcome;
 use host_tests::sim::tasks::{Bench, Outcome};
 use protocol_core::bridge::{Event, Level};
-use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData, PitchMotion, YawMotion};
+use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData};
 use protocol_core::wire::{Deframer, Event as WireEvent};
 
 /// One second, µs.
@@ -337,17 +337,8 @@ pub fn fc_silence_stops_motion<P: Pilot>(b: Bounds) -> u64 {
     assert!(delay <= 600_000, "moving {} ms after the cut", delay / 1000);
     if b.silence_stop_event {
         assert_eq!(events(&o, |e| *e == Event::FcSilenceStop).len(), 1);
-        let stop = o
-            .pod
-            .motions()
-            .iter()
-            .find(|m| {
-                m.at_us > CUT
-                    && matches!(m.command, MotionCommand::Control(c)
-                        if c.yaw == YawMotion::Stop && c.pitch == PitchMotion::Stop)
-            })
-            .expect("a stop command");
-        assert!(stop.at_us - CUT <= 600_000);
+        let stop = o.pod.first_stop_after(CUT).expect("a stop command");
+        assert!(stop - CUT <= 600_000);
     }
     delay
 }
