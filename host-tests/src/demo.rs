@@ -74,6 +74,12 @@ pub struct Summary {
     pub commands_translated: u32,
     /// Distinct (FC command, pod command) pairs among them.
     pub command_kinds: u32,
+    /// When the bridge first knew UTC from the FC, s.
+    pub utc_valid_at_s: Option<f64>,
+    /// The first time sync's edge, s.
+    pub first_sync_at_s: Option<f64>,
+    /// The first time sync's error (UTC carried − the FC's true UTC at the edge), µs.
+    pub first_sync_error_us: Option<i64>,
     /// Time syncs sent (RTC_IO edge + 0x00030E).
     pub syncs: u32,
     /// Of those, applied by the pod.
@@ -501,6 +507,8 @@ fn story<P: Pilot>(
     let edge_to_frame = o.edge_to_frame();
     let mut errors = Vec::new();
     let mut syncs = 0u32;
+    let mut utc_valid_at_s = None;
+    let mut first_sync: Option<(f64, i64)> = None;
     for (t, e) in o.events() {
         let text = match e {
             Event::Translated { fc_id, pod_base } => {
@@ -539,12 +547,18 @@ fn story<P: Pilot>(
                     f64::from(requested_cdeg_s) / 100.0
                 )
             }
-            Event::TimeSync { edge, utc_ms } => {
+            Event::TimeSync {
+                edge,
+                utc_ms,
+                error_bound_us,
+            } => {
                 syncs += 1;
                 let edge_us = edge.as_micros();
                 let truth = o.fc.true_utc_us(edge_us);
                 let err = i128::from(utc_ms * 1000) - i128::from(truth);
                 errors.push(u64::try_from(err.unsigned_abs()).unwrap_or(u64::MAX));
+                first_sync
+                    .get_or_insert((edge_us as f64 / 1e6, i64::try_from(err).unwrap_or(i64::MAX)));
                 let delay = edge_to_frame
                     .iter()
                     .find(|(at, _, _)| *at == edge_us)
@@ -566,9 +580,10 @@ fn story<P: Pilot>(
                     rank: 2,
                     who: "time sync",
                     text: format!(
-                        "RTC_IO high, then 0x00030E ({delay}) carrying {}; error vs the FC's true UTC {:+.3} ms; {pod}",
+                        "RTC_IO high, then 0x00030E ({delay}) carrying {}; error vs the FC's true UTC {:+.3} ms (bound believed {:.1} ms); {pod}",
                         utc_text(utc_ms),
-                        err as f64 / 1000.0
+                        err as f64 / 1000.0,
+                        f64::from(error_bound_us) / 1000.0
                     ),
                 });
                 continue;
@@ -578,8 +593,20 @@ fn story<P: Pilot>(
             Event::FcLinkDown => "FC link DOWN (no valid frame from the FC)".to_string(),
             Event::PodLinkUp => "pod link up (first report from the pod)".to_string(),
             Event::PodLinkDown => "pod link DOWN (no report from the pod)".to_string(),
-            Event::UtcValid => {
-                "UTC known from the FC: time syncs start on the 10 s grid".to_string()
+            Event::UtcValid {
+                error_bound_us,
+                converged,
+            } => {
+                utc_valid_at_s.get_or_insert(t as f64 / 1e6);
+                format!(
+                    "UTC known from the FC ({}, error bound {:.1} ms): time syncs on the 10 s grid",
+                    if converged {
+                        "converged fit"
+                    } else {
+                        "first mapping, refined as samples come"
+                    },
+                    f64::from(error_bound_us) / 1000.0
+                )
             }
             Event::UtcLost => "UTC lost: no more time syncs".to_string(),
             Event::FcSilenceStop => {
@@ -663,6 +690,9 @@ fn story<P: Pilot>(
         healthy_at_end: o.fc.healthy(),
         commands_translated: translated,
         command_kinds: translated_seen.len() as u32,
+        utc_valid_at_s,
+        first_sync_at_s: first_sync.map(|(t, _)| t),
+        first_sync_error_us: first_sync.map(|(_, e)| e),
         syncs,
         syncs_applied: o
             .pod
@@ -729,6 +759,18 @@ fn write_summary(out: &mut dyn Write, s: &Summary, wall: std::time::Duration) ->
                 ms(s.sync_error_p50_us),
                 ms(s.sync_error_max_us)
             ),
+        ),
+        (
+            "first time sync",
+            match (s.first_sync_at_s, s.first_sync_error_us) {
+                (Some(t), Some(e)) => format!(
+                    "{t:.3} s (UTC known from the FC at {}), error {:+.3} ms",
+                    s.utc_valid_at_s
+                        .map_or_else(|| "-".to_string(), |u| format!("{u:.3} s")),
+                    e as f64 / 1000.0
+                ),
+                _ => "none".to_string(),
+            },
         ),
         (
             "RTC_IO edge → 0x00030E",

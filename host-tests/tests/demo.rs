@@ -37,9 +37,20 @@ fn check(fc: FcProtocol, sync_bound_us: u64) -> Summary {
     // photos: at least five kinds).
     assert!(s.command_kinds >= 5, "{s:?}");
     assert!(s.commands_translated >= s.command_kinds);
-    // Syncs on the 10 s grid once UTC is known (40 or 50 s and 60 s at most), each
-    // applied by the pod, within the bound.
-    assert!((2..=3).contains(&s.syncs), "{s:?}");
+    // UTC known within seconds of the FC's first time, the first sync on the next 10 s
+    // grid edge (within 12 s), then one every 10 s, each applied by the pod, within the
+    // bound.
+    let utc_at = s.utc_valid_at_s.expect("UTC known");
+    let first = s.first_sync_at_s.expect("a sync");
+    assert!(
+        utc_at < 3.0 && first > utc_at && first - utc_at <= 12.0,
+        "{s:?}"
+    );
+    assert!(
+        s.first_sync_error_us.unwrap().unsigned_abs() < sync_bound_us,
+        "{s:?}"
+    );
+    assert!((5..=6).contains(&s.syncs), "{s:?}");
     assert_eq!(s.syncs_applied, s.syncs, "{s:?}");
     let p50 = s.sync_error_p50_us.expect("p50");
     let max = s.sync_error_max_us.expect("max");
@@ -109,7 +120,7 @@ fn a_short_run_has_no_sync_and_says_so() {
     let s = demo::run(
         &DemoOptions {
             fc: FcProtocol::Siyi,
-            seconds: 10,
+            seconds: 8,
         },
         &mut out,
     )

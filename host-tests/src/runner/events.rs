@@ -38,11 +38,21 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
         Event::FcLinkDown => ("fc_link_down", json!({})),
         Event::PodLinkUp => ("pod_link_up", json!({})),
         Event::PodLinkDown => ("pod_link_down", json!({})),
-        Event::UtcValid => ("utc_valid", json!({})),
+        Event::UtcValid {
+            error_bound_us,
+            converged,
+        } => (
+            "utc_valid",
+            json!({"error_bound_us": error_bound_us, "converged": converged}),
+        ),
         Event::UtcLost => ("utc_lost", json!({})),
-        Event::TimeSync { edge, utc_ms } => (
+        Event::TimeSync {
+            edge,
+            utc_ms,
+            error_bound_us,
+        } => (
             "time_sync",
-            json!({"utc_ms": utc_ms, "edge_us": edge.as_micros()}),
+            json!({"utc_ms": utc_ms, "edge_us": edge.as_micros(), "error_bound_us": error_bound_us}),
         ),
         Event::Geotag {
             time_of_day_ms,
@@ -149,12 +159,24 @@ mod tests {
         assert_eq!(
             ev(What::Engine(Event::TimeSync {
                 edge: Instant::from_micros(40),
-                utc_ms: 1_795_428_040_000
+                utc_ms: 1_795_428_040_000,
+                error_bound_us: 1_250,
             })),
             (
                 42,
                 "time_sync",
-                json!({"utc_ms": 1_795_428_040_000u64, "edge_us": 40})
+                json!({"utc_ms": 1_795_428_040_000u64, "edge_us": 40, "error_bound_us": 1_250})
+            )
+        );
+        assert_eq!(
+            ev(What::Engine(Event::UtcValid {
+                error_bound_us: 2_100,
+                converged: false,
+            })),
+            (
+                42,
+                "utc_valid",
+                json!({"error_bound_us": 2_100, "converged": false})
             )
         );
         assert_eq!(
@@ -173,7 +195,6 @@ mod tests {
             (Event::FcLinkDown, "fc_link_down"),
             (Event::PodLinkUp, "pod_link_up"),
             (Event::PodLinkDown, "pod_link_down"),
-            (Event::UtcValid, "utc_valid"),
             (Event::UtcLost, "utc_lost"),
             (Event::FcSilenceStop, "fc_silence_stop"),
         ] {

@@ -244,7 +244,7 @@ pub fn sync_and_geotag<P: Pilot>(b: Bounds, label: &str) -> SyncFigures {
         );
         let ev = events(
             &o,
-            |e| matches!(e, Event::TimeSync { edge: x, utc_ms } if x.as_micros() == edge && *utc_ms == s.unix_ms),
+            |e| matches!(e, Event::TimeSync { edge: x, utc_ms, .. } if x.as_micros() == edge && *utc_ms == s.unix_ms),
         );
         assert_eq!(ev.len(), 1);
         fig.errors_us.push(err);

@@ -62,30 +62,45 @@
 //! One estimator serves the path the flight controller uses (the first sample decides;
 //! an FC protocol has one path).
 //!
-//! # Validity rule
+//! # Validity rule: a first mapping at once, then the fit
 //! A clock estimator is *converged* when its window holds at least
 //! [`DisciplineConfig::min_bins`] bins spanning at least [`DisciplineConfig::min_span`]
-//! and the fitted rate is within [`DisciplineConfig::max_drift_ppm`]. The UTC mapping is
-//! [`DisciplineState::Valid`] while its path is converged (for SIYI: the FC clock
-//! converged and `C` known) and a fresh sample arrived within
+//! and the fitted rate is within [`DisciplineConfig::max_drift_ppm`] (about 32 s of
+//! samples). Before that it gives a **first mapping** as soon as it has accepted
+//! [`DisciplineConfig::quick_samples`] samples (8: under a second of a 10 Hz source), or
+//! one [prompt](Sample::prompt) sample (the K40T FC's 0x00030E): a flat line (equal
+//! clock rates assumed) through the least-delayed recent sample. Its error grows with
+//! the time since that sample by the crystals' possible rate difference
+//! ([`DisciplineConfig::quick_drift_ppm`], 100 ppm: 1 ms in 10 s), so the first time sync
+//! can go out on the first 10 s grid edge after the FC's first usable time, within a few
+//! milliseconds, and the fit takes over, seamlessly, once it converges.
+//!
+//! The UTC mapping is [`DisciplineState::Valid`] while its path gives one (for SIYI: the
+//! FC clock's mapping and `C` known) and a fresh sample arrived within
 //! [`DisciplineConfig::sample_timeout`]. A held value counts as fresh only when it changes
 //! (a GCU repeating the last fix of a lost GPS is not fresh).
+//! [`TimeDiscipline::error_bound`] says what error the discipline believes the mapping has
+//! at an instant; the engine sends no time sync whose bound exceeds its limit.
 //!
-//! # Outliers and steps
-//! A sample whose offset differs from the current line by more than
-//! [`DisciplineConfig::step_threshold`] is an outlier and ignored. When
-//! [`DisciplineConfig::step_confirm`] consecutive outliers agree with each other (within
-//! the step threshold), the clock has stepped: the estimator restarts from them.
-//! - A UTC step (GPS time jump) discards the UTC mapping: [`DisciplineState::Converging`]
-//!   until the new one converges (no sync in between: which side of the step was right
-//!   cannot be known).
+//! # Jumps of the source
+//! A sample further from the current fit than [`DisciplineConfig::jump_tolerance`] (15 ms)
+//! plus its resolution contradicts it: it is not used. One such sample *below* the fit's
+//! floor (impossible for a delay: the source jumped forward), or two in a row above it,
+//! make the direct mapping [`DisciplineState::Suspect`]: no UTC, no sync, until a
+//! consistent sample comes. When [`DisciplineConfig::step_confirm`] (5) consecutive
+//! contradicting samples agree with each other, the source has stepped: the estimator
+//! restarts from them and gives a first mapping again after
+//! [`DisciplineConfig::quick_samples`]. A wrong stamp is worse than none.
+//! - A UTC step (GPS time jump, an FC rebooted with another UTC) discards the UTC
+//!   mapping.
 //! - An FC clock step (FC reboot: `time_boot_ms` going backwards, or jumping) only
 //!   invalidates the FC clock and `C`; the local→UTC mapping, which did not change, stays
-//!   usable in holdover until the new FC clock and `C` are learnt.
+//!   usable in holdover until the new FC clock and `C` are learnt; if they then disagree
+//!   with it by more than the jump tolerance, the new mapping replaces it (reported as
+//!   UTC lost and valid again, [`Transition::replaced`]).
 //!
-//! Smaller steps (below the threshold) are taken as ordinary samples: a forward step
-//! lowers the bin minima at once, a backward step is absorbed when the old bins leave the
-//! window.
+//! Smaller steps are taken as ordinary samples: a forward step lowers the bin minima at
+//! once, a backward step is absorbed as the anchor bins (the last 32 s) renew.
 //!
 //! # Holdover
 //! When fresh samples stop, the last mapping stays usable
@@ -138,6 +153,10 @@ pub struct Sample {
     /// serial time of this frame and of the bytes the sender wrote before it in the same
     /// burst ([`serial_time`]). Subtracted from `local`.
     pub transit: Duration,
+    /// The sender writes this value at once after the instant it carries, by protocol
+    /// (the K40T FC's 0x00030E follows its own RTC_IO edge): a single such sample is
+    /// enough for a first mapping.
+    pub prompt: bool,
 }
 
 impl Sample {
@@ -150,7 +169,16 @@ impl Sample {
             resolution_us,
             held: false,
             transit: Duration::ZERO,
+            prompt: false,
         }
+    }
+
+    /// The same sample, marked as sent at once after the instant it carries
+    /// ([`Sample::prompt`]).
+    #[must_use]
+    pub const fn prompt(mut self) -> Self {
+        self.prompt = true;
+        self
     }
 
     /// The same sample, marked as a held value ([`Sample::held`]).
@@ -206,9 +234,6 @@ pub struct DisciplineConfig {
     /// How long after the last fresh sample the mapping stays usable (default 60 s);
     /// then `Lost`.
     pub holdover: Duration,
-    /// A sample whose offset is further than this from the current fit is an outlier
-    /// (default 500 ms: more than any transport delay plus a 5 Hz GPS hold).
-    pub step_threshold: Duration,
     /// Consecutive mutually consistent outliers that make a step (default 5).
     pub step_confirm: u8,
     /// The line's offset is anchored on this many most recent bins (default 4): the
@@ -221,6 +246,29 @@ pub struct DisciplineConfig {
     pub center_truncation: bool,
     /// Margin when checking a SIYI pair against the unpaired lower bound (default 2 ms).
     pub pair_tolerance: Duration,
+    /// Accepted samples after which a first mapping is given, before the fit converges
+    /// (default 8: under a second of a 10 Hz source). It assumes equal clock rates and
+    /// takes the least-delayed sample; [`DisciplineConfig::quick_drift_ppm`] bounds its
+    /// error as it ages. A [prompt](Sample::prompt) sample is enough on its own.
+    pub quick_samples: u8,
+    /// Rate difference between the local clock and UTC believed possible before the fit
+    /// converges, in ppm (default 100: two ±50 ppm crystals).
+    pub quick_drift_ppm: u32,
+    /// Rate error believed left once the fit has converged, in ppm (default 5).
+    pub fit_drift_ppm: u32,
+    /// Least uncertainty believed for the delay of the least-delayed sample (default
+    /// 1 ms): part of [`TimeDiscipline::error_bound`].
+    pub delay_margin: Duration,
+    /// Uncertainty of a SIYI UTC − FC-clock offset known only from unpaired 0x30 frames
+    /// (default 10 ms: ArduPilot's transport jitter).
+    pub unpaired_margin: Duration,
+    /// A sample further than this plus its resolution from the current fit contradicts
+    /// it (default 15 ms): one below the fit's floor, or two in a row above it, suspend
+    /// UTC ([`DisciplineState::Suspect`]) until a consistent sample comes or
+    /// [`DisciplineConfig::step_confirm`] of them agree on a jump (the source stepped:
+    /// the fit restarts from them). A time stamp off by more than 30 ms is worse than
+    /// none; this keeps a jump of the FC's UTC (a reboot with another time) out of them.
+    pub jump_tolerance: Duration,
     /// UTC values before this are rejected (default 2020-01-01T00:00:00Z): an FC without
     /// time sends zeros or year 2000.
     pub min_utc: UtcTime,
@@ -235,11 +283,16 @@ impl DisciplineConfig {
         max_drift_ppm: 300,
         sample_timeout: Duration::from_secs(3),
         holdover: Duration::from_secs(60),
-        step_threshold: Duration::from_millis(500),
         step_confirm: 5,
         anchor_bins: 4,
         center_truncation: true,
         pair_tolerance: Duration::from_millis(2),
+        quick_samples: 8,
+        quick_drift_ppm: 100,
+        fit_drift_ppm: 5,
+        delay_margin: Duration::from_millis(1),
+        unpaired_margin: Duration::from_millis(10),
+        jump_tolerance: Duration::from_millis(15),
         min_utc: UtcTime::from_unix_micros(1_577_836_800_000_000),
     };
 }
@@ -259,8 +312,14 @@ pub enum DisciplineState {
     Unknown,
     /// Samples arrive but the mapping has not converged (or re-converges after a step).
     Converging,
-    /// Converged and fed: `utc()` is trustworthy.
+    /// Fed, and either converged or giving a first mapping (see
+    /// [`DisciplineConfig::quick_samples`]): `utc()` is trustworthy within
+    /// [`TimeDiscipline::error_bound`].
     Valid,
+    /// The last samples contradict the mapping (the source may have jumped): no UTC
+    /// until a consistent sample comes, or the jump is confirmed and the mapping
+    /// restarts from the new samples.
+    Suspect,
     /// Samples stopped (or the FC clock restarted); the last mapping is extrapolated, for
     /// at most [`DisciplineConfig::holdover`].
     Holdover,
@@ -285,19 +344,23 @@ pub struct Transition {
     pub from: DisciplineState,
     /// State now.
     pub to: DisciplineState,
+    /// The mapping was replaced by one that disagrees with it (the FC's UTC jumped, e.g.
+    /// after an FC reboot), though UTC may have stayed usable across: the old one was
+    /// lost and the new one is valid.
+    pub replaced: bool,
 }
 
 impl Transition {
-    /// UTC became usable (the engine's `UtcValid` event).
+    /// UTC became usable, or was replaced (the engine's `UtcValid` event).
     #[must_use]
     pub const fn utc_became_valid(self) -> bool {
-        self.to.is_usable() && !self.from.is_usable()
+        self.to.is_usable() && (!self.from.is_usable() || self.replaced)
     }
 
-    /// UTC stopped being usable (the engine's `UtcLost` event).
+    /// UTC stopped being usable, or was replaced (the engine's `UtcLost` event).
     #[must_use]
     pub const fn utc_lost(self) -> bool {
-        self.from.is_usable() && !self.to.is_usable()
+        self.from.is_usable() && (!self.to.is_usable() || self.replaced)
     }
 }
 
@@ -423,6 +486,25 @@ struct ClockEstimator {
     candidate: StepCandidate,
     /// Last held value seen (to recognise repeats).
     last_held: Option<u64>,
+    /// Samples accepted since the estimator (re)started.
+    accepted: u16,
+    /// A [prompt](Sample::prompt) sample was accepted.
+    prompt: bool,
+    /// The last samples contradict the fit (see [`DisciplineConfig::jump_tolerance`]).
+    suspect: bool,
+    /// Largest truncation step of the accepted samples, µs.
+    resolution: u32,
+}
+
+/// A mapping an estimator can give, and what is believed of its error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Fit {
+    line: Line,
+    /// From a converged fit (else a first mapping that assumes equal rates).
+    converged: bool,
+    /// Error believed at the line's anchor `x0`, µs: half the truncation step plus the
+    /// delay uncertainty of the least-delayed sample.
+    base_us: u64,
 }
 
 /// Result of feeding a point to a [`ClockEstimator`].
@@ -446,6 +528,10 @@ impl ClockEstimator {
                 count: 0,
             },
             last_held: None,
+            accepted: 0,
+            prompt: false,
+            suspect: false,
+            resolution: 0,
         }
     }
 
@@ -482,23 +568,70 @@ impl ClockEstimator {
         u64::try_from(span).is_ok_and(|s| s >= cfg.min_span.as_micros())
     }
 
-    /// Feeds the point `(x, y)`.
-    fn feed(&mut self, p: Point, cfg: &DisciplineConfig) -> Fed {
+    /// The mapping this estimator gives: its fit once converged, else (after
+    /// [`DisciplineConfig::quick_samples`] samples, or one prompt sample) a flat line
+    /// through the least-delayed recent sample. `None` while suspect.
+    fn usable(&self, cfg: &DisciplineConfig) -> Option<Fit> {
+        if self.suspect {
+            return None;
+        }
+        let converged = self.converged(cfg);
+        let line = if converged {
+            self.line?
+        } else if self.prompt || self.accepted >= u16::from(cfg.quick_samples.max(1)) {
+            let first = self.bin(0)?;
+            self.anchor(Line::flat(first.x, first.y), cfg.anchor_bins.max(1))?
+        } else {
+            return None;
+        };
+        let half = if cfg.center_truncation {
+            self.resolution / 2
+        } else {
+            self.resolution
+        };
+        // Bin minima spread by the truncation phase are already within `half`; what
+        // spreads them further is delay the minima did not remove.
+        let delay = self
+            .spread(&line, cfg.anchor_bins.max(1))
+            .saturating_sub(u64::from(half))
+            .max(cfg.delay_margin.as_micros());
+        Some(Fit {
+            line,
+            converged,
+            base_us: u64::from(half).saturating_add(delay),
+        })
+    }
+
+    /// How far above `line` the last `k` bin minima lie at most, µs: how consistent the
+    /// least delay is from bin to bin.
+    fn spread(&self, line: &Line, k: u8) -> u64 {
+        let from = self.len.saturating_sub(k);
+        (from..self.len)
+            .filter_map(|i| {
+                let p = self.bin(i)?;
+                p.y.checked_sub(line.offset_at(p.x)?)
+            })
+            .map(i64::unsigned_abs)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Feeds the point `(x, y)` of a sample with truncation step `resolution_us`.
+    fn feed(&mut self, p: Point, resolution_us: u32, prompt: bool, cfg: &DisciplineConfig) -> Fed {
         if let Some(line) = self.line {
-            let threshold = i64::try_from(cfg.step_threshold.as_micros()).unwrap_or(i64::MAX);
-            let outlier = match line.offset_at(p.x) {
-                Some(pred) => {
-                    p.y.checked_sub(pred)
-                        .is_none_or(|r| r.saturating_abs() > threshold)
-                }
-                None => true,
-            };
-            if outlier {
+            let tol = i64::try_from(
+                cfg.jump_tolerance
+                    .as_micros()
+                    .saturating_add(u64::from(resolution_us)),
+            )
+            .unwrap_or(i64::MAX);
+            let residual = line.offset_at(p.x).and_then(|pred| p.y.checked_sub(pred));
+            if residual.is_none_or(|r| r < tol.saturating_neg() || r > tol) {
                 let c = &mut self.candidate;
                 let agrees = c.count > 0
                     && p.y
                         .checked_sub(c.point.y)
-                        .is_some_and(|d| d.saturating_abs() <= threshold);
+                        .is_some_and(|d| d.saturating_abs() <= tol);
                 if agrees {
                     c.count = c.count.saturating_add(1);
                     if p.y < c.point.y {
@@ -507,10 +640,16 @@ impl ClockEstimator {
                 } else {
                     *c = StepCandidate { point: p, count: 1 };
                 }
+                // Below the fit's floor (no delay explains it) at once; above it, twice in
+                // a row (one late frame is ordinary).
+                self.suspect = residual.is_none_or(|r| r < 0) || c.count >= 2;
                 if c.count >= cfg.step_confirm.max(1) {
                     let seed = c.point;
                     self.reset();
                     self.push_bin(seed);
+                    self.accepted = 1;
+                    self.prompt = prompt;
+                    self.resolution = resolution_us;
                     self.refit(cfg);
                     return Fed::Step;
                 }
@@ -518,6 +657,10 @@ impl ClockEstimator {
             }
         }
         self.candidate.count = 0;
+        self.suspect = false;
+        self.accepted = self.accepted.saturating_add(1);
+        self.prompt |= prompt;
+        self.resolution = self.resolution.max(resolution_us);
         self.add(p, cfg);
         Fed::Accepted
     }
@@ -701,8 +844,9 @@ impl FcLink {
             .max()
     }
 
-    /// `C`: the least pair consistent with the unpaired bound, else the bound.
-    fn offset(&self, fc: Option<&Line>, tolerance: i64) -> Option<i64> {
+    /// `C`: the least pair consistent with the unpaired bound (`true`), else the bound
+    /// (`false`).
+    fn offset(&self, fc: Option<&Line>, tolerance: i64) -> Option<(i64, bool)> {
         let bound = fc.and_then(|l| self.lower_bound(l));
         let floor = bound.map(|b| b.saturating_sub(tolerance));
         let best_pair = self
@@ -711,13 +855,14 @@ impl FcLink {
             .copied()
             .filter(|m| floor.is_none_or(|f| *m >= f))
             .min();
-        best_pair.or(bound)
+        best_pair.map(|c| (c, true)).or(bound.map(|c| (c, false)))
     }
 }
 
 /// The local clock ↔ UTC mapping: see the [module documentation](self).
 ///
-/// Fixed size, no allocation: 1504 bytes on a 64-bit host (`size_of::<TimeDiscipline>()`).
+/// Fixed size, no allocation (`size_of::<TimeDiscipline>()`: about 1.5 KB on a 64-bit
+/// host).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TimeDiscipline {
     config: DisciplineConfig,
@@ -728,12 +873,14 @@ pub struct TimeDiscipline {
     /// one path, and one estimator keeps the engine small).
     path: Option<Path>,
     link: FcLink,
-    /// The current local → UTC offset line.
-    output: Option<Line>,
+    /// The current local → UTC offset line, with what is believed of its error.
+    output: Option<Fit>,
     /// Which path produced `output`.
     source: Option<Path>,
     /// Local time of the last fresh sample that updated `output`.
     last_fresh: Option<Instant>,
+    /// The output was replaced by one that disagrees with it, since the last report.
+    replaced: bool,
     /// State as of the last evaluation.
     state: DisciplineState,
     /// State as last reported by `poll`.
@@ -760,6 +907,7 @@ impl TimeDiscipline {
             output: None,
             source: None,
             last_fresh: None,
+            replaced: false,
             state: DisciplineState::Unknown,
             reported: DisciplineState::Unknown,
             now: Instant::ZERO,
@@ -776,6 +924,13 @@ impl TimeDiscipline {
     #[must_use]
     pub const fn state(&self) -> DisciplineState {
         self.state
+    }
+
+    /// The mapping comes from a converged fit (else it is a first mapping, or there is
+    /// none).
+    #[must_use]
+    pub fn is_converged(&self) -> bool {
+        self.output.is_some_and(|o| o.converged)
     }
 
     /// A direct UTC sample (Viewlink M_AHRS, GCU GPS time converted to UTC, K40T FC
@@ -804,23 +959,30 @@ impl TimeDiscipline {
         let Some(p) = point(s, center) else {
             return Verdict::Rejected;
         };
-        match self.clock.feed(p, &self.config) {
+        match self.clock.feed(p, s.resolution_us, s.prompt, &self.config) {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => {
-                // UTC itself jumped: the old mapping cannot be trusted any more.
+                // UTC itself jumped: the old mapping cannot be trusted any more; the new
+                // one starts from the samples that agreed on the jump.
                 self.output = None;
                 self.source = None;
                 self.last_fresh = None;
+                self.use_direct(s.local);
                 Verdict::Step
             }
             Fed::Accepted => {
-                if self.clock.converged(&self.config) {
-                    self.output = self.clock.line;
-                    self.source = Some(Path::Direct);
-                    self.last_fresh = Some(s.local);
-                }
+                self.use_direct(s.local);
                 Verdict::Accepted
             }
+        }
+    }
+
+    /// Takes the direct estimator's mapping, when it gives one.
+    fn use_direct(&mut self, local: Instant) {
+        if let Some(fit) = self.clock.usable(&self.config) {
+            self.output = Some(fit);
+            self.source = Some(Path::Direct);
+            self.last_fresh = Some(local);
         }
     }
 
@@ -846,10 +1008,11 @@ impl TimeDiscipline {
         let Some(p) = point(s, 0) else {
             return Verdict::Rejected;
         };
-        match self.clock.feed(p, &self.config) {
+        match self.clock.feed(p, 0, s.prompt, &self.config) {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => {
-                // FC reboot: its clock and C are gone; the UTC mapping stays in holdover.
+                // FC reboot: its clock and C are gone; the UTC mapping stays in holdover
+                // until the new clock and C are known (and replace it if they disagree).
                 self.link = FcLink::new();
                 Verdict::Step
             }
@@ -907,22 +1070,51 @@ impl TimeDiscipline {
         Verdict::Accepted
     }
 
-    /// Updates the output from the FC path when it is valid.
+    /// Updates the output from the FC path when it gives one. A new mapping that
+    /// disagrees with the current one by more than the jump tolerance replaces it (the
+    /// FC's UTC jumped, e.g. after a reboot) and is reported as such.
     fn refresh_via_fc(&mut self, local: Instant) {
-        if !self.clock.converged(&self.config) || self.direct_valid() {
+        if self.direct_valid() {
             return;
         }
-        let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
-        let Some(line) = self.fc_line() else {
+        let Some(fc) = self.clock.usable(&self.config) else {
             return;
         };
-        if let Some(c) = self.link.offset(Some(&line), tol)
-            && let Some(out) = line.shifted(c)
+        let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
+        let Some((c, paired)) = self.link.offset(Some(&fc.line), tol) else {
+            return;
+        };
+        let Some(line) = fc.line.shifted(c) else {
+            return;
+        };
+        // C from a pair is known to the FC clock's millisecond; from the unpaired bound
+        // only to the 0x30 frames' transport delay.
+        let c_margin = if paired {
+            1_000
+        } else {
+            self.config.unpaired_margin.as_micros()
+        };
+        let new = Fit {
+            line,
+            converged: fc.converged,
+            base_us: fc.base_us.saturating_add(c_margin),
+        };
+        if let Some(old) = self.output
+            && self.state.is_usable()
         {
-            self.output = Some(out);
-            self.source = Some(Path::ViaFc);
-            self.last_fresh = Some(local);
+            let x = i64::try_from(local.as_micros()).unwrap_or(i64::MAX);
+            let jump = i64::try_from(self.config.jump_tolerance.as_micros()).unwrap_or(i64::MAX);
+            let disagree = match (old.line.offset_at(x), line.offset_at(x)) {
+                (Some(a), Some(b)) => b.checked_sub(a).is_none_or(|d| d.saturating_abs() > jump),
+                _ => true,
+            };
+            if disagree {
+                self.replaced = true;
+            }
         }
+        self.output = Some(new);
+        self.source = Some(Path::ViaFc);
+        self.last_fresh = Some(local);
     }
 
     /// Uses `path` for the estimator: true when it is the estimator's path (or the
@@ -931,9 +1123,12 @@ impl TimeDiscipline {
         *self.path.get_or_insert(path) == path
     }
 
-    /// The FC clock's line, when the estimator holds the FC clock.
+    /// The FC clock's line, when the estimator holds the FC clock and gives a mapping.
     fn fc_line(&self) -> Option<Line> {
-        self.clock.line.filter(|_| self.path == Some(Path::ViaFc))
+        self.clock
+            .usable(&self.config)
+            .map(|f| f.line)
+            .filter(|_| self.path == Some(Path::ViaFc))
     }
 
     /// The output comes from the direct path, which is fresh.
@@ -948,12 +1143,13 @@ impl TimeDiscipline {
     /// report, once. Call it at least at [`poll_at`](Self::poll_at).
     pub fn poll(&mut self, now: Instant) -> Option<Transition> {
         self.advance(now);
-        if self.state == self.reported {
+        if self.state == self.reported && !self.replaced {
             return None;
         }
         let t = Transition {
             from: self.reported,
             to: self.state,
+            replaced: core::mem::take(&mut self.replaced),
         };
         self.reported = self.state;
         Some(t)
@@ -980,7 +1176,9 @@ impl TimeDiscipline {
         let state = match (self.output, self.last_fresh) {
             (Some(_), Some(fresh)) => {
                 let age = now.saturating_duration_since(fresh);
-                if age <= self.config.sample_timeout {
+                if self.source == Some(Path::Direct) && self.clock.suspect {
+                    Some(DisciplineState::Suspect)
+                } else if age <= self.config.sample_timeout {
                     Some(DisciplineState::Valid)
                 } else if age <= self.config.holdover {
                     Some(DisciplineState::Holdover)
@@ -1028,7 +1226,7 @@ impl TimeDiscipline {
         if x > self.horizon()? {
             return None;
         }
-        let r = self.output?.remote_at(x)?;
+        let r = self.output?.line.remote_at(x)?;
         u64::try_from(r).ok().map(UtcTime::from_unix_micros)
     }
 
@@ -1039,18 +1237,40 @@ impl TimeDiscipline {
             return None;
         }
         let r = i64::try_from(utc.as_unix_micros()).ok()?;
-        let x = self.output?.local_at(r)?;
+        let x = self.output?.line.local_at(r)?;
         if x > self.horizon()? {
             return None;
         }
         u64::try_from(x).ok().map(Instant::from_micros)
     }
 
+    /// The error this discipline believes [`utc`](Self::utc) has at `local`: half the
+    /// sources' truncation step, plus the delay uncertainty of the least-delayed sample
+    /// (how consistent the least delays are, at least
+    /// [`DisciplineConfig::delay_margin`]), plus (SIYI) that of the UTC − FC-clock
+    /// offset, plus the rate uncertainty ([`DisciplineConfig::fit_drift_ppm`] once
+    /// converged, [`DisciplineConfig::quick_drift_ppm`] before) times the time from the
+    /// mapping's anchor. `None` when there is no usable UTC at `local`.
+    #[must_use]
+    pub fn error_bound(&self, local: Instant) -> Option<Duration> {
+        self.utc(local)?;
+        let fit = self.output?;
+        let x = i64::try_from(local.as_micros()).ok()?;
+        let age = x.checked_sub(fit.line.x0)?.unsigned_abs();
+        let ppm = if fit.converged {
+            self.config.fit_drift_ppm
+        } else {
+            self.config.quick_drift_ppm
+        };
+        let drift = age.saturating_mul(u64::from(ppm)) / 1_000_000;
+        Some(Duration::from_micros(fit.base_us.saturating_add(drift)))
+    }
+
     /// The current estimate of the local clock's rate error against UTC, in parts per
     /// billion (positive: the local clock runs fast), if a mapping exists.
     #[must_use]
     pub fn drift_ppb(&self) -> Option<i64> {
-        let l = self.output?;
+        let l = self.output?.line;
         let v = i128::from(l.dy)
             .checked_mul(1_000_000_000)?
             .checked_div(i128::from(l.dx))?;
@@ -1104,22 +1324,43 @@ mod tests {
     }
 
     #[test]
-    fn converges_then_valid_with_the_rate() {
+    fn a_first_mapping_at_once_then_the_fit_with_the_rate() {
         let mut d = TimeDiscipline::default();
         assert_eq!(d.state(), DisciplineState::Unknown);
         assert_eq!(d.utc(local(0)), None);
-        feed_exact(&mut d, 0, 20_000_000);
-        // 20 s: fewer than 5 bins of 8 s: still converging, no UTC.
+        // Seven samples: not yet.
+        feed_exact(&mut d, 0, 700_000);
         assert_eq!(d.state(), DisciplineState::Converging);
-        assert_eq!(d.utc(local(20_000_000)), None);
-        let t = d.poll(local(20_000_000)).unwrap();
+        assert_eq!(d.utc(local(700_000)), None);
+        assert_eq!(d.error_bound(local(700_000)), None);
+        let t = d.poll(local(700_000)).unwrap();
         assert_eq!(t.to, DisciplineState::Converging);
         assert!(!t.utc_became_valid());
+        // The eighth: a first mapping (equal rates assumed), valid at once.
+        feed_exact(&mut d, 700_000, 800_000);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        assert!(!d.is_converged());
+        assert!(d.poll(local(800_000)).unwrap().utc_became_valid());
+        assert!(err_us(&d, 700_000).abs() <= 20);
+        // 10 s later (the first grid edge at the latest): the local clock's 20 ppm have
+        // added 200 µs, within the bound believed (1 ms + 100 ppm over 10 s).
+        let e = err_us(&d, 10_700_000);
+        assert!((150..=250).contains(&e.abs()), "{e}");
+        let bound = d.error_bound(local(10_700_000)).unwrap().as_micros();
+        assert!((1_900..=2_100).contains(&bound), "{bound}");
+        assert!(e.unsigned_abs() < bound);
+        // Samples go on: still the first mapping at 20 s (fewer than 5 bins of 8 s),
+        // anchored on the least-delayed recent sample.
+        feed_exact(&mut d, 800_000, 20_000_000);
+        assert!(!d.is_converged());
+        assert!(err_us(&d, 20_000_000).abs() <= 700);
         feed_exact(&mut d, 20_000_000, 60_000_000);
         assert_eq!(d.state(), DisciplineState::Valid);
-        let t = d.poll(local(60_000_000)).unwrap();
-        assert!(t.utc_became_valid());
-        assert_eq!(d.poll(local(60_000_000)), None, "reported once");
+        assert!(d.is_converged());
+        assert_eq!(d.poll(local(60_000_000)), None, "valid all along");
+        // Converged: the bound is the delay margin plus 5 ppm from the anchor.
+        let bound = d.error_bound(local(60_000_000)).unwrap().as_micros();
+        assert!((1_000..=1_200).contains(&bound), "{bound}");
         // Exact samples: the mapping is exact to a few µs, also 2 s ahead.
         assert!(err_us(&d, 59_900_000).abs() <= 2);
         assert!(err_us(&d, 62_000_000).abs() <= 2);
@@ -1182,11 +1423,14 @@ mod tests {
             d.local_of(UtcTime::from_unix_micros(U0 + 120_000_000)),
             None
         );
-        // Samples again: converging, then valid.
-        feed_exact(&mut d, 130_000_000, 140_000_000);
+        // Samples again: converging, then a first mapping within a second.
+        feed_exact(&mut d, 130_000_000, 130_700_000);
         assert_eq!(d.state(), DisciplineState::Converging);
-        feed_exact(&mut d, 140_000_000, 180_000_000);
+        feed_exact(&mut d, 130_700_000, 131_000_000);
         assert_eq!(d.state(), DisciplineState::Valid);
+        assert!(!d.is_converged());
+        feed_exact(&mut d, 131_000_000, 180_000_000);
+        assert!(d.is_converged());
     }
 
     #[test]
@@ -1328,5 +1572,122 @@ mod tests {
         }
         assert!(l.rate_within(37));
         assert!(!l.rate_within(36));
+    }
+
+    #[test]
+    fn a_jump_of_the_source_suspends_utc_at_once_then_restarts_from_it() {
+        for jump_us in [-200_000i64, -40_000, 40_000, 1_000_000] {
+            let mut d = TimeDiscipline::default();
+            feed_exact(&mut d, 0, 60_000_000);
+            assert!(d.is_converged());
+            // The FC's UTC jumps by `jump_us`: the first sample below the floor (a
+            // forward jump) suspends UTC at once; above it (backward), the second does.
+            let at = |i: u64| 60_000_000 + i * 100_000;
+            let value = |i: u64| (U0 + at(i)).checked_add_signed(jump_us).unwrap();
+            let mut suspended_at = None;
+            let mut restarted_at = None;
+            for i in 0..30u64 {
+                let v = d.utc_sample(Sample::new(local(at(i)), value(i), 1));
+                if suspended_at.is_none() && d.state() == DisciplineState::Suspect {
+                    suspended_at = Some(i);
+                    assert_eq!(d.utc(local(at(i))), None);
+                }
+                if v == Verdict::Step {
+                    restarted_at = Some(i);
+                }
+                if d.state() == DisciplineState::Valid && restarted_at.is_some() {
+                    // The new mapping: right for the new UTC.
+                    let got = d.utc(local(at(i))).unwrap().as_unix_micros();
+                    // The local clock's 20 ppm over the first mapping's second.
+                    assert!(got.abs_diff(value(i)) <= 50, "{jump_us}: {got}");
+                    break;
+                }
+            }
+            let first = u64::from(jump_us <= 0);
+            assert_eq!(suspended_at, Some(first), "{jump_us}");
+            assert_eq!(restarted_at, Some(4), "{jump_us}");
+            // A first mapping again after eight samples (seven after the step's).
+            assert_eq!(d.state(), DisciplineState::Valid, "{jump_us}");
+        }
+    }
+
+    #[test]
+    fn one_late_sample_is_no_jump() {
+        let mut d = TimeDiscipline::default();
+        feed_exact(&mut d, 0, 60_000_000);
+        // 30 ms late: not used, UTC stays valid; the next sample is in line.
+        let s = Sample::new(local(60_030_000), U0 + 60_000_000, 1);
+        assert_eq!(d.utc_sample(s), Verdict::Outlier);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        feed_exact(&mut d, 60_100_000, 61_000_000);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        assert!(err_us(&d, 61_000_000).abs() <= 2);
+    }
+
+    #[test]
+    fn one_prompt_sample_is_enough() {
+        let mut d = TimeDiscipline::default();
+        // The K40T FC's 0x00030E: its edge's UTC, sent at once, 1 ms resolution.
+        let s = Sample::new(local(2_000_000), U0 + 2_000_000, 1000).prompt();
+        assert_eq!(d.utc_sample(s), Verdict::Accepted);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        assert!(err_us(&d, 2_000_000).abs() <= 500);
+        let bound = d.error_bound(local(12_000_000)).unwrap().as_micros();
+        assert!((2_400..=2_600).contains(&bound), "{bound}");
+    }
+
+    #[test]
+    fn siyi_first_mapping_from_one_pair_and_a_rebooted_fc_with_another_utc() {
+        let mut d = TimeDiscipline::default();
+        let mut t = 0u64;
+        // 0x22 at 10 Hz from the start; the first 0x30 (with its pair) at 3 s.
+        while t <= 3_000_000 {
+            let ms = fc_ms(t);
+            d.fc_clock_sample(Sample::new(local(t), u64::from(ms) * 1000, 1000));
+            t += 100_000;
+        }
+        assert_eq!(d.state(), DisciplineState::Converging, "no UTC yet");
+        let utc = C + fc_us(3_000_000);
+        d.utc_via_fc_sample(Sample::new(local(3_000_000), utc, 1));
+        assert_eq!(d.utc_fc_pair(utc, fc_ms(3_000_000)), Verdict::Accepted);
+        assert_eq!(d.state(), DisciplineState::Valid);
+        // 10 s on: the clocks' 50 ppm and the millisecond truncation.
+        let want = C + fc_us(13_000_000);
+        let got = d.utc(local(13_000_000)).unwrap().as_unix_micros();
+        assert!(got.abs_diff(want) <= 2_000, "{}", got.abs_diff(want));
+        assert!(d.error_bound(local(13_000_000)).unwrap().as_micros() < 5_000);
+        // The FC reboots at 60 s; its new clock restarts near 0 and, 5 s later, its new
+        // 0x30 says UTC is 300 ms earlier than before.
+        while t < 60_000_000 {
+            d.fc_clock_sample(Sample::new(local(t), u64::from(fc_ms(t)) * 1000, 1000));
+            t += 100_000;
+        }
+        d.poll(local(t));
+        let boot = 60_000_000u64;
+        let mut replaced = false;
+        while t < 70_000_000 {
+            let fc_new_us = t - boot;
+            d.fc_clock_sample(Sample::new(local(t), fc_new_us / 1000 * 1000, 1000));
+            if t == 65_000_000 {
+                let utc = C + fc_us(t) - 300_000;
+                d.utc_via_fc_sample(Sample::new(local(t), utc, 1));
+                d.utc_fc_pair(utc, u32::try_from(fc_new_us / 1000).unwrap());
+                let tr = d.poll(local(t)).unwrap();
+                assert!(
+                    tr.replaced && tr.utc_lost() && tr.utc_became_valid(),
+                    "{tr:?}"
+                );
+                replaced = true;
+            }
+            if t < 65_000_000 {
+                // Until then the old mapping holds over.
+                let got = d.utc(local(t)).unwrap().as_unix_micros();
+                assert!(got.abs_diff(C + fc_us(t)) <= 1_500);
+            }
+            t += 100_000;
+        }
+        assert!(replaced);
+        let got = d.utc(local(t)).unwrap().as_unix_micros();
+        assert!(got.abs_diff(C + fc_us(t) - 300_000) <= 1_500);
     }
 }

@@ -29,10 +29,16 @@ wire_derive! {
         PodLinkUp,
         /// No report from the pod for the pod link time-out.
         PodLinkDown,
-        /// UTC became known well enough to send time syncs.
-        UtcValid,
-        /// UTC is no longer known (holdover expired or the time source stepped): no
-        /// more time syncs until it is valid again.
+        /// UTC became known well enough to send time syncs (or a new mapping replaced one
+        /// that disagreed with it, after [`Event::UtcLost`]).
+        UtcValid {
+            /// The error the discipline believes its UTC has now, µs.
+            error_bound_us: u32,
+            /// From a converged fit (else a first mapping, refined as samples come).
+            converged: bool,
+        },
+        /// UTC is no longer known (holdover expired, the time source jumped or contradicts
+        /// the mapping): no more time syncs until it is valid again.
         UtcLost,
         /// RTC_IO rose at `edge` and a 0x00030E carrying `utc_ms` went to the head of the
         /// pod queue.
@@ -41,6 +47,9 @@ wire_derive! {
             edge: Instant,
             /// The UTC the frame carries, ms since the Unix epoch.
             utc_ms: u64,
+            /// The error the discipline believes that UTC has, µs (never above
+            /// [`SyncConfig::max_error`](super::sync::SyncConfig::max_error)).
+            error_bound_us: u32,
         },
         /// The pod asked (0x000310) for the aircraft's position at a time of day.
         Geotag {

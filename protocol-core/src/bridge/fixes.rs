@@ -20,10 +20,18 @@
 //! - **Gaps**: two consecutive fixes more than [`FixConfig::max_gap`] (1 s) apart are not
 //!   interpolated between (that would invent a path): within [`FixConfig::max_hold`] of
 //!   one of them the nearest is held, further it is [`GeotagError::OutOfRange`].
-//! - **Beyond either end**: within [`FixConfig::max_hold`] (1 s) the nearest fix is held
-//!   unchanged (with its own `at`); nothing is extrapolated. Further:
-//!   [`GeotagError::OutOfRange`]. No fix at all: [`GeotagError::NoFix`]. A fix is never
-//!   invented.
+//! - **After the newest fix** (the FC's fixes stopped, or the next one is late): within
+//!   [`FixConfig::max_hold`] (100 ms) it is held; up to [`FixConfig::max_extrapolate`]
+//!   (1 s) it is carried forward with the aircraft's velocity, the FC's own when it sends
+//!   one ([`Fix::velocity`]), else that of the two newest fixes (when they are at most
+//!   [`FixConfig::max_gap`] apart); attitude is held. A held fix would put a photo taken
+//!   0.8 s after the last fix 4 m behind at 5 m/s; carried forward, the error is the
+//!   change of velocity in that time (half the acceleration times the time squared:
+//!   0.5 m at 1 m/s² over 1 s). Further, or with no velocity: [`GeotagError::OutOfRange`].
+//! - **Before the oldest fix**: held within [`FixConfig::max_hold`], else
+//!   [`GeotagError::OutOfRange`]. No fix at all: [`GeotagError::NoFix`]. A position is
+//!   never invented: an answer is interpolated, carried forward with a known velocity
+//!   for a bounded time, or the failure code.
 
 use core::fmt;
 
@@ -39,6 +47,32 @@ const MAX_SPAN: Duration = Duration::from_secs(60);
 /// The low 16 bits of an instant in milliseconds.
 fn low16(at: Instant) -> u16 {
     u16::try_from(at.as_millis() % 65_536).unwrap_or(0)
+}
+
+/// The aircraft's velocity over ground, north-east-down, cm/s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Velocity {
+    /// Towards north, cm/s.
+    pub north_cm_s: i16,
+    /// Towards east, cm/s.
+    pub east_cm_s: i16,
+    /// Downwards, cm/s.
+    pub down_cm_s: i16,
+}
+
+impl Velocity {
+    /// A velocity in cm/s from one in another unit, saturating at ±327 m/s.
+    #[must_use]
+    pub fn from_cm_s(north: i32, east: i32, down: i32) -> Self {
+        let c = |v: i32| i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX });
+        Self {
+            north_cm_s: c(north),
+            east_cm_s: c(east),
+            down_cm_s: c(down),
+        }
+    }
 }
 
 /// Position and attitude of the aircraft at a local instant, in the units of the K40T
@@ -63,6 +97,9 @@ pub struct Fix {
     pub roll_cdeg: i16,
     /// Pitch, 0.01°.
     pub pitch_cdeg: i16,
+    /// The aircraft's velocity at that instant, when the FC sends one (to carry the
+    /// newest fix forward; see the module documentation).
+    pub velocity: Option<Velocity>,
 }
 
 /// Why no fix can be given for an instant.
@@ -94,8 +131,11 @@ impl core::error::Error for GeotagError {}
 pub struct FixConfig {
     /// Least time between two stored fixes (default 90 ms: about 10 Hz).
     pub min_interval: Duration,
-    /// How far beyond a usable fix it is held (default 1 s).
+    /// How far from a fix it is held unchanged (default 100 ms: 1 m at 10 m/s).
     pub max_hold: Duration,
+    /// How far after the newest fix it is carried forward with the aircraft's velocity
+    /// (default 1 s).
+    pub max_extrapolate: Duration,
     /// Widest gap between two fixes that is interpolated (default 1 s).
     pub max_gap: Duration,
     /// How long a GPS request for an instant after the newest fix waits for the next
@@ -107,7 +147,8 @@ impl FixConfig {
     /// The documented defaults.
     pub const DEFAULT: Self = Self {
         min_interval: Duration::from_millis(90),
-        max_hold: Duration::from_secs(1),
+        max_hold: Duration::from_millis(100),
+        max_extrapolate: Duration::from_secs(1),
         max_gap: Duration::from_secs(1),
         max_wait: Duration::from_millis(250),
     };
@@ -142,6 +183,8 @@ pub struct FixHistory {
     newest: Instant,
     /// The newest fix when it was too close to the last stored one to be stored.
     tail: Option<Fix>,
+    /// The velocity the FC sent with the newest fix.
+    velocity: Option<Velocity>,
 }
 
 impl Default for FixHistory {
@@ -168,6 +211,7 @@ impl FixHistory {
             len: 0,
             newest: Instant::ZERO,
             tail: None,
+            velocity: None,
         }
     }
 
@@ -182,6 +226,7 @@ impl FixHistory {
         self.start = 0;
         self.len = 0;
         self.tail = None;
+        self.velocity = None;
     }
 
     /// Fixes usable by [`at`](Self::at) (stored ones plus the newest kept aside).
@@ -204,19 +249,19 @@ impl FixHistory {
 
     /// Adds a fix. Returns `false` (and ignores it) if it is older than the newest fix.
     pub fn push(&mut self, fix: Fix) -> bool {
-        if let Some(latest) = self.latest() {
-            if fix.at < latest.at {
-                return false;
+        let latest = self.latest().map(|l| l.at);
+        if latest.is_some_and(|l| fix.at < l) {
+            return false;
+        }
+        self.velocity = fix.velocity;
+        if latest == Some(fix.at) {
+            if self.tail.is_some() {
+                self.tail = Some(fix);
+            } else {
+                // Replace the newest stored fix.
+                let _ = self.store(self.len.saturating_sub(1), fix);
             }
-            if fix.at == latest.at {
-                if self.tail.is_some() {
-                    self.tail = Some(fix);
-                } else {
-                    // Replace the newest stored fix.
-                    let _ = self.store(self.len.saturating_sub(1), fix);
-                }
-                return true;
-            }
+            return true;
         }
         let far_enough = self.len == 0
             || fix.at.saturating_duration_since(self.newest) >= self.config.min_interval;
@@ -286,25 +331,27 @@ impl FixHistory {
             yaw_cdeg: *self.yaw_cdeg.get(p)?,
             roll_cdeg: *self.roll_cdeg.get(p)?,
             pitch_cdeg: *self.pitch_cdeg.get(p)?,
+            velocity: None,
         })
     }
 
     /// Position and attitude at local instant `at`: interpolated inside the history,
-    /// the nearest fix held within [`FixConfig::max_hold`] beyond its ends or around a
-    /// gap, an error otherwise (see the module documentation).
+    /// carried forward with the velocity after the newest fix, held within
+    /// [`FixConfig::max_hold`] of a fix otherwise, an error beyond (see the module
+    /// documentation).
     ///
     /// # Errors
     /// [`GeotagError::NoFix`] when the history is empty, [`GeotagError::OutOfRange`] when
-    /// `at` is further than the hold limit from every usable fix.
+    /// `at` is too far from every usable fix, or after the newest with no velocity.
     pub fn at(&self, at: Instant) -> Result<Fix, GeotagError> {
         let n = self.len();
         let first = self.get(0).ok_or(GeotagError::NoFix)?;
         let last = self.get(n.saturating_sub(1)).ok_or(GeotagError::NoFix)?;
-        if at <= first.at {
+        if at < first.at {
             return self.hold(first, at);
         }
         if at >= last.at {
-            return self.hold(last, at);
+            return self.forward(last, at);
         }
         // Binary search: the last fix at or before `at` (index lo), first after (lo + 1).
         let (mut lo, mut hi) = (0usize, n.saturating_sub(1));
@@ -337,6 +384,110 @@ impl FixHistory {
             Err(GeotagError::OutOfRange)
         }
     }
+
+    /// The newest fix carried forward to `at` (not before it).
+    fn forward(&self, last: Fix, at: Instant) -> Result<Fix, GeotagError> {
+        let dt = at.saturating_duration_since(last.at);
+        if dt <= self.config.max_hold {
+            return Ok(last);
+        }
+        if dt > self.config.max_extrapolate {
+            return Err(GeotagError::OutOfRange);
+        }
+        let (dlat, dlon, ddown) = match self.velocity {
+            Some(v) => displacement(v, last.lat_e7, dt),
+            None => self.finite_difference(dt),
+        }
+        .ok_or(GeotagError::OutOfRange)?;
+        let add32 = |a: i32, d: i64| i32::try_from(i64::from(a).checked_add(d)?).ok();
+        let up_dm = ddown.checked_neg().ok_or(GeotagError::OutOfRange)?;
+        let add16 = |a: i16, d: i64| i16::try_from(i64::from(a).checked_add(d)?).ok();
+        Ok(Fix {
+            at,
+            lat_e7: add32(last.lat_e7, dlat).ok_or(GeotagError::OutOfRange)?,
+            lon_e7: i32::try_from(
+                wrap(
+                    i64::from(last.lon_e7)
+                        .checked_add(dlon)
+                        .ok_or(GeotagError::OutOfRange)?,
+                    1_800_000_000,
+                )
+                .ok_or(GeotagError::OutOfRange)?,
+            )
+            .map_err(|_| GeotagError::OutOfRange)?,
+            alt_msl_dm: add16(last.alt_msl_dm, up_dm).ok_or(GeotagError::OutOfRange)?,
+            rel_alt_dm: add16(last.rel_alt_dm, up_dm).ok_or(GeotagError::OutOfRange)?,
+            velocity: self.velocity,
+            ..last
+        })
+    }
+
+    /// The displacement over `dt` (1e-7° latitude, 1e-7° longitude, 0.1 m down) at the
+    /// velocity of the two newest fixes, when they are at most `max_gap` apart.
+    fn finite_difference(&self, dt: Duration) -> Option<(i64, i64, i64)> {
+        let n = self.len();
+        let b = self.get(n.checked_sub(1)?)?;
+        let a = self.get(n.checked_sub(2)?)?;
+        let span = b.at.checked_duration_since(a.at)?;
+        if span > self.config.max_gap || span.as_micros() == 0 {
+            return None;
+        }
+        let num = i64::try_from(dt.as_micros()).ok()?;
+        let den = i64::try_from(span.as_micros()).ok()?;
+        let scale = |d: i64| lerp(0, d, num, den);
+        let dlat = scale(i64::from(b.lat_e7).checked_sub(i64::from(a.lat_e7))?)?;
+        let dlon = scale(wrap(
+            i64::from(b.lon_e7).checked_sub(i64::from(a.lon_e7))?,
+            1_800_000_000,
+        )?)?;
+        let ddown = scale(i64::from(a.alt_msl_dm).checked_sub(i64::from(b.alt_msl_dm))?)?;
+        Some((dlat, dlon, ddown))
+    }
+}
+
+/// Metres per degree of latitude (WGS-84 mean), times 1000.
+const MM_PER_DEG: i64 = 111_319_491;
+
+/// The displacement over `dt` at velocity `v` from latitude `lat_e7`: 1e-7° north and
+/// east, 0.1 m down.
+fn displacement(v: Velocity, lat_e7: i32, dt: Duration) -> Option<(i64, i64, i64)> {
+    let us = i128::from(dt.as_micros());
+    // cm/s × µs = 1e-8 m; m → 1e-7°: × 1e7 / (m per degree).
+    let along = |cm_s: i16| i128::from(cm_s).checked_mul(us);
+    let north = along(v.north_cm_s)?;
+    let east = along(v.east_cm_s)?;
+    // 1e-8 m → 1e-7°: × 1e7 / (1e8 × m/deg) = / (10 × m/deg) = / (MM_PER_DEG / 100).
+    let den = i128::from(MM_PER_DEG / 100);
+    let dlat = north.checked_div(den)?;
+    // Longitude degrees are shorter by cos(latitude) (parts per 65536).
+    // Within 0.06° of a pole longitude is no direction to carry a fix along.
+    let cos = i128::from(cos_q16(lat_e7));
+    if cos < 64 {
+        return None;
+    }
+    let dlon = east
+        .checked_mul(65_536)?
+        .checked_div(den.checked_mul(cos)?)?;
+    // 1e-8 m → 0.1 m: / 1e7.
+    let ddown = along(v.down_cm_s)?.checked_div(10_000_000)?;
+    Some((
+        i64::try_from(dlat).ok()?,
+        i64::try_from(dlon).ok()?,
+        i64::try_from(ddown).ok()?,
+    ))
+}
+
+/// cos(latitude) in parts per 65536 for a latitude in 1e-7°, by a degree-8 polynomial
+/// (error below 1e-4 over ±90°).
+fn cos_q16(lat_e7: i32) -> i64 {
+    // In f32: the polynomial is short and exact enough; no panicking operation.
+    #[allow(clippy::cast_precision_loss)]
+    let x = (lat_e7.unsigned_abs().min(900_000_000) as f32) * (core::f32::consts::PI / 1.8e9);
+    let x2 = x * x;
+    let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+    #[allow(clippy::cast_possible_truncation)]
+    let q = (c.clamp(0.0, 1.0) * 65_536.0) as i64;
+    q
 }
 
 /// `a + (b − a)·num/den`, rounded to nearest (half away from zero).
@@ -402,6 +553,7 @@ fn interpolate(a: &Fix, b: &Fix, at: Instant) -> Option<Fix> {
         yaw_cdeg: angle_i16(a.yaw_cdeg, b.yaw_cdeg)?,
         roll_cdeg: angle_i16(a.roll_cdeg, b.roll_cdeg)?,
         pitch_cdeg: angle_i16(a.pitch_cdeg, b.pitch_cdeg)?,
+        velocity: None,
     })
 }
 
@@ -419,6 +571,7 @@ mod tests {
             yaw_cdeg: yaw,
             roll_cdeg: 0,
             pitch_cdeg: -100,
+            velocity: None,
         }
     }
 
@@ -453,35 +606,61 @@ mod tests {
     }
 
     #[test]
-    fn holds_within_a_second_beyond_the_ends() {
+    fn holds_briefly_then_carries_the_newest_fix_forward_with_its_velocity() {
         let mut h = FixHistory::default();
         h.push(fix(10_000, 1, 2, 3));
         h.push(fix(10_100, 5, 6, 7));
-        let f = h.at(Instant::from_millis(11_100)).unwrap();
+        // Within 100 ms: held.
+        let f = h.at(Instant::from_millis(10_200)).unwrap();
         assert_eq!((f.at, f.lat_e7), (Instant::from_millis(10_100), 5));
+        // Beyond: carried forward at the two newest fixes' velocity (no FC velocity).
+        let f = h.at(Instant::from_millis(10_600)).unwrap();
+        assert_eq!(
+            (f.at, f.lat_e7, f.lon_e7),
+            (Instant::from_millis(10_600), 25, 26)
+        );
+        assert_eq!(f.yaw_cdeg, 7, "attitude held");
+        assert!(h.at(Instant::from_millis(11_100)).is_ok());
         assert_eq!(
             h.at(Instant::from_millis(11_101)),
             Err(GeotagError::OutOfRange)
         );
-        let f = h.at(Instant::from_millis(9_000)).unwrap();
+        // Before the oldest: held within 100 ms only.
+        let f = h.at(Instant::from_millis(9_900)).unwrap();
         assert_eq!(f.lat_e7, 1);
         assert_eq!(
-            h.at(Instant::from_millis(8_999)),
+            h.at(Instant::from_millis(9_899)),
+            Err(GeotagError::OutOfRange)
+        );
+        // One fix and no velocity: nothing to carry it forward with.
+        let mut h = FixHistory::default();
+        h.push(fix(10_000, 1, 2, 3));
+        assert!(h.at(Instant::from_millis(10_100)).is_ok());
+        assert_eq!(
+            h.at(Instant::from_millis(10_101)),
             Err(GeotagError::OutOfRange)
         );
     }
 
     #[test]
-    fn does_not_interpolate_across_gaps() {
+    fn the_fcs_velocity_carries_a_photo_0_8_s_after_the_last_fix_to_where_it_was() {
+        // 47° N, 5 m/s north and 5 m/s east, climbing 1 m/s: 0.8 s after the last fix the
+        // aircraft is 4 m north, 4 m east, 0.8 m higher. Held, the fix would be 5.7 m off.
         let mut h = FixHistory::default();
-        h.push(fix(0, 0, 0, 0));
-        h.push(fix(5_000, 5_000, 0, 0));
-        assert_eq!(h.at(Instant::from_millis(800)).unwrap().lat_e7, 0);
-        assert_eq!(h.at(Instant::from_millis(4_500)).unwrap().lat_e7, 5_000);
-        assert_eq!(
-            h.at(Instant::from_millis(2_500)),
-            Err(GeotagError::OutOfRange)
+        let mut f = fix(10_000, 470_000_000, 85_000_000, 4500);
+        f.velocity = Some(Velocity::from_cm_s(500, 500, -100));
+        h.push(f);
+        let g = h.at(Instant::from_millis(10_800)).unwrap();
+        // 4 m of latitude: 4 / 111 319.49 m per degree = 359.3e-7°.
+        assert_eq!(g.lat_e7 - 470_000_000, 359);
+        // 4 m of longitude at 47°: 4 / (111 319.49 × cos 47°) = 526.9e-7°.
+        assert!(
+            (526..=527).contains(&(g.lon_e7 - 85_000_000)),
+            "{}",
+            g.lon_e7
         );
+        assert_eq!((g.alt_msl_dm, g.rel_alt_dm), (1008, 508));
+        assert_eq!(g.yaw_cdeg, 4500);
     }
 
     #[test]
@@ -497,6 +676,7 @@ mod tests {
         assert_eq!(h.latest().unwrap().at, Instant::from_millis(29_980));
         let oldest = h.get(0).unwrap();
         assert_eq!(oldest.at, Instant::from_millis(9_900));
+        assert!(oldest.velocity.is_none());
         // Interpolated between stored fixes 100 ms apart: exact for a linear input.
         assert_eq!(h.at(Instant::from_millis(15_030)).unwrap().lat_e7, 15_030);
         // Between the last stored and the newest aside.
@@ -507,5 +687,27 @@ mod tests {
         assert_eq!(h.latest().unwrap().lat_e7, 7);
         h.clear();
         assert!(h.is_empty());
+    }
+
+    #[test]
+    fn cosine_of_latitude() {
+        for (deg, want_q16) in [
+            (0, 65_536),
+            (30, 56_756),
+            (47, 44_695),
+            (60, 32_768),
+            (89, 1_144),
+        ] {
+            let lat = deg * 10_000_000;
+            let got = cos_q16(lat);
+            assert!((got - want_q16).abs() <= 8, "{deg}: {got}");
+            assert_eq!(cos_q16(-lat), got);
+        }
+        assert!(cos_q16(900_000_000) <= 2);
+        let v = Velocity::from_cm_s(0, 500, 0);
+        assert_eq!(
+            displacement(v, 899_999_000, Duration::from_millis(500)),
+            None
+        );
     }
 }

@@ -9,10 +9,12 @@
 //!   that fix would put the photo up to a metre behind at 10 m/s. So a request for an
 //!   instant after the newest fix waits for the fix that follows it, up to
 //!   [`FixConfig::max_wait`](super::fixes::FixConfig) (250 ms), and is then interpolated
-//!   (or, if no fix came, answered with the newest held, within the hold limit). One
+//!   (or, if no fix came, the newest is carried forward with the aircraft's velocity,
+//!   for at most [`FixConfig::max_extrapolate`](super::fixes::FixConfig), 1 s). One
 //!   request waits at a time; a second one answers the first with what there is.
-//! - **Failure**: no UTC, no fix, or an instant beyond the hold limit gives the failure
-//!   code 0x0001 with the time echoed and zero position and attitude: nothing is invented.
+//! - **Failure**: no UTC, no fix, a stale fix (beyond the extrapolation limit, or with
+//!   no velocity to carry it) gives the failure code 0x0001 with the time echoed and
+//!   zero position and attitude: the answer says nothing the bridge does not know.
 
 use super::Outputs;
 use super::discipline::TimeDiscipline;
@@ -71,9 +73,9 @@ impl Geotagger {
         let max_wait = fixes.config().max_wait;
         // Worth waiting: the newest fix is older than the instant asked, and the next
         // one (due within a period) can still cover it.
-        if newest
-            .is_some_and(|n| n < at && at.saturating_duration_since(n) <= fixes.config().max_hold)
-            && max_wait.as_micros() > 0
+        if newest.is_some_and(|n| {
+            n < at && at.saturating_duration_since(n) <= fixes.config().max_extrapolate
+        }) && max_wait.as_micros() > 0
         {
             self.waiting = Some(Waiting {
                 header,

@@ -1,10 +1,20 @@
 //! The K40T pod driver: the bridge acts as the flight controller (0x02/0x01).
 //!
 //! - **Commands.** A [`Command`] becomes one or two K40T requests. Settings and camera
-//!   actions are tracked by base id and sequence number and sent again when their ACK
-//!   does not come ([`PodConfig::tries`], [`PodConfig::retry_interval`]); a newer command
-//!   with the same base id supersedes a pending one. Motion commands (0x000010,
-//!   0x000012, 0x000017) are never retried: the next one supersedes them.
+//!   actions are tracked for their ACK. Idempotent ones (settings, absolute zoom, record
+//!   start/stop, focus, views) are sent again when their ACK does not come
+//!   ([`PodConfig::tries`], [`PodConfig::retry_interval`]); a newer command with the same
+//!   base id supersedes a pending one. An action that counts (take photo, burst,
+//!   time-lapse, single laser ranging) is **never sent twice for one FC command**: if its
+//!   ACK does not come within the time the others get for all their tries, it is reported
+//!   as timed out (the FC sides tell the FC it failed) rather than risk a second shot.
+//!   Motion commands (0x000010, 0x000012, 0x000017) are never retried: the next one
+//!   supersedes them.
+//! - **Matching ACKs** (SPEC-NOTES): the K40T document has every component number the
+//!   frames *it* sends, so a pod's ACK may carry the pod's own counter rather than the
+//!   request's SEQ. An ACK is matched to the oldest outstanding request with the same base
+//!   id, an exact SEQ match preferred but never required. A superseded request stays
+//!   outstanding (not retried) so that its late ACK is not taken for its successor's.
 //! - **Motion, never flooding the pod.** Rates and angles are edge-triggered: a target
 //!   is sent when it differs from the last one sent by more than a dead-band, at most
 //!   once per [`PodConfig::motion_interval`], and refreshed once per
@@ -38,6 +48,9 @@ use crate::k40t::{
 
 /// Commands tracked for their ACK at once.
 const PENDING: usize = 4;
+/// Superseded commands whose ACK may still come (absorbed, so that a late ACK is not
+/// taken for the command that superseded them).
+const SUPERSEDED: usize = 4;
 
 /// Slowest dial speed the pod accepts (0.2 °/s units: 1 °/s).
 const MIN_DIAL_X5: u8 = 5;
@@ -204,10 +217,62 @@ struct MotionState {
 struct Pending {
     request: Request,
     seq: u8,
+    /// When it was first sent (ACKs go to the oldest outstanding request).
+    sent: Instant,
     /// Tries left after the one in flight.
     tries_left: u8,
     /// When to send again (or give up).
     due: Instant,
+}
+
+/// A superseded command whose ACK may still come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Outstanding {
+    base: u16,
+    seq: u8,
+    sent: Instant,
+    /// Forgotten after this.
+    until: Instant,
+}
+
+/// How well an ACK matches an outstanding request: an exact sequence number beats
+/// none, then the older request wins (SPEC-NOTES: oldest pending first, exact SEQ
+/// preferred, never required).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct AckClaim {
+    /// The ACK's SEQ is the request's.
+    pub(crate) exact: bool,
+    /// When the request was first sent.
+    pub(crate) sent: Instant,
+}
+
+impl AckClaim {
+    /// `self` has the better claim on an ACK than `other`.
+    pub(crate) fn beats(self, other: Self) -> bool {
+        match (self.exact, other.exact) {
+            (true, false) => true,
+            (false, true) => false,
+            _ => self.sent <= other.sent,
+        }
+    }
+
+    /// The better of two optional claims (`self` on a tie).
+    pub(crate) fn best(a: Option<Self>, b: Option<Self>) -> Option<Self> {
+        match (a, b) {
+            (Some(x), Some(y)) => Some(if y.beats(x) && !x.beats(y) { y } else { x }),
+            (x, y) => x.or(y),
+        }
+    }
+}
+
+/// A request the FC cannot ask twice without consequence: a second copy takes a second
+/// photo (or burst, or ranging). Never retried.
+fn counts(request: &Request) -> bool {
+    match request {
+        Request::TakePhoto(p) => p.action != ShootAction::Stop,
+        Request::LaserRange(_) => true,
+        _ => false,
+    }
 }
 
 /// Something the engine acts on, from the pod side.
@@ -258,6 +323,7 @@ pub(crate) struct PodDriver {
     last_report: Option<Instant>,
     next_probe: Option<Instant>,
     pending: [Option<Pending>; PENDING],
+    superseded: [Option<Outstanding>; SUPERSEDED],
     motion: MotionState,
 }
 
@@ -292,6 +358,7 @@ impl PodDriver {
             last_report: None,
             next_probe: None,
             pending: [None; PENDING],
+            superseded: [None; SUPERSEDED],
             motion: MotionState {
                 target: MotionTarget::STOP,
                 sent: None,
@@ -367,29 +434,105 @@ impl PodDriver {
         let Some(seq) = self.send(request, false, out) else {
             return;
         };
+        // A one-shot action gets one try, and waits for its ACK as long as the others
+        // wait for all of theirs.
+        let (tries_left, wait) = if counts(&request) {
+            (0, self.ack_wait())
+        } else {
+            (self.cfg.tries.saturating_sub(1), self.cfg.retry_interval)
+        };
         let pending = Pending {
             request,
             seq,
-            tries_left: self.cfg.tries.saturating_sub(1),
-            due: now.saturating_add(self.cfg.retry_interval),
+            sent: now,
+            tries_left,
+            due: now.saturating_add(wait),
         };
-        // A newer command with the same base id supersedes the pending one; else take a
-        // free slot, else the oldest.
-        let slot = self
+        // A newer command with the same base id supersedes the pending one (which stays
+        // outstanding for its ACK, not retried); else take a free slot, else the oldest.
+        let slot = match self
             .pending
             .iter()
             .position(|p| p.is_some_and(|p| p.request.base() == base))
-            .or_else(|| self.pending.iter().position(Option::is_none))
-            .or_else(|| {
+        {
+            Some(i) => {
+                if let Some(old) = self.pending.get(i).copied().flatten() {
+                    self.supersede(now, old);
+                }
+                Some(i)
+            }
+            None => self.pending.iter().position(Option::is_none).or_else(|| {
                 self.pending
                     .iter()
                     .enumerate()
-                    .min_by_key(|(_, p)| p.map(|p| p.due))
+                    .min_by_key(|(_, p)| p.map(|p| p.sent))
                     .map(|(i, _)| i)
-            });
+            }),
+        };
         if let Some(s) = slot.and_then(|i| self.pending.get_mut(i)) {
             *s = Some(pending);
         }
+    }
+
+    /// The longest a tracked request waits for its ACK, over all its tries.
+    fn ack_wait(&self) -> Duration {
+        Duration::from_micros(
+            self.cfg
+                .retry_interval
+                .as_micros()
+                .saturating_mul(u64::from(self.cfg.tries.max(1))),
+        )
+    }
+
+    /// Keeps a superseded request outstanding until its ACK comes or it is too old
+    /// (a free slot, else the oldest one goes).
+    fn supersede(&mut self, now: Instant, old: Pending) {
+        let entry = Outstanding {
+            base: old.request.base(),
+            seq: old.seq,
+            sent: old.sent,
+            until: now.saturating_add(self.ack_wait()),
+        };
+        let slot = self
+            .superseded
+            .iter()
+            .position(|o| o.is_none_or(|o| now >= o.until))
+            .or_else(|| {
+                self.superseded
+                    .iter()
+                    .enumerate()
+                    .min_by_key(|(_, o)| o.map(|o| o.sent))
+                    .map(|(i, _)| i)
+            });
+        if let Some(s) = slot.and_then(|i| self.superseded.get_mut(i)) {
+            *s = Some(entry);
+        }
+    }
+
+    /// This driver's claim on an ACK of `base` carrying `seq`: its oldest outstanding
+    /// request of that base, or one with that exact sequence number (see [`AckClaim`]).
+    pub(crate) fn ack_claim(&self, base: u16, seq: u8) -> Option<AckClaim> {
+        let tracked = self
+            .pending
+            .iter()
+            .flatten()
+            .filter(|p| p.request.base() == base)
+            .map(|p| AckClaim {
+                exact: p.seq == seq,
+                sent: p.sent,
+            });
+        let superseded = self
+            .superseded
+            .iter()
+            .flatten()
+            .filter(|o| o.base == base)
+            .map(|o| AckClaim {
+                exact: o.seq == seq,
+                sent: o.sent,
+            });
+        tracked
+            .chain(superseded)
+            .fold(None, |best, c| AckClaim::best(best, Some(c)))
     }
 
     /// Translates one FC command. Returns the K40T base id of the request sent (or to
@@ -564,19 +707,23 @@ impl PodDriver {
         self.send_motion(now, out);
     }
 
-    /// Handles one valid frame from the pod.
+    /// Handles one valid frame from the pod. An ACK is matched to one of this driver's
+    /// outstanding requests only when `claimed` (the engine weighs this driver's
+    /// [`ack_claim`](Self::ack_claim) against the FC side's forwarded requests); its data
+    /// (versions, distances) is taken in any case.
     pub(crate) fn handle(
         &mut self,
         now: Instant,
         frame: &Frame<&[u8]>,
         header: Header,
+        claimed: bool,
         out: &mut Outputs,
     ) -> Notices {
         let mut notices = Notices::default();
         let report = match frame.id().kind {
             Kind::Request => self.on_report(now, frame, header, &mut notices, out),
             Kind::Ack => {
-                self.on_ack(now, frame, header.seq, &mut notices, out);
+                self.on_ack(now, frame, header.seq, claimed, &mut notices, out);
                 false
             }
             Kind::Status => {
@@ -692,6 +839,7 @@ impl PodDriver {
         now: Instant,
         frame: &Frame<&[u8]>,
         seq: u8,
+        claimed: bool,
         notices: &mut Notices,
         out: &mut Outputs,
     ) {
@@ -712,22 +860,21 @@ impl PodDriver {
         } else if let Some(d) = typed::<LaserDistance>(frame) {
             self.state.laser_dm = Some((d.distance_dm, now));
         }
-        let tracked = self
-            .pending
-            .iter_mut()
-            .find(|p| p.is_some_and(|p| p.request.base() == base && p.seq == seq));
-        if let Some(slot) = tracked {
-            let request = slot.map(|p| p.request);
-            *slot = None;
+        let acked = if claimed {
+            self.take_outstanding(now, base, seq)
+        } else {
+            None
+        };
+        if let Some(request) = acked {
             if code == AckCode::Ok {
                 match request {
-                    Some(Request::Record(r)) => {
+                    Request::Record(r) => {
                         self.state.recording = Some(match r.action {
                             RecordAction::Start => RecordState::Recording,
                             _ => RecordState::Stopped,
                         });
                     }
-                    Some(Request::AiRecognition(a)) => self.state.ai = a.enable == Toggle::On,
+                    Request::AiRecognition(a) => self.state.ai = a.enable == Toggle::On,
                     _ => {}
                 }
             } else {
@@ -737,6 +884,37 @@ impl PodDriver {
         } else if code != AckCode::Ok && matches!(base, 0x0010 | 0x0012 | 0x0017) {
             out.event(Event::PodRefused { base, code });
         }
+    }
+
+    /// Removes the outstanding request an ACK of `base` with `seq` answers (the best
+    /// [`AckClaim`]); returns it when it was a tracked one (`None` for a superseded
+    /// request, whose ACK is only absorbed, or none at all).
+    fn take_outstanding(&mut self, now: Instant, base: u16, seq: u8) -> Option<Request> {
+        let claim = self.ack_claim(base, seq)?;
+        let matches = |b: u16, s: u8, sent: Instant| {
+            b == base && sent == claim.sent && (!claim.exact || s == seq)
+        };
+        if let Some(slot) = self
+            .pending
+            .iter_mut()
+            .find(|p| p.is_some_and(|p| matches(p.request.base(), p.seq, p.sent)))
+        {
+            return slot.take().map(|p| p.request);
+        }
+        if let Some(slot) = self
+            .superseded
+            .iter_mut()
+            .find(|o| o.is_some_and(|o| matches(o.base, o.seq, o.sent)))
+        {
+            *slot = None;
+        }
+        // Forget superseded requests too old for their ACK to come.
+        for o in &mut self.superseded {
+            if o.is_some_and(|o| now >= o.until) {
+                *o = None;
+            }
+        }
+        None
     }
 
     fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) {
@@ -760,6 +938,11 @@ impl PodDriver {
         out: &mut Outputs,
     ) -> Notices {
         let mut notices = Notices::default();
+        for o in &mut self.superseded {
+            if o.is_some_and(|o| now >= o.until) {
+                *o = None;
+            }
+        }
         // Retries and time-outs.
         for i in 0..PENDING {
             let Some(p) = self.pending.get(i).copied().flatten() else {
@@ -1129,7 +1312,8 @@ mod tests {
     fn feed(pod: &mut PodDriver, now: Instant, frame: &[u8], out: &mut Outputs) -> Vec<PodNotice> {
         let f = Frame::new_checked(frame).unwrap();
         let header = f.header().unwrap();
-        pod.handle(now, &f, header, out).iter().collect()
+        let claimed = pod.ack_claim(f.id().base, header.seq).is_some();
+        pod.handle(now, &f, header, claimed, out).iter().collect()
     }
 
     fn rates(yaw: i32, pitch: i32) -> Command {
@@ -1236,31 +1420,31 @@ mod tests {
     }
 
     #[test]
-    fn camera_actions_are_retried_then_time_out_and_acks_stop_them() {
+    fn settings_are_retried_then_time_out_and_acks_stop_them() {
         let mut pod = PodDriver::new(PodConfig::DEFAULT);
         let mut out = outputs();
         let silence = Duration::from_millis(500);
         assert_eq!(
-            pod.command(ms(0), Command::TakePhoto, &mut out),
-            Some(0x0302)
+            pod.command(ms(0), Command::Record(true), &mut out),
+            Some(0x0303)
         );
         let first = sent(&mut out);
         assert_eq!(first.len(), 1);
         assert_eq!(first[0].0.dst, Address::POD);
         let seq = first[0].0.seq;
         pod.poll(ms(199), silence, &mut out);
-        assert!(sent(&mut out).iter().all(|(_, r)| r.base() != 0x0302));
+        assert!(sent(&mut out).iter().all(|(_, r)| r.base() != 0x0303));
         pod.poll(ms(200), silence, &mut out);
         let retry: Vec<_> = sent(&mut out)
             .into_iter()
-            .filter(|(_, r)| r.base() == 0x0302)
+            .filter(|(_, r)| r.base() == 0x0303)
             .collect();
         assert_eq!(retry.len(), 1);
         assert_eq!(retry[0].0.seq, seq, "a retry keeps its sequence number");
         pod.poll(ms(400), silence, &mut out);
         let notices: Vec<_> = pod.poll(ms(600), silence, &mut out).iter().collect();
-        assert_eq!(notices, vec![PodNotice::TimedOut { base: 0x0302 }]);
-        assert!(events(&mut out).contains(&Event::PodTimeout { base: 0x0302 }));
+        assert_eq!(notices, vec![PodNotice::TimedOut { base: 0x0303 }]);
+        assert!(events(&mut out).contains(&Event::PodTimeout { base: 0x0303 }));
         assert_eq!(out.counters.pod_retries, 2);
 
         // Acknowledged at once: no retry.
@@ -1425,6 +1609,120 @@ mod tests {
                 pitch: PitchMotion::Stop,
                 reserved: 0
             })
+        );
+    }
+
+    #[test]
+    fn a_photo_is_never_sent_twice_and_a_lost_ack_times_out() {
+        let mut pod = PodDriver::new(PodConfig::DEFAULT);
+        let mut out = outputs();
+        let silence = Duration::from_millis(500);
+        pod.command(ms(0), Command::TakePhoto, &mut out);
+        let photos = |v: &[(Header, Request)]| v.iter().filter(|(_, r)| r.base() == 0x0302).count();
+        assert_eq!(photos(&sent(&mut out)), 1);
+        let mut notices = vec![];
+        for t in (20..=1000).step_by(20) {
+            notices.extend(pod.poll(ms(t), silence, &mut out).iter());
+            assert_eq!(photos(&sent(&mut out)), 0, "resent at {t} ms");
+        }
+        // It waits as long as a setting waits for all its tries (3 x 200 ms).
+        assert_eq!(notices, vec![PodNotice::TimedOut { base: 0x0302 }]);
+        assert_eq!(out.counters.pod_retries, 0);
+        assert!(events(&mut out).contains(&Event::PodTimeout { base: 0x0302 }));
+    }
+
+    #[test]
+    fn acks_numbered_by_the_pods_own_counter_match_the_oldest_request() {
+        let mut pod = PodDriver::new(PodConfig::DEFAULT);
+        let mut out = outputs();
+        let silence = Duration::from_millis(500);
+        pod.command(ms(0), Command::TakePhoto, &mut out);
+        pod.command(ms(5), Command::Record(true), &mut out);
+        let s = sent(&mut out);
+        let photo_seq = s.iter().find(|(_, r)| r.base() == 0x0302).unwrap().0.seq;
+        // The pod numbers its ACKs with its own counter: 200, 201 (never the request's).
+        for (seq, ack) in [
+            (
+                200u8,
+                from_pod(
+                    TakePhotoAck {
+                        code: k40t::ResponseCode::OK,
+                    },
+                    Address::POD,
+                    200,
+                    CrcCoverage::ExcludeStx,
+                ),
+            ),
+            (
+                201,
+                from_pod(
+                    k40t::RecordAck {
+                        code: k40t::ResponseCode::OK,
+                    },
+                    Address::POD,
+                    201,
+                    CrcCoverage::ExcludeStx,
+                ),
+            ),
+        ] {
+            assert_ne!(seq, photo_seq);
+            let n = feed(&mut pod, ms(30), &ack, &mut out);
+            assert_eq!(n.len(), 1, "{n:?}");
+        }
+        assert!(pod.state().is_recording());
+        for t in (40..=2000).step_by(20) {
+            pod.poll(ms(t), silence, &mut out);
+        }
+        assert!(sent(&mut out).is_empty());
+        assert_eq!(out.counters.pod_retries, 0);
+        assert!(
+            !events(&mut out)
+                .iter()
+                .any(|e| matches!(e, Event::PodTimeout { .. }))
+        );
+    }
+
+    #[test]
+    fn a_late_ack_of_a_superseded_request_is_not_taken_for_its_successor() {
+        let mut pod = PodDriver::new(PodConfig::DEFAULT);
+        let mut out = outputs();
+        let silence = Duration::from_millis(500);
+        let zoom = |z| Command::ZoomTo { zoom_x10: z };
+        pod.command(ms(0), zoom(20), &mut out);
+        pod.command(ms(50), zoom(40), &mut out);
+        let s = sent(&mut out);
+        assert_eq!(s.len(), 2);
+        let ack = |seq| {
+            from_pod(
+                HybridZoomAck {
+                    code: k40t::ResponseCode::OK,
+                },
+                Address::POD,
+                seq,
+                CrcCoverage::ExcludeStx,
+            )
+        };
+        // The first request's ACK (own counter): absorbed by the superseded request, so
+        // the second one is still pending and is retried when its own ACK is lost.
+        assert!(feed(&mut pod, ms(60), &ack(77), &mut out).is_empty());
+        pod.poll(ms(250), silence, &mut out);
+        let s = sent(&mut out);
+        assert_eq!(s.len(), 1);
+        assert_eq!(
+            s[0].1,
+            Request::HybridZoom(HybridZoom {
+                start: 0,
+                zoom_x10: 40
+            })
+        );
+        // Its ACK (exact number, as an echoing pod sends it) ends it.
+        let n = feed(&mut pod, ms(260), &ack(s[0].0.seq), &mut out);
+        assert_eq!(
+            n,
+            vec![PodNotice::Acked {
+                base: 0x0304,
+                code: AckCode::Ok
+            }]
         );
     }
 }

@@ -30,6 +30,10 @@ pub struct SyncConfig {
     /// How late the pin may rise and still carry the planned UTC (default 20 µs); later
     /// than that, [`SyncScheduler::stamp`] re-stamps it from the discipline.
     pub late_tolerance: Duration,
+    /// No edge is planned, and no 0x00030E sent, while the discipline believes its UTC
+    /// at the edge may be off by more than this (default 30 ms): a wrong stamp is worse
+    /// than none.
+    pub max_error: Duration,
 }
 
 impl SyncConfig {
@@ -39,6 +43,7 @@ impl SyncConfig {
         width: Duration::from_millis(50),
         lead: Duration::from_millis(2),
         late_tolerance: Duration::from_micros(20),
+        max_error: Duration::from_millis(30),
     };
 }
 
@@ -96,7 +101,8 @@ impl SyncScheduler {
 
     /// The next edge: the first UTC multiple of the period, later than the last fired
     /// edge, whose local instant is at least `lead` after `now`. `None` while the
-    /// discipline gives no UTC (or the period is zero).
+    /// discipline gives no UTC, or believes it off by more than
+    /// [`SyncConfig::max_error`] at the edge (or the period is zero).
     ///
     /// Pure: call it again after new samples to refine `at`; once the caller has armed
     /// its timer (within `lead` of the edge) it keeps the edge it has.
@@ -114,6 +120,9 @@ impl SyncScheduler {
         for _ in 0..2 {
             let at = discipline.local_of(target)?;
             if at >= earliest {
+                if discipline.error_bound(at)? > self.config.max_error {
+                    return None;
+                }
                 return Some(SyncEdge {
                     at,
                     utc: target,
@@ -134,8 +143,8 @@ impl SyncScheduler {
 
     /// The UTC to send for `edge` when the pin actually rose at `raised_at`: the planned
     /// `edge.utc` if it rose within [`SyncConfig::late_tolerance`] of `edge.at`, else the
-    /// discipline's UTC of `raised_at` (`None` if the discipline has none: send no
-    /// 0x00030E then).
+    /// discipline's UTC of `raised_at` (`None` if the discipline has none, or believes
+    /// it off by more than [`SyncConfig::max_error`]: send no 0x00030E then).
     #[must_use]
     pub fn stamp(
         &self,
@@ -144,7 +153,9 @@ impl SyncScheduler {
         discipline: &TimeDiscipline,
     ) -> Option<UtcTime> {
         let off = raised_at.as_micros().abs_diff(edge.at.as_micros());
-        if off <= self.config.late_tolerance.as_micros() {
+        if discipline.error_bound(raised_at)? > self.config.max_error {
+            None
+        } else if off <= self.config.late_tolerance.as_micros() {
             Some(edge.utc)
         } else {
             discipline.utc(raised_at)

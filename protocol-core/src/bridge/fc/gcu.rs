@@ -33,7 +33,7 @@
 //!   altitude, with the main frame's carrier attitude, a fix.
 
 use crate::bridge::discipline::{Sample, serial_time};
-use crate::bridge::fixes::Fix;
+use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant, UtcTime};
 use crate::gcu::{
@@ -346,6 +346,11 @@ impl GcuState {
                 yaw_cdeg: carrier_yaw(main),
                 roll_cdeg: clamp_i16(wrap_cdeg(i32::from(main.carrier_roll_cdeg))),
                 pitch_cdeg: main.carrier_pitch_cdeg,
+                velocity: Some(Velocity::from_cm_s(
+                    i32::from(main.vel_north_dmps).saturating_mul(10),
+                    i32::from(main.vel_east_dmps).saturating_mul(10),
+                    i32::from(main.vel_up_dmps).saturating_mul(-10),
+                )),
             });
         }
     }

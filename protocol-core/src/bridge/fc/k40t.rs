@@ -8,9 +8,11 @@
 //!   its own to the pod as the flight controller (time syncs, version probes, GPS
 //!   answers), so it numbers every frame it sends there from one counter: a forwarded FC
 //!   frame gets the next sequence number (and its CRC, in the frame's own coverage, is
-//!   computed again). The pod's ACK carries that number; the bridge gives the FC's own
-//!   number back to the ACK before forwarding it. ACKs of the bridge's own frames are not
-//!   forwarded.
+//!   computed again). A pod's ACK carries that number or (as the K40T document has each
+//!   component number its own frames) the pod's own counter: it is matched to the oldest
+//!   forwarded request of its base id, an exact number preferred (SPEC-NOTES), and the
+//!   bridge gives it the FC's own number before forwarding it. ACKs of the bridge's own
+//!   frames are not forwarded.
 //! - **RTC_IO.** The FC's 0x00030E is not forwarded: it is a UTC sample for the
 //!   discipline (the FC sends it right after its own pulse, which is not wired to the
 //!   pod), ACKed by the bridge; the bridge sends its own pulse and 0x00030E.
@@ -24,6 +26,7 @@
 
 use crate::bridge::discipline::{Sample, serial_time};
 use crate::bridge::fixes::Fix;
+use crate::bridge::pod::AckClaim;
 use crate::bridge::time::{Duration, Instant};
 use crate::gimbal::Command;
 use crate::k40t::{
@@ -36,6 +39,9 @@ use super::Ctx;
 
 /// FC sequence numbers remembered for the ACKs of forwarded requests.
 const SEQ_MAP: usize = 8;
+/// A forwarded request whose ACK has not come within this time gets none: its entry no
+/// longer claims ACKs (a later ACK of the same base belongs to a later request).
+const ACK_WAIT: Duration = Duration::from_secs(1);
 
 /// The K40T side.
 #[derive(Debug, Clone)]
@@ -50,6 +56,8 @@ struct Forwarded {
     base: u16,
     pod_seq: u8,
     fc_seq: u8,
+    /// When it was forwarded (an ACK goes to the oldest).
+    sent: Instant,
 }
 
 /// A GPS request of the pod, forwarded to the FC and not yet answered.
@@ -149,15 +157,31 @@ impl K40tSide {
         gps.into_iter().chain(stop).min()
     }
 
-    /// A valid pod frame: forwarded to the FC, ACKs with the FC's own number.
-    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
+    /// A valid pod frame: forwarded to the FC; an ACK only when the engine gave it to
+    /// this side (`ack_claimed`), with the FC's own number.
+    pub(crate) fn pod_frame(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        bytes: &[u8],
+        id: MsgId,
+        header: Header,
+        ack_claimed: bool,
+    ) {
         if id.kind == Kind::Ack {
-            let found = self
-                .st
-                .forwarded
-                .iter_mut()
-                .find(|f| f.is_some_and(|f| f.base == id.base && f.pod_seq == header.seq));
-            // Not found: the ACK of one of the bridge's own frames, not forwarded.
+            // Not claimed: the ACK of one of the bridge's own frames, not forwarded.
+            if !ack_claimed {
+                return;
+            }
+            let Some(claim) = self.ack_claim(ctx.now, id.base, header.seq) else {
+                return;
+            };
+            let found = self.st.forwarded.iter_mut().find(|f| {
+                f.is_some_and(|f| {
+                    f.base == id.base
+                        && f.sent == claim.sent
+                        && (!claim.exact || f.pod_seq == header.seq)
+                })
+            });
             if let Some(slot) = found {
                 let fc_seq = slot.map_or(0, |f| f.fc_seq);
                 *slot = None;
@@ -166,6 +190,20 @@ impl K40tSide {
             return;
         }
         ctx.reply(bytes);
+    }
+
+    /// The claim of the FC's forwarded requests on a pod ACK of `base` carrying `seq`.
+    pub(crate) fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
+        self.st
+            .forwarded
+            .iter()
+            .flatten()
+            .filter(|f| f.base == base && now.saturating_duration_since(f.sent) <= ACK_WAIT)
+            .map(|f| AckClaim {
+                exact: f.pod_seq == seq,
+                sent: f.sent,
+            })
+            .fold(None, |best, c| AckClaim::best(best, Some(c)))
     }
 
     /// The pod asks for GPS: forwarded to the FC, answered by the bridge on time-out.
@@ -228,6 +266,7 @@ impl K40tState {
                 base: id.base,
                 pod_seq,
                 fc_seq: header.seq,
+                sent: ctx.now,
             });
         }
         forward_with_seq(f, pod_seq, |out| ctx.out.queue_pod(out, false, false));
@@ -239,8 +278,11 @@ impl K40tState {
 
     /// The FC's time sync: a UTC sample, ACKed by the bridge, not forwarded.
     fn time_sync(&mut self, ctx: &mut Ctx<'_>, t: TimeSync, header: Header) {
+        // The FC sends it at once after its own RTC_IO edge (the document's procedure):
+        // one is enough for a first mapping.
         let s = Sample::new(ctx.now, t.unix_ms.saturating_mul(1000), 1000)
-            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud));
+            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud))
+            .prompt();
         ctx.time.utc_sample(s);
         let ack = k40t::TimeSyncAck {
             code: ResponseCode::OK,
@@ -284,6 +326,8 @@ impl K40tState {
                 yaw_cdeg: reply.yaw_cdeg,
                 roll_cdeg: reply.roll_cdeg,
                 pitch_cdeg: reply.pitch_cdeg,
+                // The K40T reply carries none: the history derives it from the fixes.
+                velocity: None,
             });
         }
     }

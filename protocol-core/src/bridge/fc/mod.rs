@@ -7,7 +7,7 @@ use super::discipline::TimeDiscipline;
 use super::event::Event;
 use super::fixes::FixHistory;
 use super::geotag::Geotagger;
-use super::pod::{PodDriver, PodNotice, PodState};
+use super::pod::{AckClaim, PodDriver, PodNotice, PodState};
 use super::time::Instant;
 use super::{Config, Outputs};
 use crate::gimbal::Command;
@@ -161,11 +161,28 @@ impl FcSide {
         fc_dispatch!(self, side => side.poll_at(), None)
     }
 
-    /// Every valid frame from the pod (the K40T side forwards them).
-    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8], id: MsgId, header: Header) {
+    /// Every valid frame from the pod (the K40T side forwards them); `ack_claimed`: the
+    /// frame is an ACK the engine gave to this side (see [`FcSide::ack_claim`]).
+    pub(crate) fn pod_frame(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        bytes: &[u8],
+        id: MsgId,
+        header: Header,
+        ack_claimed: bool,
+    ) {
         // Only the K40T side forwards pod frames.
         if let FcSide::K40t(side) = self {
-            side.pod_frame(ctx, bytes, id, header);
+            side.pod_frame(ctx, bytes, id, header, ack_claimed);
+        }
+    }
+
+    /// This side's claim on a pod ACK (the K40T side: an FC request it forwarded).
+    pub(crate) fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
+        if let FcSide::K40t(side) = self {
+            side.ack_claim(now, base, seq)
+        } else {
+            None
         }
     }
 

@@ -25,7 +25,7 @@
 
 use crate::Direction;
 use crate::bridge::discipline::{Sample, serial_time};
-use crate::bridge::fixes::Fix;
+use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant};
 use crate::gimbal::{Command, GimbalMode, Motion, Target, View};
@@ -496,6 +496,11 @@ impl SiyiState {
                     yaw_cdeg: yaw,
                     roll_cdeg: roll,
                     pitch_cdeg: pitch,
+                    velocity: Some(Velocity::from_cm_s(
+                        p.vel_north_mm_s / 10,
+                        p.vel_east_mm_s / 10,
+                        p.vel_down_mm_s / 10,
+                    )),
                 });
             }
             Request::SetUtcTime(t) => {

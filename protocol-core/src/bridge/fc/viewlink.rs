@@ -39,7 +39,7 @@
 
 use crate::Text;
 use crate::bridge::discipline::{Sample, serial_time};
-use crate::bridge::fixes::Fix;
+use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant, TimeOfDay, UtcTime};
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
@@ -621,6 +621,11 @@ impl ViewlinkState {
             yaw_cdeg: yaw,
             roll_cdeg: roll,
             pitch_cdeg: pitch,
+            velocity: Some(Velocity::from_cm_s(
+                i32::from(g.vel_north_cm_s),
+                i32::from(g.vel_east_cm_s),
+                i32::from(g.vel_down_cm_s),
+            )),
         });
     }
 
