@@ -10,6 +10,8 @@ use protocol_core::bridge::FcProtocol;
 
 use crate::runner::pin::RtcSpec;
 use crate::runner::port::PortSpec;
+use crate::sim::faults::Faults;
+use crate::sim::pod::AckSeq;
 
 /// Decode gimbal-protocol captures, list the messages, run the K40T bridge on Linux and
 /// the simulated flight controller and pod on real ports.
@@ -180,13 +182,42 @@ pub enum EventFormat {
     Json,
 }
 
-const PORT_HELP: &str = "PORT: a serial device `/dev/ttyUSB0[:BAUD]` (or `serial:PATH[:BAUD]`), \
-`tcp:HOST:PORT` (connect, reconnect when lost), `tcp-listen:[HOST:]PORT` (accept one \
-connection at a time; port 0 picks a free one, printed in a `port_listening` event), or `sim`";
+/// The sequence number of the simulated pod's ACKs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum AckSeqArg {
+    /// The request's sequence number, echoed (the counter does not move).
+    #[default]
+    Echo,
+    /// The pod's own counter, as for every message it sends (the document's reading).
+    Own,
+}
+
+impl AckSeqArg {
+    /// The simulator's setting.
+    #[must_use]
+    pub const fn ack_seq(self) -> AckSeq {
+        match self {
+            AckSeqArg::Echo => AckSeq::Echo,
+            AckSeqArg::Own => AckSeq::OwnCounter,
+        }
+    }
+}
+
+/// The help text after the options of the commands with ports: PORT, then FAULTS.
+const PORT_AND_FAULTS_HELP: &str = concat!(
+    "PORT: a serial device `/dev/ttyUSB0[:BAUD]` (or `serial:PATH[:BAUD]`), `tcp:HOST:PORT` \
+(connect, reconnect when lost), `tcp-listen:[HOST:]PORT` (accept one connection at a time; \
+port 0 picks a free one, printed in a `port_listening` event), or `sim`",
+    "\n\n",
+    "FAULTS: a faulty cable, `ber=RATE,drop=RATE,garbage=RATE,seed=N` (any subset): each bit \
+flipped with probability ber, each byte lost with probability drop, a random byte inserted \
+before a byte with probability garbage, reproducibly from the seed (default 1), in both \
+directions (each with its own generator); `none`: a good cable"
+);
 
 /// `gimbal bridge`.
 #[derive(Debug, Args)]
-#[command(after_long_help = PORT_HELP)]
+#[command(after_long_help = PORT_AND_FAULTS_HELP)]
 pub struct BridgeArgs {
     /// The flight controller's protocol.
     #[arg(long, value_enum, ignore_case = true)]
@@ -228,6 +259,15 @@ pub struct BridgeArgs {
     /// many seconds (each one is geotagged by the bridge).
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub sim_photo_every: Option<f64>,
+    /// With `--pod-port sim`: the sequence number of the simulated pod's ACKs.
+    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Echo)]
+    pub sim_pod_ack_seq: AckSeqArg,
+    /// Make the FC cable faulty (see FAULTS below), whatever the port (`sim` too).
+    #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
+    pub fc_faults: Option<Faults>,
+    /// Make the pod cable faulty (see FAULTS below; not RTC_IO).
+    #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
+    pub pod_faults: Option<Faults>,
     /// The bridge's configuration (the keys of bridge-fw/bridge.toml).
     #[command(flatten)]
     pub config: ConfigArgs,
@@ -331,7 +371,7 @@ pub enum Fallback {
 
 /// `gimbal sim-fc`.
 #[derive(Debug, Args)]
-#[command(after_long_help = PORT_HELP)]
+#[command(after_long_help = PORT_AND_FAULTS_HELP)]
 pub struct SimFcArgs {
     /// The flight controller to simulate (ArduPilot's SIYI, Viewpro or XF Robot
     /// driver, or a K40T-speaking FC).
@@ -358,6 +398,9 @@ pub struct SimFcArgs {
     /// Exit with status 1 unless the driver is healthy at the end.
     #[arg(long)]
     pub expect_healthy: bool,
+    /// Make the cable to the bridge faulty (see FAULTS below).
+    #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
+    pub faults: Option<Faults>,
     /// Output format (JSON lines by default).
     #[arg(long, value_enum, default_value_t = EventFormat::Json)]
     pub events: EventFormat,
@@ -365,7 +408,7 @@ pub struct SimFcArgs {
 
 /// `gimbal sim-pod`.
 #[derive(Debug, Args)]
-#[command(after_long_help = PORT_HELP)]
+#[command(after_long_help = PORT_AND_FAULTS_HELP)]
 pub struct SimPodArgs {
     /// Where the bridge's pod link is (not `sim`).
     #[arg(long, value_name = "PORT", value_parser = parse_peer_port)]
@@ -389,12 +432,22 @@ pub struct SimPodArgs {
     /// with code OK).
     #[arg(long, value_name = "N")]
     pub expect_geotags: Option<u32>,
+    /// The sequence number of the pod's ACKs.
+    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Echo)]
+    pub ack_seq: AckSeqArg,
+    /// Make the cable to the bridge faulty (see FAULTS below; not RTC_IO).
+    #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
+    pub faults: Option<Faults>,
     /// Output format (JSON lines by default).
     #[arg(long, value_enum, default_value_t = EventFormat::Json)]
     pub events: EventFormat,
 }
 
 fn parse_port(s: &str) -> Result<PortSpec, String> {
+    s.parse()
+}
+
+fn parse_faults(s: &str) -> Result<Faults, String> {
     s.parse()
 }
 
@@ -594,6 +647,67 @@ mod tests {
         assert_eq!(b.config.sync_period_ms, Some(2000));
         assert_eq!(b.events, EventFormat::Json);
         assert!(!b.trace);
+        assert_eq!((b.fc_faults, b.pod_faults), (None, None));
+        assert_eq!(b.sim_pod_ack_seq, AckSeqArg::Echo);
+
+        let cli = Cli::try_parse_from([
+            "gimbal",
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--fc-faults",
+            "ber=1e-4,drop=1e-5,seed=3",
+            "--pod-faults",
+            "garbage=0.001",
+            "--sim-pod-ack-seq",
+            "own",
+        ])
+        .unwrap();
+        let Command::Bridge(b) = cli.command else {
+            panic!("not bridge")
+        };
+        assert_eq!(
+            b.fc_faults,
+            Some(Faults {
+                bit_error_rate: 1e-4,
+                drop_rate: 1e-5,
+                garbage_rate: 0.0,
+                seed: 3
+            })
+        );
+        assert_eq!(
+            b.pod_faults.map(|f| (f.garbage_rate, f.seed)),
+            Some((0.001, 1))
+        );
+        assert_eq!(b.sim_pod_ack_seq.ack_seq(), AckSeq::OwnCounter);
+        let cli = Cli::try_parse_from([
+            "gimbal",
+            "sim-pod",
+            "--port",
+            "tcp:a:1",
+            "--faults",
+            "drop=0.5",
+            "--ack-seq",
+            "own",
+        ])
+        .unwrap();
+        let Command::SimPod(p) = cli.command else {
+            panic!("not sim-pod")
+        };
+        assert_eq!(p.faults.map(|f| f.drop_rate), Some(0.5));
+        assert_eq!(p.ack_seq, AckSeqArg::Own);
+        let cli = Cli::try_parse_from([
+            "gimbal", "sim-fc", "siyi", "--port", "tcp:a:1", "--faults", "none",
+        ])
+        .unwrap();
+        let Command::SimFc(f) = cli.command else {
+            panic!("not sim-fc")
+        };
+        assert_eq!(f.faults, Some(Faults::NONE));
     }
 
     #[test]
@@ -634,6 +748,12 @@ mod tests {
             ],
             &["gimbal", "sim-pod", "--port", "tcp:localhost:99999"],
             &["gimbal", "sim-pod", "--port", "sim"],
+            &[
+                "gimbal", "sim-pod", "--port", "tcp:a:1", "--faults", "ber=2",
+            ],
+            &[
+                "gimbal", "sim-fc", "siyi", "--port", "tcp:a:1", "--faults", "noise=1",
+            ],
             &[
                 "gimbal",
                 "sim-pod",

@@ -1,7 +1,9 @@
 //! The simulated K40T pod (`host_tests::sim::pod`), driven the way the bridge will drive
 //! it: frames built with the codec go in, the pod's bytes come out and are deframed.
 
-use host_tests::sim::pod::{MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome};
+use host_tests::sim::pod::{
+    AckSeq, MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome,
+};
 use protocol_core::k40t::{
     self, AckCode, Address, AiRecognition, CameraVersionAck, CameraVersionQuery, ContinuousZoom,
     CrcCoverage, DialSpeed, Focus, FocusMode, FocusState, GimbalAngle, GimbalAttitude,
@@ -1535,4 +1537,378 @@ fn target_gps_and_other_queries_answer_with_data() {
         },
     );
     assert_eq!(fc.of::<k40t::SbusConfig>()[0].2.max, 1811);
+}
+
+// ----- ACK numbering, GPS reply matching, shutter presses, reboot -----
+
+fn pod_with(config: PodSimConfig) -> (SimPod, Fc) {
+    let mut pod = SimPod::new(config);
+    let mut fc = Fc::new();
+    run(&mut pod, &mut fc, 0);
+    fc.clear();
+    (pod, fc)
+}
+
+/// The sequence numbers of the frames from `src` at instant `t`, in order, with their ids.
+fn seqs_at(fc: &Fc, src: Address, t: u64) -> Vec<(u32, u8)> {
+    fc.packets()
+        .iter()
+        .filter(|(at, p)| *at == t && p.header.src == src)
+        .map(|(_, p)| (p.message.id().to_u32(), p.header.seq))
+        .collect()
+}
+
+const GIMBAL_VERSION: GimbalVersionQuery = GimbalVersionQuery {
+    command: 1,
+    reserved: 0,
+};
+
+#[test]
+fn acks_take_the_pods_own_counter_in_the_documents_reading() {
+    // At power-up (t = 0) the gimbal address sent 0x000001 and 0x000002 (SEQ 0, 1) and
+    // the camera address 0x000003..5 (SEQ 0, 1, 2).
+    let (mut pod, mut fc) = pod_with(PodSimConfig {
+        ack_seq: AckSeq::OwnCounter,
+        ..PodSimConfig::default()
+    });
+    fc.seq = 200;
+    fc.send(&mut pod, 10 * MS, &GIMBAL_VERSION);
+    fc.send(&mut pod, 20 * MS, &CameraVersionQuery::default());
+    run(&mut pod, &mut fc, 200 * MS);
+    // Each ACK takes its source's next number; the reports after it continue from there.
+    assert_eq!(seqs_at(&fc, GIMBAL, 10 * MS), [(0x01_0018, 2)]);
+    assert_eq!(seqs_at(&fc, POD, 20 * MS), [(0x01_0317, 3)]);
+    assert_eq!(seqs_at(&fc, GIMBAL, 100 * MS), [(0x00_0002, 3)]);
+    assert_eq!(
+        seqs_at(&fc, POD, 200 * MS),
+        [(0x00_0004, 4), (0x00_0005, 5)]
+    );
+    assert_eq!(seqs_at(&fc, GIMBAL, 200 * MS), [(0x00_0002, 4)]);
+    // The ACK goes back to the requester, whose SEQ (200, 201) it does not carry.
+    let acks: Vec<(Address, u8)> = fc
+        .packets()
+        .iter()
+        .filter(|(_, p)| p.message.id().kind == Kind::Ack)
+        .map(|(_, p)| (p.header.dst, p.header.seq))
+        .collect();
+    assert_eq!(acks, [(FC, 2), (FC, 3)]);
+    let log = pod.requests();
+    assert_eq!(log.len(), 2);
+    assert_eq!(
+        (
+            log[0].header.seq,
+            log[0].ack_seq,
+            log[0].code,
+            log[0].executed
+        ),
+        (200, Some(2), Some(AckCode::Ok), true)
+    );
+    assert_eq!((log[1].header.seq, log[1].ack_seq), (201, Some(3)));
+
+    // A dropped ACK was sent and lost: it used its number (the next ACK shows the gap);
+    // a refused request's ACK takes a number too.
+    fc.clear();
+    pod.drop_acks(0x0018, 1);
+    pod.set_nak(0x0317, Some(AckCode::Failure));
+    fc.send(&mut pod, 210 * MS, &GIMBAL_VERSION);
+    fc.send(&mut pod, 220 * MS, &GIMBAL_VERSION);
+    fc.send(&mut pod, 230 * MS, &CameraVersionQuery::default());
+    assert_eq!(seqs_at(&fc, GIMBAL, 210 * MS), []);
+    assert_eq!(seqs_at(&fc, GIMBAL, 220 * MS), [(0x01_0018, 6)]);
+    assert_eq!(seqs_at(&fc, POD, 230 * MS), [(0x01_0317, 6)]);
+    let log = pod.requests();
+    assert_eq!((log[2].ack_seq, log[2].executed), (None, true));
+    assert_eq!(
+        (log[4].ack_seq, log[4].code, log[4].executed),
+        (Some(6), Some(AckCode::Failure), false)
+    );
+    assert_eq!(pod.acks_dropped(), 1);
+}
+
+#[test]
+fn echoed_acks_carry_the_requests_seq_and_leave_the_counter_alone() {
+    let (mut pod, mut fc) = default_pod();
+    assert_eq!(
+        pod.config().ack_seq,
+        AckSeq::Echo,
+        "the default on this branch"
+    );
+    fc.seq = 200;
+    fc.send(&mut pod, 10 * MS, &GIMBAL_VERSION);
+    fc.send(&mut pod, 20 * MS, &CameraVersionQuery::default());
+    run(&mut pod, &mut fc, 200 * MS);
+    assert_eq!(seqs_at(&fc, GIMBAL, 10 * MS), [(0x01_0018, 200)]);
+    assert_eq!(seqs_at(&fc, POD, 20 * MS), [(0x01_0317, 201)]);
+    assert_eq!(seqs_at(&fc, GIMBAL, 100 * MS), [(0x00_0002, 2)]);
+    assert_eq!(
+        seqs_at(&fc, POD, 200 * MS),
+        [(0x00_0004, 3), (0x00_0005, 4)]
+    );
+    assert_eq!(pod.requests()[0].ack_seq, Some(200));
+}
+
+/// A 0x010310 reply to the pod with sequence number `seq`.
+fn gps_reply(seq: u8, lat_e7: i32) -> Vec<u8> {
+    let reply = GpsReply {
+        code: ResponseCode::OK,
+        lat_e7,
+        ..GpsReply::default()
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = k40t::encode(&reply, &Header::new(FC, POD, seq), &mut buf).unwrap();
+    buf[..n].to_vec()
+}
+
+#[test]
+fn gps_replies_match_the_oldest_pending_request_preferring_the_same_seq() {
+    let (mut pod, mut fc) = default_pod();
+    for i in 0..3 {
+        fc.send(&mut pod, i * 100 * MS, &photo(ShootAction::Start));
+    }
+    run(&mut pod, &mut fc, 250 * MS);
+    let q: Vec<u8> = pod.gps_requests().iter().map(|r| r.seq).collect();
+    assert_eq!(q.len(), 3);
+    assert!(q.iter().all(|&s| s < 100), "{q:?}");
+    // The exact SEQ wins over age: the third request.
+    pod.receive(250 * MS, &gps_reply(q[2], 3));
+    // A SEQ that no request has (the FC's own counter): the oldest pending request.
+    pod.receive(260 * MS, &gps_reply(200, 1));
+    // The first request's SEQ again, now answered: the oldest pending one, the second.
+    pod.receive(270 * MS, &gps_reply(q[0], 2));
+    // Nothing pending: a reply matches nothing.
+    pod.receive(280 * MS, &gps_reply(201, 9));
+    let r = pod.gps_replies();
+    let got: Vec<(Option<usize>, bool, i32)> = r
+        .iter()
+        .map(|r| (r.request, r.seq_matches, r.reply.lat_e7))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (Some(2), true, 3),
+            (Some(0), false, 1),
+            (Some(1), false, 2),
+            (None, false, 9)
+        ]
+    );
+    let replies: Vec<Option<usize>> = pod.gps_requests().iter().map(|r| r.reply).collect();
+    assert_eq!(replies, [Some(1), Some(2), Some(0)]);
+    assert_eq!(r[1].latency_us, Some(240 * MS));
+    run(&mut pod, &mut fc, 3 * S);
+    assert_eq!(pod.gps_unanswered(), 0);
+
+    // The same with an FC that numbers its replies with its own counter, after a
+    // timeout: a late reply only matches by its exact SEQ.
+    fc.send(&mut pod, 3 * S, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, 4100 * MS);
+    assert_eq!(pod.gps_unanswered(), 1);
+    let late = pod.gps_requests()[3].seq;
+    pod.receive(4200 * MS, &gps_reply(late.wrapping_add(50), 5));
+    pod.receive(4300 * MS, &gps_reply(late, 6));
+    let r = pod.gps_replies();
+    assert_eq!(
+        (r[4].request, r[5].request, r[5].late),
+        (None, Some(3), true)
+    );
+}
+
+#[test]
+fn every_photo_request_takes_a_photo_even_a_retry() {
+    let (mut pod, mut fc) = default_pod();
+    // A shutter press, and the same request again 5 ms later (a retry while the first
+    // shot is still pending): two photos, two GPS requests, two OK ACKs.
+    let a = fc.send(&mut pod, S, &photo(ShootAction::Start));
+    let b = fc.send(&mut pod, S + 5 * MS, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, 2 * S);
+    assert_eq!(fc.ack(0x0302, a).unwrap().2, [0, 0]);
+    assert_eq!(fc.ack(0x0302, b).unwrap().2, [0, 0]);
+    let shots: Vec<u64> = pod.photos().iter().map(|p| p.at_us).collect();
+    assert_eq!(shots, [S + 20 * MS, S + 25 * MS]);
+    assert_eq!(pod.gps_requests().len(), 2);
+    assert_eq!(pod.photo_requests(), 2);
+    assert_eq!(pod.requests_received(0x0302), 2);
+    assert_eq!(pod.camera().photos_taken, 2);
+
+    // A burst cannot start while a shot is pending, nor a shot while a burst runs: the
+    // camera says "photo in progress" and takes nothing more.
+    fc.send(
+        &mut pod,
+        3 * S,
+        &PhotoParams {
+            mode: PhotoMode::Burst,
+            timelapse_s: 5,
+            burst_count: 3,
+            reserved: 0,
+        },
+    );
+    fc.send(&mut pod, 4 * S, &photo(ShootAction::Start));
+    let c = fc.send(&mut pod, 4 * S + 100 * MS, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, 6 * S);
+    assert_eq!(fc.ack(0x0302, c).unwrap().2, [0x02, 0x03]);
+    assert_eq!(pod.photos().len(), 5, "2 single shots and a burst of 3");
+    assert_eq!(pod.photo_requests(), 4);
+    let refused: Vec<(bool, Option<AckCode>)> = pod
+        .requests()
+        .iter()
+        .filter(|r| r.request.base() == 0x0302)
+        .map(|r| (r.executed, r.code))
+        .collect();
+    assert_eq!(refused[3], (false, Some(AckCode::PhotoInProgress)));
+}
+
+#[test]
+fn a_reboot_silences_the_pod_then_it_boots_as_at_power_up() {
+    let (mut pod, mut fc) = pod_with(PodSimConfig {
+        ack_seq: AckSeq::OwnCounter,
+        ..PodSimConfig::default()
+    });
+    // Synchronised, zoomed, turned, recording, tracking.
+    pod.rtc_edge(S, true);
+    fc.send(&mut pod, S + 2 * MS, &sync(NEW_YEAR_2026_MS));
+    pod.rtc_edge(S + 50 * MS, false);
+    fc.send(&mut pod, S + 100 * MS, &zoom(50));
+    fc.send(
+        &mut pod,
+        S + 200 * MS,
+        &angle(PitchMotion::Down, 3000, YawMotion::Right, 4500),
+    );
+    fc.send(
+        &mut pod,
+        S + 300 * MS,
+        &DialSpeed {
+            pitch_dps_x5: 100,
+            yaw_dps_x5: 100,
+            reserved: 0,
+        },
+    );
+    fc.send(
+        &mut pod,
+        S + 400 * MS,
+        &Record {
+            sensors: RecordSensors::Both,
+            action: RecordAction::Start,
+            ..Record::default()
+        },
+    );
+    fc.send(
+        &mut pod,
+        S + 500 * MS,
+        &AiRecognition {
+            enable: Toggle::On,
+            model: 0,
+            classes: [0; 10],
+        },
+    );
+    fc.send(&mut pod, S + 600 * MS, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, 5 * S);
+    assert!(pod.is_synced());
+    assert_eq!(pod.camera().zoom_x10, 50.0);
+    assert!(pod.camera().recording.is_some() && pod.camera().ai);
+    assert_eq!(
+        (pod.gimbal().yaw_deg, pod.gimbal().pitch_deg),
+        (45.0, -30.0)
+    );
+    let last_seq = fc.of::<GimbalAttitude>().last().unwrap().1.seq;
+    assert!(last_seq > 40, "{last_seq}");
+
+    // Power off at 5 s for 3 s: nothing goes out, nothing comes in.
+    pod.reboot(5 * S, 3 * S);
+    fc.clear();
+    assert!(pod.is_off());
+    assert_eq!(pod.next_wakeup(), 8 * S);
+    run(&mut pod, &mut fc, 6 * S);
+    fc.send(&mut pod, 6 * S, &GIMBAL_VERSION);
+    pod.rtc_edge(7 * S, true);
+    fc.send(&mut pod, 7 * S + 2 * MS, &sync(NEW_YEAR_2026_MS + 6000));
+    pod.rtc_edge(7 * S + 50 * MS, false);
+    run(&mut pod, &mut fc, 8 * S - 1);
+    assert!(fc.frames.is_empty(), "silent while off");
+    assert!(pod.rx_stats().dropped_while_off > 0);
+    assert_eq!(pod.syncs().len(), 1, "the sync while off never arrived");
+    assert_eq!(pod.rtc_edges().len(), 2);
+
+    // Power-up at 8 s: the five reports at once, every counter from 0 again.
+    run(&mut pod, &mut fc, 8 * S);
+    assert!(!pod.is_off());
+    assert_eq!(pod.boots(), [0, 8 * S]);
+    assert_eq!(
+        seqs_at(&fc, GIMBAL, 8 * S),
+        [(0x00_0001, 0), (0x00_0002, 1)]
+    );
+    assert_eq!(
+        seqs_at(&fc, POD, 8 * S),
+        [(0x00_0003, 0), (0x00_0004, 1), (0x00_0005, 2)]
+    );
+    // The free-running power-up clock (1970), no UTC, zoom 1x, centred, defaults.
+    assert!(!pod.is_synced());
+    assert_eq!(pod.clock_unix_ms(8 * S), 0);
+    assert_eq!(pod.clock_unix_ms(9 * S), 1000);
+    let c = pod.camera();
+    assert_eq!((c.zoom_x10, c.zooming), (10.0, false));
+    assert!(c.recording.is_none() && !c.ai && c.track.is_none());
+    assert_eq!(c.photos_taken, 1, "the photo count is a record");
+    let g = pod.gimbal();
+    assert_eq!(
+        (g.yaw_deg, g.pitch_deg, g.yaw_speed_dps, g.pitch_speed_dps),
+        (0.0, 0.0, 10.0, 10.0)
+    );
+    let a = attitude_at(&fc, 8 * S);
+    assert_eq!((a.yaw_cdeg, a.pitch_cdeg), (0, 0));
+    let v = fc.of::<VisibleStatus>()[0].2;
+    assert_eq!(v.zoom_x10, 10);
+    assert_eq!(fc.of::<SystemStatus>()[0].2.mode, k40t::CaptureMode::Photo);
+
+    // It answers again, from its new counter; a photo asks GPS for 1970's time of day.
+    fc.send(&mut pod, 8 * S + 10 * MS, &GIMBAL_VERSION);
+    assert_eq!(seqs_at(&fc, GIMBAL, 8 * S + 10 * MS), [(0x01_0018, 2)]);
+    fc.send(&mut pod, 8 * S + 500 * MS, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, 9 * S);
+    let q = pod.gps_requests()[1];
+    assert_eq!(
+        (
+            q.request.hour,
+            q.request.minute,
+            q.request.second,
+            q.request.millisecond
+        ),
+        (0, 0, 0, 520)
+    );
+    assert_eq!((q.synced, q.boot), (false, 1));
+    // The records are kept.
+    assert_eq!(pod.photos().len(), 2);
+    assert_eq!(pod.syncs().len(), 1);
+    assert!(pod.requests().len() >= 9);
+
+    // Another reboot, with the counters starting elsewhere.
+    run(&mut pod, &mut fc, 10 * S);
+    pod.reboot_with(10 * S, 3 * S, Some(100));
+    fc.clear();
+    run(&mut pod, &mut fc, 13 * S);
+    assert_eq!(pod.boots(), [0, 8 * S, 13 * S]);
+    assert_eq!(
+        seqs_at(&fc, GIMBAL, 13 * S),
+        [(0x00_0001, 100), (0x00_0002, 101)]
+    );
+}
+
+#[test]
+fn a_pending_gps_request_dies_with_the_power() {
+    let (mut pod, mut fc) = default_pod();
+    fc.send(&mut pod, S, &photo(ShootAction::Start));
+    run(&mut pod, &mut fc, S + 30 * MS);
+    assert_eq!(pod.gps_requests().len(), 1);
+    pod.reboot(S + 30 * MS, 3 * S);
+    assert_eq!(pod.gps_unanswered(), 1);
+    assert!(pod.gps_requests()[0].timed_out);
+    run(&mut pod, &mut fc, 5 * S);
+    // A reply after the reboot is for a request the pod forgot: it matches nothing.
+    let seq = pod.gps_requests()[0].seq;
+    pod.receive(5 * S, &gps_reply(seq, 1));
+    assert_eq!(pod.gps_replies()[0].request, None);
+    // A shot pending at the power cut is never taken.
+    fc.send(&mut pod, 6 * S, &photo(ShootAction::Start));
+    pod.reboot(6 * S + 10 * MS, S);
+    run(&mut pod, &mut fc, 8 * S);
+    assert_eq!(pod.photos().len(), 1);
+    assert_eq!(pod.photo_requests(), 2);
 }

@@ -1,7 +1,10 @@
 //! `gimbal bridge`: the firmware's own tasks (`bridge_fw::host::bridge`: both links, the
 //! engine/timer task with the RTC_IO pin, the log and watchdog tasks) on the host's real
 //! clock, with std threads pumping serial devices and TCP connections into their pipes,
-//! or the simulators on the same executor for `sim` ports.
+//! or the simulators on the same executor for `sim` ports. `--fc-faults` and
+//! `--pod-faults` make a cable faulty (a seeded fault model in both directions): in the
+//! port's threads for a real port, in a [`Wire`] between the simulator and the bridge
+//! for `sim`.
 
 use core::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,13 +19,15 @@ use serde_json::{Value, json};
 use super::events;
 use super::output::{Output, now_us, wants_status_line};
 use super::pin::{GpioLine, RtcSpec, RunnerPin};
-use super::port::{self, Pump, link_baud};
+use super::port::{self, CableFaults, Pump, link_baud, stats_json};
 use super::simfc::{AnyFc, system_utc_us};
 use super::trace::{TapRead, TapWrite, tap};
 use super::watch::{FcWatcher, PodWatcher};
 use crate::cli::{BridgeArgs, ConfigArgs, Fallback};
+use crate::sim::faults::Faults;
 use crate::sim::peer::{PodPin, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};
+use crate::sim::tasks::{Wire, WireRx, WireTx};
 
 /// How often the run checks for Ctrl-C, the end, the simulators and the status line.
 pub const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
@@ -238,6 +243,8 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             "fc_baud": config.fc_baud, "pod_baud": config.pod_baud,
             "sync_period_ms": config.sync.period.as_millis(),
             "sync_width_ms": config.sync.width.as_millis(),
+            "fc_faults": args.fc_faults.map(|f| f.to_string()),
+            "pod_faults": args.pod_faults.map(|f| f.to_string()),
             "version": env!("CARGO_PKG_VERSION"),
         }),
     );
@@ -263,19 +270,37 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 outgoing: None,
                 tap_in: None,
                 tap_out: None,
+                faults: None,
             })?
             .writer,
         ),
         _ => None,
     };
 
-    for (label, spec, baud, rx, tx) in [
+    // A faulty cable: threads' stages for a real port, wires for a simulator.
+    let real_faults = |spec: &port::PortSpec, f: Option<Faults>| {
+        f.filter(|_| !spec.is_sim()).map(CableFaults::new)
+    };
+    let (fc_cable, pod_cable) = (
+        real_faults(&args.fc_port, args.fc_faults),
+        real_faults(&args.pod_port, args.pod_faults),
+    );
+    let sim_wire = |f: Option<Faults>, index: u64| {
+        let mut w = Wire::default();
+        w.set_faults(f.map(|f| f.derived(index)));
+        RefCell::new(w)
+    };
+    // Into the bridge: 0, out of it: 1 (as `CableFaults` and `Wires::set_fc_faults`).
+    let (fc_in, fc_out) = (sim_wire(args.fc_faults, 0), sim_wire(args.fc_faults, 1));
+    let (pod_in, pod_out) = (sim_wire(args.pod_faults, 0), sim_wire(args.pod_faults, 1));
+    for (label, spec, baud, rx, tx, cable) in [
         (
             "fc",
             &args.fc_port,
             config.fc_baud,
             &links.fc_rx,
             &links.fc_tx,
+            &fc_cable,
         ),
         (
             "pod",
@@ -283,6 +308,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             config.pod_baud,
             &links.pod_rx,
             &links.pod_tx,
+            &pod_cable,
         ),
     ] {
         if !spec.is_sim() {
@@ -295,12 +321,16 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 outgoing: Some(tx),
                 tap_in: trace(label, "rx"),
                 tap_out: trace(label, "tx"),
+                faults: cable.clone(),
             })?;
         }
     }
 
     let fc_sim = RefCell::new(AnyFc::new(args.fc, now_us(), system_utc_us()));
-    let pod_sim = RefCell::new(SimPod::new(PodSimConfig::default()));
+    let pod_sim = RefCell::new(SimPod::new(PodSimConfig {
+        ack_seq: args.sim_pod_ack_seq.ack_seq(),
+        ..PodSimConfig::default()
+    }));
     let status = RefCell::new(StatusState::default());
     let show_status = wants_status_line();
     let start_us = now_us();
@@ -326,14 +356,20 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             if args.fc_port.is_sim() {
                 run_peer(
                     &fc_sim,
-                    TapRead {
-                        inner: &links.fc_tx,
-                        tap: trace("fc", "tx"),
-                    },
-                    TapWrite {
-                        inner: &links.fc_rx,
-                        tap: trace("fc", "rx"),
-                    },
+                    WireRx::new(
+                        TapRead {
+                            inner: &links.fc_tx,
+                            tap: trace("fc", "tx"),
+                        },
+                        &fc_out,
+                    ),
+                    WireTx::new(
+                        TapWrite {
+                            inner: &links.fc_rx,
+                            tap: trace("fc", "rx"),
+                        },
+                        &fc_in,
+                    ),
                     config.fc_baud,
                 )
                 .await
@@ -345,14 +381,20 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             if args.pod_port.is_sim() {
                 run_peer(
                     &pod_sim,
-                    TapRead {
-                        inner: &links.pod_tx,
-                        tap: trace("pod", "tx"),
-                    },
-                    TapWrite {
-                        inner: &links.pod_rx,
-                        tap: trace("pod", "rx"),
-                    },
+                    WireRx::new(
+                        TapRead {
+                            inner: &links.pod_tx,
+                            tap: trace("pod", "tx"),
+                        },
+                        &pod_out,
+                    ),
+                    WireTx::new(
+                        TapWrite {
+                            inner: &links.pod_rx,
+                            tap: trace("pod", "rx"),
+                        },
+                        &pod_in,
+                    ),
                     config.pod_baud,
                 )
                 .await
@@ -410,6 +452,26 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     }
     if args.pod_port.is_sim() {
         stopped["sim_pod"] = PodWatcher::summary(&pod_sim.borrow());
+    }
+    for (label, given, cable, wires) in [
+        ("fc_faults", args.fc_faults, &fc_cable, (&fc_in, &fc_out)),
+        (
+            "pod_faults",
+            args.pod_faults,
+            &pod_cable,
+            (&pod_in, &pod_out),
+        ),
+    ] {
+        if given.is_none_or(|f| f.is_none()) {
+            continue;
+        }
+        stopped[label] = match cable {
+            Some(c) => c.stats_json(),
+            None => {
+                let stats = |w: &RefCell<Wire>| w.borrow().fault_stats().unwrap_or_default();
+                json!({"in": stats_json(&stats(wires.0)), "out": stats_json(&stats(wires.1))})
+            }
+        };
     }
     out.emit("stopped", stopped);
     out.emit("counters", counters.clone());

@@ -12,6 +12,10 @@
 //! into the incoming pipe) and the writer (moves what the bridge writes to the current
 //! connection; with none, the bytes are dropped, as on an unconnected UART, so the
 //! bridge never stalls).
+//!
+//! A port can be a faulty cable ([`CableFaults`]: a seeded [`Faults`] model per
+//! direction): arriving bytes go through it before anything sees them, bytes to send
+//! after the trace has seen them, so a trace shows what the bridge sent and what it got.
 
 use std::fmt;
 use std::io::{self, Read, Write};
@@ -21,9 +25,10 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use bridge_fw::host::{self, HostPipe};
-use serde_json::json;
+use serde_json::{Value, json};
 
 use super::output::Output;
+use crate::sim::faults::{FaultStage, FaultStats, Faults};
 
 /// Where a link goes.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -455,6 +460,55 @@ pub type SharedWriter = Arc<Mutex<Option<Conn>>>;
 /// Bytes seen on a port (for `--trace`).
 pub type Tap = Arc<dyn Fn(&[u8]) + Send + Sync>;
 
+/// One direction of a faulty cable, shared by a port's thread and whoever reports.
+pub type SharedStage = Arc<Mutex<FaultStage>>;
+
+/// A faulty cable at a port: one fault stage per direction, each seeded from the
+/// model's seed ([`Faults::derived`]: 0 arriving, 1 sent).
+#[derive(Clone)]
+pub struct CableFaults {
+    /// Bytes arriving at the port.
+    pub incoming: SharedStage,
+    /// Bytes sent from the port.
+    pub outgoing: SharedStage,
+}
+
+impl CableFaults {
+    /// Both directions of `faults`.
+    #[must_use]
+    pub fn new(faults: Faults) -> Self {
+        CableFaults {
+            incoming: Arc::new(Mutex::new(faults.derived(0).stage())),
+            outgoing: Arc::new(Mutex::new(faults.derived(1).stage())),
+        }
+    }
+
+    /// What each direction did, as JSON (`{"in": {...}, "out": {...}}`).
+    #[must_use]
+    pub fn stats_json(&self) -> Value {
+        let get = |s: &SharedStage| s.lock().map(|s| s.stats()).unwrap_or_default();
+        json!({"in": stats_json(&get(&self.incoming)), "out": stats_json(&get(&self.outgoing))})
+    }
+}
+
+/// What a fault stage did, as JSON.
+#[must_use]
+pub fn stats_json(s: &FaultStats) -> Value {
+    json!({
+        "bytes_in": s.bytes_in, "bytes_out": s.bytes_out, "bits_flipped": s.bits_flipped,
+        "bytes_corrupted": s.bytes_corrupted, "bytes_dropped": s.bytes_dropped,
+        "garbage_bytes": s.garbage_bytes,
+    })
+}
+
+/// `bytes` through `stage` (unchanged without one).
+fn through(stage: Option<&SharedStage>, bytes: &[u8]) -> Vec<u8> {
+    match stage.and_then(|s| s.lock().ok()) {
+        Some(mut s) => s.apply(bytes),
+        None => bytes.to_vec(),
+    }
+}
+
 /// A real port and what to do with its bytes.
 pub struct Pump {
     /// Its name in events: `fc`, `pod`, `rtc_io`.
@@ -473,6 +527,8 @@ pub struct Pump {
     pub tap_in: Option<Tap>,
     /// Sees bytes sent.
     pub tap_out: Option<Tap>,
+    /// A faulty cable (`None`: a good one).
+    pub faults: Option<CableFaults>,
 }
 
 /// A running port.
@@ -496,6 +552,7 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
         let out = p.out.clone();
         let label = p.label;
         let (incoming, tap_in) = (p.incoming, p.tap_in);
+        let faults_in = p.faults.as_ref().map(|f| f.incoming.clone());
         std::thread::Builder::new()
             .name(format!("{label}-rx"))
             .spawn(move || {
@@ -527,12 +584,13 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                             Ok(0) if !serial => break "closed by the peer".to_string(),
                             Ok(0) => {}
                             Ok(n) => {
-                                let bytes = buf.get(..n).unwrap_or_default();
+                                let bytes =
+                                    through(faults_in.as_ref(), buf.get(..n).unwrap_or_default());
                                 if let Some(t) = &tap_in {
-                                    t(bytes);
+                                    t(&bytes);
                                 }
                                 if let Some(pipe) = incoming {
-                                    host::block_on(pipe.write_all(bytes));
+                                    host::block_on(pipe.write_all(&bytes));
                                 }
                             }
                             Err(e)
@@ -560,6 +618,7 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
     if let Some(outgoing) = p.outgoing {
         let writer = writer.clone();
         let tap_out = p.tap_out;
+        let faults_out = p.faults.as_ref().map(|f| f.outgoing.clone());
         std::thread::Builder::new()
             .name(format!("{}-tx", p.label))
             .spawn(move || {
@@ -570,9 +629,10 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                     if let Some(t) = &tap_out {
                         t(bytes);
                     }
+                    let bytes = through(faults_out.as_ref(), bytes);
                     if let Ok(mut g) = writer.lock()
                         && let Some(w) = g.as_mut()
-                        && write_patiently(w, bytes).is_err()
+                        && write_patiently(w, &bytes).is_err()
                     {
                         // The reader sees the end of the connection and reports it.
                         w.shutdown();
@@ -757,6 +817,7 @@ mod tests {
             outgoing: Some(outgoing),
             tap_in: None,
             tap_out: None,
+            faults: None,
         })
         .unwrap();
         let listening = out.captured();
@@ -824,6 +885,57 @@ mod tests {
     }
 
     #[test]
+    fn a_faulty_cable_changes_the_bytes_both_ways() {
+        // Every bit flipped: what arrives and what leaves is inverted.
+        let out = Output::capture();
+        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
+        let outgoing: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
+        let cable = CableFaults::new(Faults::bit_errors(1.0, 9));
+        start(Pump {
+            label: "pod",
+            spec: "tcp-listen:127.0.0.1:0".parse().unwrap(),
+            baud: 115_200,
+            out: out.clone(),
+            incoming: Some(incoming),
+            outgoing: Some(outgoing),
+            tap_in: None,
+            tap_out: None,
+            faults: Some(cable.clone()),
+        })
+        .unwrap();
+        let address = out.captured()[0]["address"].as_str().unwrap().to_string();
+        let mut client = TcpStream::connect(&address).unwrap();
+        client.write_all(&[0x00, 0x0F]).unwrap();
+        let mut got = [0u8; 2];
+        let mut n = 0;
+        while n < 2 {
+            n += host::block_on(incoming.read(&mut got[n..]));
+        }
+        assert_eq!(got, [0xFF, 0xF0]);
+        for _ in 0..200 {
+            if out
+                .captured()
+                .iter()
+                .any(|e| e["event"] == "port_connected")
+            {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        host::block_on(outgoing.write_all(&[0xAA]));
+        client
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
+        let mut back = [0u8; 1];
+        client.read_exact(&mut back).unwrap();
+        assert_eq!(back, [0x55]);
+        let stats = cable.stats_json();
+        assert_eq!(stats["in"]["bits_flipped"], 16);
+        assert_eq!(stats["out"]["bits_flipped"], 8);
+        assert_eq!(stats["out"]["bytes_in"], 1);
+    }
+
+    #[test]
     fn a_serial_device_is_pumped_both_ways() {
         use serialport::SerialPort;
         // A pseudo-terminal: the test holds the master end, the pump opens the other
@@ -843,6 +955,7 @@ mod tests {
             outgoing: Some(outgoing),
             tap_in: None,
             tap_out: None,
+            faults: None,
         })
         .unwrap();
         let opened = out.captured();
@@ -886,6 +999,7 @@ mod tests {
             outgoing: None,
             tap_in: None,
             tap_out: None,
+            faults: None,
         })
         .unwrap();
         let mut errors = Vec::new();

@@ -1,5 +1,7 @@
 //! `gimbal sim-fc` and `gimbal sim-pod`: a simulator on a real port (serial or TCP), in
-//! real time, printing what it observes and a summary.
+//! real time, printing what it observes and a summary. `--faults` makes the cable to the
+//! bridge faulty, both ways (the summary's `faults`: `in` towards the simulator, `out`
+//! from it).
 
 use core::cell::RefCell;
 use std::sync::atomic::AtomicBool;
@@ -10,7 +12,7 @@ use serde_json::{Value, json};
 
 use super::bridge::{Ended, until_stopped};
 use super::output::{Output, now_us};
-use super::port::{self, PortSpec, Pump, link_baud};
+use super::port::{self, CableFaults, PortSpec, Pump, link_baud};
 use super::simfc::{AnyFc, system_utc_us};
 use super::watch::{FcWatcher, PodWatcher};
 use crate::cli::{SimFcArgs, SimPodArgs};
@@ -27,11 +29,13 @@ fn secs_to_us(s: f64) -> u64 {
     us
 }
 
-/// Starts the threads of `spec` feeding `to_sim` and sending `from_sim`.
+/// Starts the threads of `spec` feeding `to_sim` and sending `from_sim`, through a
+/// faulty cable when `faults` is given.
 fn open(
     spec: &PortSpec,
     baud: u32,
     out: &Output,
+    faults: Option<&CableFaults>,
 ) -> Result<(&'static HostPipe, &'static HostPipe), String> {
     let (to_sim, from_sim) = (pipe(), pipe());
     port::start(Pump {
@@ -43,6 +47,7 @@ fn open(
         outgoing: Some(from_sim),
         tap_in: None,
         tap_out: None,
+        faults: faults.cloned(),
     })?;
     Ok((to_sim, from_sim))
 }
@@ -67,12 +72,14 @@ fn finish(
 /// The port cannot be opened.
 pub fn run_fc(args: &SimFcArgs, out: &Output, stop: &AtomicBool) -> Result<(Value, bool), String> {
     let baud = link_baud(&args.port, args.baud, "--port")?;
-    let (to_sim, from_sim) = open(&args.port, baud, out)?;
+    let cable = args.faults.filter(|f| !f.is_none()).map(CableFaults::new);
+    let (to_sim, from_sim) = open(&args.port, baud, out, cable.as_ref())?;
     let start_us = now_us();
     let fc = RefCell::new(AnyFc::new(args.fc, start_us, system_utc_us()));
     out.emit(
         "sim_fc_started",
-        json!({"fc": args.fc.name(), "port": args.port.to_string(), "baud": baud}),
+        json!({"fc": args.fc.name(), "port": args.port.to_string(), "baud": baud,
+               "faults": args.faults.map(|f| f.to_string())}),
     );
     if args.yaw_rate.is_some() || args.pitch_rate.is_some() {
         let turned = fc
@@ -103,7 +110,10 @@ pub fn run_fc(args: &SimFcArgs, out: &Output, stop: &AtomicBool) -> Result<(Valu
             Either::Second(ended) => Ok(ended),
         }
     });
-    let summary = watch.summary(&fc.borrow(), now_us());
+    let mut summary = watch.summary(&fc.borrow(), now_us());
+    if let Some(c) = &cable {
+        summary["faults"] = c.stats_json();
+    }
     let healthy = fc.borrow().healthy(now_us());
     let summary = finish(ended, start_us, summary, out)?;
     Ok((summary, !args.expect_healthy || healthy))
@@ -120,7 +130,8 @@ pub fn run_pod(
     stop: &AtomicBool,
 ) -> Result<(Value, bool), String> {
     let baud = link_baud(&args.port, args.baud, "--port")?;
-    let (to_sim, from_sim) = open(&args.port, baud, out)?;
+    let cable = args.faults.filter(|f| !f.is_none()).map(CableFaults::new);
+    let (to_sim, from_sim) = open(&args.port, baud, out, cable.as_ref())?;
     let rtc = match &args.rtc_io {
         Some(spec) => {
             let edges = pipe();
@@ -133,17 +144,23 @@ pub fn run_pod(
                 outgoing: None,
                 tap_in: None,
                 tap_out: None,
+                faults: None,
             })?;
             Some(edges)
         }
         None => None,
     };
     let start_us = now_us();
-    let pod = RefCell::new(SimPod::new(PodSimConfig::default()));
+    let pod = RefCell::new(SimPod::new(PodSimConfig {
+        ack_seq: args.ack_seq.ack_seq(),
+        ..PodSimConfig::default()
+    }));
     out.emit(
         "sim_pod_started",
         json!({"port": args.port.to_string(), "baud": baud,
-               "rtc_io": args.rtc_io.as_ref().map(ToString::to_string)}),
+               "rtc_io": args.rtc_io.as_ref().map(ToString::to_string),
+               "ack_seq": format!("{:?}", args.ack_seq).to_lowercase(),
+               "faults": args.faults.map(|f| f.to_string())}),
     );
     let deadline = args.seconds.map(|s| start_us + secs_to_us(s));
     let mut watch = PodWatcher::default();
@@ -183,7 +200,10 @@ pub fn run_pod(
         }
     });
     watch.check(&pod.borrow(), out);
-    let summary = PodWatcher::summary(&pod.borrow());
+    let mut summary = PodWatcher::summary(&pod.borrow());
+    if let Some(c) = &cable {
+        summary["faults"] = c.stats_json();
+    }
     let num = |k: &str| summary[k].as_u64().unwrap_or(0);
     let met = args
         .expect_syncs

@@ -22,12 +22,22 @@
 //!   frame, reset to the header on failure (no rewind).
 //! - **Health.** Firmware received and a 0x0D reply within the last second.
 //!
+//! - **Reboot.** [`ApSiyi::reboot`]: the FC loses power for [`FcReboot::off_us`] (it
+//!   sends nothing, what arrives is lost, and the driver calls the mount unhealthy),
+//!   then boots: its boot clock (`time_boot_ms` of 0x22/0x3E) restarts at
+//!   [`FcReboot::boot_clock_us`], the driver starts again from scratch (sequence 0,
+//!   0x02, 0x01, 0x20 gating, config, a new mount target), and once its UTC is valid
+//!   ([`FcReboot::utc_valid_after_us`]) it sends 0x30 five times again, with a UTC that
+//!   differs from the previous boot's by [`FcReboot::utc_shift_us`].
+//!
 //! Time is true time in µs. The FC's clock is `fc(t) = t·(1 + ppm) + boot`; its UTC is
 //! `fc + shift` (ArduPilot's `AP_RTC`: boot clock plus a shift set once from GPS), with
 //! the shift chosen so that the FC's UTC equals [`ApSiyiConfig::utc_at_zero_us`] at true
-//! time 0: the reference for the bridge's time sync is [`ApSiyi::fc_utc_us`].
+//! time 0; after a reboot, both restart as [`FcClock`] says. The reference for the
+//! bridge's time sync is [`ApSiyi::fc_utc_us`], which follows the FC's UTC of the boot
+//! in effect.
 
-use super::{XorShift, crystal_us, true_of_crystal};
+use super::{FcBoot, FcClock, FcReboot, XorShift};
 use protocol_core::Direction;
 use protocol_core::siyi::{
     self, AbsoluteZoom, AutoFocus, CameraFunction, CameraFunctionType, Center, CenterPosition,
@@ -174,6 +184,11 @@ pub struct ApSiyi {
     pub aircraft: Aircraft,
     rng: XorShift,
     now_us: u64,
+    clock: FcClock,
+    /// Power-on instant while rebooting.
+    power_on_at: Option<u64>,
+    /// Bytes from the bridge lost while the FC was off.
+    pub lost_while_off: u64,
     /// FC-clock ms of the next update run.
     next_run_fc_ms: u64,
     out: Vec<(u64, Vec<u8>)>,
@@ -230,11 +245,20 @@ impl ApSiyi {
         let rng = XorShift(config.seed.max(1));
         // The first run on the FC's 20 ms grid after true time 0.
         let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
+        let clock = FcClock::new(
+            config.ppm,
+            config.boot_us,
+            config.utc_at_zero_us,
+            config.utc_valid_at_us,
+        );
         ApSiyi {
             config,
             aircraft: Aircraft::default(),
             rng,
             now_us: 0,
+            clock,
+            power_on_at: None,
+            lost_while_off: 0,
             next_run_fc_ms: first_run_fc_ms,
             out: Vec::new(),
             seq: 0,
@@ -268,22 +292,77 @@ impl ApSiyi {
         }
     }
 
-    /// The FC's clock (µs) at true time `t_us`.
+    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        crystal_us(t_us, self.config.ppm, self.config.boot_us)
+        self.clock.clock_us(t_us)
     }
 
-    /// True time at which the FC's clock reads `fc_us`.
+    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
+        self.clock.true_of_clock(fc_us)
     }
 
-    /// The FC's UTC (µs) at true time `t_us`.
+    /// The FC's UTC (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.fc_us(t_us) - self.fc_us(0) + self.config.utc_at_zero_us
+        self.clock.utc_us(t_us)
+    }
+
+    /// Every boot of the FC (the first at true time 0).
+    #[must_use]
+    pub fn boots(&self) -> &[FcBoot] {
+        self.clock.boots()
+    }
+
+    /// The FC is without power (rebooting) at the latest instant processed.
+    #[must_use]
+    pub fn is_off(&self) -> bool {
+        self.power_on_at.is_some()
+    }
+
+    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
+    /// `now_us` is done first; frames not yet on the wire are lost).
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = self.clock.reboot(self.now_us, reboot);
+        self.power_on_at = Some(on);
+        let now = self.now_us;
+        self.out.retain(|(at, _)| *at <= now);
+        if self.healthy {
+            self.healthy = false;
+            self.health_log.push((now, false));
+        }
+    }
+
+    /// Power-on: the driver as new, on the new boot's clock.
+    fn power_on(&mut self) {
+        self.power_on_at = None;
+        let boot_clock_us = self.clock.current().clock_us;
+        self.next_run_fc_ms = boot_clock_us.div_ceil(20_000) * 20;
+        self.seq = 0;
+        self.buf.clear();
+        self.got_hardware_id = false;
+        self.model = None;
+        self.fw_received = false;
+        self.codec_record = false;
+        self.codec_main = false;
+        self.last_send_ms = None;
+        self.last_att_req_ms = None;
+        self.last_range_req_ms = None;
+        self.last_therm_req_ms = None;
+        self.last_att_send_ms = None;
+        self.last_zoom_ms = None;
+        self.sent_time_count = 0;
+        self.motion_mode = None;
+        self.record_status = RecordStatus::Off;
+        self.attitude = None;
+        self.zoom_mult = None;
+        self.rangefinder = None;
+        self.thermal = None;
+        self.target = None;
+        self.zoom_rate = 0;
     }
 
     /// `healthy()` of the driver now.
@@ -403,6 +482,9 @@ impl ApSiyi {
 
     /// Queues one request frame for the current run.
     fn send<M: MessageData>(&mut self, m: &M) {
+        if self.power_on_at.is_some() {
+            return;
+        }
         let mut buf = [0u8; 64];
         let Ok(n) = siyi::encode(m, &Header::request(self.seq), &mut buf) else {
             return;
@@ -438,7 +520,7 @@ impl ApSiyi {
                 return;
             }
             self.send(&GimbalConfigQuery {});
-            if self.sent_time_count < 5 && t >= self.config.utc_valid_at_us {
+            if self.sent_time_count < 5 && self.clock.utc_valid(t) {
                 self.send(&UtcTime {
                     unix_us: self.fc_utc_us(t),
                 });
@@ -670,12 +752,25 @@ impl ApSiyi {
 impl FcSim for ApSiyi {
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => {
+                self.lost_while_off += bytes.len() as u64;
+                return;
+            }
+            Some(_) => self.power_on(),
+            None => {}
+        }
         self.parse(now_us, bytes);
         self.update_health();
     }
 
     fn poll(&mut self, now_us: u64) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => return,
+            Some(_) => self.power_on(),
+            None => {}
+        }
         while self.next_run_us() <= now_us {
             let fc_ms = self.next_run_fc_ms;
             // The run starts late by the loop jitter; what it reads and writes is stamped
@@ -690,10 +785,182 @@ impl FcSim for ApSiyi {
     }
 
     fn next_wakeup(&self) -> u64 {
-        self.next_run_us()
+        self.power_on_at.unwrap_or_else(|| self.next_run_us())
     }
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
         std::mem::take(&mut self.out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A SIYI gimbal that answers what the driver waits for (0x02, 0x01, 0x20, 0x0D),
+    /// 1 ms after each request, and logs the driver's frames: (true µs, id, data).
+    struct Gimbal {
+        seen: Vec<(u64, u8, Vec<u8>)>,
+        replies: Vec<(u64, Vec<u8>)>,
+    }
+
+    fn frame(cmd: u8, data: &[u8]) -> Vec<u8> {
+        let mut f = vec![0x55, 0x66, 0x02];
+        f.extend_from_slice(&(data.len() as u16).to_le_bytes());
+        f.extend_from_slice(&[0, 0, cmd]);
+        f.extend_from_slice(data);
+        let crc = crc16_xmodem(&f);
+        f.extend_from_slice(&crc.to_le_bytes());
+        f
+    }
+
+    impl Gimbal {
+        fn take(&mut self, at: u64, mut bytes: &[u8]) {
+            while bytes.len() >= 10 {
+                assert_eq!(bytes[..2], [0x55, 0x66]);
+                let len = usize::from(u16::from_le_bytes([bytes[3], bytes[4]]));
+                let (cmd, data) = (bytes[7], bytes[8..8 + len].to_vec());
+                let reply = match cmd {
+                    0x02 => Some(b"7A0000000001".to_vec()),
+                    0x01 => Some(vec![1, 3, 0, 0, 1, 3, 0, 0, 0, 1, 0, 0]),
+                    0x20 => Some(vec![data[0], 1, 0x80, 7, 0x38, 4, 0x40, 0x1F, 30]),
+                    0x0D => Some(vec![0; 12]),
+                    _ => None,
+                };
+                if let Some(r) = reply {
+                    self.replies.push((at + 1_000, frame(cmd, &r)));
+                }
+                self.seen.push((at, cmd, data));
+                bytes = &bytes[10 + len..];
+            }
+        }
+    }
+
+    /// Runs `fc` against `g` until `end`; `at_reboot` is called once at `reboot_at`.
+    fn run(fc: &mut ApSiyi, g: &mut Gimbal, end: u64, reboot_at: u64, reboot: FcReboot) {
+        let mut rebooted = false;
+        loop {
+            let next_reply = g.replies.iter().map(|r| r.0).min().unwrap_or(u64::MAX);
+            let mut t = fc.next_wakeup().min(next_reply);
+            if !rebooted {
+                t = t.min(reboot_at);
+            }
+            if t > end {
+                break;
+            }
+            if !rebooted && t == reboot_at {
+                fc.reboot(t, reboot);
+                rebooted = true;
+            }
+            let due: Vec<(u64, Vec<u8>)> = g.replies.iter().filter(|r| r.0 <= t).cloned().collect();
+            g.replies.retain(|r| r.0 > t);
+            for (at, bytes) in due {
+                fc.receive(at, &bytes);
+            }
+            if fc.next_wakeup() <= t {
+                fc.poll(t);
+            }
+            for (at, bytes) in fc.transmit() {
+                g.take(at, &bytes);
+            }
+        }
+    }
+
+    #[test]
+    fn a_reboot_restarts_the_boot_clock_the_start_up_and_the_utc() {
+        let mut fc = ApSiyi::new(ApSiyiConfig::default());
+        let mut g = Gimbal {
+            seen: Vec::new(),
+            replies: Vec::new(),
+        };
+        // The first boot's UTC was 1.5 s fast; the new one is right.
+        let reboot = FcReboot {
+            off_us: 3_000_000,
+            boot_clock_us: 1_000,
+            utc_shift_us: -1_500_000,
+            utc_valid_after_us: 2_000_000,
+        };
+        let (off, on) = (20_000_000, 23_000_000);
+        run(&mut fc, &mut g, 40_000_000, off, reboot);
+
+        let times: Vec<(u64, u64)> = g
+            .seen
+            .iter()
+            .filter(|(_, id, _)| *id == 0x30)
+            .map(|(at, _, d)| (*at, u64::from_le_bytes(d[..8].try_into().unwrap())))
+            .collect();
+        assert_eq!(times.len(), 10, "five per boot");
+        let utc0 = ApSiyiConfig::default().utc_at_zero_us;
+        // The UTC is read when the run writes the frame, which leaves up to 10 ms later.
+        let read_before = |utc: u64, reference: u64| reference - utc <= 10_500;
+        for &(at, utc) in &times[..5] {
+            assert!(at < off);
+            assert!(read_before(utc, utc0 + at), "{at} {utc}");
+            assert!(read_before(utc, fc.fc_utc_us(at)));
+        }
+        for &(at, utc) in &times[5..] {
+            // Not before the new boot's UTC is valid; 1.5 s behind the old boot's UTC.
+            assert!(at >= on + 2_000_000, "{at}");
+            assert!(read_before(utc, utc0 + at - 1_500_000), "{at} {utc}");
+            assert!(read_before(utc, fc.fc_utc_us(at)));
+        }
+        assert_eq!(
+            fc.fc_utc_us(on + 5_000_000),
+            utc0 + on + 5_000_000 - 1_500_000
+        );
+        assert_eq!(fc.fc_utc_us(off - 1), utc0 + off - 1);
+
+        // Nothing at all while off; the start-up sequence again from power-on.
+        assert!(!g.seen.iter().any(|(at, ..)| (off..on).contains(at)));
+        let after: Vec<u8> = g
+            .seen
+            .iter()
+            .filter(|(at, ..)| *at >= on)
+            .map(|(_, id, _)| *id)
+            .collect();
+        assert_eq!(after[..3], [0x02, 0x01, 0x0A], "{after:x?}");
+        assert!(after.contains(&0x20));
+        // time_boot_ms in 0x22: tens of seconds before the reboot, near 0 after.
+        let boot_ms: Vec<(u64, u32)> = g
+            .seen
+            .iter()
+            .filter(|(_, id, _)| *id == 0x22)
+            .map(|(at, _, d)| (*at, u32::from_le_bytes(d[..4].try_into().unwrap())))
+            .collect();
+        let before = boot_ms.iter().rfind(|(at, _)| *at < off).unwrap().1;
+        let first_after = boot_ms.iter().find(|(at, _)| *at >= on).unwrap();
+        assert!(before > 22_000, "{before}");
+        assert!(first_after.1 < 3_000, "{first_after:?}");
+        assert!(fc.fc_us(first_after.0) / 1000 - u64::from(first_after.1) <= 11);
+
+        // Unhealthy from the power cut, healthy again after the start-up.
+        let log: Vec<bool> = fc.health_log.iter().map(|h| h.1).collect();
+        assert_eq!(log, [true, false, true]);
+        assert_eq!(fc.health_log[1].0, off);
+        assert!(fc.healthy());
+        assert_eq!(fc.boots().len(), 2);
+        assert_eq!(fc.boots()[1].at_us, on);
+    }
+
+    #[test]
+    fn bytes_to_an_fc_that_is_off_are_lost() {
+        let mut fc = ApSiyi::new(ApSiyiConfig::default());
+        fc.poll(1_000_000);
+        fc.reboot(1_000_000, FcReboot::default());
+        // What was written before the power cut is on the wire.
+        assert!(fc.transmit().iter().all(|(at, _)| *at <= 1_000_000));
+        assert!(fc.is_off());
+        assert_eq!(fc.next_wakeup(), 4_000_000);
+        fc.receive(2_000_000, &frame(0x02, b"7A0000000001"));
+        assert_eq!(fc.lost_while_off, 22);
+        assert!(fc.received.is_empty());
+        fc.take_picture();
+        fc.poll(3_999_999);
+        assert!(fc.transmit().is_empty());
+        fc.poll(4_100_000);
+        assert!(!fc.is_off());
+        let out = fc.transmit();
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].1[7], 0x02, "the hardware id query first");
     }
 }

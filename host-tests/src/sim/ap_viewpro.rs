@@ -32,10 +32,16 @@
 //! - **Health.** A 0x40 processed within the last second (the driver is initialised
 //!   from the start).
 //!
+//! - **Reboot.** [`ApViewpro::reboot`]: silent and deaf for [`FcReboot::off_us`], then
+//!   the driver starts from scratch (frame counter, model and firmware queries, follow
+//!   mode) on a boot clock restarted at [`FcReboot::boot_clock_us`]; M_AHRS carries a
+//!   zero date and time until the new boot's UTC is valid, then that UTC, which differs
+//!   from the previous boot's by [`FcReboot::utc_shift_us`].
+//!
 //! Time is true time in µs. The FC's clock is `fc(t) = t·(1 + ppm) + boot`; its UTC is
 //! ArduPilot's `AP_RTC` (`fc + shift`, the shift frozen), equal to
-//! [`ApViewproConfig::utc_at_zero_us`] at true time 0: [`ApViewpro::fc_utc_us`] is the
-//! reference of the bridge's time sync. M_AHRS carries it as date and hundredths of a
+//! [`ApViewproConfig::utc_at_zero_us`] at true time 0 (after a reboot: as [`FcClock`]
+//! says): [`ApViewpro::fc_utc_us`] is the reference of the bridge's time sync. M_AHRS carries it as date and hundredths of a
 //! second since midnight, read when the run writes the frame (truncated to 10 ms), so
 //! its read phase is locked to the FC loop.
 //!
@@ -43,7 +49,7 @@
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
-use super::{XorShift, crystal_us, true_of_crystal};
+use super::{FcBoot, FcClock, FcReboot, XorShift};
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
     MAttitude, MGps, ManualSpeed, MessageData, OperationCommand, Point, QueryParams, Sensor,
@@ -153,6 +159,11 @@ pub struct ApViewpro {
     pub aircraft: Aircraft,
     rng: XorShift,
     now_us: u64,
+    clock: FcClock,
+    /// Power-on instant while rebooting.
+    power_on_at: Option<u64>,
+    /// Bytes from the bridge lost while the FC was off.
+    pub lost_while_off: u64,
     /// FC-clock ms of the next loop call.
     next_call_fc_ms: u64,
     last_update_ms: Option<u64>,
@@ -203,11 +214,20 @@ impl ApViewpro {
     pub fn new(config: ApViewproConfig) -> Self {
         let rng = XorShift(config.seed.max(1));
         let first_call_fc_ms = config.boot_us.div_ceil(20_000) * 20;
+        let clock = FcClock::new(
+            config.ppm,
+            config.boot_us,
+            config.utc_at_zero_us,
+            config.utc_valid_at_us,
+        );
         ApViewpro {
             config,
             aircraft: Aircraft::default(),
             rng,
             now_us: 0,
+            clock,
+            power_on_at: None,
+            lost_while_off: 0,
             next_call_fc_ms: first_call_fc_ms,
             last_update_ms: None,
             out: Vec::new(),
@@ -236,22 +256,71 @@ impl ApViewpro {
         }
     }
 
-    /// The FC's clock (µs) at true time `t_us`.
+    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        crystal_us(t_us, self.config.ppm, self.config.boot_us)
+        self.clock.clock_us(t_us)
     }
 
-    /// True time at which the FC's clock reads `fc_us`.
+    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
+        self.clock.true_of_clock(fc_us)
     }
 
-    /// The FC's UTC (µs) at true time `t_us`.
+    /// The FC's UTC (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.fc_us(t_us) - self.fc_us(0) + self.config.utc_at_zero_us
+        self.clock.utc_us(t_us)
+    }
+
+    /// Every boot of the FC (the first at true time 0).
+    #[must_use]
+    pub fn boots(&self) -> &[FcBoot] {
+        self.clock.boots()
+    }
+
+    /// The FC is without power (rebooting).
+    #[must_use]
+    pub fn is_off(&self) -> bool {
+        self.power_on_at.is_some()
+    }
+
+    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
+    /// `now_us` is done first; frames not yet on the wire are lost).
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = self.clock.reboot(self.now_us, reboot);
+        self.power_on_at = Some(on);
+        let now = self.now_us;
+        self.out.retain(|(at, _)| *at <= now);
+        if self.healthy {
+            self.healthy = false;
+            self.health_log.push((now, false));
+        }
+    }
+
+    /// Power-on: the driver as new, on the new boot's clock.
+    fn power_on(&mut self) {
+        self.power_on_at = None;
+        self.next_call_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
+        self.last_update_ms = None;
+        self.counter = FrameCounter::new();
+        self.rx.clear();
+        self.state = 0;
+        self.buf.clear();
+        self.data_len = 0;
+        self.data_received = 0;
+        self.model = None;
+        self.firmware = None;
+        self.last_lock = false;
+        self.image_sensor = 0;
+        self.recording = false;
+        self.zoom_times = 1.0;
+        self.rangefinder_m = 0.0;
+        self.tracking = TrackingStatus::Stopped;
+        self.attitude = None;
+        self.target = None;
     }
 
     /// `healthy()` of the driver now.
@@ -266,6 +335,9 @@ impl ApViewpro {
 
     /// Queues one frame (id + data) in the current burst (`send_packet`).
     fn send_packet(&mut self, id: u8, data: &[u8]) {
+        if self.power_on_at.is_some() {
+            return;
+        }
         let mut frame = vec![0x55, 0xAA, 0xDC];
         let len = (data.len() + 3) as u8;
         frame.push((self.counter.next_value() << 6) | (len & 0x3F));
@@ -463,7 +535,7 @@ impl ApViewpro {
             return;
         }
         let t = self.now_us;
-        let (date, cs) = if t >= self.config.utc_valid_at_us {
+        let (date, cs) = if self.clock.utc_valid(t) {
             let utc_us = self.fc_utc_us(t);
             let days = utc_us / 86_400_000_000;
             let (y, m, d) = civil_from_days(days as i64);
@@ -732,12 +804,25 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 impl FcSim for ApViewpro {
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => {
+                self.lost_while_off += bytes.len() as u64;
+                return;
+            }
+            Some(_) => self.power_on(),
+            None => {}
+        }
         // The driver reads its UART at its next run.
         self.rx.extend_from_slice(bytes);
     }
 
     fn poll(&mut self, now_us: u64) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => return,
+            Some(_) => self.power_on(),
+            None => {}
+        }
         while self.next_call_us() <= now_us {
             let fc_ms = self.next_call_fc_ms;
             let late = self.rng.uniform(self.config.loop_jitter_us);
@@ -751,7 +836,7 @@ impl FcSim for ApViewpro {
     }
 
     fn next_wakeup(&self) -> u64 {
-        self.next_call_us()
+        self.power_on_at.unwrap_or_else(|| self.next_call_us())
     }
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
@@ -807,5 +892,53 @@ mod tests {
             (2026, 11, 23)
         );
         assert_eq!(g.time.0, 10 * 3600 * 100 + 12);
+    }
+
+    #[test]
+    fn a_reboot_restarts_the_driver_and_shifts_the_ahrs_time() {
+        let mut ap = ApViewpro::new(ApViewproConfig::default());
+        let utc0 = ap.config.utc_at_zero_us;
+        ap.poll(10_005_000);
+        ap.reboot(
+            10_005_000,
+            FcReboot {
+                off_us: 3_000_000,
+                boot_clock_us: 0,
+                utc_shift_us: 250_000,
+                utc_valid_after_us: 1_000_000,
+            },
+        );
+        ap.receive(11_000_000, &[0x55, 0xAA, 0xDC]);
+        assert_eq!(ap.lost_while_off, 3);
+        assert_eq!(ap.next_wakeup(), 13_005_000);
+        ap.poll(20_000_000);
+        // M_AHRS time: 3 bytes, 0.01 s since UTC midnight, read at the run.
+        let ahrs: Vec<(u64, u32)> = ap
+            .sent
+            .iter()
+            .filter(|(_, id, _)| *id == 0xB1)
+            .map(|(at, _, d)| (*at, u32::from_be_bytes([0, d[16], d[17], d[18]])))
+            .collect();
+        let cs = |utc_us: u64| ((utc_us / 10_000) % 8_640_000) as u32;
+        assert!(
+            ahrs.iter()
+                .all(|(at, _)| !(10_005_000..13_005_000).contains(at))
+        );
+        for &(at, time) in &ahrs {
+            if at < 10_005_000 {
+                assert_eq!(time, cs(utc0 + at), "{at}");
+            } else if at < 14_005_000 {
+                assert_eq!(time, 0, "no UTC yet at {at}");
+            } else {
+                assert_eq!(time, cs(utc0 + at + 250_000), "{at}");
+                assert_eq!(time, cs(ap.fc_utc_us(at)));
+            }
+        }
+        assert!(ahrs.iter().filter(|(at, _)| *at >= 14_005_000).count() >= 50);
+        // The driver starts again: model query first, frame counter from 1.
+        let first = ap.sent.iter().find(|(at, ..)| *at >= 13_000_000).unwrap();
+        assert_eq!((first.1, first.2[0]), (0x01, 0xE4));
+        assert!(ap.fc_us(13_005_000) < 20_000, "the boot clock restarts");
+        assert_eq!(ap.boots().len(), 2);
     }
 }

@@ -32,10 +32,16 @@
 //!   the order (69) and its execution state (70) for shutter and record.
 //! - **Health.** A reply of at least 73 bytes within the last second.
 //!
+//! - **Reboot.** [`ApXfRobot::reboot`]: silent and deaf for [`FcReboot::off_us`], then the
+//!   driver starts from scratch on a boot clock restarted at [`FcReboot::boot_clock_us`]
+//!   (neutral target, no attitude, unhealthy until the first reply); the GPS has no fix
+//!   (week and time of week 0) until [`FcReboot::utc_valid_after_us`] after power-on,
+//!   and its UTC then differs from the previous boot's by [`FcReboot::utc_shift_us`].
+//!
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
-use super::{XorShift, crystal_us, true_of_crystal};
+use super::{FcBoot, FcClock, FcReboot, XorShift};
 use protocol_core::gcu::{
     self, Header, HostFrames, HostMain, HostPacket, HostStatus, HostSub, Message, Raw,
 };
@@ -260,6 +266,13 @@ pub struct ApXfRobot {
     pub host_control: Option<HostControl>,
     rng: XorShift,
     now_us: u64,
+    clock: FcClock,
+    /// (power-on instant, UTC shift since the first boot, µs), per boot after the first.
+    utc_shifts: Vec<(u64, i64)>,
+    /// Power-on instant while rebooting.
+    power_on_at: Option<u64>,
+    /// Bytes from the bridge lost while the FC was off.
+    pub lost_while_off: u64,
     next_run_fc_ms: u64,
     out: Vec<(u64, Vec<u8>)>,
     /// The angle target: roll, pitch, yaw (deg), yaw in the earth frame.
@@ -293,6 +306,12 @@ impl ApXfRobot {
     pub fn new(config: ApXfRobotConfig) -> Self {
         let rng = XorShift(config.seed.max(1));
         let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
+        let clock = FcClock::new(
+            config.ppm,
+            config.boot_us,
+            config.utc_at_zero_us,
+            config.gps_valid_at_us,
+        );
         ApXfRobot {
             config,
             aircraft: Aircraft::default(),
@@ -300,6 +319,10 @@ impl ApXfRobot {
             host_control: None,
             rng,
             now_us: 0,
+            clock,
+            utc_shifts: Vec::new(),
+            power_on_at: None,
+            lost_while_off: 0,
             next_run_fc_ms: first_run_fc_ms,
             out: Vec::new(),
             angle: (0.0, 0.0, 0.0, false),
@@ -319,30 +342,80 @@ impl ApXfRobot {
         }
     }
 
-    /// The FC's clock (µs) at true time `t_us`.
+    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {
-        crystal_us(t_us, self.config.ppm, self.config.boot_us)
+        self.clock.clock_us(t_us)
     }
 
-    /// True time at which the FC's clock reads `fc_us`.
+    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
     #[must_use]
     pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        true_of_crystal(fc_us, self.config.ppm, self.config.boot_us)
+        self.clock.true_of_clock(fc_us)
     }
 
     /// UTC as the GPS keeps it (µs since the Unix epoch) at true time `t_us`: the
-    /// reference of the time sync.
+    /// reference of the time sync (shifted by the reboots before `t_us`).
     #[must_use]
     pub fn gps_utc_us(&self, t_us: u64) -> u64 {
-        self.config.utc_at_zero_us + t_us
+        let shift = self
+            .utc_shifts
+            .iter()
+            .rev()
+            .find(|(at, _)| *at <= t_us)
+            .map_or(0, |(_, s)| *s);
+        let utc = i128::from(self.config.utc_at_zero_us) + i128::from(t_us) + i128::from(shift);
+        u64::try_from(utc.max(0)).unwrap_or(0)
+    }
+
+    /// Every boot of the FC (the first at true time 0).
+    #[must_use]
+    pub fn boots(&self) -> &[FcBoot] {
+        self.clock.boots()
+    }
+
+    /// The FC is without power (rebooting).
+    #[must_use]
+    pub fn is_off(&self) -> bool {
+        self.power_on_at.is_some()
+    }
+
+    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
+    /// `now_us` is done first; packages not yet on the wire are lost).
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = self.clock.reboot(self.now_us, reboot);
+        let shift = self.utc_shifts.last().map_or(0, |(_, s)| *s) + reboot.utc_shift_us;
+        self.utc_shifts.push((on, shift));
+        self.power_on_at = Some(on);
+        let now = self.now_us;
+        self.out.retain(|(at, _)| *at <= now);
+        if self.healthy {
+            self.healthy = false;
+            self.health_log.push((now, false));
+        }
+    }
+
+    /// Power-on: the driver as new, on the new boot's clock.
+    fn power_on(&mut self) {
+        self.power_on_at = None;
+        self.next_run_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
+        self.target = None;
+        self.angle = (0.0, 0.0, 0.0, false);
+        self.buf.clear();
+        self.state = ParseState::Header1;
+        self.len_expected = 0;
+        self.crc = 0;
+        self.attitude = None;
+        self.got_firmware_version = false;
+        self.record_request = None;
     }
 
     /// GPS week and time of week (ms) of the last fix the FC knows at true time `t_us`
-    /// (zeros before the first fix).
+    /// (zeros before the first fix of the boot in effect).
     #[must_use]
     pub fn gps_time(&self, t_us: u64) -> (u16, u32) {
-        if t_us < self.config.gps_valid_at_us {
+        if !self.clock.utc_valid(t_us) {
             return (0, 0);
         }
         let gps_us = self.gps_utc_us(t_us) + u64::from(self.config.leap_seconds) * 1_000_000
@@ -360,6 +433,9 @@ impl ApXfRobot {
 
     /// Queues a package for the current run (one burst per run).
     fn write(&mut self, order: u8, bytes: Vec<u8>) {
+        if self.power_on_at.is_some() {
+            return;
+        }
         self.sent.push(Sent {
             at_us: self.now_us,
             order,
@@ -370,6 +446,9 @@ impl ApXfRobot {
 
     /// Writes bytes now, in the current burst (garbage, vectors).
     pub fn write_raw(&mut self, bytes: Vec<u8>) {
+        if self.power_on_at.is_some() {
+            return;
+        }
         match self.out.last_mut() {
             Some((at, b)) if *at >= self.now_us => b.extend_from_slice(&bytes),
             _ => {
@@ -552,7 +631,7 @@ impl ApXfRobot {
             sub_request: 0x01,
             reserved: [0; 6],
         };
-        let gps = t >= self.config.gps_valid_at_us;
+        let gps = self.clock.utc_valid(t);
         let (lat, lon) = if gps {
             self.aircraft.position_e7(t)
         } else {
@@ -745,12 +824,25 @@ fn wrap180(d: f64) -> f64 {
 impl FcSim for ApXfRobot {
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => {
+                self.lost_while_off += bytes.len() as u64;
+                return;
+            }
+            Some(_) => self.power_on(),
+            None => {}
+        }
         self.parse(now_us, bytes);
         self.update_health();
     }
 
     fn poll(&mut self, now_us: u64) {
         self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => return,
+            Some(_) => self.power_on(),
+            None => {}
+        }
         while self.next_run_us() <= now_us {
             let fc_ms = self.next_run_fc_ms;
             let late = self.rng.uniform(self.config.loop_jitter_us);
@@ -763,10 +855,50 @@ impl FcSim for ApXfRobot {
     }
 
     fn next_wakeup(&self) -> u64 {
-        self.next_run_us()
+        self.power_on_at.unwrap_or_else(|| self.next_run_us())
     }
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
         std::mem::take(&mut self.out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reboot_silences_the_fc_and_its_gps_time_comes_back_shifted() {
+        let mut fc = ApXfRobot::new(ApXfRobotConfig::default());
+        let utc0 = fc.config.utc_at_zero_us;
+        fc.poll(5_005_000);
+        let before = fc.gps_time(5_000_000);
+        assert_ne!(before, (0, 0));
+        fc.reboot(
+            5_005_000,
+            FcReboot {
+                off_us: 2_000_000,
+                boot_clock_us: 0,
+                utc_shift_us: 1_000_000,
+                utc_valid_after_us: 1_000_000,
+            },
+        );
+        fc.poll(10_000_000);
+        assert!(
+            !fc.sent
+                .iter()
+                .any(|s| (5_005_000..7_005_000).contains(&s.at_us))
+        );
+        assert!(fc.sent.iter().any(|s| s.at_us >= 7_000_000));
+        assert_eq!(fc.gps_time(7_500_000), (0, 0), "no fix yet");
+        assert_eq!(fc.gps_utc_us(4_000_000), utc0 + 4_000_000);
+        assert_eq!(fc.gps_utc_us(9_000_000), utc0 + 10_000_000);
+        let (week, tow) = fc.gps_time(9_000_000);
+        let shifted = ApXfRobot::new(ApXfRobotConfig {
+            utc_at_zero_us: utc0 + 1_000_000,
+            ..ApXfRobotConfig::default()
+        });
+        assert_eq!((week, tow), shifted.gps_time(9_000_000));
+        assert!(fc.fc_us(7_005_000) < 20_000, "the boot clock restarts");
     }
 }

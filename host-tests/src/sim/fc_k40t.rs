@@ -7,6 +7,16 @@
 //! second ([`FcK40t::healthy`], [`FcK40t::health_log`]). A motion held with
 //! [`FcK40t::hold_motion`] is repeated every [`MOTION_REPEAT_US`] while it turns the pod,
 //! as a stick held over would (the bridge stops a pod whose FC falls silent).
+//!
+//! Sequence numbers: the FC's own counter, from 0, for every frame it originates. Its
+//! GPS replies (0x010310) carry the request's SEQ by default ([`AckSeq::Echo`]); with
+//! [`FcK40t::reply_seq`] = [`AckSeq::OwnCounter`] they take the FC's own next number,
+//! as the document's field table reads.
+//!
+//! [`FcK40t::reboot`]: silent and deaf for [`FcReboot::off_us`], then the counter
+//! restarts at 0, the held motion is forgotten and the time syncs start again 1 s after
+//! power-on (or when the UTC is valid, if later), with a UTC that differs from the
+//! previous boot's by [`FcReboot::utc_shift_us`] ([`FcK40t::utc_us`] follows it).
 
 use protocol_core::k40t::{
     self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40tFraming,
@@ -14,7 +24,9 @@ use protocol_core::k40t::{
 };
 use protocol_core::wire::{Deframer, Event};
 
+use super::FcReboot;
 use super::ap_siyi::Aircraft;
+use super::pod::AckSeq;
 use super::scenario::FcSim;
 
 /// A frame the FC received, with the true time of its arrival.
@@ -37,6 +49,14 @@ pub struct FcK40t {
     pub utc_at_zero_us: u64,
     /// Answer the pod's GPS requests.
     pub answer_gps: bool,
+    /// Sequence number of the GPS replies.
+    pub reply_seq: AckSeq,
+    /// (power-on instant, UTC shift since the first boot, µs), per reboot.
+    utc_shifts: Vec<(u64, i64)>,
+    /// (power-off, power-on) of every reboot.
+    pub reboots: Vec<(u64, u64)>,
+    /// Bytes from the bridge lost while the FC was off.
+    pub lost_while_off: u64,
     /// The aircraft.
     pub aircraft: Aircraft,
     /// Every frame received from the bridge.
@@ -71,6 +91,10 @@ impl Default for FcK40t {
             next_sync_us: 1_000_000,
             utc_at_zero_us: 1_795_428_000_123_456,
             answer_gps: true,
+            reply_seq: AckSeq::Echo,
+            utc_shifts: Vec::new(),
+            reboots: Vec::new(),
+            lost_while_off: 0,
             aircraft: Aircraft::default(),
             received: Vec::new(),
             sent: Vec::new(),
@@ -91,7 +115,42 @@ impl FcK40t {
     /// The FC's UTC at true time `t_us`.
     #[must_use]
     pub fn utc_us(&self, t_us: u64) -> u64 {
-        self.utc_at_zero_us + t_us
+        let shift = self
+            .utc_shifts
+            .iter()
+            .rev()
+            .find(|(at, _)| *at <= t_us)
+            .map_or(0, |(_, s)| *s);
+        let utc = i128::from(self.utc_at_zero_us) + i128::from(t_us) + i128::from(shift);
+        u64::try_from(utc.max(0)).unwrap_or(0)
+    }
+
+    /// The FC is without power at `t_us`.
+    #[must_use]
+    pub fn is_off(&self, t_us: u64) -> bool {
+        self.reboots
+            .iter()
+            .any(|&(off, on)| off <= t_us && t_us < on)
+    }
+
+    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (its boot clock is
+    /// not on the wire: [`FcReboot::boot_clock_us`] is unused).
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = now_us.saturating_add(reboot.off_us);
+        let shift = self.utc_shifts.last().map_or(0, |(_, s)| *s) + reboot.utc_shift_us;
+        self.utc_shifts.push((on, shift));
+        self.reboots.push((now_us, on));
+        self.out.retain(|(at, _)| *at <= now_us);
+        self.seq = 0;
+        self.deframer = Deframer::new(K40tFraming::any());
+        self.held = None;
+        self.last_report_us = None;
+        self.next_sync_us = on + reboot.utc_valid_after_us.max(1_000_000);
+        if self.healthy {
+            self.healthy = false;
+            self.health_log.push((now_us, false));
+        }
     }
 
     /// A pod attitude report came within the last second.
@@ -120,6 +179,9 @@ impl FcK40t {
 
     /// Sends a request to the pod now.
     pub fn send<M: MessageData>(&mut self, m: &M) {
+        if self.is_off(self.now_us) {
+            return;
+        }
         let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, self.seq);
         self.seq = self.seq.wrapping_add(1);
         let mut buf = [0u8; k40t::MAX_FRAME_LEN];
@@ -157,10 +219,18 @@ impl FcK40t {
             roll_cdeg: 0,
             pitch_cdeg: 0,
         };
+        let seq = match self.reply_seq {
+            AckSeq::Echo => header.seq,
+            AckSeq::OwnCounter => {
+                let seq = self.seq;
+                self.seq = self.seq.wrapping_add(1);
+                seq
+            }
+        };
         let h = Header {
             dst: header.src,
             src: Address::FLIGHT_CONTROLLER,
-            seq: header.seq,
+            seq,
             coverage: CrcCoverage::ExcludeStx,
         };
         let mut buf = [0u8; k40t::MAX_FRAME_LEN];
@@ -173,6 +243,10 @@ impl FcK40t {
 impl FcSim for FcK40t {
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         self.now_us = self.now_us.max(now_us);
+        if self.is_off(now_us) {
+            self.lost_while_off += bytes.len() as u64;
+            return;
+        }
         let mut frames = Vec::new();
         self.deframer.push(bytes, |e| {
             if let Event::Frame(f) = e {
@@ -231,5 +305,90 @@ impl FcSim for FcK40t {
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
         std::mem::take(&mut self.out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use protocol_core::k40t::GpsRequest;
+
+    fn decoded(fc: &mut FcK40t) -> Vec<(u64, Header, Message<'static>)> {
+        fc.transmit()
+            .into_iter()
+            .map(|(at, f)| {
+                let f: &'static [u8] = Box::leak(f.into_boxed_slice());
+                let p = Packet::decode(f).unwrap();
+                (at, p.header, p.message)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_reboot_restarts_the_counter_and_the_syncs_with_the_new_utc() {
+        let mut fc = FcK40t::default();
+        let utc0 = fc.utc_at_zero_us;
+        fc.poll(15_000_000);
+        let syncs: Vec<(u64, u8, u64)> = decoded(&mut fc)
+            .into_iter()
+            .filter_map(|(at, h, m)| Some((at, h.seq, m.get::<TimeSync>()?.unix_ms)))
+            .collect();
+        assert_eq!(
+            syncs,
+            [
+                (1_000_000, 0, (utc0 + 1_000_000) / 1000),
+                (11_000_000, 1, (utc0 + 11_000_000) / 1000)
+            ]
+        );
+        fc.reboot(
+            15_000_000,
+            FcReboot {
+                utc_shift_us: 2_000_000,
+                ..FcReboot::default()
+            },
+        );
+        assert!(fc.is_off(17_000_000) && !fc.is_off(18_000_000));
+        fc.receive(16_000_000, &[0xFD, 0x00]);
+        assert_eq!(fc.lost_while_off, 2);
+        fc.poll(30_000_000);
+        let syncs: Vec<(u64, u8, u64)> = decoded(&mut fc)
+            .into_iter()
+            .filter_map(|(at, h, m)| Some((at, h.seq, m.get::<TimeSync>()?.unix_ms)))
+            .collect();
+        assert_eq!(
+            syncs,
+            [
+                (19_000_000, 0, (utc0 + 21_000_000) / 1000),
+                (29_000_000, 1, (utc0 + 31_000_000) / 1000)
+            ]
+        );
+        assert_eq!(fc.utc_us(29_000_000), utc0 + 31_000_000);
+    }
+
+    #[test]
+    fn gps_replies_echo_the_seq_or_take_the_fcs_own_counter() {
+        for (reply_seq, expected, next) in [(AckSeq::Echo, 42, 0), (AckSeq::OwnCounter, 0, 1)] {
+            let mut fc = FcK40t {
+                reply_seq,
+                ..FcK40t::default()
+            };
+            let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+            let n = k40t::encode(
+                &GpsRequest::default(),
+                &Header::new(Address::POD, Address::FLIGHT_CONTROLLER, 42),
+                &mut buf,
+            )
+            .unwrap();
+            fc.receive(500_000, &buf[..n]);
+            let replies: Vec<u8> = decoded(&mut fc)
+                .into_iter()
+                .filter(|(_, _, m)| m.get::<GpsReply>().is_some())
+                .map(|(_, h, _)| h.seq)
+                .collect();
+            assert_eq!(replies, [expected], "{reply_seq:?}");
+            // The next frame the FC originates continues its own counter.
+            fc.poll(1_000_000);
+            assert_eq!(decoded(&mut fc)[0].1.seq, next, "{reply_seq:?}");
+        }
     }
 }

@@ -2,8 +2,14 @@
 //! leave one after the other (10 bits each at the baud rate: 8N1), after the bytes
 //! already on their way, and are delivered to the receiver in chunks, as a UART with a
 //! small receive FIFO and an idle interrupt delivers them.
+//!
+//! A line can be faulty: a [`Corrupter`] changes each write as it goes on the line, and
+//! a [`Faults`] model ([`Line::set_faults`]) flips bits, loses bytes and inserts garbage
+//! after it, reproducibly (see [`super::faults`]).
 
 use std::collections::VecDeque;
+
+use super::faults::{FaultStage, FaultStats, Faults};
 
 /// Bytes a receiver is handed at most at once (a UART FIFO / DMA half-buffer).
 pub const CHUNK: usize = 16;
@@ -21,6 +27,8 @@ pub struct Line {
     pub bytes_sent: u64,
     /// Optional corruption of the bytes as they are written.
     corrupt: Option<Box<Corrupter>>,
+    /// Optional fault model, after the corrupter.
+    faults: Option<FaultStage>,
 }
 
 /// Changes bytes as they go on the line (garbage, bit flips), for fault scenarios.
@@ -48,6 +56,7 @@ impl Line {
             idle_owed_from: None,
             bytes_sent: 0,
             corrupt: None,
+            faults: None,
         }
     }
 
@@ -67,12 +76,27 @@ impl Line {
         self.corrupt = None;
     }
 
+    /// Makes the line faulty with `faults` from now on (`None`, or a model whose rates
+    /// are all 0: a good line again). The stage starts afresh from its seed.
+    pub fn set_faults(&mut self, faults: Option<Faults>) {
+        self.faults = faults.filter(|f| !f.is_none()).map(FaultStage::new);
+    }
+
+    /// What the fault model did so far (`None`: no model set).
+    #[must_use]
+    pub fn fault_stats(&self) -> Option<FaultStats> {
+        self.faults.as_ref().map(FaultStage::stats)
+    }
+
     /// Writes `bytes` at `at_us` (or when the line is free).
     pub fn send(&mut self, at_us: u64, bytes: &[u8]) {
-        let bytes = match self.corrupt.as_mut() {
+        let mut bytes = match self.corrupt.as_mut() {
             Some(f) => f(at_us, bytes),
             None => bytes.to_vec(),
         };
+        if let Some(stage) = self.faults.as_mut() {
+            bytes = stage.apply(&bytes);
+        }
         let per = self.byte_us();
         let mut t = at_us.max(self.busy_until_us);
         for b in bytes {
@@ -171,5 +195,33 @@ mod tests {
         // A write while busy waits for the line.
         l.send(0, &[2; 2]);
         assert_eq!(l.busy_until(), 1_000 + 22 * 87);
+    }
+
+    #[test]
+    fn a_faulty_line_loses_and_changes_bytes_reproducibly() {
+        let faults = Faults {
+            bit_error_rate: 1e-2,
+            drop_rate: 1e-2,
+            garbage_rate: 0.0,
+            seed: 5,
+        };
+        let data: Vec<u8> = (0..=255).cycle().take(20_000).collect();
+        let run = || {
+            let mut l = Line::new(1_000_000);
+            l.set_faults(Some(faults));
+            for (i, chunk) in data.chunks(100).enumerate() {
+                l.send(i as u64 * 10_000, chunk);
+            }
+            let (bytes, _) = l.deliver(u64::MAX / 2);
+            (bytes, l.fault_stats().unwrap())
+        };
+        let (a, stats) = run();
+        assert_eq!(run().0, a, "same seed, same faults");
+        assert_eq!(a.len() as u64, 20_000 - stats.bytes_dropped);
+        assert!((150..=250).contains(&stats.bytes_dropped), "{stats:?}");
+        assert!((1_300..=1_900).contains(&stats.bits_flipped), "{stats:?}");
+        let mut l = Line::new(1_000_000);
+        l.set_faults(Some(Faults::NONE));
+        assert_eq!(l.fault_stats(), None, "no rates: no stage");
     }
 }

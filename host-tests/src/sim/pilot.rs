@@ -24,6 +24,7 @@ use protocol_core::wire::Framing;
 use serde::Serialize;
 use serde_json::Value;
 
+use super::FcReboot;
 use super::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig, MountTarget};
 use super::ap_viewpro::{ApViewpro, ApViewproConfig};
 use super::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
@@ -114,6 +115,9 @@ pub trait Pilot: FcSim {
     fn take_picture(&mut self);
     /// Start or stop recording.
     fn record(&mut self, on: bool);
+    /// The FC loses power at `now_us` and boots again as `reboot` says (its UTC, and
+    /// [`Pilot::true_utc_us`], shifted by [`FcReboot::utc_shift_us`] from power-on).
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot);
 }
 
 /// `key=value` pairs of a serialised payload: objects are flattened with dotted keys,
@@ -331,6 +335,9 @@ impl Pilot for ApSiyi {
     fn record(&mut self, on: bool) {
         self.record_video(on);
     }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        ApSiyi::reboot(self, now_us, reboot);
+    }
 }
 
 impl Pilot for ApViewpro {
@@ -416,6 +423,9 @@ impl Pilot for ApViewpro {
     }
     fn record(&mut self, on: bool) {
         self.record_video(on);
+    }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        ApViewpro::reboot(self, now_us, reboot);
     }
 }
 
@@ -550,6 +560,9 @@ impl Pilot for FcK40t {
             ..k40t::Record::default()
         });
     }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        FcK40t::reboot(self, now_us, reboot);
+    }
 }
 
 /// Centidegrees as degrees with two decimals, for display.
@@ -683,5 +696,8 @@ impl Pilot for ApXfRobot {
     }
     fn record(&mut self, on: bool) {
         self.record_video(on);
+    }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        ApXfRobot::reboot(self, now_us, reboot);
     }
 }

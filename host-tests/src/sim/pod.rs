@@ -52,11 +52,17 @@
 //! [`PodSimConfig::fc_address`] (0x02/0x01).
 //!
 //! **Sequence numbers.** Each source address has its own counter (one counter when both
-//! addresses are equal), starting at 0 and incremented for every frame that source
-//! originates (reports, status frames, GPS requests). An ACK carries the request's
-//! sequence number and does not advance the counter. Frames generated while the cable is
-//! cut ([`SimPod::set_silent`]) are lost but still consume their number, so the bridge
-//! sees a gap.
+//! addresses are equal), starting at [`PodSimConfig::seq_start`] (0) at every boot and
+//! incremented for every frame that source sends (reports, status frames, GPS
+//! requests). The document's field table says the SEQ byte is incremented by each
+//! component for every message it sends; an ACK is a message the pod sends, so in the
+//! document's reading ([`AckSeq::OwnCounter`]) an ACK takes the next number of its
+//! source's counter, like a report. [`AckSeq::Echo`] (the default on this branch, to be
+//! flipped to `OwnCounter`) gives an ACK the request's sequence number and leaves the
+//! counter alone, as the one reference ACK of SPEC-NOTES happens to do. A requester that
+//! insists on an echoed SEQ retries every command sent to an `OwnCounter` pod. Frames
+//! generated while the cable is cut ([`SimPod::set_silent`]) are lost but still consume
+//! their number, so the bridge sees a gap.
 //!
 //! **Reports.** 0x000001 at 2 Hz, 0x000002 at 10 Hz, 0x000003 at 1 Hz, 0x000004 and
 //! 0x000005 at 5 Hz ([`ReportPeriods`]; a period of 0 disables one). The schedule starts
@@ -68,8 +74,8 @@
 //! ([`IR_STATUS`]); visible status carries the zoom model, its state and focus state.
 //!
 //! **ACKs.** Every request gets its ACK at once (after [`PodSimConfig::ack_delay_us`],
-//! 0 by default) with the request's sequence number, response code OK, and the data the
-//! document defines: versions (0x000018, 0x000317), all IR parameters (0x000100), all
+//! 0 by default) with a sequence number as [`PodSimConfig::ack_seq`] says, response code
+//! OK, and the data the document defines: versions (0x000018, 0x000317), all IR parameters (0x000100), all
 //! visible parameters (0x000200), the IP configuration (0x000312, 192.168.144.64/24,
 //! gateway 192.168.144.1), the laser target's position (0x000320), the laser distance
 //! (0x000400) and the SBUS configuration (0x000502). Faults, per base id:
@@ -126,10 +132,13 @@
 //!   pod sends 0x000310 asking for the UTC time of day of that instant, read from its own
 //!   clock. Single shot: no status frame (the document says so;
 //!   [`PodSimConfig::single_shot_status`] sends "single shot in progress" and "photo
-//!   taken"); burst (0x000301): one shot and one GPS request every
+//!   taken"); every single-shot request that reaches the pod takes its own photo, even
+//!   one that comes while the previous shot is pending (a retried request is a second
+//!   photo, as on a real camera); burst (0x000301): one shot and one GPS request every
 //!   [`PodSimConfig::burst_interval_us`], a status frame per shot, then "taken";
 //!   time-lapse: one shot every interval until stop ("stopped"). A photo request while
-//!   one runs gets "photo in progress" (0x0203). Stop ends a burst or time-lapse.
+//!   a burst or time-lapse runs (or a burst request while a shot is pending) gets "photo
+//!   in progress" (0x0203) and takes nothing. Stop ends a burst or time-lapse.
 //! - Recording (0x000303): start (repeating it does not stop), 0x020303 status at once and
 //!   every second with the elapsed seconds, one "stopped" frame on stop. Starting a
 //!   recording switches the mode 0x000003 reports to video (as 0x000300 would; it stays
@@ -161,10 +170,27 @@
 //! time, unless [`PodSimConfig::gps_when_unsynced`] is off.
 //!
 //! **GPS.** Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
-//! is recorded ([`SimPod::gps_replies`]) and matched to the latest request with its
-//! sequence number. A request without a reply within [`PodSimConfig::gps_timeout_us`]
-//! (1 s) counts as unanswered ([`SimPod::gps_unanswered`]) and is not repeated (the
-//! document specifies no retry); a later reply is still recorded, marked late.
+//! is recorded ([`SimPod::gps_replies`]) and matched to a request of the current boot as
+//! SPEC-NOTES matches ACKs (the reply is the FC's message, so it may carry the FC's own
+//! counter rather than the request's SEQ): a pending request with the same sequence
+//! number (the oldest), else the most recent request that timed out with that number
+//! (a late reply), else the oldest pending request; the SEQ is preferred, never
+//! required. A request without a reply within [`PodSimConfig::gps_timeout_us`] (1 s)
+//! counts as unanswered ([`SimPod::gps_unanswered`]) and is not repeated (the document
+//! specifies no retry); a later reply is still recorded, marked late.
+//!
+//! **Reboot.** [`SimPod::reboot`] cuts the pod's power: for the given time it is dead
+//! (nothing goes out, received bytes and RTC_IO edges are dropped, pending ACKs, status
+//! frames, shots and GPS requests are lost; a pending GPS request counts as unanswered),
+//! then it boots as at power-up: the clock restarts from
+//! [`PodSimConfig::initial_unix_ms`] (no UTC until the next applied sync), the time zone
+//! is cleared, zoom 1x, gimbal centred and holding, dial speeds from the configuration,
+//! stabilisation, recording, laser ranging, AI and tracking off, camera settings at their
+//! defaults, the report schedule restarts at the boot instant with all five reports, and
+//! every sequence counter starts again at [`PodSimConfig::seq_start`] (or the start given
+//! to [`SimPod::reboot_with`]). The logs and counters kept for assertions (frames,
+//! requests, photos, syncs, GPS records, motions, faults) survive; [`SimPod::boots`]
+//! lists the power-up instants.
 //!
 //! **Faults.** [`SimPod::set_silent`] cuts the cable: nothing goes out (generated frames
 //! are lost), received bytes and RTC_IO edges are dropped; the pod keeps running (its
@@ -174,11 +200,16 @@
 //!
 //! **Records.** Every frame received and sent is kept (with its bytes) for assertions, a
 //! few MB per simulated hour; [`SimPod::clear_records`] drops those two logs in a long
-//! run (the counters stay).
+//! run (the counters stay). Every request is also logged, decoded, with what the pod did
+//! about it ([`SimPod::requests`], [`SimPod::requests_received`],
+//! [`SimPod::photo_requests`]): "one photo per shutter press" is
+//! `photos().len() == photo_requests()` and one request per press.
 //!
 //! **Not modelled.** Serial line timing (the caller delivers bytes when it wants;
 //! [`SimPod::transmit`] returns everything generated so far), SD card space and errors,
-//! upgrades, restart and shutdown, IR image content, electronic zoom of the wide and IR
+//! upgrades, the soft restart command (0x00002F: ACKed, nothing restarts; a power
+//! cycle is [`SimPod::reboot`]), a boot time before the first report (the pod reports at
+//! the instant it is powered), IR image content, electronic zoom of the wide and IR
 //! lenses (recorded only).
 
 use super::XorShift;
@@ -303,6 +334,18 @@ impl Default for OutputFaults {
     }
 }
 
+/// The sequence number of an ACK.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AckSeq {
+    /// The document's reading: an ACK is a message the pod sends, so it takes the next
+    /// number of its source address's counter, like a report.
+    OwnCounter,
+    /// The ACK carries the request's sequence number and does not advance the counter
+    /// (the default on this branch until the bridge matches ACKs as SPEC-NOTES says).
+    #[default]
+    Echo,
+}
+
 /// Configuration of a [`SimPod`]. Every default follows the module documentation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PodSimConfig {
@@ -325,6 +368,12 @@ pub struct PodSimConfig {
     pub reports: ReportPeriods,
     /// Delay between a request and its ACK (and the status frames that follow it).
     pub ack_delay_us: u64,
+    /// Sequence number of the ACKs ([`AckSeq::Echo`] by default; the document's reading
+    /// is [`AckSeq::OwnCounter`]).
+    pub ack_seq: AckSeq,
+    /// First sequence number of every source's counter, at power-up and after each
+    /// reboot.
+    pub seq_start: u8,
     /// Write the ACK response code little-endian.
     pub ack_code_le: bool,
     /// Per base id: answer with this code and do not execute the command.
@@ -409,6 +458,8 @@ impl Default for PodSimConfig {
             rx_idle_timeout_us: 10_000,
             reports: ReportPeriods::default(),
             ack_delay_us: 0,
+            ack_seq: AckSeq::Echo,
+            seq_start: 0,
             ack_code_le: false,
             nak: BTreeMap::new(),
             drop_acks: BTreeMap::new(),
@@ -475,6 +526,8 @@ pub struct RxStats {
     pub misaddressed: u64,
     /// Bytes dropped while the cable was cut.
     pub dropped_while_silent: u64,
+    /// Bytes dropped while the pod was off ([`SimPod::reboot`]).
+    pub dropped_while_off: u64,
 }
 
 /// A valid frame the pod received.
@@ -503,6 +556,26 @@ pub struct TxRecord {
     pub id: MsgId,
     /// The whole frame, uncorrupted.
     pub frame: Vec<u8>,
+}
+
+/// A request the pod received, and what it did about it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RequestRecord {
+    /// Arrival (last byte).
+    pub at_us: u64,
+    /// Its header (the requester's address and sequence number).
+    pub header: Header,
+    /// The request, decoded.
+    pub request: Request,
+    /// The response code of its ACK (`None`: the pod does not answer it: periodic
+    /// report ids and 0x000310 from the bridge).
+    pub code: Option<AckCode>,
+    /// It was carried out (false: refused, with [`PodSimConfig::nak`] or by the
+    /// camera, or not the pod's business).
+    pub executed: bool,
+    /// The sequence number of its ACK (`None`: no ACK, or dropped by
+    /// [`PodSimConfig::drop_acks`]).
+    pub ack_seq: Option<u8>,
 }
 
 /// A gimbal motion command the pod received (and ACKed OK).
@@ -668,8 +741,10 @@ pub struct GpsRequestRecord {
     pub photo: usize,
     /// Index of the reply in [`SimPod::gps_replies`].
     pub reply: Option<usize>,
-    /// No reply within the timeout.
+    /// No reply within the timeout (or the pod rebooted before one came).
     pub timed_out: bool,
+    /// The boot it belongs to (index in [`SimPod::boots`]).
+    pub boot: usize,
 }
 
 /// One 0x010310 the pod received.
@@ -681,9 +756,11 @@ pub struct GpsReplyRecord {
     pub header: Header,
     /// Its payload (code, echoed time, position, attitude).
     pub reply: GpsReply,
-    /// Index of the request it answers in [`SimPod::gps_requests`] (same sequence
-    /// number), if any.
+    /// Index of the request it answers in [`SimPod::gps_requests`], if any (see the
+    /// module documentation for the matching rule).
     pub request: Option<usize>,
+    /// Its sequence number equals the matched request's.
+    pub seq_matches: bool,
     /// Request to reply.
     pub latency_us: Option<u64>,
     /// The echoed time of day equals the request's.
@@ -842,6 +919,14 @@ pub struct SimPod {
     now_us: u64,
     booted: bool,
     silent: bool,
+    /// Off (rebooting) until then.
+    off_until: Option<u64>,
+    /// Sequence start of the next boot.
+    next_seq_start: u8,
+    /// Power-up instants.
+    boots: Vec<u64>,
+    /// The line level as the pod last saw it, while off too.
+    rtc_line_high: bool,
 
     deframer: Deframer<K40tFraming, MAX_FRAME_LEN>,
     /// Bytes fed to the deframer so far.
@@ -858,6 +943,8 @@ pub struct SimPod {
     /// Frames to send after the ACK being built.
     deferred: Vec<(MsgId, Vec<u8>)>,
     seqs: BTreeMap<(u8, u8), u8>,
+    /// Where the counters of this boot start.
+    seq_base: u8,
     sent: Vec<TxRecord>,
     tx_counts: BTreeMap<u32, u32>,
     lost_while_silent: u64,
@@ -882,7 +969,10 @@ pub struct SimPod {
     focus_until_us: u64,
     manual_focus: bool,
     photo_job: Option<PhotoJob>,
+    /// Single shots waiting for their instant: (due, sensors).
+    single_shots: VecDeque<(u64, PhotoSensors)>,
     motions: Vec<MotionRecord>,
+    requests: Vec<RequestRecord>,
 
     clock: PodClock,
     tz: (i32, i32),
@@ -902,37 +992,9 @@ impl SimPod {
     /// A pod, powered up at the first call.
     #[must_use]
     pub fn new(config: PodSimConfig) -> Self {
-        let framing = if config.accept_any_coverage {
-            K40tFraming::any()
-        } else {
-            K40tFraming::with(config.coverage)
-        };
-        let camera = CameraState {
-            mode: CaptureMode::Photo,
-            photo_mode: PhotoMode::Single,
-            timelapse_s: 5,
-            burst_count: 3,
-            image_mode: ImageMode::Visible,
-            codec: VideoCodec::H264,
-            bitrate: StreamBitrate::M4,
-            palette: Palette::WhiteHot,
-            ir_measuring: true,
-            zoom_x10: f64::from(config.zoom_min_x10),
-            zoom_target_x10: None,
-            zooming: false,
-            focus: None,
-            af_after_zoom: false,
-            recording: None,
-            photos_taken: 0,
-            laser_periodic: false,
-            laser_distance_dm: config.laser_distance_dm,
-            ai: false,
-            track: None,
-            ev: Ev::Auto,
-            ae_lock: AeLock::Off,
-        };
+        let camera = initial_camera(&config, config.laser_distance_dm, 0);
         SimPod {
-            deframer: Deframer::new(framing),
+            deframer: Deframer::new(framing_of(&config)),
             rx_fed: 0,
             rx_chunks: VecDeque::new(),
             last_rx_us: 0,
@@ -943,6 +1005,7 @@ impl SimPod {
             outbox: Vec::new(),
             deferred: Vec::new(),
             seqs: BTreeMap::new(),
+            seq_base: config.seq_start,
             sent: Vec::new(),
             tx_counts: BTreeMap::new(),
             lost_while_silent: 0,
@@ -965,7 +1028,9 @@ impl SimPod {
             focus_until_us: 0,
             manual_focus: false,
             photo_job: None,
+            single_shots: VecDeque::new(),
             motions: Vec::new(),
+            requests: Vec::new(),
             clock: PodClock {
                 base_us: 0,
                 base_unix_us: i128::from(config.initial_unix_ms) * 1000,
@@ -985,6 +1050,10 @@ impl SimPod {
             now_us: 0,
             booted: false,
             silent: false,
+            off_until: None,
+            next_seq_start: config.seq_start,
+            boots: Vec::new(),
+            rtc_line_high: false,
             config,
         }
     }
@@ -1006,6 +1075,11 @@ impl SimPod {
     /// Bytes from the bridge, all arrived at `now_us`.
     pub fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         let now = self.enter(now_us);
+        if self.is_off() {
+            self.rx.dropped_while_off =
+                self.rx.dropped_while_off.saturating_add(bytes.len() as u64);
+            return;
+        }
         if self.silent {
             self.rx.dropped_while_silent = self
                 .rx
@@ -1034,7 +1108,8 @@ impl SimPod {
     /// The RTC_IO pin as the pod sees it, at `now_us`.
     pub fn rtc_edge(&mut self, now_us: u64, high: bool) {
         let now = self.enter(now_us);
-        if self.silent || high == self.rtc_high {
+        self.rtc_line_high = high;
+        if self.is_off() || self.silent || high == self.rtc_high {
             return;
         }
         self.rtc_high = high;
@@ -1061,7 +1136,102 @@ impl SimPod {
         if !self.booted {
             return 0;
         }
+        if let Some(on) = self.off_until {
+            return on;
+        }
         self.next_timer().map_or(u64::MAX, |(t, _)| t)
+    }
+
+    // ----- power -----
+
+    /// Cuts the pod's power at `now_us` for `off_us`, then boots it as at power-up, with
+    /// its sequence counters at [`PodSimConfig::seq_start`] (see the module
+    /// documentation). Work due up to `now_us` is done first.
+    pub fn reboot(&mut self, now_us: u64, off_us: u64) {
+        self.reboot_with(now_us, off_us, None);
+    }
+
+    /// [`SimPod::reboot`], with the counters of the new boot starting at `seq_start`
+    /// (`None`: [`PodSimConfig::seq_start`]).
+    pub fn reboot_with(&mut self, now_us: u64, off_us: u64, seq_start: Option<u8>) {
+        let now = self.enter(now_us);
+        // Whatever was in progress dies with the power.
+        while let Some(i) = self.gps_open.pop_front() {
+            if let Some(r) = self.gps_requests.get_mut(i) {
+                r.timed_out = true;
+            }
+            self.gps_unanswered += 1;
+        }
+        self.outbox.clear();
+        self.deferred.clear();
+        self.photo_job = None;
+        self.single_shots.clear();
+        self.off_until = Some(now.saturating_add(off_us));
+        self.next_seq_start = seq_start.unwrap_or(self.config.seq_start);
+    }
+
+    /// The pod is without power (rebooting) at the latest instant processed.
+    #[must_use]
+    pub fn is_off(&self) -> bool {
+        self.off_until.is_some_and(|on| self.now_us < on)
+    }
+
+    /// The instants the pod was powered up: the first call, then the end of each reboot.
+    #[must_use]
+    pub fn boots(&self) -> &[u64] {
+        &self.boots
+    }
+
+    /// Powers up at `t`: every state as at the first power-up, but the records.
+    fn boot(&mut self, t: u64) {
+        let first = !self.booted;
+        self.booted = true;
+        self.boots.push(t);
+        self.off_until = None;
+        if !first {
+            self.deframer = Deframer::new(framing_of(&self.config));
+            self.rx_chunks.clear();
+            self.outbox.clear();
+            self.deferred.clear();
+            self.seqs.clear();
+            self.yaw = Axis::new(self.config.yaw_limits_deg);
+            self.pitch = Axis::new(self.config.pitch_limits_deg);
+            self.pitch_dial_x5 = self.config.pitch_dial_x5.clamp(5, 150);
+            self.yaw_dial_x5 = self.config.yaw_dial_x5.clamp(5, 150);
+            self.stabilization = false;
+            // The laser's distance is the scene's, not the pod's state.
+            self.camera = initial_camera(
+                &self.config,
+                self.camera.laser_distance_dm,
+                self.camera.photos_taken,
+            );
+            self.zoom = ZoomMotion::Idle;
+            self.focus_until_us = 0;
+            self.manual_focus = false;
+            self.photo_job = None;
+            self.single_shots.clear();
+            self.clock = PodClock {
+                base_us: t,
+                base_unix_us: i128::from(self.config.initial_unix_ms) * 1000,
+                drift_ppm: self.config.clock_drift_ppm,
+                synced: false,
+            };
+            self.tz = (0, 0);
+            self.rtc_high = self.rtc_line_high;
+            self.pending_edge = None;
+        }
+        self.seq_base = self.next_seq_start;
+        self.zoom_status_due = None;
+        self.record_status_due = None;
+        self.laser_due = None;
+        self.model_us = t;
+        for (due, period) in self
+            .report_due
+            .iter_mut()
+            .zip(self.config.reports.as_array())
+        {
+            *due = (period > 0).then_some(t);
+        }
     }
 
     // ----- fault injection -----
@@ -1270,6 +1440,31 @@ impl SimPod {
         self.acks_dropped
     }
 
+    /// Every request received (but unknown ids), decoded, with what the pod did about it;
+    /// kept by [`SimPod::clear_records`] and across reboots.
+    #[must_use]
+    pub fn requests(&self) -> &[RequestRecord] {
+        &self.requests
+    }
+
+    /// Requests received with base id `base` (e.g. 0x0302), carried out or not.
+    #[must_use]
+    pub fn requests_received(&self, base: u16) -> usize {
+        self.requests
+            .iter()
+            .filter(|r| r.request.base() == base)
+            .count()
+    }
+
+    /// Photo requests (0x000302 start) received: shutter presses as the pod saw them.
+    #[must_use]
+    pub fn photo_requests(&self) -> usize {
+        self.requests
+            .iter()
+            .filter(|r| matches!(r.request, Request::TakePhoto(p) if p.action != ShootAction::Stop))
+            .count()
+    }
+
     /// Drops the logs of received and sent frames ([`SimPod::received`], [`SimPod::sent`]);
     /// the per-id counters and every other record stay.
     pub fn clear_records(&mut self) {
@@ -1285,21 +1480,20 @@ impl SimPod {
 
     // ----- scheduling -----
 
-    /// Takes `now_us` (never backwards), powers up on the first call, runs due work.
+    /// Takes `now_us` (never backwards), powers up on the first call and at the end of
+    /// a reboot, runs due work (none while off).
     fn enter(&mut self, now_us: u64) -> u64 {
         let now = now_us.max(self.now_us);
         if !self.booted {
-            self.booted = true;
-            self.model_us = now;
-            for (due, period) in self
-                .report_due
-                .iter_mut()
-                .zip(self.config.reports.as_array())
-            {
-                *due = (period > 0).then_some(now);
-            }
+            self.boot(now);
         }
         self.now_us = now;
+        if let Some(on) = self.off_until {
+            if now < on {
+                return now;
+            }
+            self.boot(on);
+        }
         self.run_until(now);
         now
     }
@@ -1329,7 +1523,16 @@ impl SimPod {
             (self.zoom_status_due, Timer::ZoomStatus),
             (self.record_status_due, Timer::RecordStatus),
             (self.laser_due, Timer::Laser),
-            (self.photo_job.map(|j| j.next_us), Timer::PhotoShot),
+            (
+                [
+                    self.photo_job.map(|j| j.next_us),
+                    self.single_shots.front().map(|s| s.0),
+                ]
+                .into_iter()
+                .flatten()
+                .min(),
+                Timer::PhotoShot,
+            ),
             (gps, Timer::GpsTimeout),
         ]);
         // The first of the earliest: candidates are in firing order.
@@ -1587,23 +1790,40 @@ impl SimPod {
         } else if let Some(request) = request {
             self.handle_request(now, header, request, start_us);
         } else if raw_request && self.config.ack_unknown {
-            self.ack(now, header, id.base, Ok(None));
+            let _ = self.ack(now, header, id.base, Ok(None));
         }
     }
 
     fn handle_request(&mut self, t: u64, header: Header, request: Request, start_us: u64) {
         let base = request.base();
+        let mut record = RequestRecord {
+            at_us: t,
+            header,
+            request,
+            code: None,
+            executed: false,
+            ack_seq: None,
+        };
         // The bridge has no business sending reports or GPS requests: no ACK.
         if matches!(base, 0x0001..=0x0008 | 0x0310) {
+            self.requests.push(record);
             return;
         }
         if let Some(&code) = self.config.nak.get(&base) {
-            self.ack(t, header, base, Err(code));
+            record.code = Some(code);
+            record.ack_seq = self.ack(t, header, base, Err(code));
+            self.requests.push(record);
             return;
         }
         self.deferred.clear();
         let result = self.execute(t, request, start_us);
-        self.ack(t, header, base, result);
+        record.code = Some(match &result {
+            Ok(_) => AckCode::Ok,
+            Err(code) => *code,
+        });
+        record.executed = result.is_ok();
+        record.ack_seq = self.ack(t, header, base, result);
+        self.requests.push(record);
         let deferred = std::mem::take(&mut self.deferred);
         for (id, payload) in deferred {
             self.send_payload(t.saturating_add(self.config.ack_delay_us), id, payload);
@@ -1902,8 +2122,16 @@ impl SimPod {
                 None,
                 u64::from(self.camera.timelapse_s.max(1)) * ONE_SECOND_US,
             ),
-            _ => (Some(1), ONE_SECOND_US),
+            _ => {
+                // Every shutter press is a shot, even one behind a pending shot.
+                let due = t.saturating_add(self.config.photo_gps_delay_us);
+                self.single_shots.push_back((due, p.sensors));
+                return Ok(());
+            }
         };
+        if !self.single_shots.is_empty() {
+            return Err(AckCode::PhotoInProgress);
+        }
         self.photo_job = Some(PhotoJob {
             sensors: p.sensors,
             mode,
@@ -1916,8 +2144,21 @@ impl SimPod {
     }
 
     fn take_shot(&mut self, t: u64) {
-        let Some(mut job) = self.photo_job else {
-            return;
+        let single = self.single_shots.front().filter(|s| s.0 <= t).map(|s| s.1);
+        let mut job = match (single, self.photo_job) {
+            (Some(sensors), _) => {
+                self.single_shots.pop_front();
+                PhotoJob {
+                    sensors,
+                    mode: PhotoMode::Single,
+                    total: Some(1),
+                    done: 0,
+                    next_us: t,
+                    interval_us: ONE_SECOND_US,
+                }
+            }
+            (None, Some(job)) => job,
+            (None, None) => return,
         };
         job.done = job.done.saturating_add(1);
         let pod_unix_ms = self.clock_unix_ms(t);
@@ -1942,6 +2183,7 @@ impl SimPod {
                 photo,
                 reply: None,
                 timed_out: false,
+                boot: self.boots.len().saturating_sub(1),
             });
             self.gps_open.push_back(self.gps_requests.len() - 1);
             self.gps_requests.len() - 1
@@ -1971,7 +2213,9 @@ impl SimPod {
             self.send(t, &status(state));
         }
         if job.total.is_some_and(|n| job.done >= n) {
-            self.photo_job = None;
+            if single.is_none() {
+                self.photo_job = None;
+            }
             if progress.is_some() {
                 self.send(t, &status(PhotoState::Taken));
             }
@@ -2039,15 +2283,13 @@ impl SimPod {
 
     fn handle_gps_reply(&mut self, t: u64, header: Header, reply: GpsReply) {
         let index = self.gps_replies.len();
-        let request = self
-            .gps_requests
-            .iter()
-            .rposition(|r| r.seq == header.seq && r.reply.is_none());
+        let request = self.match_gps_reply(header.seq);
         let mut record = GpsReplyRecord {
             at_us: t,
             header,
             reply,
             request,
+            seq_matches: false,
             latency_us: None,
             time_matches: false,
             late: false,
@@ -2056,6 +2298,7 @@ impl SimPod {
             self.gps_open.retain(|&open| open != i);
             if let Some(r) = self.gps_requests.get_mut(i) {
                 r.reply = Some(index);
+                record.seq_matches = r.seq == header.seq;
                 record.latency_us = Some(t.saturating_sub(r.at_us));
                 record.late = r.timed_out;
                 let q = r.request;
@@ -2064,6 +2307,24 @@ impl SimPod {
             }
         }
         self.gps_replies.push(record);
+    }
+
+    /// The request a GPS reply with sequence number `seq` answers: a pending one with
+    /// that number (the oldest), else the latest of this boot that timed out with it,
+    /// else the oldest pending one.
+    fn match_gps_reply(&self, seq: u8) -> Option<usize> {
+        let boot = self.boots.len().saturating_sub(1);
+        let seq_of = |i: usize| self.gps_requests.get(i).map(|r| r.seq);
+        self.gps_open
+            .iter()
+            .copied()
+            .find(|&i| seq_of(i) == Some(seq))
+            .or_else(|| {
+                self.gps_requests.iter().rposition(|r| {
+                    r.boot == boot && r.timed_out && r.reply.is_none() && r.seq == seq
+                })
+            })
+            .or_else(|| self.gps_open.front().copied())
     }
 
     // ----- answers and reports -----
@@ -2253,7 +2514,10 @@ impl SimPod {
     }
 
     fn next_seq(&mut self, src: Address) -> u8 {
-        let seq = self.seqs.entry((src.system, src.component)).or_insert(0);
+        let seq = self
+            .seqs
+            .entry((src.system, src.component))
+            .or_insert(self.seq_base);
         let current = *seq;
         *seq = seq.wrapping_add(1);
         current
@@ -2298,17 +2562,24 @@ impl SimPod {
     }
 
     /// Sends the ACK of a request (`result` as [`SimPod::execute`] returns it).
+    /// Returns the ACK's sequence number (`None`: dropped).
     fn ack(
         &mut self,
         t: u64,
         request: Header,
         base: u16,
         result: Result<Option<Vec<u8>>, AckCode>,
-    ) {
+    ) -> Option<u8> {
+        let src = self.source_for(base);
+        // A dropped ACK was sent and lost on the way: it used its number.
+        let seq = match self.config.ack_seq {
+            AckSeq::Echo => request.seq,
+            AckSeq::OwnCounter => self.next_seq(src),
+        };
         if let Some(left) = self.config.drop_acks.get_mut(&base).filter(|n| **n > 0) {
             *left -= 1;
             self.acks_dropped += 1;
-            return;
+            return None;
         }
         let (code, mut bytes) = match result {
             Ok(Some(bytes)) => (AckCode::Ok, bytes),
@@ -2331,12 +2602,13 @@ impl SimPod {
         }
         let header = Header {
             dst: request.src,
-            src: self.source_for(base),
-            seq: request.seq,
+            src,
+            seq,
             coverage: self.config.coverage,
         };
         let due = t.saturating_add(self.config.ack_delay_us);
         self.queue(due, header, MsgId::new(Kind::Ack, base), bytes);
+        Some(seq)
     }
 
     /// Puts a frame on the line (or loses it while silent), with output faults.
@@ -2378,6 +2650,43 @@ impl SimPod {
             id,
             frame,
         });
+    }
+}
+
+/// The deframer's framing for `config`.
+fn framing_of(config: &PodSimConfig) -> K40tFraming {
+    if config.accept_any_coverage {
+        K40tFraming::any()
+    } else {
+        K40tFraming::with(config.coverage)
+    }
+}
+
+/// The camera as at power-up.
+fn initial_camera(config: &PodSimConfig, laser_distance_dm: u16, photos_taken: u32) -> CameraState {
+    CameraState {
+        mode: CaptureMode::Photo,
+        photo_mode: PhotoMode::Single,
+        timelapse_s: 5,
+        burst_count: 3,
+        image_mode: ImageMode::Visible,
+        codec: VideoCodec::H264,
+        bitrate: StreamBitrate::M4,
+        palette: Palette::WhiteHot,
+        ir_measuring: true,
+        zoom_x10: f64::from(config.zoom_min_x10),
+        zoom_target_x10: None,
+        zooming: false,
+        focus: None,
+        af_after_zoom: false,
+        recording: None,
+        photos_taken,
+        laser_periodic: false,
+        laser_distance_dm,
+        ai: false,
+        track: None,
+        ev: Ev::Auto,
+        ae_lock: AeLock::Off,
     }
 }
 

@@ -7,9 +7,15 @@
 //! rate and delivers them in chunks with an idle event after each burst, as the
 //! firmware's UART does. The RTC_IO pin is applied exactly at the instant the engine
 //! names (the firmware's timer alarm) and seen by the pod at the same instant.
+//!
+//! Cables can fail: [`Scenario::fc_cut`] for good, [`Scenario::pull_fc_cable`] and
+//! [`Scenario::pull_pod_cable`] for a while, [`Scenario::set_fc_faults`] and
+//! [`Scenario::set_pod_faults`] for a noisy cable (a seeded [`Faults`] model in both
+//! directions).
 
 use protocol_core::bridge::{Config, Engine, Event, Instant, Level};
 
+use super::faults::Faults;
 use super::line::Line;
 use super::pod::SimPod;
 
@@ -81,6 +87,10 @@ pub struct Scenario<F: FcSim> {
     pub events: Vec<(u64, Event)>,
     /// Cut the FC cable (no bytes either way).
     pub fc_cut: bool,
+    /// The FC cable is out until this true time (µs).
+    pub fc_cut_until_us: u64,
+    /// The pod cable (UART both ways and RTC_IO) is out until this true time (µs).
+    pub pod_cut_until_us: u64,
     /// Never tell the engine the FC line went idle (a caller without idle detection, or
     /// one whose idle signal comes too late).
     pub fc_idle_off: bool,
@@ -102,6 +112,8 @@ impl<F: FcSim> Scenario<F> {
             pin_edges: Vec::new(),
             events: Vec::new(),
             fc_cut: false,
+            fc_cut_until_us: 0,
+            pod_cut_until_us: 0,
             fc_idle_off: false,
         }
     }
@@ -150,6 +162,38 @@ impl<F: FcSim> Scenario<F> {
         self.run_until(self.now_us + us);
     }
 
+    /// Pulls the FC cable out now for `duration_us` (nothing either way; back by itself).
+    pub fn pull_fc_cable(&mut self, duration_us: u64) {
+        self.fc_cut_until_us = self.now_us.saturating_add(duration_us);
+    }
+
+    /// Pulls the pod cable out now for `duration_us`: nothing either way, no RTC_IO edge
+    /// reaches the pod (it keeps running).
+    pub fn pull_pod_cable(&mut self, duration_us: u64) {
+        self.pod_cut_until_us = self.now_us.saturating_add(duration_us);
+    }
+
+    /// A noisy FC cable from now on: `faults` in both directions, each with its own seed
+    /// ([`Faults::derived`]: 0 into the bridge, 1 out of it); `None`: a good cable.
+    pub fn set_fc_faults(&mut self, faults: Option<Faults>) {
+        self.fc_line.set_faults(faults.map(|f| f.derived(0)));
+        self.to_fc_line.set_faults(faults.map(|f| f.derived(1)));
+    }
+
+    /// A noisy pod cable, as [`Scenario::set_fc_faults`].
+    pub fn set_pod_faults(&mut self, faults: Option<Faults>) {
+        self.pod_line.set_faults(faults.map(|f| f.derived(0)));
+        self.to_pod_line.set_faults(faults.map(|f| f.derived(1)));
+    }
+
+    fn fc_is_cut(&self) -> bool {
+        self.fc_cut || self.now_us < self.fc_cut_until_us
+    }
+
+    fn pod_is_cut(&self) -> bool {
+        self.now_us < self.pod_cut_until_us
+    }
+
     fn next_event(&self) -> Option<u64> {
         let engine_poll = self.engine.poll_at().map(|t| self.true_of(t));
         let pin = self.engine.pin().map(|p| self.true_of(p.at));
@@ -177,14 +221,14 @@ impl<F: FcSim> Scenario<F> {
         let local = self.local(now);
         // Lines into the bridge.
         let (bytes, idle) = self.fc_line.deliver(now);
-        if !bytes.is_empty() && !self.fc_cut {
+        if !bytes.is_empty() && !self.fc_is_cut() {
             self.engine.receive_fc(local, &bytes);
         }
         if idle && !self.fc_idle_off {
             self.engine.fc_idle(local);
         }
         let (bytes, idle) = self.pod_line.deliver(now);
-        if !bytes.is_empty() {
+        if !bytes.is_empty() && !self.pod_is_cut() {
             self.engine.receive_pod(local, &bytes);
         }
         if idle {
@@ -192,17 +236,19 @@ impl<F: FcSim> Scenario<F> {
         }
         // Lines out of the bridge.
         let (bytes, _) = self.to_fc_line.deliver(now);
-        if !bytes.is_empty() && !self.fc_cut {
+        if !bytes.is_empty() && !self.fc_is_cut() {
             self.fc.receive(now, &bytes);
         }
         let (bytes, _) = self.to_pod_line.deliver(now);
-        if !bytes.is_empty() {
+        if !bytes.is_empty() && !self.pod_is_cut() {
             self.pod.receive(now, &bytes);
         }
         // RTC_IO at the instant the engine names.
         while let Some(p) = self.engine.pin().filter(|p| p.at <= local) {
             let at = self.true_of(p.at);
-            self.pod.rtc_edge(at, p.level == Level::High);
+            if !self.pod_is_cut() {
+                self.pod.rtc_edge(at, p.level == Level::High);
+            }
             self.pin_edges.push(PinEdge {
                 at_us: at,
                 level: p.level,
@@ -221,12 +267,12 @@ impl<F: FcSim> Scenario<F> {
         }
         self.drain_engine();
         for (at, bytes) in self.fc.transmit() {
-            if !self.fc_cut {
+            if !self.fc_is_cut() {
                 self.fc_line.send(at.max(now), &bytes);
             }
         }
         let bytes = self.pod.transmit();
-        if !bytes.is_empty() {
+        if !bytes.is_empty() && !self.pod_is_cut() {
             self.pod_line.send(now, &bytes);
         }
     }
@@ -237,7 +283,7 @@ impl<F: FcSim> Scenario<F> {
         while let Some(f) = self.engine.fc_frame() {
             let f = f.to_vec();
             self.engine.fc_sent();
-            if !self.fc_cut {
+            if !self.fc_is_cut() {
                 self.to_fc_line.send(now, &f);
             }
         }
@@ -296,5 +342,36 @@ mod tests {
         s.run_for(2_000_000);
         assert!(s.engine.pod_state().link);
         assert!(s.pod.received_count(GimbalVersionQuery::ID.to_u32()) > before);
+    }
+
+    #[test]
+    fn a_pulled_pod_cable_carries_nothing_until_it_is_back() {
+        let mut s = Scenario::new(
+            Config::default(),
+            SilentFc::default(),
+            SimPod::new(PodSimConfig::default()),
+            0,
+        );
+        s.run_until(3_000_000);
+        let (pod_rx, pod_tx) = (s.pod.rx_stats().bytes, s.pod_line.bytes_sent);
+        let edges = s.pod.rtc_edges().len();
+        s.pull_pod_cable(5_000_000);
+        s.run_for(4_999_999);
+        assert_eq!(s.pod.rx_stats().bytes, pod_rx, "nothing reaches the pod");
+        assert_eq!(s.pod_line.bytes_sent, pod_tx, "nothing leaves it");
+        assert_eq!(s.pod.rtc_edges().len(), edges);
+        assert!(s.pod.sent_count(0x00_0002) > 70, "the pod runs on");
+        s.run_for(1_000_000);
+        assert!(s.pod_line.bytes_sent > pod_tx);
+
+        // A noisy cable: both directions through their own fault stage.
+        s.set_pod_faults(Some(Faults::bit_errors(1e-3, 4)));
+        s.run_for(2_000_000);
+        let (a, b) = (s.pod_line.fault_stats(), s.to_pod_line.fault_stats());
+        assert!(a.is_some_and(|a| a.bytes_in > 1_000), "{a:?}");
+        assert!(b.is_some());
+        assert_eq!(s.fc_line.fault_stats(), None);
+        s.set_pod_faults(None);
+        assert_eq!(s.pod_line.fault_stats(), None);
     }
 }

@@ -8,9 +8,11 @@
 //! ```
 //!
 //! Each of the four directions passes through a [`Wire`] on the peer's side: it counts
-//! the bytes, can record them (the demo decodes them), cut them (a cable pulled out) or
-//! change them (garbage, bit flips: [`Corrupter`]), and can trickle them one byte at a
-//! time at the line's pace. RTC_IO goes to the pod through [`PodPin`]; every record of
+//! the bytes, can record them (the demo decodes them), cut them (a cable pulled out, for
+//! good or for a while: [`Wires::pull_fc`], [`Wires::pull_pod`]) or change them (a
+//! [`Corrupter`], or a seeded [`Faults`] model: [`Wires::set_fc_faults`],
+//! [`Wires::set_pod_faults`]), in both directions, and can trickle them one byte at a
+//! time at the line's pace (into the bridge). RTC_IO goes to the pod through [`PodPin`]; every record of
 //! the tasks' log (engine events, pin changes, edge-to-frame delays) is kept.
 //!
 //! A [`Bench`] runs once ([`Bench::run`]): virtual time starts at 0 with each run. A
@@ -26,6 +28,7 @@ use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
 use protocol_core::bridge::{Config, Engine, Event, Level};
 
+use super::faults::{FaultStage, FaultStats, Faults};
 use super::line::Corrupter;
 use super::peer::{PodPin, now_us, run_peer};
 use super::pilot::Pilot;
@@ -36,6 +39,8 @@ use super::pod::{PodSimConfig, SimPod};
 pub struct Wire {
     /// The cable is cut: bytes are lost (counted in [`Wire::lost`]).
     pub cut: bool,
+    /// The cable is out until this instant (µs; [`Wire::pull_for`]).
+    pub cut_until_us: u64,
     /// Bytes that went through (after any corruption).
     pub bytes: u64,
     /// Bytes lost while cut.
@@ -47,6 +52,7 @@ pub struct Wire {
     /// Write one byte at a time, this many µs apart (into the bridge only).
     pub trickle_us: Option<u64>,
     corrupt: Option<Box<Corrupter>>,
+    faults: Option<FaultStage>,
 }
 
 impl core::fmt::Debug for Wire {
@@ -61,8 +67,7 @@ impl core::fmt::Debug for Wire {
 }
 
 impl Wire {
-    /// Changes every write with `f(now_us, bytes) -> bytes sent` (writes into the bridge
-    /// only).
+    /// Changes every chunk with `f(now_us, bytes) -> bytes passed` (either direction).
     pub fn set_corrupter(&mut self, f: Box<Corrupter>) {
         self.corrupt = Some(f);
     }
@@ -72,16 +77,42 @@ impl Wire {
         self.corrupt = None;
     }
 
+    /// Makes this direction faulty with `faults` from now on (after any corrupter;
+    /// `None` or zero rates: a good wire again). The stage starts afresh from its seed.
+    pub fn set_faults(&mut self, faults: Option<Faults>) {
+        self.faults = faults.filter(|f| !f.is_none()).map(FaultStage::new);
+    }
+
+    /// What the fault model did so far (`None`: no model set).
+    #[must_use]
+    pub fn fault_stats(&self) -> Option<FaultStats> {
+        self.faults.as_ref().map(FaultStage::stats)
+    }
+
+    /// Pulls the cable out for `duration_us` from `now_us`: bytes are lost until then.
+    pub fn pull_for(&mut self, now_us: u64, duration_us: u64) {
+        self.cut_until_us = now_us.saturating_add(duration_us);
+    }
+
+    /// The cable is out at `now_us`.
+    #[must_use]
+    pub fn is_cut(&self, now_us: u64) -> bool {
+        self.cut || now_us < self.cut_until_us
+    }
+
     /// What goes on the line for `bytes` now (`None`: lost to a cut).
     fn pass(&mut self, bytes: &[u8]) -> Option<Vec<u8>> {
-        if self.cut {
+        if self.is_cut(now_us()) {
             self.lost += bytes.len() as u64;
             return None;
         }
-        let out = match self.corrupt.as_mut() {
+        let mut out = match self.corrupt.as_mut() {
             Some(f) => f(now_us(), bytes),
             None => bytes.to_vec(),
         };
+        if let Some(stage) = self.faults.as_mut() {
+            out = stage.apply(&out);
+        }
         self.bytes += out.len() as u64;
         if self.recording && !out.is_empty() {
             self.log.push((now_us(), out.clone()));
@@ -132,16 +163,22 @@ impl<W: Write> Write for WireTx<'_, W> {
     }
 }
 
-/// The peer's reader (from the bridge) through a [`Wire`] (cut and recording only).
+/// The peer's reader (from the bridge) through a [`Wire`].
 pub struct WireRx<'a, R> {
     inner: R,
     wire: &'a RefCell<Wire>,
+    /// Bytes that came out of the wire and did not fit the last read (garbage added).
+    pending: std::collections::VecDeque<u8>,
 }
 
 impl<'a, R> WireRx<'a, R> {
     /// `inner` through `wire`.
     pub const fn new(inner: R, wire: &'a RefCell<Wire>) -> Self {
-        WireRx { inner, wire }
+        WireRx {
+            inner,
+            wire,
+            pending: std::collections::VecDeque::new(),
+        }
     }
 }
 
@@ -152,21 +189,25 @@ impl<R: ErrorType> ErrorType for WireRx<'_, R> {
 impl<R: Read> Read for WireRx<'_, R> {
     async fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
         loop {
+            if !self.pending.is_empty() {
+                let n = buf.len().min(self.pending.len());
+                for (slot, b) in buf.iter_mut().zip(self.pending.drain(..n)) {
+                    *slot = b;
+                }
+                return Ok(n);
+            }
+            if buf.is_empty() {
+                return Ok(0);
+            }
             let n = self.inner.read(buf).await?;
             if n == 0 {
                 return Ok(0);
             }
             let got = buf.get(..n).unwrap_or_default();
-            let mut w = self.wire.borrow_mut();
-            if w.cut {
-                w.lost += n as u64;
-                continue;
+            // Cut: lost; else what the wire makes of it (possibly nothing, or more).
+            if let Some(out) = self.wire.borrow_mut().pass(got) {
+                self.pending.extend(out);
             }
-            w.bytes += n as u64;
-            if w.recording {
-                w.log.push((now_us(), got.to_vec()));
-            }
-            return Ok(n);
         }
     }
 }
@@ -202,6 +243,41 @@ impl Wires {
     pub fn cut_pod(&self, cut: bool) {
         self.pod_in.borrow_mut().cut = cut;
         self.pod_out.borrow_mut().cut = cut;
+    }
+
+    /// Pulls the FC cable out for `duration_us` from `now_us` (both directions; it is
+    /// back by itself then).
+    pub fn pull_fc(&self, now_us: u64, duration_us: u64) {
+        self.fc_in.borrow_mut().pull_for(now_us, duration_us);
+        self.fc_out.borrow_mut().pull_for(now_us, duration_us);
+    }
+
+    /// Pulls the pod cable out for `duration_us` from `now_us` (both directions; not
+    /// RTC_IO: use [`SimPod::set_silent`] for the whole cable).
+    pub fn pull_pod(&self, now_us: u64, duration_us: u64) {
+        self.pod_in.borrow_mut().pull_for(now_us, duration_us);
+        self.pod_out.borrow_mut().pull_for(now_us, duration_us);
+    }
+
+    /// A faulty FC cable: `faults` in both directions, each with its own seed derived
+    /// from `faults.seed` ([`Faults::derived`]: 0 into the bridge, 1 out of it).
+    pub fn set_fc_faults(&self, faults: Option<Faults>) {
+        self.fc_in
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(0)));
+        self.fc_out
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(1)));
+    }
+
+    /// A faulty pod cable, as [`Wires::set_fc_faults`].
+    pub fn set_pod_faults(&self, faults: Option<Faults>) {
+        self.pod_in
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(0)));
+        self.pod_out
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(1)));
     }
 
     fn into_inner(self) -> Wires<Wire> {
@@ -376,5 +452,63 @@ impl<P> Outcome<P> {
                 _ => None,
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bridge_fw::host::HostPipe;
+
+    #[test]
+    fn a_wire_corrupts_and_cuts_both_directions() {
+        let from_bridge = HostPipe::new();
+        let to_bridge = HostPipe::new();
+        let (rx, tx) = (RefCell::new(Wire::default()), RefCell::new(Wire::default()));
+        // Every bit flipped on the way from the bridge, one garbage byte before each
+        // byte on the way to it.
+        rx.borrow_mut().set_faults(Some(Faults::bit_errors(1.0, 1)));
+        tx.borrow_mut().set_faults(Some(Faults {
+            garbage_rate: 1.0,
+            ..Faults::NONE
+        }));
+        let (got, sent) = host::run(Clock::Virtual, || async {
+            let mut peer_rx = WireRx::new(&from_bridge, &rx);
+            let mut peer_tx = WireTx::new(&to_bridge, &tx);
+            from_bridge.write_all(&[0x00, 0xF0, 0x3C]).await;
+            // A read smaller than what came: the rest waits for the next one.
+            let mut one = [0u8; 1];
+            let mut got = Vec::new();
+            while got.len() < 3 {
+                let n = peer_rx.read(&mut one).await.unwrap();
+                got.extend_from_slice(&one[..n]);
+            }
+            peer_tx.write_all(&[1, 2]).await.unwrap();
+            let mut buf = [0u8; 8];
+            let n = to_bridge.read(&mut buf).await;
+            // Pulled out for 1 s: what the bridge writes then is lost.
+            rx.borrow_mut().pull_for(now_us(), 1_000_000);
+            from_bridge.write_all(&[0x55]).await;
+            // The peer reads on: the byte is taken from the bridge and lost.
+            let _ = select(
+                peer_rx.read(&mut one),
+                Timer::after(Duration::from_micros(10)),
+            )
+            .await;
+            assert!(rx.borrow().is_cut(now_us()));
+            Timer::after(Duration::from_millis(1_000)).await;
+            from_bridge.write_all(&[0x0F]).await;
+            let n2 = peer_rx.read(&mut one).await.unwrap();
+            got.extend_from_slice(&one[..n2]);
+            (got, buf[..n].to_vec())
+        });
+        assert_eq!(got, [0xFF, 0x0F, 0xC3, 0xF0], "0x55 lost to the pull");
+        assert_eq!(sent.len(), 4);
+        assert_eq!((sent[1], sent[3]), (1, 2));
+        let (r, t) = (rx.into_inner(), tx.into_inner());
+        assert_eq!(r.lost, 1);
+        assert_eq!(r.fault_stats().unwrap().bits_flipped, 32);
+        assert_eq!(t.fault_stats().unwrap().garbage_bytes, 2);
+        assert_eq!(t.bytes, 4);
     }
 }
