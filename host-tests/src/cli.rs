@@ -186,9 +186,9 @@ pub enum EventFormat {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum AckSeqArg {
     /// The request's sequence number, echoed (the counter does not move).
-    #[default]
     Echo,
     /// The pod's own counter, as for every message it sends (the document's reading).
+    #[default]
     Own,
 }
 
@@ -260,7 +260,7 @@ pub struct BridgeArgs {
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub sim_photo_every: Option<f64>,
     /// With `--pod-port sim`: the sequence number of the simulated pod's ACKs.
-    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Echo)]
+    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Own)]
     pub sim_pod_ack_seq: AckSeqArg,
     /// Make the FC cable faulty (see FAULTS below), whatever the port (`sim` too).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
@@ -433,7 +433,7 @@ pub struct SimPodArgs {
     #[arg(long, value_name = "N")]
     pub expect_geotags: Option<u32>,
     /// The sequence number of the pod's ACKs.
-    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Echo)]
+    #[arg(long, value_enum, value_name = "SEQ", default_value_t = AckSeqArg::Own)]
     pub ack_seq: AckSeqArg,
     /// Make the cable to the bridge faulty (see FAULTS below; not RTC_IO).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
@@ -648,7 +648,7 @@ mod tests {
         assert_eq!(b.events, EventFormat::Json);
         assert!(!b.trace);
         assert_eq!((b.fc_faults, b.pod_faults), (None, None));
-        assert_eq!(b.sim_pod_ack_seq, AckSeqArg::Echo);
+        assert_eq!(b.sim_pod_ack_seq, AckSeqArg::Own);
 
         let cli = Cli::try_parse_from([
             "gimbal",

@@ -9,9 +9,9 @@
 //! as a stick held over would (the bridge stops a pod whose FC falls silent).
 //!
 //! Sequence numbers: the FC's own counter, from 0, for every frame it originates. Its
-//! GPS replies (0x010310) carry the request's SEQ by default ([`AckSeq::Echo`]); with
-//! [`FcK40t::reply_seq`] = [`AckSeq::OwnCounter`] they take the FC's own next number,
-//! as the document's field table reads.
+//! GPS replies (0x010310) take the FC's own next number by default, as the document's
+//! field table reads ([`AckSeq::OwnCounter`]); with [`FcK40t::reply_seq`] =
+//! [`AckSeq::Echo`] they carry the request's SEQ.
 //!
 //! [`FcK40t::reboot`]: silent and deaf for [`FcReboot::off_us`], then the counter
 //! restarts at 0, the held motion is forgotten and the time syncs start again 1 s after
@@ -91,7 +91,7 @@ impl Default for FcK40t {
             next_sync_us: 1_000_000,
             utc_at_zero_us: 1_795_428_000_123_456,
             answer_gps: true,
-            reply_seq: AckSeq::Echo,
+            reply_seq: AckSeq::OwnCounter,
             utc_shifts: Vec::new(),
             reboots: Vec::new(),
             lost_while_off: 0,

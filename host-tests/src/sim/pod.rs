@@ -57,9 +57,9 @@
 //! requests). The document's field table says the SEQ byte is incremented by each
 //! component for every message it sends; an ACK is a message the pod sends, so in the
 //! document's reading ([`AckSeq::OwnCounter`]) an ACK takes the next number of its
-//! source's counter, like a report. [`AckSeq::Echo`] (the default on this branch, to be
-//! flipped to `OwnCounter`) gives an ACK the request's sequence number and leaves the
-//! counter alone, as the one reference ACK of SPEC-NOTES happens to do. A requester that
+//! source's counter, like a report: this is the default. [`AckSeq::Echo`] gives an ACK
+//! the request's sequence number and leaves the counter alone, as the one reference ACK
+//! of SPEC-NOTES happens to do (tests run the bridge against both). A requester that
 //! insists on an echoed SEQ retries every command sent to an `OwnCounter` pod. Frames
 //! generated while the cable is cut ([`SimPod::set_silent`]) are lost but still consume
 //! their number, so the bridge sees a gap.
@@ -368,8 +368,8 @@ pub struct PodSimConfig {
     pub reports: ReportPeriods,
     /// Delay between a request and its ACK (and the status frames that follow it).
     pub ack_delay_us: u64,
-    /// Sequence number of the ACKs ([`AckSeq::Echo`] by default; the document's reading
-    /// is [`AckSeq::OwnCounter`]).
+    /// Sequence number of the ACKs ([`AckSeq::OwnCounter`] by default, the document's
+    /// reading; [`AckSeq::Echo`] the alternative).
     pub ack_seq: AckSeq,
     /// First sequence number of every source's counter, at power-up and after each
     /// reboot.
@@ -458,7 +458,7 @@ impl Default for PodSimConfig {
             rx_idle_timeout_us: 10_000,
             reports: ReportPeriods::default(),
             ack_delay_us: 0,
-            ack_seq: AckSeq::Echo,
+            ack_seq: AckSeq::OwnCounter,
             seq_start: 0,
             ack_code_le: false,
             nak: BTreeMap::new(),

@@ -249,7 +249,7 @@ impl K40tState {
             self.turning = turns(c);
         }
         if let Some(reply) = typed::<GpsReply>(&frame) {
-            self.gps_reply(ctx, header, reply);
+            self.gps_reply(ctx, reply);
         }
         let id = frame.id();
         if id.kind != Kind::Request {
@@ -300,10 +300,10 @@ impl K40tState {
 
     /// The FC answers the pod's GPS request: the answer is a fix, and the request is no
     /// longer pending.
-    fn gps_reply(&mut self, ctx: &mut Ctx<'_>, header: Header, reply: GpsReply) {
-        if self.gps.is_some_and(|g| g.header.seq == header.seq) {
-            self.gps = None;
-        }
+    fn gps_reply(&mut self, ctx: &mut Ctx<'_>, reply: GpsReply) {
+        // One request waits at a time: the FC's reply answers it, whatever its SEQ (the
+        // FC may number its replies with its own counter, as the document reads).
+        self.gps = None;
         if !reply.code.is_ok() {
             return;
         }
