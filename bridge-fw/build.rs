@@ -282,6 +282,9 @@ fn generate(text: &str) -> Result<String, String> {
         if let Some(v) = k.int("gimbal_code", 0, 255)? {
             set("gcu.gimbal_code", v.to_string());
         }
+        if let Some(v) = k.boolean("resync_mark")? {
+            set("gcu.resync_mark", v.to_string());
+        }
         k.finish()?;
     }
     if let Some(t) = top.table("pod")? {

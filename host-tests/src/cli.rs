@@ -339,6 +339,10 @@ pub struct ConfigArgs {
     /// GCU: firmware version times ten [default: 10].
     #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
     pub gcu_firmware_x10: Option<u8>,
+    /// GCU: send no `8A 00` after each reply (it puts ArduPilot's XF Robot parser back in
+    /// step after a corrupted reply).
+    #[arg(long)]
+    pub gcu_no_resync_mark: bool,
     /// The pod reports yaw positive to the left.
     #[arg(long)]
     pub pod_yaw_positive_left: bool,

@@ -149,7 +149,7 @@ fn replies_carry_the_pods_attitude_zoom_range_and_recording_at_ardupilots_offset
     cfg.gcu = GcuIdentity {
         hardware_x10: 23,
         firmware_x10: 45,
-        gimbal_code: 0xFF,
+        ..GcuIdentity::DEFAULT
     };
     let mut s = scenario_with(cfg, ApXfRobotConfig::default(), PodSimConfig::default(), 25);
     s.run_until(2 * S);

@@ -107,6 +107,7 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
     if let Some(v) = a.gcu_firmware_x10 {
         c.gcu.firmware_x10 = v;
     }
+    c.gcu.resync_mark = !a.gcu_no_resync_mark;
     c.pod.yaw_positive_left = a.pod_yaw_positive_left;
     c.pod.pitch_positive_down = a.pod_pitch_positive_down;
     if let Some(v) = a.discipline_bin_ms {

@@ -6,6 +6,8 @@
 //! on the FC and the wires (cut a cable, send garbage) and samples the peers.
 #![allow(dead_code)]
 
+pub mod faults;
+
 use bridge_fw::What;
 use host_tests::sim::pilot::{Pilot, describe_k40t};
 use host_tests::sim::pod::SyncOutcome;

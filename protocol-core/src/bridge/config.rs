@@ -86,14 +86,20 @@ pub struct GcuIdentity {
     /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
     /// of the listed models: 0xFF by default, which no table entry uses.
     pub gimbal_code: u8,
+    /// Send `8A 00` after every reply (default true): ArduPilot's XF Robot parser keeps
+    /// skipped bytes in its buffer and, after one corrupted reply, can lose step with
+    /// the replies for good; the pair puts it back in step at the end of every reply.
+    pub resync_mark: bool,
 }
 
 impl GcuIdentity {
-    /// Hardware 1.0, firmware 1.0, gimbal code 0xFF (not a listed model).
+    /// Hardware 1.0, firmware 1.0, gimbal code 0xFF (not a listed model), resync mark
+    /// on.
     pub const DEFAULT: Self = Self {
         hardware_x10: 10,
         firmware_x10: 10,
         gimbal_code: 0xFF,
+        resync_mark: true,
     };
 }
 

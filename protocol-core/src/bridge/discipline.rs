@@ -236,6 +236,9 @@ pub struct DisciplineConfig {
     pub holdover: Duration,
     /// Consecutive mutually consistent outliers that make a step (default 5).
     pub step_confirm: u8,
+    /// The same for [prompt](Sample::prompt) samples (default 2: the K40T FC sends one
+    /// every 10 s, and one is trusted enough to start a mapping).
+    pub prompt_step_confirm: u8,
     /// The line's offset is anchored on this many most recent bins (default 4): the
     /// rate comes from the whole window, the offset from the lowest of these bins, so
     /// that a rate error is extrapolated over a few bins only, not over half the
@@ -284,6 +287,7 @@ impl DisciplineConfig {
         sample_timeout: Duration::from_secs(3),
         holdover: Duration::from_secs(60),
         step_confirm: 5,
+        prompt_step_confirm: 2,
         anchor_bins: 4,
         center_truncation: true,
         pair_tolerance: Duration::from_millis(2),
@@ -643,7 +647,12 @@ impl ClockEstimator {
                 // Below the fit's floor (no delay explains it) at once; above it, twice in
                 // a row (one late frame is ordinary).
                 self.suspect = residual.is_none_or(|r| r < 0) || c.count >= 2;
-                if c.count >= cfg.step_confirm.max(1) {
+                let confirm = if prompt {
+                    cfg.prompt_step_confirm
+                } else {
+                    cfg.step_confirm
+                };
+                if c.count >= confirm.max(1) {
                     let seed = c.point;
                     self.reset();
                     self.push_bin(seed);

@@ -52,6 +52,15 @@ use super::Ctx;
 /// Deframer buffer, the longest package answered: the document's longest is 84 bytes
 /// (gaze, 0x15), ArduPilot's are 72 and 73; 96 leaves room for 26 bytes of parameters.
 /// Longer packages (no known order has them) are rejected and counted as length errors.
+/// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::bridge::GcuIdentity)):
+/// a first header byte followed by one that is not the second. ArduPilot's XF Robot
+/// parser keeps the bytes it skips while looking for a header in its buffer and checks
+/// the CRC over all of it, so after one corrupted reply it can stay out of step with
+/// the 50 Hz replies for good (each reset lands the same distance before the next
+/// header); this pair resets it exactly at the end of every reply. A parser in step takes
+/// the pair for a broken header and skips it.
+const RESYNC_MARK: [u8; 2] = [0x8A, 0x00];
+
 const BUF: usize = 96;
 
 /// Attitude older than this is not reported (the pod reports it at 10 Hz).
@@ -379,8 +388,18 @@ impl GcuState {
             };
             Feedback::new(Order::from_value(order), state)
         };
-        let mut buf = [0u8; gcu::MIN_FRAME_LEN + 1];
+        let mut buf = [0u8; gcu::MIN_FRAME_LEN + 1 + RESYNC_MARK.len()];
         if let Ok(n) = packet.emit(&mut buf) {
+            let n = if ctx.config.gcu.resync_mark {
+                buf.get_mut(n..)
+                    .and_then(|tail| tail.get_mut(..RESYNC_MARK.len()))
+                    .map_or(n, |tail| {
+                        tail.copy_from_slice(&RESYNC_MARK);
+                        n.saturating_add(RESYNC_MARK.len())
+                    })
+            } else {
+                n
+            };
             ctx.reply(buf.get(..n).unwrap_or_default());
         }
     }
