@@ -74,6 +74,8 @@ pub struct Summary {
     pub commands_translated: u32,
     /// Distinct (FC command, pod command) pairs among them.
     pub command_kinds: u32,
+    /// When the FC first sent a usable UTC, s.
+    pub fc_first_utc_at_s: Option<f64>,
     /// When the bridge first knew UTC from the FC, s.
     pub utc_valid_at_s: Option<f64>,
     /// The first time sync's edge, s.
@@ -157,21 +159,22 @@ impl Step {
     }
 }
 
-/// The scripted flight: (second, step). Photos come after the first time sync (UTC is
-/// known 30 to 40 s after start, syncs are on the 10 s UTC grid: the first one comes
-/// at 40 or 50 s), so that the pod's clock is UTC when it asks for their geotag; a
-/// longer run takes one more photo every 15 s.
+/// The scripted flight: (second, step). The first photo comes two seconds after the
+/// first time sync (UTC is known within a second or two of the FC's first time value,
+/// the first sync goes out on the next 10 s UTC grid edge, about 10 s after start), so
+/// that the pod's clock is UTC when it asks for its geotag; a longer run takes one more
+/// photo every 15 s.
 fn script(seconds: u32) -> Vec<(u64, Step)> {
     let mut s = vec![
         (5, Step::Point(0.0, -90.0)),
         (10, Step::Turn(20.0, 0.0)),
+        (12, Step::Photo),
         (13, Step::Turn(0.0, 0.0)),
         (16, Step::Zoom(1)),
         (18, Step::Zoom(0)),
         (20, Step::Record(true)),
+        (34, Step::Photo),
         (51, Step::Photo),
-        (54, Step::Photo),
-        (57, Step::Photo),
         (58, Step::Record(false)),
     ];
     let mut t = 65;
@@ -690,6 +693,7 @@ fn story<P: Pilot>(
         healthy_at_end: o.fc.healthy(),
         commands_translated: translated,
         command_kinds: translated_seen.len() as u32,
+        fc_first_utc_at_s: o.fc.first_utc_sent_us().map(|t| t as f64 / 1e6),
         utc_valid_at_s,
         first_sync_at_s: first_sync.map(|(t, _)| t),
         first_sync_error_us: first_sync.map(|(_, e)| e),
@@ -764,7 +768,11 @@ fn write_summary(out: &mut dyn Write, s: &Summary, wall: std::time::Duration) ->
             "first time sync",
             match (s.first_sync_at_s, s.first_sync_error_us) {
                 (Some(t), Some(e)) => format!(
-                    "{t:.3} s (UTC known from the FC at {}), error {:+.3} ms",
+                    "{t:.3} s ({} after the FC's first UTC at {}; the bridge knew UTC at {}), error {:+.3} ms",
+                    s.fc_first_utc_at_s
+                        .map_or_else(|| "-".to_string(), |u| format!("{:.1} s", t - u)),
+                    s.fc_first_utc_at_s
+                        .map_or_else(|| "-".to_string(), |u| format!("{u:.3} s")),
                     s.utc_valid_at_s
                         .map_or_else(|| "-".to_string(), |u| format!("{u:.3} s")),
                     e as f64 / 1000.0

@@ -239,6 +239,12 @@ pub struct ApSiyi {
 }
 
 impl ApSiyi {
+    /// True time of the first 0x30 (UTC) sent, µs.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent.iter().find(|(_, id)| *id == 0x30).map(|(t, _)| *t)
+    }
+
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApSiyiConfig) -> Self {

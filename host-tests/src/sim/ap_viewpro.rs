@@ -209,6 +209,15 @@ pub struct ApViewpro {
 }
 
 impl ApViewpro {
+    /// True time of the first M_AHRS sent with a valid UTC, µs.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|(t, id, _)| *id == 0xB1 && self.clock.utc_valid(*t))
+            .map(|(t, _, _)| *t)
+    }
+
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApViewproConfig) -> Self {

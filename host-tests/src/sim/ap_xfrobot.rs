@@ -301,6 +301,15 @@ pub struct ApXfRobot {
 }
 
 impl ApXfRobot {
+    /// True time of the first set-attitude package sent with a valid GPS time, µs.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|s| s.order == 0x10 && self.clock.utc_valid(s.at_us))
+            .map(|s| s.at_us)
+    }
+
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApXfRobotConfig) -> Self {

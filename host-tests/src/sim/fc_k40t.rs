@@ -112,6 +112,15 @@ const HEALTH_TIMEOUT_US: u64 = 1_000_000;
 pub const MOTION_REPEAT_US: u64 = 200_000;
 
 impl FcK40t {
+    /// True time of the first 0x00030E (UTC) sent, µs.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|(_, _, id)| *id == 0x00_030E)
+            .map(|(t, _, _)| *t)
+    }
+
     /// The FC's UTC at true time `t_us`.
     #[must_use]
     pub fn utc_us(&self, t_us: u64) -> u64 {

@@ -98,6 +98,9 @@ pub trait Pilot: FcSim {
     /// The FC's UTC at true time `t_us` (µs since the Unix epoch): what a time sync should
     /// carry for an edge at that instant.
     fn true_utc_us(&self, t_us: u64) -> u64;
+    /// True time the FC first sent a usable UTC (SIYI 0x30, Viewlink M_AHRS with a valid
+    /// date, GCU a GPS time, K40T 0x00030E), µs.
+    fn first_utc_sent_us(&self) -> Option<u64>;
     /// The aircraft (its true position at any instant).
     fn aircraft(&self) -> &Aircraft;
     /// Frames the FC's parser dropped.
@@ -306,6 +309,9 @@ impl Pilot for ApSiyi {
     fn true_utc_us(&self, t_us: u64) -> u64 {
         self.fc_utc_us(t_us)
     }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        Self::first_utc_sent_us(self)
+    }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
     }
@@ -395,6 +401,9 @@ impl Pilot for ApViewpro {
     fn true_utc_us(&self, t_us: u64) -> u64 {
         self.fc_utc_us(t_us)
     }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        Self::first_utc_sent_us(self)
+    }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
     }
@@ -475,6 +484,9 @@ impl Pilot for FcK40t {
     }
     fn true_utc_us(&self, t_us: u64) -> u64 {
         self.utc_us(t_us)
+    }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        Self::first_utc_sent_us(self)
     }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
@@ -662,6 +674,9 @@ impl Pilot for ApXfRobot {
     }
     fn true_utc_us(&self, t_us: u64) -> u64 {
         self.gps_utc_us(t_us)
+    }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        Self::first_utc_sent_us(self)
     }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
