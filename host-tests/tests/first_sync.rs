@@ -80,7 +80,10 @@ fn check(label: &str, results: &[(u64, i64, u32)], max_err_us: u64) {
         results.iter().map(|r| r.2).max().unwrap(),
     );
     for &(delay, err, bound) in results {
-        assert!(delay <= 12 * S, "{label}: first sync {delay} µs after the FC's UTC");
+        assert!(
+            delay <= 12 * S,
+            "{label}: first sync {delay} µs after the FC's UTC"
+        );
         assert!(err.unsigned_abs() < max_err_us, "{label}: error {err} µs");
         assert!(
             err.unsigned_abs() <= u64::from(bound),

@@ -242,7 +242,10 @@ impl ApSiyi {
     /// True time of the first 0x30 (UTC) sent, µs.
     #[must_use]
     pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent.iter().find(|(_, id)| *id == 0x30).map(|(t, _)| *t)
+        self.sent
+            .iter()
+            .find(|(_, id)| *id == 0x30)
+            .map(|(t, _)| *t)
     }
 
     /// A driver that starts at true time 0.

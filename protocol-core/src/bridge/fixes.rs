@@ -183,8 +183,9 @@ pub struct FixHistory {
     newest: Instant,
     /// The newest fix when it was too close to the last stored one to be stored.
     tail: Option<Fix>,
-    /// The velocity the FC sent with the newest fix.
-    velocity: Option<Velocity>,
+    /// How fast the newest fix moves: from the velocity the FC sent with it, else from
+    /// the fix before it.
+    rate: Option<Rate>,
 }
 
 impl Default for FixHistory {
@@ -211,7 +212,7 @@ impl FixHistory {
             len: 0,
             newest: Instant::ZERO,
             tail: None,
-            velocity: None,
+            rate: None,
         }
     }
 
@@ -226,7 +227,7 @@ impl FixHistory {
         self.start = 0;
         self.len = 0;
         self.tail = None;
-        self.velocity = None;
+        self.rate = None;
     }
 
     /// Fixes usable by [`at`](Self::at) (stored ones plus the newest kept aside).
@@ -253,7 +254,12 @@ impl FixHistory {
         if latest.is_some_and(|l| fix.at < l) {
             return false;
         }
-        self.velocity = fix.velocity;
+        self.rate = match fix.velocity {
+            Some(v) => per_second(v, fix.lat_e7),
+            None => self
+                .latest()
+                .and_then(|prev| self.rate_between(&prev, &fix)),
+        };
         if latest == Some(fix.at) {
             if self.tail.is_some() {
                 self.tail = Some(fix);
@@ -394,87 +400,104 @@ impl FixHistory {
         if dt > self.config.max_extrapolate {
             return Err(GeotagError::OutOfRange);
         }
-        let (dlat, dlon, ddown) = match self.velocity {
-            Some(v) => displacement(v, last.lat_e7, dt),
-            None => self.finite_difference(dt),
-        }
-        .ok_or(GeotagError::OutOfRange)?;
-        let add32 = |a: i32, d: i64| i32::try_from(i64::from(a).checked_add(d)?).ok();
-        let up_dm = ddown.checked_neg().ok_or(GeotagError::OutOfRange)?;
-        let add16 = |a: i16, d: i64| i16::try_from(i64::from(a).checked_add(d)?).ok();
-        Ok(Fix {
-            at,
-            lat_e7: add32(last.lat_e7, dlat).ok_or(GeotagError::OutOfRange)?,
-            lon_e7: i32::try_from(
-                wrap(
-                    i64::from(last.lon_e7)
-                        .checked_add(dlon)
-                        .ok_or(GeotagError::OutOfRange)?,
-                    1_800_000_000,
-                )
-                .ok_or(GeotagError::OutOfRange)?,
-            )
-            .map_err(|_| GeotagError::OutOfRange)?,
-            alt_msl_dm: add16(last.alt_msl_dm, up_dm).ok_or(GeotagError::OutOfRange)?,
-            rel_alt_dm: add16(last.rel_alt_dm, up_dm).ok_or(GeotagError::OutOfRange)?,
-            velocity: self.velocity,
-            ..last
-        })
+        let us = i64::try_from(dt.as_micros()).map_err(|_| GeotagError::OutOfRange)?;
+        self.rate
+            .and_then(|r| r.scaled(us).apply(&last, at))
+            .ok_or(GeotagError::OutOfRange)
     }
 
-    /// The displacement over `dt` (1e-7° latitude, 1e-7° longitude, 0.1 m down) at the
-    /// velocity of the two newest fixes, when they are at most `max_gap` apart.
-    fn finite_difference(&self, dt: Duration) -> Option<(i64, i64, i64)> {
-        let n = self.len();
-        let b = self.get(n.checked_sub(1)?)?;
-        let a = self.get(n.checked_sub(2)?)?;
+    /// How fast the aircraft went from `a` to `b`, when they are at most `max_gap` apart.
+    fn rate_between(&self, a: &Fix, b: &Fix) -> Option<Rate> {
         let span = b.at.checked_duration_since(a.at)?;
-        if span > self.config.max_gap || span.as_micros() == 0 {
+        if span > self.config.max_gap {
             return None;
         }
-        let num = i64::try_from(dt.as_micros()).ok()?;
-        let den = i64::try_from(span.as_micros()).ok()?;
-        let scale = |d: i64| lerp(0, d, num, den);
-        let dlat = scale(i64::from(b.lat_e7).checked_sub(i64::from(a.lat_e7))?)?;
-        let dlon = scale(wrap(
-            i64::from(b.lon_e7).checked_sub(i64::from(a.lon_e7))?,
-            1_800_000_000,
-        )?)?;
-        let ddown = scale(i64::from(a.alt_msl_dm).checked_sub(i64::from(b.alt_msl_dm))?)?;
-        Some((dlat, dlon, ddown))
+        let den = i64::try_from(span.as_micros()).ok().filter(|d| *d > 0)?;
+        // |difference| ≤ 3.6e9 (1e-7°), times 1e9: no product saturates.
+        let per_s = |d: i64| d.saturating_mul(RATE_SCALE).checked_div(den);
+        let diff = |x: i32, y: i32| i64::from(y).saturating_sub(i64::from(x));
+        Some(Rate {
+            lat_e7: per_s(diff(a.lat_e7, b.lat_e7))?,
+            lon_e7: per_s(wrap(diff(a.lon_e7, b.lon_e7), 1_800_000_000)?)?,
+            up_dm: per_s(diff(i32::from(a.alt_msl_dm), i32::from(b.alt_msl_dm)))?,
+        })
     }
 }
 
-/// Metres per degree of latitude (WGS-84 mean), times 1000.
-const MM_PER_DEG: i64 = 111_319_491;
+/// How far a fix is carried forward: 1e-7° north and east, 0.1 m up.
+#[derive(Debug, Clone, Copy)]
+struct Step {
+    lat_e7: i64,
+    lon_e7: i64,
+    up_dm: i64,
+}
 
-/// The displacement over `dt` at velocity `v` from latitude `lat_e7`: 1e-7° north and
-/// east, 0.1 m down.
-fn displacement(v: Velocity, lat_e7: i32, dt: Duration) -> Option<(i64, i64, i64)> {
-    let us = i128::from(dt.as_micros());
-    // cm/s × µs = 1e-8 m; m → 1e-7°: × 1e7 / (m per degree).
-    let along = |cm_s: i16| i128::from(cm_s).checked_mul(us);
-    let north = along(v.north_cm_s)?;
-    let east = along(v.east_cm_s)?;
-    // 1e-8 m → 1e-7°: × 1e7 / (1e8 × m/deg) = / (10 × m/deg) = / (MM_PER_DEG / 100).
-    let den = i128::from(MM_PER_DEG / 100);
-    let dlat = north.checked_div(den)?;
-    // Longitude degrees are shorter by cos(latitude) (parts per 65536).
-    // Within 0.06° of a pole longitude is no direction to carry a fix along.
-    let cos = i128::from(cos_q16(lat_e7));
+/// The rate of a [`Step`]: its units per microsecond, times [`RATE_SCALE`] (1e-3 unit per
+/// second).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Rate {
+    lat_e7: i64,
+    lon_e7: i64,
+    up_dm: i64,
+}
+
+/// The scale of a [`Rate`]: 1e9 per unit per microsecond.
+const RATE_SCALE: i64 = 1_000_000_000;
+
+impl Rate {
+    /// The step this rate makes in `us` microseconds.
+    fn scaled(self, us: i64) -> Step {
+        // A rate of at most 3e7 (330 m/s) times a few seconds of µs: no product saturates.
+        let s = |v: i64| v.saturating_mul(us) / RATE_SCALE;
+        Step {
+            lat_e7: s(self.lat_e7),
+            lon_e7: s(self.lon_e7),
+            up_dm: s(self.up_dm),
+        }
+    }
+}
+
+impl Step {
+    /// `fix` moved by this step, at `at`, attitude unchanged.
+    fn apply(self, fix: &Fix, at: Instant) -> Option<Fix> {
+        let lat = i64::from(fix.lat_e7).saturating_add(self.lat_e7);
+        let lon = wrap(
+            i64::from(fix.lon_e7).saturating_add(self.lon_e7),
+            1_800_000_000,
+        )?;
+        let up = |a: i16| i16::try_from(i64::from(a).saturating_add(self.up_dm)).ok();
+        Some(Fix {
+            at,
+            lat_e7: i32::try_from(lat).ok()?,
+            lon_e7: i32::try_from(lon).ok()?,
+            alt_msl_dm: up(fix.alt_msl_dm)?,
+            rel_alt_dm: up(fix.rel_alt_dm)?,
+            ..*fix
+        })
+    }
+}
+
+/// Micrometres per 1e-7° of latitude (WGS-84 mean: 111 319.49 m per degree), times 100.
+const UM_PER_E7_DEG_X100: i64 = 1_113_195;
+
+/// A velocity at latitude `lat_e7` as a [`Rate`].
+fn per_second(v: Velocity, lat_e7: i32) -> Option<Rate> {
+    // Longitude degrees are shorter by cos(latitude) (parts per 65536); within 0.06° of a
+    // pole longitude is no direction to carry a fix along.
+    let cos = cos_q16(lat_e7);
     if cos < 64 {
         return None;
     }
-    let dlon = east
-        .checked_mul(65_536)?
-        .checked_div(den.checked_mul(cos)?)?;
-    // 1e-8 m → 0.1 m: / 1e7.
-    let ddown = along(v.down_cm_s)?.checked_div(10_000_000)?;
-    Some((
-        i64::try_from(dlat).ok()?,
-        i64::try_from(dlon).ok()?,
-        i64::try_from(ddown).ok()?,
-    ))
+    // cm/s = 1e4 µm/s; 1e-7°/s × 1e3 = µm/s × 1e5 / UM_PER_E7_DEG_X100.
+    let scaled = |cm_s: i16| i64::from(cm_s).saturating_mul(1_000_000_000);
+    Some(Rate {
+        lat_e7: scaled(v.north_cm_s) / UM_PER_E7_DEG_X100,
+        lon_e7: scaled(v.east_cm_s)
+            .saturating_mul(65_536)
+            .checked_div(UM_PER_E7_DEG_X100.saturating_mul(cos))?,
+        // cm/s down → 0.1 m/s up, × 1e3.
+        up_dm: i64::from(v.down_cm_s).saturating_mul(-100),
+    })
 }
 
 /// cos(latitude) in parts per 65536 for a latitude in 1e-7°, by a degree-8 polynomial
@@ -485,9 +508,10 @@ fn cos_q16(lat_e7: i32) -> i64 {
     let x = (lat_e7.unsigned_abs().min(900_000_000) as f32) * (core::f32::consts::PI / 1.8e9);
     let x2 = x * x;
     let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+    // 0..=65536 fits an i32.
     #[allow(clippy::cast_possible_truncation)]
-    let q = (c.clamp(0.0, 1.0) * 65_536.0) as i64;
-    q
+    let q = (c.clamp(0.0, 1.0) * 65_536.0) as i32;
+    i64::from(q)
 }
 
 /// `a + (b − a)·num/den`, rounded to nearest (half away from zero).
@@ -705,9 +729,6 @@ mod tests {
         }
         assert!(cos_q16(900_000_000) <= 2);
         let v = Velocity::from_cm_s(0, 500, 0);
-        assert_eq!(
-            displacement(v, 899_999_000, Duration::from_millis(500)),
-            None
-        );
+        assert!(per_second(v, 899_999_000).is_none());
     }
 }
