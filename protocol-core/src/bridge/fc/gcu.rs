@@ -49,9 +49,6 @@ use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
 use super::Ctx;
 
-/// Deframer buffer, the longest package answered: the document's longest is 84 bytes
-/// (gaze, 0x15), ArduPilot's are 72 and 73; 96 leaves room for 26 bytes of parameters.
-/// Longer packages (no known order has them) are rejected and counted as length errors.
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::bridge::GcuIdentity)):
 /// a first header byte followed by one that is not the second. ArduPilot's XF Robot
 /// parser keeps the bytes it skips while looking for a header in its buffer and checks
@@ -61,6 +58,9 @@ use super::Ctx;
 /// the pair for a broken header and skips it.
 const RESYNC_MARK: [u8; 2] = [0x8A, 0x00];
 
+/// Deframer buffer, the longest package answered: the document's longest is 84 bytes
+/// (gaze, 0x15), ArduPilot's are 72 and 73; 96 leaves room for 26 bytes of parameters.
+/// Longer packages (no known order has them) are rejected and counted as length errors.
 const BUF: usize = 96;
 
 /// Attitude older than this is not reported (the pod reports it at 10 Hz).
