@@ -34,7 +34,7 @@ use protocol_core::siyi::{
     CodecQuery, FcAttitude, FcPosition, FeedbackInfo, FirmwareVersionQuery, FocusDirection,
     GimbalAttitudeQuery, GimbalConfigQuery, GimbalRotation, GlobalTemperatureRequest,
     HardwareIdQuery, Header, LaserDistanceQuery, ManualFocus, ManualZoom, MessageData, MotionMode,
-    Packet, RecordStatus, SetStitching, SetThermalGain, SetThermalPalette, Stitching,
+    Packet, RecordStatus, SetStitching, SetThermalGain, SetThermalPalette, Siyi, Stitching,
     StitchingMode, StreamType, ThermalGain, ThermalPalette, UtcTime, ZoomDirection, ZoomLevel,
 };
 use protocol_core::wire::crc16_xmodem;
@@ -402,7 +402,7 @@ impl ApSiyi {
     }
 
     /// Queues one request frame for the current run.
-    fn send<M: MessageData>(&mut self, m: &M) {
+    fn send<M: MessageData<Protocol = Siyi>>(&mut self, m: &M) {
         let mut buf = [0u8; 64];
         let Ok(n) = siyi::encode(m, &Header::request(self.seq), &mut buf) else {
             return;

@@ -9,7 +9,7 @@
 //! as a stick held over would (the bridge stops a pod whose FC falls silent).
 
 use protocol_core::k40t::{
-    self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40tFraming,
+    self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40t, K40tFraming,
     Message, MessageData, Packet, PitchMotion, Request, ResponseCode, TimeSync, YawMotion,
 };
 use protocol_core::wire::{Deframer, Event};
@@ -119,7 +119,7 @@ impl FcK40t {
     }
 
     /// Sends a request to the pod now.
-    pub fn send<M: MessageData>(&mut self, m: &M) {
+    pub fn send<M: MessageData<Protocol = K40t>>(&mut self, m: &M) {
         let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, self.seq);
         self.seq = self.seq.wrapping_add(1);
         let mut buf = [0u8; k40t::MAX_FRAME_LEN];
@@ -131,7 +131,7 @@ impl FcK40t {
 
     /// The frames received of message `M`, decoded, with their headers.
     #[must_use]
-    pub fn received_of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+    pub fn received_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
         self.received
             .iter()
             .filter_map(|r| {

@@ -3,8 +3,27 @@
 //! Payload fields are little-endian (except the ACK response code).
 
 use crate::wire::encoding::{Field, Le};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
+
+/// The K40T length rules, for the message table: a payload is read with
+/// [`decode_payload`] and written with its layout.
+impl<T: Field<Le>> PayloadCodec<T> for super::K40t {
+    const MAX_LEN: usize = T::LEN;
+
+    fn decode(payload: &[u8]) -> Result<T> {
+        decode_payload(payload)
+    }
+
+    fn encoded_len(_: &T) -> usize {
+        T::LEN
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.write(w)
+    }
+}
 
 /// Decodes a payload the way the frame carries it.
 ///

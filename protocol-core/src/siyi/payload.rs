@@ -3,6 +3,7 @@
 //! messages share. All SIYI payload fields are little-endian.
 
 use crate::wire::encoding::{Field, Le};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
@@ -49,6 +50,23 @@ impl<T: Field<Le>> Payload for T {
 
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
         self.write(w)
+    }
+}
+
+/// The SIYI length rules, for the message table: every payload is a [`Payload`].
+impl<T: Payload> PayloadCodec<T> for super::Siyi {
+    const MAX_LEN: usize = T::MAX_LEN;
+
+    fn decode(payload: &[u8]) -> Result<T> {
+        T::decode(payload)
+    }
+
+    fn encoded_len(value: &T) -> usize {
+        value.encoded_len()
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.encode(w)
     }
 }
 
