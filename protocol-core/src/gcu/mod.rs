@@ -186,7 +186,7 @@ impl<'a> Message<'a> {
         }
     }
 
-    /// The order.
+    /// The order of the command part (unknown ones as [`Order::Other`]).
     #[must_use]
     pub const fn order(&self) -> Order {
         Order::from_value(self.id())
@@ -482,7 +482,7 @@ impl<'a> Packet<'a> {
         Packet::parse(&frame)
     }
 
-    /// The direction.
+    /// The direction, from the sync bytes.
     #[must_use]
     pub const fn direction(&self) -> Direction {
         match self {

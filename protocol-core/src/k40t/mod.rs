@@ -309,9 +309,9 @@ wire_derive! {
     [Eq, Hash]
     /// Everything of a frame but its message: addresses, sequence number, CRC coverage.
     pub struct Header {
-        /// Receiver.
+        /// The receiver's system and component ids.
         pub dst: Address,
-        /// Sender.
+        /// The sender's system and component ids.
         pub src: Address,
         /// Sequence number.
         pub seq: u8,
@@ -340,7 +340,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// Addresses, sequence number and CRC coverage.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }

@@ -53,13 +53,11 @@ code_enum! {
     pub enum AckCode: u16 {
         /// OK, success.
         Ok = 0x0000,
-        /// Failure.
         Failure = 0x0001,
         /// Unknown error.
         UnknownError = 0x0002,
         /// Verification failed.
         VerificationFailed = 0x0003,
-        /// Timeout.
         Timeout = 0x0004,
         /// MD5 verification failed.
         Md5Failed = 0x0005,
@@ -175,7 +173,7 @@ macro_rules! trigger {
             pub struct $name {
                 /// The command byte.
                 pub command: u8,
-                /// Reserved.
+                /// Reserved; kept as received, so the frame re-encodes as it came.
                 pub reserved: u8,
             }
         }
@@ -219,9 +217,7 @@ mod tests {
             Le;
             /// Two bytes.
             pub struct Two {
-                /// First.
                 pub a: u8,
-                /// Second.
                 pub b: u8,
             }
         }

@@ -288,7 +288,7 @@ impl<'a> Message<'a> {
         })))
     }
 
-    /// The direction.
+    /// The direction the message was decoded for.
     #[must_use]
     pub const fn direction(&self) -> Direction {
         match self {
@@ -336,7 +336,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// CTRL and sequence number.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }

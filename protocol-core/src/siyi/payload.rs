@@ -127,17 +127,17 @@ wire_struct! {
     /// A one-byte result (`sta`, `ack`, `format_sta`...): 1 success, 0 failure. The
     /// layout of the `...Ack` replies of the setting commands.
     pub struct SetStatus {
-        /// The result.
+        /// Success or failure (another value kept as received).
         pub status: AckStatus,
     }
 }
 
 impl SetStatus {
-    /// Success.
+    /// Success (1).
     pub const SUCCESS: SetStatus = SetStatus {
         status: AckStatus::Success,
     };
-    /// Failure.
+    /// Failure (0).
     pub const FAILED: SetStatus = SetStatus {
         status: AckStatus::Failed,
     };
@@ -349,7 +349,7 @@ impl HardwareId {
         }
     }
 
-    /// The product.
+    /// The product the id names (from its first two characters, read as hex).
     #[must_use]
     pub const fn product(&self) -> Product {
         match self.product_id() {

@@ -165,7 +165,7 @@ macro_rules! viewlink_command_block {
                 /// A command without parameters of its own (or one the document does not
                 /// list), with the parameter bytes as received.
                 Plain {
-                    /// The command.
+                    /// The command byte.
                     command: $cmd,
                     /// The parameter bytes.
                     params: [u8; $plen],

@@ -332,7 +332,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// Sync order and frame counter.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }

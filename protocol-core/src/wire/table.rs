@@ -97,7 +97,7 @@ pub(crate) trait PayloadCodec<T> {
 /// Declares a protocol's messages, once: the header says what the protocol's types are,
 /// each row is one message id with the payload type of each of its messages.
 ///
-/// ```ignore
+/// ```text
 /// message_table! {
 ///     /// The K40T protocol.
 ///     protocol K40t { id: MsgId, key: u16, order: Le, lengths: fixed, encoders: out_of_line }
@@ -132,7 +132,7 @@ pub(crate) trait PayloadCodec<T> {
 ///   `code_enum!` named after the rows, which the groups' enums match on and return
 ///   (`order()`).
 /// - `catalog;`: `CATALOG`, one entry per row, built by the protocol's
-///   `CatalogEntry::new(row id, name, &[ENCODED_LEN of each message of the row], extras..)`.
+///   `CatalogEntry::new(row id, name, &[ENCODED_LEN of each message of the row], args..)`.
 /// - `message Message [derives] { Raw; groups }`: the decoded message, with its `Raw`
 ///   variant for unknown ids (the protocol declares `Raw<'a>` with `id` and `payload`).
 ///   With no group, the rows are its variants (`Message::decode` included). Each group
@@ -142,7 +142,7 @@ pub(crate) trait PayloadCodec<T> {
 ///   group implements each `impl Trait { .. }` (constants, and `&self` methods the
 ///   group's enum gets too, dispatched to its variant).
 ///
-/// **Rows.** `0x07 Name: Group(Type), Group(Type) => extras;`, the messages a prefix of the
+/// **Rows.** `0x07 Name: Group(Type), Group(Type) => args;`, the messages a prefix of the
 /// groups, in order (`Message(Type)` without groups). `Type` is declared elsewhere, or
 /// here: `Type {}` an empty struct, `Type(Layout)` a newtype and `Type { field: Layout }`
 /// a one-field struct over another message's layout, decoded and encoded through that
@@ -171,8 +171,8 @@ macro_rules! message_table {
         }
         $(
             $(#[$row_meta:meta])*
-            $row:literal $name:ident: $($label:ident ($($cell:tt)*)),+
-            $(=> $($extra:expr),+)?;
+            $row:literal $name:ident: $($label:ident ($($message_spec:tt)*)),+
+            $(=> $($catalog_arg:expr),+)?;
         )*
     ) => {
         message_table!(@arity [$($group)*]
@@ -185,40 +185,45 @@ macro_rules! message_table {
                     [$($($id_fn)::+ ($($id_arg),*))?]
                     [$(impl $group_trait { $($group_item)* })*]]
             )*]
-            $( [$(#[$row_meta])*] $row $name: $($label ($($cell)*)),+ [$($($extra),+)?]; )*
+            $(
+                [$(#[$row_meta])*] $row $name: $($label ($($message_spec)*)),+
+                [$($($catalog_arg),+)?];
+            )*
         );
     };
 
     // Sorting each row's messages into their groups, by position (a row's messages are a
     // prefix of the groups). Without groups the rows are the message's variants.
     (@arity [] $header:tt $catalog:tt $ids:tt [$message:ident $($message_rest:tt)*] [] $(
-        $row_meta:tt $row:literal $name:ident: $l1:ident ($t1:ident $($d1:tt)?) [$($extra:expr),*];
+        $row_meta:tt $row:literal $name:ident: $l1:ident ($t1:ident $($d1:tt)?)
+            [$($catalog_arg:expr),*];
     )*) => {
-        message_table!(@emit flat $header $catalog $ids [$message $($message_rest)*]
+        message_table!(@generate flat $header $catalog $ids [$message $($message_rest)*]
             [[[$message [] [] [] []] [$( [$l1 $row $name $t1 [$($d1)?] $row_meta] )*]]]
-            [$( [$row_meta $row $name [$t1] [$($extra),*]] )*]
+            [$( [$row_meta $row $name [$t1] [$($catalog_arg),*]] )*]
         );
     };
     (@arity [$_g1:ident] $header:tt $catalog:tt $ids:tt $message:tt [$group1:tt] $(
-        $row_meta:tt $row:literal $name:ident: $l1:ident ($t1:ident $($d1:tt)?) [$($extra:expr),*];
+        $row_meta:tt $row:literal $name:ident: $l1:ident ($t1:ident $($d1:tt)?)
+            [$($catalog_arg:expr),*];
     )*) => {
-        message_table!(@emit nested $header $catalog $ids $message
+        message_table!(@generate nested $header $catalog $ids $message
             [[$group1 [$( [$l1 $row $name $t1 [$($d1)?] $row_meta] )*]]]
-            [$( [$row_meta $row $name [$t1] [$($extra),*]] )*]
+            [$( [$row_meta $row $name [$t1] [$($catalog_arg),*]] )*]
         );
     };
     (@arity [$_g1:ident $_g2:ident] $header:tt $catalog:tt $ids:tt $message:tt
         [$group1:tt $group2:tt] $(
         $row_meta:tt $row:literal $name:ident:
             $l1:ident ($t1:ident $($d1:tt)?) $(, $l2:ident ($t2:ident $($d2:tt)?))?
-            [$($extra:expr),*];
+            [$($catalog_arg:expr),*];
     )*) => {
-        message_table!(@emit nested $header $catalog $ids $message
+        message_table!(@generate nested $header $catalog $ids $message
             [
                 [$group1 [$( [$l1 $row $name $t1 [$($d1)?] $row_meta] )*]]
                 [$group2 [$( $( [$l2 $row $name $t2 [$($d2)?] $row_meta] )? )*]]
             ]
-            [$( [$row_meta $row $name [$t1 $(, $t2)?] [$($extra),*]] )*]
+            [$( [$row_meta $row $name [$t1 $(, $t2)?] [$($catalog_arg),*]] )*]
         );
     };
     (@arity [$_g1:ident $_g2:ident $_g3:ident] $header:tt $catalog:tt $ids:tt $message:tt
@@ -226,20 +231,20 @@ macro_rules! message_table {
         $row_meta:tt $row:literal $name:ident:
             $l1:ident ($t1:ident $($d1:tt)?)
             $(, $l2:ident ($t2:ident $($d2:tt)?) $(, $l3:ident ($t3:ident $($d3:tt)?))?)?
-            [$($extra:expr),*];
+            [$($catalog_arg:expr),*];
     )*) => {
-        message_table!(@emit nested $header $catalog $ids $message
+        message_table!(@generate nested $header $catalog $ids $message
             [
                 [$group1 [$( [$l1 $row $name $t1 [$($d1)?] $row_meta] )*]]
                 [$group2 [$( $( [$l2 $row $name $t2 [$($d2)?] $row_meta] )? )*]]
                 [$group3 [$( $( $( [$l3 $row $name $t3 [$($d3)?] $row_meta] )? )? )*]]
             ]
-            [$( [$row_meta $row $name [$t1 $(, $t2 $(, $t3)?)?] [$($extra),*]] )*]
+            [$( [$row_meta $row $name [$t1 $(, $t2 $(, $t3)?)?] [$($catalog_arg),*]] )*]
         );
     };
 
     // Everything, from the sorted table.
-    (@emit $mode:ident
+    (@generate $mode:ident
         [$proto:ident [$($proto_meta:tt)*] [$id:ty] [$key:ty]
             $order:ident $lengths:ident $encoders:ident]
         [$($catalog_meta:tt)*]
@@ -247,11 +252,11 @@ macro_rules! message_table {
         [$message:ident [$($message_derive:ident),*] [$($message_meta:tt)*] [$($raw_meta:tt)*]]
         [$(
             [[$group:ident $group_meta:tt $group_derive:tt $id_spec:tt $impls:tt]
-                [$( [$label:ident $row:literal $name:ident $ty:ident $def:tt $row_meta:tt] )*]]
+                [$( [$label:ident $row:literal $name:ident $ty:ident $shape:tt $row_meta:tt] )*]]
         )*]
         [$(
             [[$($catalog_row_meta:tt)*] $catalog_row:literal $catalog_name:ident
-                [$($catalog_ty:ident),*] [$($extra:expr),*]]
+                [$($catalog_ty:ident),*] [$($catalog_arg:expr),*]]
         )*]
     ) => {
         $($proto_meta)*
@@ -265,20 +270,20 @@ macro_rules! message_table {
 
         $(
             $(
-                message_table!(@define $order $group $row $name $ty $def $row_meta);
-                message_table!(@data $mode $proto [$id] $message $group $id_spec
-                    $label $row $name $ty $def);
+                message_table!(@declare_type $order $group $row $name $ty $shape $row_meta);
+                message_table!(@message_data $mode $proto [$id] $message $group $id_spec
+                    $label $row $name $ty $shape);
                 message_table!(@member_impls $ty $impls);
             )*
             message_table!(@group $mode $proto [$id] [$key] $lengths $encoders $ids
                 [$group $group_meta $group_derive $impls]
-                [$( [$row $name $ty $def $row_meta] )*]);
+                [$( [$row $name $ty $shape $row_meta] )*]);
         )*
 
         message_table!(@message $mode $proto [$id] [$key] $lengths $encoders
             [$message [$($message_derive),*] [$($message_meta)*] [$($raw_meta)*]]
             [$( [$group $group_meta] )*]
-            [$($( [$row $name $ty $def $row_meta] )*)*]);
+            [$($( [$row $name $ty $shape $row_meta] )*)*]);
 
         message_table!(@ids $ids [$( [$($catalog_row_meta)*] $catalog_row $catalog_name )*]);
 
@@ -288,7 +293,7 @@ macro_rules! message_table {
                 $catalog_row,
                 stringify!($catalog_name),
                 &[$(<$catalog_ty as $crate::wire::MessageData>::ENCODED_LEN),*],
-                $($extra),*
+                $($catalog_arg),*
             ),
         )*];
 
@@ -302,8 +307,9 @@ macro_rules! message_table {
     };
 
     // The payload types a row defines (nothing for a type declared elsewhere).
-    (@define $order:ident $group:ident $row:literal $name:ident $ty:ident [] $row_meta:tt) => {};
-    (@define $order:ident $group:ident $row:literal $name:ident $ty:ident [{}]
+    (@declare_type $order:ident $group:ident $row:literal $name:ident $ty:ident []
+        $row_meta:tt) => {};
+    (@declare_type $order:ident $group:ident $row:literal $name:ident $ty:ident [{}]
         [$($row_meta:tt)*]) => {
         wire_struct! {
             $order;
@@ -314,7 +320,7 @@ macro_rules! message_table {
             pub struct $ty {}
         }
     };
-    (@define $order:ident $group:ident $row:literal $name:ident $ty:ident [($layout:ty)]
+    (@declare_type $order:ident $group:ident $row:literal $name:ident $ty:ident [($layout:ty)]
         [$($row_meta:tt)*]) => {
         wire_newtype! {
             $($row_meta)*
@@ -330,7 +336,7 @@ macro_rules! message_table {
             }
         }
     };
-    (@define $order:ident $group:ident $row:literal $name:ident $ty:ident
+    (@declare_type $order:ident $group:ident $row:literal $name:ident $ty:ident
         [{ $field:ident: $layout:ty }] [$($row_meta:tt)*]) => {
         wire_struct! {
             $order;
@@ -356,11 +362,11 @@ macro_rules! message_table {
     (@layout $ty:ident [{}]) => { $ty };
     (@layout $ty:ident [($layout:ty)]) => { $layout };
     (@layout $ty:ident [{ $field:ident: $layout:ty }]) => { $layout };
-    // The layout of the payload `$v` (a reference).
-    (@layout_of [] $v:tt) => { $v };
-    (@layout_of [{}] $v:tt) => { $v };
-    (@layout_of [($layout:ty)] $v:tt) => { &$v.0 };
-    (@layout_of [{ $field:ident: $layout:ty }] $v:tt) => { &$v.$field };
+    // The layout of the payload `$value` (a reference).
+    (@layout_of [] $value:tt) => { $value };
+    (@layout_of [{}] $value:tt) => { $value };
+    (@layout_of [($layout:ty)] $value:tt) => { &$value.0 };
+    (@layout_of [{ $field:ident: $layout:ty }] $value:tt) => { &$value.$field };
     // Decodes a payload of type `$ty` from `$payload`, through its layout.
     (@decode $proto:ident $ty:ident [] $payload:ident) => {
         <$proto as $crate::wire::table::PayloadCodec<$ty>>::decode($payload)
@@ -373,10 +379,10 @@ macro_rules! message_table {
             ::decode($payload)
             .map(<$ty>::from)
     };
-    // Writes the payload `$v` (a reference) through its layout.
-    (@encode $proto:ident $ty:ident $def:tt $v:tt $w:ident) => {
-        <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $def)>>::encode(
-            message_table!(@layout_of $def $v),
+    // Writes the payload `$value` (a reference) through its layout.
+    (@encode $proto:ident $ty:ident $shape:tt $value:tt $w:ident) => {
+        <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $shape)>>::encode(
+            message_table!(@layout_of $shape $value),
             $w,
         )
     };
@@ -385,15 +391,17 @@ macro_rules! message_table {
     (@id [$($id_fn:ident)::+ ($($id_arg:expr),*)] $row:literal) => {
         $($id_fn)::+($($id_arg,)* $row)
     };
-    // The decoded message holding `$v` (an expression or a pattern).
-    (@variant flat $message:ident $group:ident $name:ident $v:tt) => { $message::$name($v) };
-    (@variant nested $message:ident $group:ident $name:ident $v:tt) => {
-        $message::$group($group::$name($v))
+    // The decoded message holding `$value` (an expression or a pattern).
+    (@variant flat $message:ident $group:ident $name:ident $value:tt) => {
+        $message::$name($value)
+    };
+    (@variant nested $message:ident $group:ident $name:ident $value:tt) => {
+        $message::$group($group::$name($value))
     };
 
     // `MessageData` of one payload type, and `From` it into its enums.
-    (@data $mode:ident $proto:ident [$id:ty] $message:ident $group:ident $id_spec:tt
-        $label:ident $row:literal $name:ident $ty:ident $def:tt) => {
+    (@message_data $mode:ident $proto:ident [$id:ty] $message:ident $group:ident $id_spec:tt
+        $label:ident $row:literal $name:ident $ty:ident $shape:tt) => {
         // The table names this message's group: it must be the group of its position.
         const _: () = {
             let _group_of_its_position: fn($ty) -> _ = $label::$name;
@@ -404,7 +412,7 @@ macro_rules! message_table {
             const ID: $id = message_table!(@id $id_spec $row);
             const NAME: &'static str = stringify!($name);
             const ENCODED_LEN: usize =
-                <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $def)>>
+                <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $shape)>>
                     ::MAX_LEN;
 
             fn into_message(self) -> $message<'static> {
@@ -419,16 +427,16 @@ macro_rules! message_table {
             }
 
             fn payload_len(&self) -> usize {
-                <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $def)>>
-                    ::encoded_len(message_table!(@layout_of $def self))
+                <$proto as $crate::wire::table::PayloadCodec<message_table!(@layout $ty $shape)>>
+                    ::encoded_len(message_table!(@layout_of $shape self))
             }
 
             fn decode_payload(payload: &[u8]) -> $crate::Result<Self> {
-                message_table!(@decode $proto $ty $def payload)
+                message_table!(@decode $proto $ty $shape payload)
             }
 
             fn encode_payload(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
-                message_table!(@encode $proto $ty $def self w)
+                message_table!(@encode $proto $ty $shape self w)
             }
         }
 
@@ -454,7 +462,7 @@ macro_rules! message_table {
         $( impl $group_trait for $ty { $($group_item)* } )*
     };
     // The same items on the group's enum: constants as they are, methods dispatched.
-    (@group_items $cells:tt [$(impl $group_trait:path {
+    (@group_items $members:tt [$(impl $group_trait:path {
         $(const $constant:ident: $constant_ty:ty = $value:expr;)*
         $(fn $method:ident(&self) -> $method_ty:ty $body:block)*
     })*]) => {
@@ -464,11 +472,11 @@ macro_rules! message_table {
                     "`] of every message of this enum.")]
                 pub const $constant: $constant_ty = $value;
             )*
-            $( message_table!(@dispatch [$group_trait] $method [$method_ty] $cells); )*
+            $( message_table!(@dispatch [$group_trait] $method [$method_ty] $members); )*
         )*
     };
     (@dispatch [$group_trait:path] $method:ident [$method_ty:ty]
-        [$( [$row:literal $name:ident $ty:ident $def:tt $row_meta:tt] )*]) => {
+        [$( [$row:literal $name:ident $ty:ident $shape:tt $row_meta:tt] )*]) => {
         #[doc = concat!("The [`", stringify!($group_trait), "::", stringify!($method),
             "`] of the payload.")]
         #[must_use]
@@ -483,7 +491,7 @@ macro_rules! message_table {
     (@group flat $($rest:tt)*) => {};
     (@group nested $proto:ident [$id:ty] [$key:ty] $lengths:ident $encoders:ident $ids:tt
         [$group:ident [$($group_meta:tt)*] [$($group_derive:ident),*] $impls:tt]
-        [$( [$row:literal $name:ident $ty:ident $def:tt [$($row_meta:tt)*]] )*]) => {
+        [$( [$row:literal $name:ident $ty:ident $shape:tt [$($row_meta:tt)*]] )*]) => {
         wire_derive! {
             [$($group_derive),*]
             $($group_meta)*
@@ -498,7 +506,7 @@ macro_rules! message_table {
 
         impl $group {
             message_table!(@methods [] $ids $proto [$id] $lengths $encoders
-                [$( [$name $ty $def] )*]);
+                [$( [$name $ty $shape] )*]);
 
             /// Decodes the payload of the message with row id `id` (`None` for an id
             /// without a message of this enum).
@@ -511,20 +519,20 @@ macro_rules! message_table {
                 match message_table!(@scrutinee $ids id) {
                     $(
                         message_table!(@pattern $ids $row $name) => {
-                            Some(message_table!(@decode $proto $ty $def payload).map(Self::$name))
+                            Some(message_table!(@decode $proto $ty $shape payload).map(Self::$name))
                         }
                     )*
                     _ => None,
                 }
             }
 
-            message_table!(@group_items [$( [$row $name $ty $def []] )*] $impls);
+            message_table!(@group_items [$( [$row $name $ty $shape []] )*] $impls);
         }
     };
 
     // What a message enum and a group's enum both have.
     (@methods [$($raw:ident)?] $ids:tt $proto:ident [$id:ty] $lengths:ident $encoders:ident
-        [$( [$name:ident $ty:ident $def:tt] )*]) => {
+        [$( [$name:ident $ty:ident $shape:tt] )*]) => {
         message_table!(@id_fn $ids [$id] [$($raw)?] [$( [$name $ty] )*]);
 
         /// The message name (the table row's).
@@ -547,7 +555,7 @@ macro_rules! message_table {
             /// layout cannot encode.
             pub fn encode(&self, w: &mut $crate::wire::Writer<'_>) -> $crate::Result<()> {
                 match self {
-                    $( Self::$name(m) => message_table!(@encode $proto $ty $def m w), )*
+                    $( Self::$name(m) => message_table!(@encode $proto $ty $shape m w), )*
                     $( Self::$raw(r) => w.put(r.payload), )?
                 }
             }
@@ -620,7 +628,7 @@ macro_rules! message_table {
     (@message flat $proto:ident [$id:ty] [$key:ty] $lengths:ident $encoders:ident
         [$message:ident [$($message_derive:ident),*] [$($message_meta:tt)*] [$($raw_meta:tt)*]]
         $groups:tt
-        [$( [$row:literal $name:ident $ty:ident $def:tt [$($row_meta:tt)*]] )*]) => {
+        [$( [$row:literal $name:ident $ty:ident $shape:tt [$($row_meta:tt)*]] )*]) => {
         wire_derive! {
             [$($message_derive),*]
             $($message_meta)*
@@ -647,7 +655,9 @@ macro_rules! message_table {
             /// errors.
             pub fn decode(id: $key, payload: &'a [u8]) -> $crate::Result<Self> {
                 let decoded = match id {
-                    $( $row => message_table!(@decode $proto $ty $def payload).map(Self::$name), )*
+                    $(
+                        $row => message_table!(@decode $proto $ty $shape payload).map(Self::$name),
+                    )*
                     _ => Ok(Self::Raw(Raw { id, payload })),
                 };
                 decoded.map_err(|e| match e {
@@ -657,13 +667,13 @@ macro_rules! message_table {
             }
 
             message_table!(@methods [Raw] [] $proto [$id] $lengths $encoders
-                [$( [$name $ty $def] )*]);
+                [$( [$name $ty $shape] )*]);
         }
     };
     (@message nested $proto:ident [$id:ty] [$key:ty] $lengths:ident $encoders:ident
         [$message:ident [$($message_derive:ident),*] [$($message_meta:tt)*] [$($raw_meta:tt)*]]
         [$( [$group:ident [$($group_meta:tt)*]] )*]
-        $cells:tt) => {
+        $_rows:tt) => {
         wire_derive! {
             [$($message_derive),*]
             $($message_meta)*
