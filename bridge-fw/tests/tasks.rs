@@ -42,7 +42,7 @@ struct PodSide {
     rejected: u32,
 }
 
-fn pod_frame<M: MessageData>(m: &M, seq: u8, src: Address) -> Vec<u8> {
+fn pod_frame<M: MessageData<Protocol = k40t::K40t>>(m: &M, seq: u8, src: Address) -> Vec<u8> {
     let header = Header::new(src, Address::FLIGHT_CONTROLLER, seq);
     let mut buf = [0u8; k40t::MAX_FRAME_LEN];
     let n = k40t::encode(m, &header, &mut buf).unwrap();

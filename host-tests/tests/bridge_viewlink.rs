@@ -53,7 +53,7 @@ fn c1(sensor: Sensor, operation: OperationCommand, lrf: LrfCommand) -> C1 {
     }
 }
 
-fn last_of<M: k40t::MessageData>(s: &Scenario<ApViewpro>) -> Option<M> {
+fn last_of<M: k40t::MessageData<Protocol = k40t::K40t>>(s: &Scenario<ApViewpro>) -> Option<M> {
     s.pod.received_of::<M>().last().map(|(_, _, m)| *m)
 }
 

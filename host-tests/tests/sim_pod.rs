@@ -60,7 +60,11 @@ impl Fc {
     }
 
     /// The frame of `m` to `dst` with the next sequence number.
-    fn frame<M: MessageData>(&mut self, dst: Address, m: &M) -> (u8, Vec<u8>) {
+    fn frame<M: MessageData<Protocol = k40t::K40t>>(
+        &mut self,
+        dst: Address,
+        m: &M,
+    ) -> (u8, Vec<u8>) {
         let seq = self.seq;
         self.seq = self.seq.wrapping_add(1);
         let header = Header {
@@ -74,7 +78,12 @@ impl Fc {
 
     /// Runs the pod up to `t`, then sends `m` to the address its class uses; returns its
     /// sequence number.
-    fn send<M: MessageData>(&mut self, pod: &mut SimPod, t: u64, m: &M) -> u8 {
+    fn send<M: MessageData<Protocol = k40t::K40t>>(
+        &mut self,
+        pod: &mut SimPod,
+        t: u64,
+        m: &M,
+    ) -> u8 {
         run(pod, self, t);
         let dst = if matches!(M::ID.base, 0x0010..=0x00FF) {
             GIMBAL
@@ -107,7 +116,7 @@ impl Fc {
     }
 
     /// Every message `M` received, with instant and header.
-    fn of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+    fn of<M: MessageData<Protocol = k40t::K40t>>(&self) -> Vec<(u64, Header, M)> {
         self.packets()
             .into_iter()
             .filter_map(|(t, p)| Some((t, p.header, p.message.get::<M>()?)))

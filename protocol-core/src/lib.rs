@@ -17,8 +17,10 @@
 //! 3. **Its meaning:** `Packet::decode(bytes)` (or `Packet::parse(&frame)`) gives a
 //!    `Packet { header: Header, message: Message }`, smoltcp's `Repr`. `Message` is an enum
 //!    over every message id, with a `Raw` variant for unknown ids (never an error).
-//! 4. **One message:** every payload type implements the protocol's `MessageData` (its
-//!    `ID`, `NAME`, `ENCODED_LEN`): recognise one with `message.get::<HybridZoom>()`.
+//! 4. **One message:** every payload type implements [`wire::MessageData`] (its `ID`,
+//!    `NAME`, `ENCODED_LEN`) with its protocol's marker (`MessageData<Protocol = K40t>`),
+//!    from the protocol's message table: recognise one with
+//!    `message.get::<HybridZoom>()`.
 //! 5. **Bytes out:** `encode(&message, &header, &mut buf)` writes one typed message as a
 //!    whole frame; `Packet::emit(&mut buf)` writes a decoded packet back, byte for byte.
 //! 6. **Catalogue:** `CATALOG` lists every id the codec knows.
@@ -51,6 +53,7 @@ mod macros;
 mod error;
 #[cfg(any(feature = "k40t", feature = "viewlink"))]
 mod text;
+#[macro_use]
 pub mod wire;
 
 #[cfg(feature = "k40t")]

@@ -11,22 +11,23 @@
 //! blanket implementation over `Field<O>`, so one struct macro, parameterised by the
 //! byte order, serves all four.
 
-/// Emits `$item` with the derives every public wire type of the crate carries: `Debug`,
+/// Emits an item with the derives every public wire type of the crate carries: `Debug`,
 /// `Clone`, `Copy`, `PartialEq`, the extra ones listed in brackets (`Eq`, `Hash`,
 /// `Default` where the fields allow), `defmt::Format` and `serde::Serialize` behind
 /// their features.
 macro_rules! wire_derive {
     // `custom_serde`: the type implements `serde::Serialize` by hand.
-    (custom_serde [$($extra:ident),*] $item:item) => {
+    (custom_serde [$($extra:ident),*] $($item:tt)*) => {
         #[derive(Debug, Clone, Copy, PartialEq $(, $extra)*)]
         #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        $item
+        $($item)*
     };
-    ([$($extra:ident),*] $item:item) => {
-        #[derive(Debug, Clone, Copy, PartialEq $(, $extra)*)]
-        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-        #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-        $item
+    ([$($extra:ident),*] $($item:tt)*) => {
+        wire_derive! {
+            custom_serde [$($extra),*]
+            #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+            $($item)*
+        }
     };
 }
 
@@ -37,7 +38,8 @@ macro_rules! wire_derive {
 /// (the variant for 0, or `Other(0)`) and [`WireCode`](crate::wire::encoding::WireCode)
 /// (hence [`Field`](crate::wire::encoding::Field) in both byte orders). With the `serde`
 /// feature it serialises as `{"name": "ZoomIn", "code": 9}` (`"Other"` for an unlisted
-/// code), so a capture decoder shows both the name and the wire code.
+/// code), so a capture decoder shows both the name and the wire code. A variant without
+/// a doc comment is documented by its wire value.
 macro_rules! code_enum {
     (
         $(#[$meta:meta])*
@@ -49,7 +51,11 @@ macro_rules! code_enum {
             custom_serde [Eq, Hash]
             $(#[$meta])*
             $vis enum $name {
-                $( $(#[$vmeta])* $variant, )*
+                $(
+                    $(#[$vmeta])*
+                    #[doc = code_enum!(@value_doc [$(#[$vmeta])*] $value)]
+                    $variant,
+                )*
                 /// A value the document does not list, kept as received.
                 Other($repr),
             }
@@ -118,6 +124,13 @@ macro_rules! code_enum {
                 $crate::macros::serialize_code(s, self.name(), self.value())
             }
         }
+    };
+    // The doc of an undocumented variant: its wire value (nothing added to a documented one).
+    (@value_doc [] $value:literal) => {
+        concat!("Wire value ", stringify!($value), ".")
+    };
+    (@value_doc [$($documented:tt)+] $value:literal) => {
+        ""
     };
 }
 
@@ -332,17 +345,6 @@ macro_rules! bit_set {
                 self.0 & !(0 $( | (1 << $bit) )*)
             }
         }
-    };
-}
-
-/// `true` when a table entry names a type, `false` when it is absent: turns an optional
-/// macro fragment `$($ty)?` into a constant.
-macro_rules! present {
-    () => {
-        false
-    };
-    ($t:ty) => {
-        true
     };
 }
 

@@ -4,14 +4,15 @@ use crate::wire::encoding::Field;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-/// A fixed-size text field (K40T folder and file names, Viewlink firmware, model and
-/// serial strings): `N` bytes, not NUL-terminated, padded with 0x00 or spaces, empty
-/// when all bytes are 0x00 or spaces. Kept as the bytes received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Text<const N: usize> {
-    /// The bytes as on the wire.
-    pub raw: [u8; N],
+wire_derive! {
+    custom_serde [Eq, Hash]
+    /// A fixed-size text field (K40T folder and file names, Viewlink firmware, model and
+    /// serial strings): `N` bytes, not NUL-terminated, padded with 0x00 or spaces, empty
+    /// when all bytes are 0x00 or spaces. Kept as the bytes received.
+    pub struct Text<const N: usize> {
+        /// The bytes as on the wire.
+        pub raw: [u8; N],
+    }
 }
 
 impl<const N: usize> Default for Text<N> {

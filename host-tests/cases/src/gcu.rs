@@ -796,7 +796,7 @@ fn layout_params(order: u8) -> &'static [u8] {
 /// enum path; the decoded message gives it back with `get`. Returns its id.
 fn typed<M>(m: M, order: u8) -> Result<u8, Failure>
 where
-    M: MessageData + PartialEq + core::fmt::Debug,
+    M: MessageData<Protocol = Gcu> + PartialEq + core::fmt::Debug,
     Message<'static>: From<M>,
 {
     let params = layout_params(order);

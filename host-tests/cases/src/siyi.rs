@@ -387,7 +387,11 @@ typed! {
 /// its constants, and for every layout of (`id`, `dir`): `get::<T>()` hits (and no
 /// other type does), `encode` of the typed value gives the layout's frame, byte for
 /// byte the enum path's, and `ENCODED_LEN` is the longest layout.
-fn check_typed<T: MessageData, O: MessageData>(id: u8, dir: Direction) -> Outcome {
+fn check_typed<T, O>(id: u8, dir: Direction) -> Outcome
+where
+    T: MessageData<Protocol = Siyi> + Directed + Payload,
+    O: MessageData<Protocol = Siyi> + Directed,
+{
     ensure_eq!((id, T::ID, T::DIRECTION), (id, id, dir));
     ensure_eq!((id, O::ID, O::DIRECTION), (id, id, dir.reverse()));
     let entry = check!(CATALOG.iter().find(|e| e.id == id));

@@ -987,7 +987,7 @@ const VARIABLE: [(u8, usize); 5] = [(0x02, 23), (0xB1, 42), (0xF3, 60), (0xF4, 6
 /// `T` against a decoded frame of its id: its id and name are the catalogue's, `get`
 /// finds it, the typed `encode` gives the frame's bytes (as the enum path does), and
 /// `ENCODED_LEN` is the payload length (the largest one for variable payloads).
-fn check_typed<T: MessageData + PartialEq + core::fmt::Debug>(
+fn check_typed<T: MessageData<Protocol = Viewlink> + PartialEq + core::fmt::Debug>(
     p: &Packet<'_>,
     bytes: &[u8],
 ) -> Outcome {

@@ -26,7 +26,7 @@ use protocol_core::Direction;
 use protocol_core::bridge::{Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, POD_QUEUE};
 use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
-use protocol_core::viewlink::{self, MessageData as _, SyncOrder};
+use protocol_core::viewlink::{self, SyncOrder};
 
 use crate::input::Input;
 

@@ -44,7 +44,7 @@ use protocol_core::siyi::{
     CodecQuery, FcAttitude, FcPosition, FeedbackInfo, FirmwareVersionQuery, FocusDirection,
     GimbalAttitudeQuery, GimbalConfigQuery, GimbalRotation, GlobalTemperatureRequest,
     HardwareIdQuery, Header, LaserDistanceQuery, ManualFocus, ManualZoom, MessageData, MotionMode,
-    Packet, RecordStatus, SetStitching, SetThermalGain, SetThermalPalette, Stitching,
+    Packet, RecordStatus, SetStitching, SetThermalGain, SetThermalPalette, Siyi, Stitching,
     StitchingMode, StreamType, ThermalGain, ThermalPalette, UtcTime, ZoomDirection, ZoomLevel,
 };
 use protocol_core::wire::crc16_xmodem;
@@ -490,7 +490,7 @@ impl ApSiyi {
     }
 
     /// Queues one request frame for the current run.
-    fn send<M: MessageData>(&mut self, m: &M) {
+    fn send<M: MessageData<Protocol = Siyi>>(&mut self, m: &M) {
         if self.power_on_at.is_some() {
             return;
         }

@@ -53,7 +53,7 @@ use super::{FcBoot, FcClock, FcReboot, XorShift};
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
     MAttitude, MGps, ManualSpeed, MessageData, OperationCommand, Point, QueryParams, Sensor,
-    ServoCommand, TimeCs, TrackingCommand, TrackingSource, U, Zoom,
+    ServoCommand, TimeCs, TrackingCommand, TrackingSource, U, Viewlink, Zoom,
 };
 
 use super::ap_siyi::{Aircraft, MountTarget};
@@ -365,7 +365,7 @@ impl ApViewpro {
     }
 
     /// Sends a typed block as a frame of its own (any block: a console's frames too).
-    pub fn send_raw<Msg: MessageData>(&mut self, message: &Msg) {
+    pub fn send_raw<Msg: MessageData<Protocol = Viewlink>>(&mut self, message: &Msg) {
         let mut buf = [0u8; viewlink::MAX_FRAME_LEN];
         let n = viewlink::encode(message, &viewlink::Header::new(0), &mut buf).unwrap();
         let data = buf[5..n - 1].to_vec();

@@ -19,7 +19,7 @@
 //! previous boot's by [`FcReboot::utc_shift_us`] ([`FcK40t::utc_us`] follows it).
 
 use protocol_core::k40t::{
-    self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40tFraming,
+    self, Address, CrcCoverage, GimbalAttitude, GimbalControl, GpsReply, Header, K40t, K40tFraming,
     Message, MessageData, Packet, PitchMotion, Request, ResponseCode, TimeSync, YawMotion,
 };
 use protocol_core::wire::{Deframer, Event};
@@ -187,7 +187,7 @@ impl FcK40t {
     }
 
     /// Sends a request to the pod now.
-    pub fn send<M: MessageData>(&mut self, m: &M) {
+    pub fn send<M: MessageData<Protocol = K40t>>(&mut self, m: &M) {
         if self.is_off(self.now_us) {
             return;
         }
@@ -202,7 +202,7 @@ impl FcK40t {
 
     /// The frames received of message `M`, decoded, with their headers.
     #[must_use]
-    pub fn received_of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+    pub fn received_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
         self.received
             .iter()
             .filter_map(|r| {

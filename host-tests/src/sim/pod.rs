@@ -219,7 +219,7 @@ use protocol_core::k40t::{
     self, Ack, AckCode, Address, AeLock, CameraVersionAck, CaptureMode, CrcCoverage, Ev, FocusMode,
     FocusState, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction, GimbalStatus,
     GimbalVersionAck, GpsReply, GpsRequest, Header, ImageMode, IpConfigAck, IrGain, IrParams,
-    IrStatus, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus, Lens, Links,
+    IrStatus, K40t, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus, Lens, Links,
     MAX_FRAME_LEN, MeasureConfig, MeasureSwitch, Message, MessageData, Metering, MsgId, OnOff,
     Packet, Palette, PhotoMode, PhotoResolution, PhotoSensors, PhotoState, PhotoStatus,
     PitchMotion, PointToAim, PreviewResolution, Raw, RecordAction, RecordSensors, RecordState,
@@ -229,7 +229,6 @@ use protocol_core::k40t::{
     VideoResolution, VisibleParams, VisibleStatus, WhiteBalance, YawMotion, ZoomControl, ZoomState,
     ZoomStatus,
 };
-use protocol_core::wire::encoding::{Field, Le};
 use protocol_core::wire::{Deframer, Event, Stats, Writer};
 
 /// Base ids of the periodic reports, in [`ReportPeriods`] order.
@@ -1392,7 +1391,7 @@ impl SimPod {
 
     /// Every received message of type `M`, with arrival instant and header.
     #[must_use]
-    pub fn received_of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+    pub fn received_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
         self.received
             .iter()
             .filter(|r| r.id == M::ID)
@@ -1417,7 +1416,7 @@ impl SimPod {
 
     /// Every sent message of type `M`, with instant and header.
     #[must_use]
-    pub fn sent_of<M: MessageData>(&self) -> Vec<(u64, Header, M)> {
+    pub fn sent_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
         self.sent
             .iter()
             .filter(|r| r.id == M::ID)
@@ -2524,7 +2523,7 @@ impl SimPod {
     }
 
     /// Sends a pod-originated message now; returns its sequence number.
-    fn send<M: MessageData>(&mut self, t: u64, m: &M) -> u8 {
+    fn send<M: MessageData<Protocol = K40t>>(&mut self, t: u64, m: &M) -> u8 {
         let (id, bytes) = message(m);
         self.send_payload(t, id, bytes)
     }
@@ -2702,15 +2701,15 @@ fn record_status(rec: Recording, state: RecordState, t: u64) -> RecordStatus {
 }
 
 /// The payload bytes of a message.
-fn payload<M: MessageData>(m: &M) -> Vec<u8> {
+fn payload<M: MessageData<Protocol = K40t>>(m: &M) -> Vec<u8> {
     let mut buf = vec![0; M::ENCODED_LEN];
     let mut w = Writer::new(&mut buf);
     // Cannot fail: the buffer has the message's encoded length.
-    let _ = Field::<Le>::write(m, &mut w);
+    let _ = m.encode_payload(&mut w);
     buf
 }
 
 /// A message as (id, payload bytes).
-fn message<M: MessageData>(m: &M) -> (MsgId, Vec<u8>) {
+fn message<M: MessageData<Protocol = K40t>>(m: &M) -> (MsgId, Vec<u8>) {
     (M::ID, payload(m))
 }

@@ -1237,7 +1237,7 @@ fn target_box(t: Target) -> (u16, u16, u16, u16) {
 /// The frame's payload as `M` when it carries `M` and decodes; `None` otherwise. The
 /// driver decodes only the messages it uses, one layout each, so the firmware does not
 /// carry the decoders of the hundred others (`Frame::decode_as`).
-fn typed<M: MessageData>(frame: &Frame<&[u8]>) -> Option<M> {
+fn typed<M: MessageData<Protocol = crate::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
     frame.decode_as::<M>().and_then(Result::ok)
 }
 
@@ -1297,7 +1297,12 @@ mod tests {
     }
 
     /// A frame from the pod.
-    fn from_pod<M: MessageData>(m: M, src: Address, seq: u8, coverage: CrcCoverage) -> Vec<u8> {
+    fn from_pod<M: MessageData<Protocol = crate::k40t::K40t>>(
+        m: M,
+        src: Address,
+        seq: u8,
+        coverage: CrcCoverage,
+    ) -> Vec<u8> {
         let header = Header {
             dst: Address::FLIGHT_CONTROLLER,
             src,

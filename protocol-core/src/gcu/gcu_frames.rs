@@ -17,9 +17,7 @@ code_enum! {
         Orthoview = 0x13,
         /// Euler angle control: control quantities are Euler angles.
         EulerAngle = 0x14,
-        /// Gaze.
         Gaze = 0x16,
-        /// Track.
         Track = 0x17,
     }
 }
@@ -99,33 +97,19 @@ wire_struct! {
 code_enum! {
     /// Gimbal model (GCU sub data frame, byte 40; table "Gimbal Code").
     pub enum GimbalCode: u8 {
-        /// Z-6A.
         Z6a = 0,
-        /// Z-6C.
         Z6c = 2,
-        /// M-2400G2.
         M2400g2 = 3,
-        /// Z-8TA.
         Z8ta = 21,
-        /// Z-8TB.
         Z8tb = 22,
-        /// Z-8RA.
         Z8ra = 24,
-        /// Z-8RB.
         Z8rb = 25,
-        /// Z-8RC.
         Z8rc = 26,
-        /// Z-8LA.
         Z8la = 27,
-        /// Z-9A.
         Z9a = 30,
-        /// Z-9B.
         Z9b = 31,
-        /// D-80AI.
         D80ai = 40,
-        /// D-90AI.
         D90ai = 41,
-        /// D-80Pro.
         D80pro = 44,
     }
 }

@@ -60,8 +60,9 @@
 //!   [`FromGimbal`](crate::Direction::FromGimbal): header, GCU frames, feedback) parse
 //!   from a frame and emit into a buffer; [`Packet`] is either, chosen by the sync
 //!   bytes. [`HostPacket::answer`] builds the GCU's reply to a host package.
-//! - Every typed command implements [`MessageData`] (its order byte, name and length),
-//!   so one command is sent with [`encode`] and recognised with [`Message::get`].
+//! - Every typed command implements [`MessageData`] (its order byte, name and length;
+//!   `Protocol = `[`Gcu`]), so one command is sent with [`encode`] and recognised with
+//!   [`Message::get`].
 //! - [`CATALOG`] lists the 26 orders; [`GpsTime`] converts GPS week + time of week.
 //!
 //! # Decisions where the document is silent (see the README)
@@ -117,6 +118,7 @@ pub use params::{
 pub use time::{DEFAULT_LEAP_SECONDS, GPS_EPOCH_UNIX_MS, GpsTime, WEEK_MS};
 
 use crate::wire::encoding::{Field, Le};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Direction, Error, Result};
 
@@ -130,6 +132,7 @@ const _: () = {
 };
 
 /// Decodes exactly `T::LEN` bytes; any other length is [`Error::BadLength`].
+#[inline]
 fn decode_exact<T: Field<Le>>(bytes: &[u8]) -> Result<T> {
     if bytes.len() != T::LEN {
         return Err(Error::BadLength);
@@ -140,31 +143,25 @@ fn decode_exact<T: Field<Le>>(bytes: &[u8]) -> Result<T> {
     Ok(v)
 }
 
-/// A typed GCU command: a parameter type that knows its order (after rust-mavlink's
-/// `MessageData`). Every order has one, from the one table that also builds
-/// [`CATALOG`]: orders without parameters have an empty struct (`Neutral {}`), orders
-/// with one parameter a newtype (`Shutter(CameraSet)`).
-///
-/// ```
-/// use protocol_core::gcu::{MessageData, Order, Shutter, Track};
-/// assert_eq!(Shutter::ID, Order::Shutter.value());
-/// assert_eq!(Shutter::NAME, "Shutter");
-/// assert_eq!(Track::ENCODED_LEN, 10);
-/// ```
-pub trait MessageData: Field<Le> + Copy {
-    /// The order byte (the message id).
-    const ID: u8;
-    /// The order's name, as [`CATALOG`] lists it.
-    const NAME: &'static str;
-    /// Encoded parameter length in bytes.
-    const ENCODED_LEN: usize;
+/// The GCU length rules, for the message table: a command's parameters have exactly its
+/// layout's length.
+impl<T: Field<Le>> PayloadCodec<T> for Gcu {
+    const MAX_LEN: usize = T::LEN;
 
-    /// This command as a decoded [`Message`].
-    fn into_message(self) -> Message<'static>;
+    fn decode(payload: &[u8]) -> Result<T> {
+        decode_exact(payload)
+    }
 
-    /// The command, if `message` is this command.
-    fn from_message(message: &Message<'_>) -> Option<Self>;
+    fn encoded_len(_: &T) -> usize {
+        T::LEN
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.write(w)
+    }
 }
+
+pub use crate::wire::MessageData;
 
 wire_derive! {
     [Eq, Hash]
@@ -175,17 +172,6 @@ wire_derive! {
         pub id: u8,
         /// The parameter bytes.
         pub payload: &'a [u8],
-    }
-}
-
-wire_derive! {
-    [Eq, Hash]
-    /// The order part of a host package: what its order byte and parameters mean.
-    pub enum Message<'a> {
-        /// A known order with parameters of its length.
-        Command(Command),
-        /// An unknown order, or a known one with parameters of another length.
-        Raw(Raw<'a>),
     }
 }
 
@@ -200,60 +186,10 @@ impl<'a> Message<'a> {
         }
     }
 
-    /// The message id: the order byte.
-    #[must_use]
-    pub const fn id(&self) -> u8 {
-        match self {
-            Message::Command(c) => c.id(),
-            Message::Raw(r) => r.id,
-        }
-    }
-
-    /// The order.
+    /// The order of the command part (unknown ones as [`Order::Other`]).
     #[must_use]
     pub const fn order(&self) -> Order {
         Order::from_value(self.id())
-    }
-
-    /// The order's name (`"Raw"` for [`Message::Raw`]).
-    #[must_use]
-    pub const fn name(&self) -> &'static str {
-        match self {
-            Message::Command(c) => c.name(),
-            Message::Raw(_) => "Raw",
-        }
-    }
-
-    /// Length of the parameters (the payload).
-    #[must_use]
-    pub const fn payload_len(&self) -> usize {
-        match self {
-            Message::Command(c) => c.payload_len(),
-            Message::Raw(r) => r.payload.len(),
-        }
-    }
-
-    /// Writes the parameters (the order byte is the frame's id).
-    ///
-    /// # Errors
-    /// [`Error::BufferTooSmall`] when `w` has no room for them.
-    pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        match self {
-            Message::Command(c) => c.encode(w),
-            Message::Raw(r) => w.put(r.payload),
-        }
-    }
-
-    /// The typed command, if this is command `M`: `message.get::<Shutter>()`.
-    #[must_use]
-    pub fn get<M: MessageData>(&self) -> Option<M> {
-        M::from_message(self)
-    }
-}
-
-impl From<Command> for Message<'_> {
-    fn from(c: Command) -> Self {
-        Message::Command(c)
     }
 }
 
@@ -332,7 +268,7 @@ fn checked_direction(frame: &Frame<&[u8]>, expected: Direction) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::BufferTooSmall`] when `buf` cannot hold the package.
-pub fn encode<M: MessageData>(
+pub fn encode<M: MessageData<Protocol = Gcu>>(
     message: &M,
     header: &Header,
     frames: &HostFrames,
@@ -345,7 +281,7 @@ pub fn encode<M: MessageData>(
         frames,
         M::ID,
         M::ENCODED_LEN,
-        |w| message.write(w),
+        |w| message.encode_payload(w),
     )
 }
 
@@ -546,7 +482,7 @@ impl<'a> Packet<'a> {
         Packet::parse(&frame)
     }
 
-    /// The direction.
+    /// The direction, from the sync bytes.
     #[must_use]
     pub const fn direction(&self) -> Direction {
         match self {

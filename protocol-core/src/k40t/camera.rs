@@ -24,9 +24,7 @@ code_enum! {
 code_enum! {
     /// Video encoding (0x000003 byte 3, 0x00030B).
     pub enum VideoCodec: u8 {
-        /// H.264.
         H264 = 0,
-        /// H.265.
         H265 = 1,
     }
 }
@@ -34,7 +32,6 @@ code_enum! {
 code_enum! {
     /// Which image is streamed (0x000003 byte 4, 0x000318).
     pub enum ImageMode: u8 {
-        /// Infrared.
         Infrared = 0x00,
         /// Visible light (code 0x05).
         Visible = 0x05,
@@ -70,7 +67,6 @@ code_enum! {
         Single = 0,
         /// Burst of 3 or 5.
         Burst = 1,
-        /// Time-lapse.
         TimeLapse = 2,
     }
 }
@@ -78,7 +74,6 @@ code_enum! {
 code_enum! {
     /// SD card state (0x000003 byte 9).
     pub enum SdState: u8 {
-        /// Normal.
         Normal = 0,
         /// Abnormal card.
         Abnormal = 1,
@@ -122,7 +117,7 @@ wire_struct! {
         pub sd_free_10mb: u16,
         /// Used SD capacity.
         pub sd_used_10mb: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -166,7 +161,7 @@ wire_struct! {
         pub diff_warning: u8,
         /// Threshold warning.
         pub threshold_warning: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 4],
     }
 }
@@ -176,7 +171,6 @@ code_enum! {
     pub enum ZoomState: u8 {
         /// Zoom completed.
         Done = 0,
-        /// Zooming.
         Zooming = 1,
     }
 }
@@ -184,7 +178,6 @@ code_enum! {
 code_enum! {
     /// Exposure compensation (0x000005, 0x000200 ACK, 0x000205).
     pub enum Ev: u8 {
-        /// Automatic.
         Auto = 0x00,
         /// +2 EV.
         Plus2 = 0x0A,
@@ -202,9 +195,7 @@ code_enum! {
 code_enum! {
     /// AE lock state (0x000005, 0x000200 ACK, 0x00020A).
     pub enum AeLock: u8 {
-        /// On.
         On = 0x01,
-        /// Off.
         Off = 0x02,
     }
 }
@@ -214,7 +205,6 @@ code_enum! {
     pub enum FocusState: u8 {
         /// Focus completed.
         Done = 0,
-        /// Focusing.
         Focusing = 1,
     }
 }
@@ -241,7 +231,7 @@ wire_struct! {
         pub focus: FocusState,
         /// Focal length of the accurate re-shoot (unit not given by the document).
         pub accurate_focal_length: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -249,13 +239,9 @@ wire_struct! {
 code_enum! {
     /// Upgrade or repair progress state (0x000008 byte 1).
     pub enum UpgradeProgressState: u8 {
-        /// Succeeded.
         Succeeded = 0,
-        /// Failed.
         Failed = 1,
-        /// Upgrading.
         Upgrading = 2,
-        /// Repairing.
         Repairing = 3,
     }
 }
@@ -264,11 +250,11 @@ wire_struct! {
     Le;
     /// 0x000008, report (1 Hz): camera upgrade or repair progress.
     pub struct UpgradeStatus {
-        /// State.
+        /// Upgrading, repairing, or how the last attempt ended.
         pub state: UpgradeProgressState,
         /// Progress, 0..=100 %.
         pub progress_pct: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }

@@ -17,9 +17,9 @@ wire_struct! {
     /// 0x000300: photo or video mode (in photo mode the camera ignores recording
     /// commands, and the reverse).
     pub struct CaptureModeSetting {
-        /// The mode.
+        /// Photo or video mode.
         pub mode: CaptureMode,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -34,7 +34,7 @@ wire_struct! {
         pub timelapse_s: u8,
         /// Burst count (3 or 5).
         pub burst_count: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -68,7 +68,7 @@ wire_struct! {
     /// 0x000302: take a photo. Empty folder = root directory; empty name = default
     /// naming. The pod asks for GPS (0x000310) before it takes the photo.
     pub struct TakePhoto {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible or both.
         pub sensors: PhotoSensors,
         /// Start or stop.
         pub action: ShootAction,
@@ -115,13 +115,13 @@ wire_struct! {
     Le;
     /// Status frame of 0x000302 (none for a single shot).
     pub struct PhotoStatus {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible or both.
         pub sensors: PhotoSensors,
-        /// Progress.
+        /// How far the shot is, or why it failed (SD card states included).
         pub state: PhotoState,
         /// Burst count.
         pub burst_count: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 3],
     }
 }
@@ -147,7 +147,6 @@ code_enum! {
     pub enum RecordAction: u8 {
         /// Start (repeating it does not stop recording).
         Start = 0x01,
-        /// Stop.
         Stop = 0x02,
     }
 }
@@ -156,7 +155,7 @@ wire_struct! {
     Le;
     /// 0x000303: record video.
     pub struct Record {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible, both, or the video stream.
         pub sensors: RecordSensors,
         /// Start or stop.
         pub action: RecordAction,
@@ -170,9 +169,7 @@ wire_struct! {
 code_enum! {
     /// Recording progress in the status frame of 0x000303.
     pub enum RecordState: u8 {
-        /// Stopped.
         Stopped = 0,
-        /// Recording.
         Recording = 1,
         /// Waiting for time-lapse recording.
         TimeLapseWaiting = 2,
@@ -195,13 +192,13 @@ wire_struct! {
     Le;
     /// Status frame of 0x000303 (1 Hz).
     pub struct RecordStatus {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible, both, or the video stream.
         pub sensors: RecordSensors,
-        /// Progress.
+        /// Recording, stopped or time-lapse, or why it cannot record (SD card states).
         pub state: RecordState,
         /// Recording time (the document gives no unit; seconds assumed).
         pub elapsed_s: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 3],
     }
 }
@@ -223,7 +220,7 @@ wire_struct! {
     pub struct ZoomStatus {
         /// Zoom progress.
         pub state: ZoomState,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -250,7 +247,7 @@ wire_struct! {
     pub struct ContinuousZoom {
         /// The zoom command.
         pub control: ZoomControl,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -259,7 +256,7 @@ wire_struct! {
     Le;
     /// 0x000307: accurate re-shoot (photo at a given resolution, zoom and focal length).
     pub struct AccurateShoot {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible or both.
         pub sensors: PhotoSensors,
         /// Visible photo resolution.
         pub resolution: PhotoResolution,
@@ -278,11 +275,11 @@ wire_struct! {
     Le;
     /// Status frame of 0x000307.
     pub struct AccurateShootStatus {
-        /// Sensors.
+        /// The cameras concerned: infrared, visible or both.
         pub sensors: PhotoSensors,
-        /// Progress.
+        /// How far the shot is, or why it failed (SD card states included).
         pub state: PhotoState,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 5],
     }
 }
@@ -291,9 +288,9 @@ wire_struct! {
     Le;
     /// 0x000308: output stream bitrate.
     pub struct StreamBitrateSetting {
-        /// Bitrate.
+        /// The output stream's bitrate, 1 to 12 Mbit/s.
         pub bitrate: StreamBitrate,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -312,9 +309,9 @@ wire_struct! {
     Le;
     /// 0x00030A: video output resolution.
     pub struct OutputResolutionSetting {
-        /// Resolution.
+        /// 1080p or 720p at 30 fps (the pod supports 1080p only).
         pub resolution: OutputResolution,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -323,9 +320,9 @@ wire_struct! {
     Le;
     /// 0x00030B: video output encoding.
     pub struct OutputCodecSetting {
-        /// Encoding.
+        /// H.264 or H.265.
         pub codec: VideoCodec,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -350,7 +347,6 @@ code_enum! {
     pub enum TfUpgradeState: u8 {
         /// Upgraded successfully.
         Succeeded = 0x00,
-        /// Upgrading.
         Upgrading = 0x01,
         /// Upgrade failed.
         Failed = 0x02,
@@ -361,9 +357,9 @@ wire_struct! {
     Le;
     /// Status frame of 0x00030C.
     pub struct TfUpgradeStatus {
-        /// Progress.
+        /// Upgrading, upgraded or failed.
         pub state: TfUpgradeState,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -373,7 +369,6 @@ code_enum! {
     pub enum FormatState: u8 {
         /// Formatting completed.
         Done = 0x00,
-        /// Formatting.
         InProgress = 0x01,
         /// Formatting failed.
         Failed = 0x02,
@@ -386,9 +381,9 @@ wire_struct! {
     Le;
     /// Status frame of 0x00030D (5 Hz).
     pub struct FormatStatus {
-        /// Progress.
+        /// Formatting, done, failed, or the card unavailable.
         pub state: FormatState,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -473,7 +468,7 @@ wire_struct! {
     pub struct SetIp {
         /// Static or dynamic.
         pub mode: IpMode,
-        /// Address.
+        /// The IPv4 address, octets in dotted order.
         pub address: [u8; 4],
         /// Subnet mask.
         pub netmask: [u8; 4],
@@ -488,7 +483,7 @@ wire_struct! {
     pub struct IpConfigAck {
         /// Response code.
         pub code: ResponseCode,
-        /// Address.
+        /// The IPv4 address, octets in dotted order.
         pub address: [u8; 4],
         /// Subnet mask.
         pub netmask: [u8; 4],
@@ -533,7 +528,7 @@ wire_struct! {
         pub x1: u16,
         /// Area: lower-right Y.
         pub y1: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -542,9 +537,9 @@ wire_struct! {
     Le;
     /// 0x000314: OSD watermark.
     pub struct Watermark {
-        /// Switch.
+        /// Whether the watermark is shown.
         pub enable: OnOff,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -555,7 +550,7 @@ wire_struct! {
     pub struct CameraVersionAck {
         /// Response code.
         pub code: ResponseCode,
-        /// Version.
+        /// The camera firmware version.
         pub version: Version,
     }
 }
@@ -564,9 +559,9 @@ wire_struct! {
     Le;
     /// 0x000318: image (stream) mode.
     pub struct ImageModeSetting {
-        /// The image.
+        /// Infrared, visible light or split screen.
         pub mode: ImageMode,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -591,9 +586,7 @@ code_enum! {
         NoGps = 0,
         /// No position.
         NoFix = 1,
-        /// 2D.
         Fix2d = 2,
-        /// 3D.
         Fix3d = 3,
         /// 3D with DGPS/SBAS.
         Dgps = 4,
@@ -603,7 +596,6 @@ code_enum! {
         RtkFixed = 6,
         /// Static (base station).
         Static = 7,
-        /// PPP.
         Ppp = 8,
     }
 }
@@ -681,7 +673,7 @@ wire_struct! {
         pub width: u16,
         /// Height (y + height ≤ 1080).
         pub height: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }

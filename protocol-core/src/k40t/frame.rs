@@ -199,7 +199,8 @@ impl<T: AsRef<[u8]>> Frame<T> {
         MsgId::from_bytes(id)
     }
 
-    /// The payload.
+    /// The payload: the bytes between the message id and the CRC (empty when the buffer
+    /// is shorter than LEN says).
     pub fn payload(&self) -> &[u8] {
         let end = HEADER_LEN.saturating_add(self.payload_len());
         self.buffer

@@ -5,7 +5,6 @@ use super::payload::{ResponseCode, Version};
 code_enum! {
     /// Upgrade state of the gimbal (0x000001 byte 2).
     pub enum UpgradeState: u8 {
-        /// Normal.
         Normal = 0x00,
         /// Kernel upgrade not completed.
         KernelIncomplete = 0x01,
@@ -21,7 +20,6 @@ code_enum! {
         Off = 0,
         /// In progress.
         Active = 1,
-        /// Failed.
         Failed = 2,
         /// Feature lost.
         FeatureLost = 3,
@@ -113,7 +111,7 @@ wire_struct! {
         pub pitch_rate_cdeg_s: i16,
         /// Roll rate.
         pub roll_rate_cdeg_s: i16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -139,7 +137,6 @@ code_enum! {
         Left = 0,
         /// Move right.
         Right = 1,
-        /// Stop.
         Stop = 2,
     }
 }
@@ -151,7 +148,6 @@ code_enum! {
         Up = 0,
         /// Move down.
         Down = 1,
-        /// Stop.
         Stop = 2,
     }
 }
@@ -166,7 +162,7 @@ wire_struct! {
         pub yaw: YawMotion,
         /// Pitch motion.
         pub pitch: PitchMotion,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -186,7 +182,7 @@ wire_struct! {
         pub yaw_direction: YawMotion,
         /// Yaw angle magnitude.
         pub yaw_cdeg: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -217,7 +213,7 @@ wire_struct! {
         pub pitch_dps_x5: u8,
         /// Yaw dial speed.
         pub yaw_dps_x5: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -232,7 +228,7 @@ wire_struct! {
         pub hardware: Version,
         /// Software version.
         pub software: Version,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -267,9 +263,7 @@ wire_struct! {
 code_enum! {
     /// A two-state switch encoded 0 = off, 1 = on.
     pub enum OnOff: u8 {
-        /// Off.
         Off = 0,
-        /// On.
         On = 1,
     }
 }
@@ -280,7 +274,7 @@ wire_struct! {
     pub struct Stabilization {
         /// Stabilisation switch.
         pub enable: OnOff,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }

@@ -11,15 +11,12 @@ code_enum! {
         WhiteHot = 1,
         /// Black hot.
         BlackHot = 2,
-        /// Rainbow.
         Rainbow = 3,
         /// High-contrast red.
         HighContrastRed = 4,
         /// Iron red.
         IronRed = 5,
-        /// Magma.
         Magma = 6,
-        /// Sky.
         Sky = 7,
         /// Medium grey.
         MediumGray = 8,
@@ -57,7 +54,6 @@ code_enum! {
         High = 0,
         /// Low gain.
         Low = 1,
-        /// Automatic.
         Auto = 2,
     }
 }
@@ -127,7 +123,7 @@ macro_rules! ir_setting {
             pub struct $name {
                 $(#[$fm])*
                 pub $field: $ty,
-                /// Reserved.
+                /// Reserved; kept as received, so the frame re-encodes as it came.
                 pub reserved: u8,
             }
         }
@@ -147,7 +143,7 @@ ir_setting! {
     };
     /// 0x000106: thermal palette.
     IrPalette {
-        /// The palette.
+        /// The false-colour palette of the thermal image.
         palette: Palette
     };
     /// 0x000108: temperature measurement switch.
@@ -197,13 +193,13 @@ wire_struct! {
         pub palette: Palette,
         /// Measurement switch, type, core and electronic zoom.
         pub measure: MeasureConfig,
-        /// Sharpening.
+        /// Sharpening, 0..=100.
         pub sharpness: u8,
         /// Gain mode.
         pub gain: IrGain,
-        /// Brightness.
+        /// Brightness, 0..=100.
         pub brightness: u8,
-        /// Contrast.
+        /// Contrast, 0..=100.
         pub contrast: u8,
         /// Denoising switch (bit 7) and level.
         pub denoise: SwitchLevel,
@@ -222,7 +218,7 @@ wire_struct! {
         pub threshold_ref_dc: i16,
         /// Threshold floating band (0..=800).
         pub threshold_float_dc: i16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -231,11 +227,11 @@ wire_struct! {
     Le;
     /// 0x00010D: denoising.
     pub struct IrDenoise {
-        /// Switch.
+        /// Denoising on or off.
         pub enable: OnOff,
         /// Level 0..=100.
         pub level: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -249,7 +245,7 @@ wire_struct! {
         pub x: u16,
         /// Cursor Y.
         pub y: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -266,7 +262,7 @@ wire_struct! {
         pub center_x: u16,
         /// Frame centre Y.
         pub center_y: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -283,7 +279,7 @@ wire_struct! {
         pub low_dc: i16,
         /// Temperature difference (1..=6000).
         pub diff_dc: i16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -292,13 +288,13 @@ wire_struct! {
     Le;
     /// 0x000126: threshold temperature-difference warning.
     pub struct IrThresholdWarning {
-        /// Switch.
+        /// The warning on or off.
         pub enable: OnOff,
         /// Reference temperature (−300..=500).
         pub reference_dc: i16,
         /// Floating band (0..=800).
         pub float_dc: i16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }

@@ -6,7 +6,6 @@ use super::payload::ResponseCode;
 code_enum! {
     /// Single ranging command of 0x000400.
     pub enum LaserMode: u8 {
-        /// Disable.
         Off = 0,
         /// One measurement.
         Single = 1,
@@ -17,9 +16,9 @@ wire_struct! {
     Le;
     /// 0x000400: laser ranging.
     pub struct LaserRange {
-        /// Command.
+        /// One measurement, or off.
         pub mode: LaserMode,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -39,9 +38,9 @@ wire_struct! {
     Le;
     /// 0x000406: periodic (1 s) ranging.
     pub struct LaserPeriodic {
-        /// Switch.
+        /// Ranging every second on or off.
         pub enable: OnOff,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -54,7 +53,7 @@ wire_struct! {
         pub max: u16,
         /// Minimum channel value (below the maximum).
         pub min: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -67,9 +66,9 @@ wire_struct! {
         pub stream: u8,
         /// Zoom (middle stop, maximum out, minimum in).
         pub zoom: u8,
-        /// Photo.
+        /// Taking a photo.
         pub photo: u8,
-        /// Video.
+        /// Starting and stopping video recording.
         pub video: u8,
         /// Gimbal pitch.
         pub pitch: u8,
@@ -85,9 +84,9 @@ wire_struct! {
     /// 0x000501: SBUS channel of each function (bytes 1..7; byte 8 reserved; takes
     /// effect after a power cycle).
     pub struct SbusChannels {
-        /// The channels.
+        /// The SBUS channel of each function.
         pub channels: SbusChannelMap,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -98,7 +97,7 @@ wire_struct! {
     pub struct SbusConfigQuery {
         /// The command byte.
         pub command: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -113,9 +112,9 @@ wire_struct! {
         pub max: u16,
         /// Minimum channel value.
         pub min: u16,
-        /// The channels.
+        /// The SBUS channel of each function.
         pub channels: SbusChannelMap,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }

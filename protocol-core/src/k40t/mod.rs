@@ -33,8 +33,9 @@
 //! - [`Packet`] (a [`Header`]: addresses, sequence number, CRC coverage; and a
 //!   [`Message`]) parses from a frame and emits into a buffer; [`Message`] is
 //!   [`Request`], [`Ack`], [`Status`] or [`Raw`].
-//! - Every payload type implements [`MessageData`] (its id, name and length), so one
-//!   message is sent with [`encode`] and recognised with [`Message::get`].
+//! - Every payload type implements [`MessageData`] (its id, name and length) with
+//!   `Protocol = `[`K40t`], so one message is sent with [`encode`] and recognised with
+//!   [`Message::get`].
 //! - [`CATALOG`] lists every base id with the kinds it has.
 //!
 //! # Decisions where the document is silent (see the README)
@@ -76,62 +77,15 @@ pub use payload::{AckCode, ResponseCode, Version};
 pub use visible::*;
 
 use crate::wire::Writer;
-use crate::wire::encoding::{Field, Le};
 use crate::{Error, Result};
-use payload::decode_payload;
 
-/// A typed K40T message: a payload type that knows its message id (after rust-mavlink's
-/// `MessageData`). Every request, report, ACK and status payload implements it, from
-/// the one table that also builds [`CATALOG`].
-///
-/// ```
-/// use protocol_core::k40t::{HybridZoom, MessageData, MsgId, Kind};
-/// assert_eq!(HybridZoom::ID, MsgId::new(Kind::Request, 0x0304));
-/// assert_eq!(HybridZoom::NAME, "HybridZoom");
-/// assert_eq!(HybridZoom::ENCODED_LEN, 3);
-/// ```
-pub trait MessageData: Field<Le> + Copy {
-    /// The message id (kind and base id).
-    const ID: MsgId;
-    /// The message name, as [`CATALOG`] lists it (shared by the kinds of one base id).
-    const NAME: &'static str;
-    /// Encoded payload length in bytes.
-    const ENCODED_LEN: usize;
-
-    /// This payload as a decoded [`Message`].
-    fn into_message(self) -> Message<'static>;
-
-    /// The payload, if `message` is this message.
-    fn from_message(message: &Message<'_>) -> Option<Self>;
-}
+pub use crate::wire::MessageData;
 
 /// An ACK payload: a response code, possibly followed by data.
 pub trait AckPayload {
     /// The response code.
     fn code(&self) -> ResponseCode;
 }
-
-macro_rules! ack_with_data {
-    ($($t:ty),*) => {$(
-        impl AckPayload for $t {
-            fn code(&self) -> ResponseCode {
-                self.code
-            }
-        }
-    )*};
-}
-
-ack_with_data!(
-    GimbalVersionAck,
-    IrParams,
-    VisibleParams,
-    GpsReply,
-    IpConfigAck,
-    CameraVersionAck,
-    TargetGpsAck,
-    LaserDistance,
-    SbusConfig
-);
 
 /// One entry of [`CATALOG`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,168 +102,166 @@ pub struct CatalogEntry {
     pub status: bool,
 }
 
-macro_rules! is_report {
-    (report) => {
-        true
-    };
-    (request) => {
-        false
-    };
+impl CatalogEntry {
+    /// The entry of a table row with the encoded lengths of its messages, by kind: a row
+    /// without an ACK is a periodic report (every request has one).
+    const fn new(base: u16, name: &'static str, kinds: &[usize]) -> Self {
+        CatalogEntry {
+            base,
+            name,
+            report: kinds.len() < 2,
+            ack: kinds.len() >= 2,
+            status: kinds.len() >= 3,
+        }
+    }
 }
 
-/// Declares the payload types the message table names but no module defines: an ACK
-/// that is a bare response code (`Name {code}`) or a second message sharing another's
-/// layout (`Name(Inner)`). A type written alone is defined elsewhere.
-macro_rules! k40t_payload_type {
-    ($what:literal $base:literal $name:ident) => {};
-    ($what:literal $base:literal $name:ident {code}) => {
-        wire_struct! {
-            Le;
-            #[doc = concat!($what, " of ", stringify!($base), ": a bare response code.")]
-            pub struct $name {
-                /// The response code.
-                pub code: ResponseCode,
-            }
-        }
-
-        impl AckPayload for $name {
+// The messages of every base id, by kind: the request or report (kind 0x00), then its ACK
+// and its status frame where they exist. An ACK of a bare response code is a struct of one
+// `code` field, decoded through `ResponseCode`'s one decoder.
+message_table! {
+    /// The K40T pod protocol: every message's payload type implements [`MessageData`] with
+    /// `Protocol = K40t`.
+    ///
+    /// ```
+    /// use protocol_core::k40t::{HybridZoom, MessageData, MsgId, Kind};
+    /// assert_eq!(HybridZoom::ID, MsgId::new(Kind::Request, 0x0304));
+    /// assert_eq!(HybridZoom::NAME, "HybridZoom");
+    /// assert_eq!(HybridZoom::ENCODED_LEN, 3);
+    /// ```
+    protocol K40t {
+        id: MsgId, key: u16, order: Le, lengths: fixed, encoders: out_of_line,
+    }
+    /// Every base id this codec knows, in document order, with its kinds.
+    catalog;
+    /// A decoded message: what the payload of a frame means.
+    message Message [Eq] {
+        /// Unknown id or kind.
+        Raw;
+        /// Kind 0x00: requests and settings, and the periodic reports.
+        Request [Eq] = MsgId::new(Kind::Request);
+        /// Kind 0x01: acknowledgements, with their data where the document gives some.
+        Ack [Eq] = MsgId::new(Kind::Ack) impl AckPayload {
             fn code(&self) -> ResponseCode {
                 self.code
             }
-        }
-
-        impl From<ResponseCode> for $name {
-            fn from(code: ResponseCode) -> Self {
-                $name { code }
-            }
-        }
-    };
-    ($what:literal $base:literal $name:ident ($inner:ty)) => {
-        wire_derive! {
-            [Eq, Hash, Default]
-            #[doc = concat!($what, " of ", stringify!($base), ": the layout of [`", stringify!($inner), "`].")]
-            pub struct $name(pub $inner);
-        }
-
-        impl Field<Le> for $name {
-            const LEN: usize = <$inner as Field<Le>>::LEN;
-            fn read(r: &mut crate::wire::Reader<'_>) -> Result<Self> {
-                <$inner as Field<Le>>::read(r).map(Self)
-            }
-            fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-                <$inner as Field<Le>>::write(&self.0, w)
-            }
-        }
-
-        impl From<$inner> for $name {
-            fn from(inner: $inner) -> Self {
-                $name(inner)
-            }
-        }
-    };
+        };
+        /// Kind 0x02: status frames sent while a request executes.
+        Status [Eq] = MsgId::new(Kind::Status);
+    }
+    // 3.1 gimbal
+    0x0001 GimbalStatus: Request(GimbalStatus);
+    0x0002 GimbalAttitude: Request(GimbalAttitude);
+    0x0010 GimbalControl: Request(GimbalControl), Ack(GimbalControlAck { code: ResponseCode });
+    0x0012 GimbalAngle: Request(GimbalAngle), Ack(GimbalAngleAck { code: ResponseCode });
+    0x0013 DriftCalibration:
+        Request(DriftCalibration), Ack(DriftCalibrationAck { code: ResponseCode });
+    0x0017 DialSpeed: Request(DialSpeed), Ack(DialSpeedAck { code: ResponseCode });
+    0x0018 GimbalVersion: Request(GimbalVersionQuery), Ack(GimbalVersionAck);
+    0x002C PointToAim: Request(PointToAim), Ack(PointToAimAck { code: ResponseCode });
+    0x002D ServoOff: Request(ServoOff), Ack(ServoOffAck { code: ResponseCode });
+    0x002E LinearCalibration:
+        Request(LinearCalibration), Ack(LinearCalibrationAck { code: ResponseCode });
+    0x002F SoftRestart: Request(SoftRestart), Ack(SoftRestartAck { code: ResponseCode });
+    0x0030 UseFcAttitude: Request(UseFcAttitude), Ack(UseFcAttitudeAck { code: ResponseCode });
+    0x0031 AccelCalibration:
+        Request(AccelCalibration), Ack(AccelCalibrationAck { code: ResponseCode });
+    0x0033 Stabilization: Request(Stabilization), Ack(StabilizationAck { code: ResponseCode });
+    // 3.2.1 camera reports
+    0x0003 SystemStatus: Request(SystemStatus);
+    0x0004 IrStatus: Request(IrStatus);
+    0x0005 VisibleStatus: Request(VisibleStatus);
+    0x0008 UpgradeStatus: Request(UpgradeStatus);
+    // 3.2.2 infrared
+    0x0100 IrParams: Request(IrParamsQuery), Ack(IrParams);
+    0x0105 IrDigitalZoom: Request(IrDigitalZoom), Ack(IrDigitalZoomAck { code: ResponseCode });
+    0x0106 IrPalette: Request(IrPalette), Ack(IrPaletteAck { code: ResponseCode });
+    0x0108 IrMeasurement: Request(IrMeasurement), Ack(IrMeasurementAck { code: ResponseCode });
+    0x010A IrSharpness: Request(IrSharpness), Ack(IrSharpnessAck { code: ResponseCode });
+    0x010B IrBrightness: Request(IrBrightness), Ack(IrBrightnessAck { code: ResponseCode });
+    0x010C IrContrast: Request(IrContrast), Ack(IrContrastAck { code: ResponseCode });
+    0x010D IrDenoise: Request(IrDenoise), Ack(IrDenoiseAck { code: ResponseCode });
+    0x010E IrEnhancement: Request(IrEnhancement), Ack(IrEnhancementAck { code: ResponseCode });
+    0x010F IrPointMeasure: Request(IrPointMeasure), Ack(IrPointMeasureAck { code: ResponseCode });
+    0x0110 IrAreaMeasure: Request(IrAreaMeasure), Ack(IrAreaMeasureAck { code: ResponseCode });
+    0x0123 IrGainMode: Request(IrGainMode), Ack(IrGainModeAck { code: ResponseCode });
+    0x0124 IrTempWarning: Request(IrTempWarning), Ack(IrTempWarningAck { code: ResponseCode });
+    0x0125 IrTempOverlay: Request(IrTempOverlay), Ack(IrTempOverlayAck { code: ResponseCode });
+    0x0126 IrThresholdWarning:
+        Request(IrThresholdWarning), Ack(IrThresholdWarningAck { code: ResponseCode });
+    // 3.2.3 visible
+    0x0200 VisibleParams: Request(VisibleParamsQuery), Ack(VisibleParams);
+    0x0201 VideoResolution:
+        Request(VideoResolutionSetting), Ack(VideoResolutionAck { code: ResponseCode });
+    0x0202 PhotoResolution:
+        Request(PhotoResolutionSetting), Ack(PhotoResolutionAck { code: ResponseCode });
+    0x0203 Iso: Request(IsoSetting), Ack(IsoAck { code: ResponseCode });
+    0x0204 Shutter: Request(ShutterSetting), Ack(ShutterAck { code: ResponseCode });
+    0x0205 Ev: Request(EvSetting), Ack(EvAck { code: ResponseCode });
+    0x0206 WhiteBalance: Request(WhiteBalanceSetting), Ack(WhiteBalanceAck { code: ResponseCode });
+    0x0207 AntiFlicker: Request(AntiFlickerSetting), Ack(AntiFlickerAck { code: ResponseCode });
+    0x0208 StrongLight: Request(StrongLightSetting), Ack(StrongLightAck { code: ResponseCode });
+    0x0209 Backlight: Request(BacklightSetting), Ack(BacklightAck { code: ResponseCode });
+    0x020A AeLock: Request(AeLockSetting), Ack(AeLockAck { code: ResponseCode });
+    0x020B Metering: Request(MeteringSetting), Ack(MeteringAck { code: ResponseCode });
+    // 3.2.4 common
+    0x0300 CaptureMode: Request(CaptureModeSetting), Ack(CaptureModeAck { code: ResponseCode });
+    0x0301 PhotoParams: Request(PhotoParams), Ack(PhotoParamsAck { code: ResponseCode });
+    0x0302 TakePhoto:
+        Request(TakePhoto), Ack(TakePhotoAck { code: ResponseCode }), Status(PhotoStatus);
+    0x0303 Record: Request(Record), Ack(RecordAck { code: ResponseCode }), Status(RecordStatus);
+    0x0304 HybridZoom:
+        Request(HybridZoom), Ack(HybridZoomAck { code: ResponseCode }), Status(ZoomStatus);
+    0x0306 ContinuousZoom: Request(ContinuousZoom), Ack(ContinuousZoomAck { code: ResponseCode });
+    0x0307 AccurateShoot:
+        Request(AccurateShoot),
+        Ack(AccurateShootAck { code: ResponseCode }),
+        Status(AccurateShootStatus);
+    0x0308 StreamBitrate:
+        Request(StreamBitrateSetting), Ack(StreamBitrateAck { code: ResponseCode });
+    0x030A OutputResolution:
+        Request(OutputResolutionSetting), Ack(OutputResolutionAck { code: ResponseCode });
+    0x030B OutputCodec: Request(OutputCodecSetting), Ack(OutputCodecAck { code: ResponseCode });
+    0x030C TfUpgrade:
+        Request(TfUpgrade), Ack(TfUpgradeAck { code: ResponseCode }), Status(TfUpgradeStatus);
+    0x030D FormatSd:
+        Request(FormatSd), Ack(FormatSdAck { code: ResponseCode }), Status(FormatStatus);
+    0x030E TimeSync: Request(TimeSync), Ack(TimeSyncAck { code: ResponseCode });
+    0x030F FactoryReset: Request(FactoryReset), Ack(FactoryResetAck { code: ResponseCode });
+    0x0310 GpsRequest: Request(GpsRequest), Ack(GpsReply);
+    0x0311 SetIp: Request(SetIp), Ack(SetIpAck { code: ResponseCode });
+    0x0312 GetIp: Request(IpQuery), Ack(IpConfigAck);
+    0x0313 Focus: Request(Focus), Ack(FocusAck { code: ResponseCode });
+    0x0314 Watermark: Request(Watermark), Ack(WatermarkAck { code: ResponseCode });
+    0x0316 Shutdown: Request(Shutdown), Ack(ShutdownAck { code: ResponseCode });
+    0x0317 CameraVersion: Request(CameraVersionQuery), Ack(CameraVersionAck);
+    0x0318 ImageMode: Request(ImageModeSetting), Ack(ImageModeAck { code: ResponseCode });
+    0x0319 AiRecognition: Request(AiRecognition), Ack(AiRecognitionAck { code: ResponseCode });
+    0x0320 TargetGps: Request(TargetGpsRequest), Ack(TargetGpsAck);
+    0x0324 TrackBox: Request(TrackBox), Ack(TrackBoxAck { code: ResponseCode });
+    // 3.2.5 laser
+    0x0400 LaserRange: Request(LaserRange), Ack(LaserDistance);
+    0x0406 LaserPeriodic:
+        Request(LaserPeriodic),
+        Ack(LaserPeriodicAck { code: ResponseCode }),
+        Status(LaserPeriodicStatus(LaserDistance));
+    // 3.2.6 SBUS
+    0x0500 SbusRange: Request(SbusRange), Ack(SbusRangeAck { code: ResponseCode });
+    0x0501 SbusChannels: Request(SbusChannels), Ack(SbusChannelsAck { code: ResponseCode });
+    0x0502 SbusConfig: Request(SbusConfigQuery), Ack(SbusConfig);
 }
 
-/// Implements [`MessageData`] for the payload of one message kind.
-macro_rules! k40t_message_data {
-    ($ty:ty, $kind:ident, $base:literal, $name:ident) => {
-        impl MessageData for $ty {
-            const ID: MsgId = MsgId::new(Kind::$kind, $base);
-            const NAME: &'static str = stringify!($name);
-            const ENCODED_LEN: usize = <$ty as Field<Le>>::LEN;
-
-            fn into_message(self) -> Message<'static> {
-                Message::$kind($kind::$name(self))
-            }
-
-            fn from_message(message: &Message<'_>) -> Option<Self> {
-                match message {
-                    Message::$kind($kind::$name(m)) => Some(*m),
-                    _ => None,
-                }
-            }
-        }
-
-        impl From<$ty> for Message<'_> {
-            fn from(m: $ty) -> Self {
-                m.into_message()
-            }
-        }
-    };
-}
-
-/// Decodes a payload of type `$ty`; a type declared over a shared layout (a bare ACK
-/// `{code}`, a newtype `(Inner)`) is decoded through that layout's one decoder.
-macro_rules! k40t_read {
-    ($payload:ident, $ty:ty) => {
-        decode_payload::<$ty>($payload)
-    };
-    ($payload:ident, $ty:ty; {code}) => {
-        decode_payload::<ResponseCode>($payload).map(<$ty>::from)
-    };
-    ($payload:ident, $ty:ty; ($inner:ty)) => {
-        decode_payload::<$inner>($payload).map(<$ty>::from)
-    };
-}
-
-/// Writes a payload, through the shared layout's one encoder as [`k40t_read!`] reads it.
-macro_rules! k40t_write {
-    ($m:ident, $w:ident) => {
-        Field::<Le>::write($m, $w)
-    };
-    ($m:ident, $w:ident; {code}) => {
-        Field::<Le>::write(&$m.code, $w)
-    };
-    ($m:ident, $w:ident; ($inner:ty)) => {
-        Field::<Le>::write(&$m.0, $w)
-    };
-}
-
-/// Generates the methods every per-kind enum ([`Request`], [`Ack`], [`Status`]) has.
-macro_rules! k40t_kind_impl {
-    // `$def`: how the message table declared the type (`{code}`, `(Inner)` or nothing),
-    // so that types sharing a layout share its decoder and encoder.
-    ($kind:ident: $( [$base:literal $name:ident $ty:ty $(; $def:tt)?] )*) => {
+/// The base id and a per-kind encoder on each kind's enum ([`Request`], [`Ack`],
+/// [`Status`]), besides what the message table generates.
+macro_rules! kind_methods {
+    ($($kind:ident)*) => {$(
         impl $kind {
-            /// The message id.
-            #[must_use]
-            pub const fn id(&self) -> MsgId {
-                MsgId::new(Kind::$kind, self.base())
-            }
-            /// The base id.
+            /// The base id (the message id without its kind).
             #[must_use]
             pub const fn base(&self) -> u16 {
-                match self { $( Self::$name(_) => $base, )* }
+                self.id().base
             }
-            /// The message name.
-            #[must_use]
-            pub const fn name(&self) -> &'static str {
-                match self { $( Self::$name(_) => stringify!($name), )* }
-            }
-            /// Encoded payload length.
-            #[must_use]
-            pub const fn payload_len(&self) -> usize {
-                match self { $( Self::$name(_) => <$ty as Field<Le>>::LEN, )* }
-            }
-            /// Decodes the payload of a known base id (`None` for an unknown one).
-            ///
-            /// # Errors
-            /// [`Error::BadLength`] when the payload is longer than the layout (a shorter
-            /// one is zero-extended, see the module documentation).
-            pub fn decode(base: u16, payload: &[u8]) -> Option<Result<Self>> {
-                match base {
-                    $( $base => Some(k40t_read!(payload, $ty $(; $def)?).map(Self::$name)), )*
-                    _ => None,
-                }
-            }
-            /// Writes the payload.
-            ///
-            /// # Errors
-            /// [`Error::BufferTooSmall`] when `w` has no room for it.
-            // One out-of-line copy per kind: inlined into every caller it costs kilobytes.
-            #[inline(never)]
-            pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( Self::$name(m) => k40t_write!(m, w $(; $def)?), )* }
-            }
+
             /// Encodes this payload as a whole frame with `header` into `buf` and
             /// returns its length (as [`Packet::emit`], without the other kinds'
             /// encoders).
@@ -320,173 +272,10 @@ macro_rules! k40t_kind_impl {
                 emit_frame(*header, self.id(), self.payload_len(), buf, |w| self.encode(w))
             }
         }
-    };
+    )*};
 }
 
-/// Declares every message: base id, name, the payload of kind 0x00, and the ACK and
-/// status payloads where they exist. Generates [`Request`], [`Ack`], [`Status`],
-/// [`MessageData`] for every payload type, and [`CATALOG`] from the one table, so they
-/// cannot disagree.
-macro_rules! k40t_messages {
-    ($(
-        $base:literal $name:ident {
-            $role:ident: $req:ty
-            // `$ack_def`/`$status_def`: `{code}` or `(Inner)` asks `k40t_payload_type!` to
-            // define the type; one token tree each.
-            $(, ack: $ack:ident $($ack_def:tt)?)?
-            $(, status: $status:ident $($status_def:tt)?)?
-            $(,)?
-        }
-    )*) => {
-        $( $( k40t_payload_type!("ACK" $base $ack $($ack_def)?); )? )*
-        $( $( k40t_payload_type!("Status frame" $base $status $($status_def)?); )? )*
-
-        wire_derive! {
-            [Eq]
-            /// Kind 0x00: requests and settings, and the periodic reports.
-            pub enum Request {
-                $(
-                    #[doc = concat!("Base id ", stringify!($base), ": [`", stringify!($req), "`].")]
-                    $name($req),
-                )*
-            }
-        }
-
-        wire_derive! {
-            [Eq]
-            /// Kind 0x01: acknowledgements, with their data where the document gives some.
-            pub enum Ack {
-                $( $(
-                    #[doc = concat!("ACK of ", stringify!($base), ": [`", stringify!($ack), "`].")]
-                    $name($ack),
-                )? )*
-            }
-        }
-
-        wire_derive! {
-            [Eq]
-            /// Kind 0x02: status frames sent while a request executes.
-            pub enum Status {
-                $( $(
-                    #[doc = concat!("Status frame of ", stringify!($base), ": [`", stringify!($status), "`].")]
-                    $name($status),
-                )? )*
-            }
-        }
-
-        k40t_kind_impl!(Request: $( [$base $name $req] )*);
-        k40t_kind_impl!(Ack: $( $( [$base $name $ack $(; $ack_def)?] )? )*);
-        k40t_kind_impl!(Status: $( $( [$base $name $status $(; $status_def)?] )? )*);
-
-        $( k40t_message_data!($req, Request, $base, $name); )*
-        $( $( k40t_message_data!($ack, Ack, $base, $name); )? )*
-        $( $( k40t_message_data!($status, Status, $base, $name); )? )*
-
-        impl Ack {
-            /// The response code.
-            #[must_use]
-            pub fn code(&self) -> ResponseCode {
-                match self { $( $( Self::$name(m) => AckPayload::code(m as &$ack), )? )* }
-            }
-        }
-
-        /// Every base id this codec knows, in document order, with its kinds.
-        pub const CATALOG: &[CatalogEntry] = &[$(
-            CatalogEntry {
-                base: $base,
-                name: stringify!($name),
-                report: is_report!($role),
-                ack: present!($($ack)?),
-                status: present!($($status)?),
-            },
-        )*];
-    };
-}
-
-k40t_messages! {
-    // 3.1 gimbal
-    0x0001 GimbalStatus { report: GimbalStatus }
-    0x0002 GimbalAttitude { report: GimbalAttitude }
-    0x0010 GimbalControl { request: GimbalControl, ack: GimbalControlAck {code} }
-    0x0012 GimbalAngle { request: GimbalAngle, ack: GimbalAngleAck {code} }
-    0x0013 DriftCalibration { request: DriftCalibration, ack: DriftCalibrationAck {code} }
-    0x0017 DialSpeed { request: DialSpeed, ack: DialSpeedAck {code} }
-    0x0018 GimbalVersion { request: GimbalVersionQuery, ack: GimbalVersionAck }
-    0x002C PointToAim { request: PointToAim, ack: PointToAimAck {code} }
-    0x002D ServoOff { request: ServoOff, ack: ServoOffAck {code} }
-    0x002E LinearCalibration { request: LinearCalibration, ack: LinearCalibrationAck {code} }
-    0x002F SoftRestart { request: SoftRestart, ack: SoftRestartAck {code} }
-    0x0030 UseFcAttitude { request: UseFcAttitude, ack: UseFcAttitudeAck {code} }
-    0x0031 AccelCalibration { request: AccelCalibration, ack: AccelCalibrationAck {code} }
-    0x0033 Stabilization { request: Stabilization, ack: StabilizationAck {code} }
-    // 3.2.1 camera reports
-    0x0003 SystemStatus { report: SystemStatus }
-    0x0004 IrStatus { report: IrStatus }
-    0x0005 VisibleStatus { report: VisibleStatus }
-    0x0008 UpgradeStatus { report: UpgradeStatus }
-    // 3.2.2 infrared
-    0x0100 IrParams { request: IrParamsQuery, ack: IrParams }
-    0x0105 IrDigitalZoom { request: IrDigitalZoom, ack: IrDigitalZoomAck {code} }
-    0x0106 IrPalette { request: IrPalette, ack: IrPaletteAck {code} }
-    0x0108 IrMeasurement { request: IrMeasurement, ack: IrMeasurementAck {code} }
-    0x010A IrSharpness { request: IrSharpness, ack: IrSharpnessAck {code} }
-    0x010B IrBrightness { request: IrBrightness, ack: IrBrightnessAck {code} }
-    0x010C IrContrast { request: IrContrast, ack: IrContrastAck {code} }
-    0x010D IrDenoise { request: IrDenoise, ack: IrDenoiseAck {code} }
-    0x010E IrEnhancement { request: IrEnhancement, ack: IrEnhancementAck {code} }
-    0x010F IrPointMeasure { request: IrPointMeasure, ack: IrPointMeasureAck {code} }
-    0x0110 IrAreaMeasure { request: IrAreaMeasure, ack: IrAreaMeasureAck {code} }
-    0x0123 IrGainMode { request: IrGainMode, ack: IrGainModeAck {code} }
-    0x0124 IrTempWarning { request: IrTempWarning, ack: IrTempWarningAck {code} }
-    0x0125 IrTempOverlay { request: IrTempOverlay, ack: IrTempOverlayAck {code} }
-    0x0126 IrThresholdWarning { request: IrThresholdWarning, ack: IrThresholdWarningAck {code} }
-    // 3.2.3 visible
-    0x0200 VisibleParams { request: VisibleParamsQuery, ack: VisibleParams }
-    0x0201 VideoResolution { request: VideoResolutionSetting, ack: VideoResolutionAck {code} }
-    0x0202 PhotoResolution { request: PhotoResolutionSetting, ack: PhotoResolutionAck {code} }
-    0x0203 Iso { request: IsoSetting, ack: IsoAck {code} }
-    0x0204 Shutter { request: ShutterSetting, ack: ShutterAck {code} }
-    0x0205 Ev { request: EvSetting, ack: EvAck {code} }
-    0x0206 WhiteBalance { request: WhiteBalanceSetting, ack: WhiteBalanceAck {code} }
-    0x0207 AntiFlicker { request: AntiFlickerSetting, ack: AntiFlickerAck {code} }
-    0x0208 StrongLight { request: StrongLightSetting, ack: StrongLightAck {code} }
-    0x0209 Backlight { request: BacklightSetting, ack: BacklightAck {code} }
-    0x020A AeLock { request: AeLockSetting, ack: AeLockAck {code} }
-    0x020B Metering { request: MeteringSetting, ack: MeteringAck {code} }
-    // 3.2.4 common
-    0x0300 CaptureMode { request: CaptureModeSetting, ack: CaptureModeAck {code} }
-    0x0301 PhotoParams { request: PhotoParams, ack: PhotoParamsAck {code} }
-    0x0302 TakePhoto { request: TakePhoto, ack: TakePhotoAck {code}, status: PhotoStatus }
-    0x0303 Record { request: Record, ack: RecordAck {code}, status: RecordStatus }
-    0x0304 HybridZoom { request: HybridZoom, ack: HybridZoomAck {code}, status: ZoomStatus }
-    0x0306 ContinuousZoom { request: ContinuousZoom, ack: ContinuousZoomAck {code} }
-    0x0307 AccurateShoot { request: AccurateShoot, ack: AccurateShootAck {code}, status: AccurateShootStatus }
-    0x0308 StreamBitrate { request: StreamBitrateSetting, ack: StreamBitrateAck {code} }
-    0x030A OutputResolution { request: OutputResolutionSetting, ack: OutputResolutionAck {code} }
-    0x030B OutputCodec { request: OutputCodecSetting, ack: OutputCodecAck {code} }
-    0x030C TfUpgrade { request: TfUpgrade, ack: TfUpgradeAck {code}, status: TfUpgradeStatus }
-    0x030D FormatSd { request: FormatSd, ack: FormatSdAck {code}, status: FormatStatus }
-    0x030E TimeSync { request: TimeSync, ack: TimeSyncAck {code} }
-    0x030F FactoryReset { request: FactoryReset, ack: FactoryResetAck {code} }
-    0x0310 GpsRequest { request: GpsRequest, ack: GpsReply }
-    0x0311 SetIp { request: SetIp, ack: SetIpAck {code} }
-    0x0312 GetIp { request: IpQuery, ack: IpConfigAck }
-    0x0313 Focus { request: Focus, ack: FocusAck {code} }
-    0x0314 Watermark { request: Watermark, ack: WatermarkAck {code} }
-    0x0316 Shutdown { request: Shutdown, ack: ShutdownAck {code} }
-    0x0317 CameraVersion { request: CameraVersionQuery, ack: CameraVersionAck }
-    0x0318 ImageMode { request: ImageModeSetting, ack: ImageModeAck {code} }
-    0x0319 AiRecognition { request: AiRecognition, ack: AiRecognitionAck {code} }
-    0x0320 TargetGps { request: TargetGpsRequest, ack: TargetGpsAck }
-    0x0324 TrackBox { request: TrackBox, ack: TrackBoxAck {code} }
-    // 3.2.5 laser
-    0x0400 LaserRange { request: LaserRange, ack: LaserDistance }
-    0x0406 LaserPeriodic { request: LaserPeriodic, ack: LaserPeriodicAck {code}, status: LaserPeriodicStatus(LaserDistance) }
-    // 3.2.6 SBUS
-    0x0500 SbusRange { request: SbusRange, ack: SbusRangeAck {code} }
-    0x0501 SbusChannels { request: SbusChannels, ack: SbusChannelsAck {code} }
-    0x0502 SbusConfig { request: SbusConfigQuery, ack: SbusConfig }
-}
+kind_methods!(Request Ack Status);
 
 wire_derive! {
     [Eq]
@@ -497,21 +286,6 @@ wire_derive! {
         pub id: MsgId,
         /// The payload bytes.
         pub payload: &'a [u8],
-    }
-}
-
-wire_derive! {
-    [Eq]
-    /// A decoded message: what the payload of a frame means.
-    pub enum Message<'a> {
-        /// Kind 0x00.
-        Request(Request),
-        /// Kind 0x01.
-        Ack(Ack),
-        /// Kind 0x02.
-        Status(Status),
-        /// Unknown id or kind.
-        Raw(Raw<'a>),
     }
 }
 
@@ -529,86 +303,15 @@ impl<'a> Message<'a> {
         };
         known.unwrap_or(Ok(Message::Raw(Raw { id, payload })))
     }
-
-    /// The message id.
-    #[must_use]
-    pub const fn id(&self) -> MsgId {
-        match self {
-            Message::Request(m) => m.id(),
-            Message::Ack(m) => m.id(),
-            Message::Status(m) => m.id(),
-            Message::Raw(r) => r.id,
-        }
-    }
-
-    /// The message name (`"Raw"` for unknown ids).
-    #[must_use]
-    pub const fn name(&self) -> &'static str {
-        match self {
-            Message::Request(m) => m.name(),
-            Message::Ack(m) => m.name(),
-            Message::Status(m) => m.name(),
-            Message::Raw(_) => "Raw",
-        }
-    }
-
-    /// Encoded payload length.
-    #[must_use]
-    pub const fn payload_len(&self) -> usize {
-        match self {
-            Message::Request(m) => m.payload_len(),
-            Message::Ack(m) => m.payload_len(),
-            Message::Status(m) => m.payload_len(),
-            Message::Raw(r) => r.payload.len(),
-        }
-    }
-
-    /// Writes the payload.
-    ///
-    /// # Errors
-    /// [`Error::BufferTooSmall`] when `w` has no room for it.
-    pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        match self {
-            Message::Request(m) => m.encode(w),
-            Message::Ack(m) => m.encode(w),
-            Message::Status(m) => m.encode(w),
-            Message::Raw(r) => w.put(r.payload),
-        }
-    }
-
-    /// The typed payload, if this is message `M`:
-    /// `message.get::<HybridZoom>()`.
-    #[must_use]
-    pub fn get<M: MessageData>(&self) -> Option<M> {
-        M::from_message(self)
-    }
-}
-
-impl From<Request> for Message<'_> {
-    fn from(m: Request) -> Self {
-        Message::Request(m)
-    }
-}
-
-impl From<Ack> for Message<'_> {
-    fn from(m: Ack) -> Self {
-        Message::Ack(m)
-    }
-}
-
-impl From<Status> for Message<'_> {
-    fn from(m: Status) -> Self {
-        Message::Status(m)
-    }
 }
 
 wire_derive! {
     [Eq, Hash]
     /// Everything of a frame but its message: addresses, sequence number, CRC coverage.
     pub struct Header {
-        /// Receiver.
+        /// The receiver's system and component ids.
         pub dst: Address,
-        /// Sender.
+        /// The sender's system and component ids.
         pub src: Address,
         /// Sequence number.
         pub seq: u8,
@@ -637,7 +340,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// Addresses, sequence number and CRC coverage.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }
@@ -675,8 +378,8 @@ impl<T: AsRef<[u8]>> Frame<T> {
     /// # Errors
     /// Inside the `Some`: [`Error::BadLength`] when the payload is longer than `M`'s
     /// layout (a shorter one is zero-extended, see the module documentation).
-    pub fn decode_as<M: MessageData>(&self) -> Option<Result<M>> {
-        (self.id() == M::ID).then(|| decode_payload::<M>(self.payload()))
+    pub fn decode_as<M: MessageData<Protocol = K40t>>(&self) -> Option<Result<M>> {
+        (self.id() == M::ID).then(|| M::decode_payload(self.payload()))
     }
 }
 
@@ -741,8 +444,14 @@ impl<'a> Packet<'a> {
 ///
 /// # Errors
 /// [`Error::BufferTooSmall`] when `buf` cannot hold the frame.
-pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
-    emit_frame(*header, M::ID, M::ENCODED_LEN, buf, |w| message.write(w))
+pub fn encode<M: MessageData<Protocol = K40t>>(
+    message: &M,
+    header: &Header,
+    buf: &mut [u8],
+) -> Result<usize> {
+    emit_frame(*header, M::ID, M::ENCODED_LEN, buf, |w| {
+        message.encode_payload(w)
+    })
 }
 
 /// Writes header, payload (through `payload`) and CRC.

@@ -3,8 +3,27 @@
 //! Payload fields are little-endian (except the ACK response code).
 
 use crate::wire::encoding::{Field, Le};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
+
+/// The K40T length rules, for the message table: a payload is read with
+/// [`decode_payload`] and written with its layout.
+impl<T: Field<Le>> PayloadCodec<T> for super::K40t {
+    const MAX_LEN: usize = T::LEN;
+
+    fn decode(payload: &[u8]) -> Result<T> {
+        decode_payload(payload)
+    }
+
+    fn encoded_len(_: &T) -> usize {
+        T::LEN
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.write(w)
+    }
+}
 
 /// Decodes a payload the way the frame carries it.
 ///
@@ -34,13 +53,11 @@ code_enum! {
     pub enum AckCode: u16 {
         /// OK, success.
         Ok = 0x0000,
-        /// Failure.
         Failure = 0x0001,
         /// Unknown error.
         UnknownError = 0x0002,
         /// Verification failed.
         VerificationFailed = 0x0003,
-        /// Timeout.
         Timeout = 0x0004,
         /// MD5 verification failed.
         Md5Failed = 0x0005,
@@ -156,7 +173,7 @@ macro_rules! trigger {
             pub struct $name {
                 /// The command byte.
                 pub command: u8,
-                /// Reserved.
+                /// Reserved; kept as received, so the frame re-encodes as it came.
                 pub reserved: u8,
             }
         }
@@ -200,9 +217,7 @@ mod tests {
             Le;
             /// Two bytes.
             pub struct Two {
-                /// First.
                 pub a: u8,
-                /// Second.
                 pub b: u8,
             }
         }

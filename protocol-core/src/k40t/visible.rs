@@ -33,7 +33,6 @@ code_enum! {
 code_enum! {
     /// ISO (0x000203, 0x000200 ACK).
     pub enum Iso: u8 {
-        /// Automatic.
         Auto = 0x00,
         /// ISO 100.
         Iso100 = 0x01,
@@ -56,7 +55,6 @@ code_enum! {
     /// Electronic shutter (0x000204, 0x000200 ACK). The document lists 0x0C twice
     /// (1/5000 and 1/6000) and skips 0x0D: 1/6000 is taken to be 0x0D.
     pub enum Shutter: u8 {
-        /// Automatic.
         Auto = 0x00,
         /// 1/4 s.
         S1_4 = 0x01,
@@ -92,7 +90,6 @@ code_enum! {
 code_enum! {
     /// White balance (bits 0..3; bits 4..7 reserved and kept in `Other`).
     pub enum WhiteBalance: u8 {
-        /// Automatic.
         Auto = 0x01,
         /// Incandescent light.
         Incandescent = 0x02,
@@ -100,13 +97,9 @@ code_enum! {
         Fluorescent = 0x03,
         /// Warm daylight.
         WarmDaylight = 0x04,
-        /// Daylight.
         Daylight = 0x05,
-        /// Cloudy.
         Cloudy = 0x06,
-        /// Dusk.
         Dusk = 0x07,
-        /// Dark.
         Dark = 0x08,
     }
 }
@@ -114,13 +107,11 @@ code_enum! {
 code_enum! {
     /// Anti-flicker (0x000207).
     pub enum AntiFlicker: u8 {
-        /// Off.
         Off = 0x01,
         /// 50 Hz.
         Hz50 = 0x02,
         /// 60 Hz.
         Hz60 = 0x03,
-        /// Automatic.
         Auto = 0x04,
     }
 }
@@ -128,11 +119,9 @@ code_enum! {
 code_enum! {
     /// Metering mode (0x00020B, 0x000200 ACK).
     pub enum Metering: u8 {
-        /// Centre-weighted.
         CenterWeighted = 0x01,
         /// Zone (area).
         Zone = 0x02,
-        /// Average.
         Average = 0x03,
     }
 }
@@ -172,7 +161,7 @@ wire_struct! {
     pub struct VisibleParamsQuery {
         /// The command byte.
         pub command: u8,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -191,11 +180,11 @@ wire_struct! {
         pub video_bitrate: u8,
         /// White balance.
         pub white_balance: WhiteBalance,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
         /// Exposure compensation.
         pub ev: Ev,
-        /// ISO.
+        /// Automatic, or ISO 100..6400.
         pub iso: Iso,
         /// Electronic shutter.
         pub shutter: Shutter,
@@ -233,27 +222,27 @@ macro_rules! visible_setting {
 visible_setting! {
     /// 0x000201: video recording resolution.
     VideoResolutionSetting {
-        /// The resolution.
+        /// The video recording resolution.
         resolution: VideoResolution
     };
     /// 0x000202: photo resolution.
     PhotoResolutionSetting {
-        /// The resolution.
+        /// The photo resolution.
         resolution: PhotoResolution
     };
     /// 0x000203: ISO.
     IsoSetting {
-        /// ISO.
+        /// Automatic, or ISO 100..6400.
         iso: Iso
     };
     /// 0x000204: electronic shutter.
     ShutterSetting {
-        /// Shutter.
+        /// Automatic, or an exposure time.
         shutter: Shutter
     };
     /// 0x000205: exposure compensation.
     EvSetting {
-        /// EV.
+        /// The exposure compensation step.
         ev: Ev
     };
     /// 0x000207: anti-flicker.
@@ -281,7 +270,7 @@ wire_struct! {
         pub start: u8,
         /// White balance.
         pub white_balance: WhiteBalance,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: [u8; 2],
     }
 }
@@ -292,7 +281,7 @@ wire_struct! {
     pub struct StrongLightSetting {
         /// Start setting (0x00).
         pub start: u8,
-        /// Switch.
+        /// Strong-light suppression on or off.
         pub enable: Toggle,
         /// Value 0..=100.
         pub value: u8,
@@ -305,7 +294,7 @@ wire_struct! {
     pub struct BacklightSetting {
         /// Start setting (0x00).
         pub start: u8,
-        /// Switch.
+        /// Backlight compensation on or off.
         pub enable: Toggle,
         /// Value 0..=100.
         pub value: u8,

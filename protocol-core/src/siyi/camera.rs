@@ -78,7 +78,7 @@ wire_struct! {
     pub struct ZoomLevel {
         /// Integer part.
         pub integer: u8,
-        /// Tenths.
+        /// Tenths of the ratio, 0..=9.
         pub tenths: u8,
     }
 }
@@ -127,7 +127,8 @@ wire_struct! {
     Le;
     /// Reply (push) of 0x0B: function feedback.
     pub struct FunctionFeedback {
-        /// The event.
+        /// What happened: photo taken or failed, recording started, stopped or failed, HDR
+        /// on or off.
         pub info: FeedbackInfo,
     }
 }
@@ -164,7 +165,7 @@ wire_struct! {
     Le;
     /// 0x0C: photo, record, motion mode and video output functions (no reply).
     pub struct CameraFunction {
-        /// The function.
+        /// Photo, recording, motion mode or video output.
         pub function: CameraFunctionType,
     }
 }
@@ -230,7 +231,7 @@ wire_struct! {
     Le;
     /// 0x20: get the codec settings of a stream.
     pub struct CodecQuery {
-        /// The stream.
+        /// Recording, main or sub stream.
         pub stream: StreamType,
     }
 }
@@ -240,9 +241,9 @@ wire_derive! {
     /// Reply of 0x20: codec settings of a stream. 9 bytes; 8-byte replies without the
     /// frame rate (which ArduPilot also accepts) decode with `fps: None` and re-encode to 8.
     pub struct CodecSpecs {
-        /// The stream.
+        /// Recording, main or sub stream.
         pub stream: StreamType,
-        /// Encoding.
+        /// H.264 or H.265.
         pub encoding: VideoEncoding,
         /// Width, pixels.
         pub width: u16,
@@ -294,9 +295,9 @@ wire_struct! {
     Le;
     /// 0x21: set the codec of a stream.
     pub struct SetCodec {
-        /// The stream.
+        /// Recording, main or sub stream.
         pub stream: StreamType,
-        /// Encoding.
+        /// H.264 or H.265.
         pub encoding: VideoEncoding,
         /// Width, pixels (1920, 1280).
         pub width: u16,
@@ -304,7 +305,7 @@ wire_struct! {
         pub height: u16,
         /// Bit rate, kbit/s.
         pub bitrate_kbps: u16,
-        /// Reserved.
+        /// Reserved; kept as received, so the frame re-encodes as it came.
         pub reserved: u8,
     }
 }
@@ -313,9 +314,9 @@ wire_struct! {
     Le;
     /// Reply of 0x21.
     pub struct SetCodecAck {
-        /// The stream.
+        /// Recording, main or sub stream.
         pub stream: StreamType,
-        /// Result.
+        /// Whether the codec was set.
         pub status: AckStatus,
     }
 }

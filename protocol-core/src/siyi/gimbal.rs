@@ -216,7 +216,7 @@ wire_struct! {
     Le;
     /// Reply of 0x19: the motion mode.
     pub struct GimbalMode {
-        /// The mode.
+        /// Lock, follow or FPV.
         pub mode: MotionMode,
     }
 }
@@ -278,9 +278,9 @@ wire_struct! {
     Le;
     /// 0x24: the gimbal asks the flight controller for a data stream.
     pub struct FcStreamRequest {
-        /// The data.
+        /// Attitude or RC channels.
         pub data_type: FcDataType,
-        /// The rate.
+        /// Off, or 2..100 Hz.
         pub frequency: StreamFrequency,
     }
 }
@@ -289,7 +289,7 @@ wire_struct! {
     Le;
     /// Reply of 0x24.
     pub struct FcStreamAck {
-        /// The data.
+        /// Attitude or RC channels.
         pub data_type: FcDataType,
     }
 }
@@ -312,9 +312,9 @@ wire_struct! {
     Le;
     /// 0x25: ask the gimbal to push a data stream.
     pub struct GimbalStreamRequest {
-        /// The data.
+        /// Attitude, laser distance, magnetic encoder angles or motor voltage.
         pub data_type: GimbalDataType,
-        /// The rate.
+        /// Off, or 2..100 Hz.
         pub frequency: StreamFrequency,
     }
 }
@@ -323,7 +323,7 @@ wire_struct! {
     Le;
     /// Reply of 0x25.
     pub struct GimbalStreamAck {
-        /// The data.
+        /// Attitude, laser distance, magnetic encoder angles or motor voltage.
         pub data_type: GimbalDataType,
     }
 }
@@ -368,7 +368,7 @@ wire_struct! {
     pub struct SingleAxisAngle {
         /// Target angle, 0.1°.
         pub angle_deg_x10: i16,
-        /// The axis.
+        /// Yaw or pitch.
         pub axis: Axis,
     }
 }

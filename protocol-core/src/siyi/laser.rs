@@ -28,7 +28,7 @@ wire_struct! {
     /// Reply of 0x31: laser ranging on or off (also the layout of the 0x32 request,
     /// [`SetLaserState`](super::SetLaserState)).
     pub struct LaserState {
-        /// The switch.
+        /// Laser ranging on or off.
         pub state: OnOff,
     }
 }

@@ -53,7 +53,8 @@
 //!   gimbal, [`Direction::ToGimbal`]), a [`Reply`] (gimbal to flight controller,
 //!   including pushed data, [`Direction::FromGimbal`]) or [`Raw`].
 //! - Every (command id, direction) has its own payload type implementing
-//!   [`MessageData`] (id, direction, name, length), so one message is sent with
+//!   [`MessageData`] (id, name, length; `Protocol = `[`Siyi`]) and [`Directed`] (its
+//!   direction), so one message is sent with
 //!   [`encode`] and recognised with [`Message::get`]. Where several messages share a
 //!   layout, each has a newtype over it ([`GimbalRotationAck`]`(`[`SetStatus`]`)`,
 //!   [`CurrentZoom`]`(`[`ZoomLevel`]`)`); a direction without data has an empty struct
@@ -120,37 +121,14 @@ pub use thermal::*;
 use crate::wire::Writer;
 use crate::{Error, Result};
 
-/// A typed SIYI message: the payload type of one command id in one direction (after
-/// rust-mavlink's `MessageData`). Every payload type implements it, from the one table
-/// that also builds [`CATALOG`].
-///
-/// ```
-/// use protocol_core::Direction;
-/// use protocol_core::siyi::{GimbalRotationAck, FirmwareVersions, MessageData, SetStatus};
-/// assert_eq!(GimbalRotationAck::ID, 0x07);
-/// assert_eq!(GimbalRotationAck::DIRECTION, Direction::FromGimbal);
-/// assert_eq!(GimbalRotationAck::NAME, "GimbalRotation");
-/// assert_eq!(GimbalRotationAck::ENCODED_LEN, 1);
-/// // Variable-length replies give their longest layout.
-/// assert_eq!(FirmwareVersions::ENCODED_LEN, 12);
-/// ```
-pub trait MessageData: Payload + Copy {
-    /// The command id.
-    const ID: u8;
-    /// The direction this payload travels in (the same id has another payload type the
-    /// other way).
+pub use crate::wire::MessageData;
+
+/// The direction a SIYI payload type travels in: each command id has a payload type per
+/// direction (implemented by the message table; the same id has another type the other
+/// way).
+pub trait Directed {
+    /// [`Direction::ToGimbal`] for a request, [`Direction::FromGimbal`] for a reply.
     const DIRECTION: Direction;
-    /// The command name, as [`CATALOG`] lists it (shared by both directions).
-    const NAME: &'static str;
-    /// Encoded payload length in bytes; the longest one for the variable-length replies
-    /// (0x00, 0x01, 0x0A, 0x20), see [`Payload::encoded_len`] for a given value.
-    const ENCODED_LEN: usize;
-
-    /// This payload as a decoded [`Message`].
-    fn into_message(self) -> Message<'static>;
-
-    /// The payload, if `message` is this message (same id and direction).
-    fn from_message(message: &Message<'_>) -> Option<Self>;
 }
 
 /// One entry of [`CATALOG`].
@@ -166,246 +144,116 @@ pub struct CatalogEntry {
     pub reply_empty: bool,
 }
 
-/// Declares the payload types the message table names but no module defines: a
-/// direction without data (`Name {}`) or a message sharing another's layout
-/// (`Name(Inner)`). A type written alone is defined elsewhere.
-///
-/// A newtype is the [`Payload`] of its inner layout (not a `Field`, which the blanket
-/// implementation would decode): all messages of one layout then share one decode
-/// function, as the code size of the firmware wants (~900 bytes less for SIYI).
-macro_rules! siyi_payload_type {
-    ($what:literal $cmd:literal $msg:ident $name:ident) => {};
-    // `$empty:block`: the `{}` of the table (see `siyi_messages!`).
-    ($what:literal $cmd:literal $msg:ident $name:ident $empty:block) => {
-        wire_struct! {
-            Le;
-            #[doc = concat!($what, " of ", stringify!($cmd), " (", stringify!($msg), "): no data.")]
-            pub struct $name {}
+impl CatalogEntry {
+    /// The entry of a table row with the longest encoded lengths of its request and its
+    /// reply.
+    const fn new(id: u8, name: &'static str, lens: &[usize]) -> Self {
+        let (request_empty, reply_empty) = match lens {
+            [request, reply, ..] => (*request == 0, *reply == 0),
+            _ => (false, false),
+        };
+        CatalogEntry {
+            id,
+            name,
+            request_empty,
+            reply_empty,
         }
-    };
-    ($what:literal $cmd:literal $msg:ident $name:ident ($inner:ty)) => {
-        wire_derive! {
-            [Eq, Hash, Default]
-            #[doc = concat!($what, " of ", stringify!($cmd), " (", stringify!($msg), "): the layout of [`", stringify!($inner), "`].")]
-            pub struct $name(pub $inner);
-        }
-
-        impl Payload for $name {
-            const MAX_LEN: usize = <$inner as Payload>::MAX_LEN;
-            fn decode(data: &[u8]) -> Result<Self> {
-                <$inner as Payload>::decode(data).map(Self)
-            }
-            fn encoded_len(&self) -> usize {
-                self.0.encoded_len()
-            }
-            fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                self.0.encode(w)
-            }
-        }
-    };
+    }
 }
 
-/// Implements [`MessageData`] (and `From` into [`Message`]) for the payload of one
-/// command in one direction.
-macro_rules! siyi_message_data {
-    ($ty:ident, $kind:ident, $direction:ident, $cmd:literal, $name:ident) => {
-        impl MessageData for $ty {
-            const ID: u8 = $cmd;
-            const DIRECTION: Direction = Direction::$direction;
-            const NAME: &'static str = stringify!($name);
-            const ENCODED_LEN: usize = <$ty as Payload>::MAX_LEN;
-
-            fn into_message(self) -> Message<'static> {
-                Message::$kind($kind::$name(self))
-            }
-
-            fn from_message(message: &Message<'_>) -> Option<Self> {
-                match message {
-                    Message::$kind($kind::$name(m)) => Some(*m),
-                    _ => None,
-                }
-            }
-        }
-
-        impl From<$ty> for Message<'_> {
-            fn from(m: $ty) -> Self {
-                m.into_message()
-            }
-        }
-    };
-}
-
-/// Generates the methods both per-direction enums ([`Request`], [`Reply`]) have.
-macro_rules! siyi_kind_impl {
-    ($kind:ident, $direction:ident: $( [$cmd:literal $name:ident $ty:ident] )*) => {
-        impl $kind {
-            /// The direction of every message of this enum.
-            pub const DIRECTION: Direction = Direction::$direction;
-
-            /// The command id.
-            #[must_use]
-            pub const fn id(&self) -> u8 {
-                match self { $( Self::$name(_) => $cmd, )* }
-            }
-            /// The command name.
-            #[must_use]
-            pub const fn name(&self) -> &'static str {
-                match self { $( Self::$name(_) => stringify!($name), )* }
-            }
-            /// Encoded payload length.
-            #[must_use]
-            pub fn payload_len(&self) -> usize {
-                match self { $( Self::$name(m) => Payload::encoded_len(m), )* }
-            }
-            /// Decodes the payload of a known id (`None` for an unknown id).
-            ///
-            /// # Errors
-            /// [`Error::BadLength`] when the payload length is not one the layout allows.
-            pub fn decode(id: u8, payload: &[u8]) -> Option<Result<Self>> {
-                match id {
-                    $( $cmd => Some(<$ty as Payload>::decode(payload).map(Self::$name)), )*
-                    _ => None,
-                }
-            }
-            /// Writes the payload.
-            ///
-            /// # Errors
-            /// [`Error::BufferTooSmall`] when `w` has no room for it;
-            /// [`Error::OutOfRange`] for a variable-length reply with a trailing field
-            /// after a missing one.
-            pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self { $( Self::$name(m) => Payload::encode(m, w), )* }
-            }
-        }
-    };
-}
-
-/// Declares every command: id, name, the request payload and the reply payload.
-/// Generates the payload types the table defines, [`Request`], [`Reply`],
-/// [`MessageData`] for every payload type, and [`CATALOG`] from the one table, so they
-/// cannot disagree.
-///
-/// A payload is a type defined in a module (`AutoFocus`), an empty struct to define
-/// (`FirmwareVersionQuery {}`) or a newtype to define over a shared layout
-/// (`GimbalRotationAck(SetStatus)`).
-macro_rules! siyi_messages {
-    ($(
-        $cmd:literal $name:ident {
-            // `{}` is matched as a block: an optional `tt` followed by `,` would be
-            // ambiguous to the macro parser, a block cannot start with `,`.
-            request: $req:ident $($req_empty:block)? $(($req_inner:ty))?,
-            reply: $rep:ident $($rep_empty:block)? $(($rep_inner:ty))? $(,)?
-        }
-    )*) => {
-        $( siyi_payload_type!("Request" $cmd $name $req $($req_empty)? $(($req_inner))?); )*
-        $( siyi_payload_type!("Reply" $cmd $name $rep $($rep_empty)? $(($rep_inner))?); )*
-
-        wire_derive! {
-            []
-            /// Flight controller to gimbal ([`Direction::ToGimbal`]): one variant per
-            /// command id.
-            pub enum Request {
-                $(
-                    #[doc = concat!("Command ", stringify!($cmd), ", flight controller to gimbal: [`", stringify!($req), "`].")]
-                    $name($req),
-                )*
-            }
-        }
-
-        wire_derive! {
-            [Eq]
-            /// Gimbal to flight controller ([`Direction::FromGimbal`]; replies and pushed
-            /// data): one variant per command id.
-            pub enum Reply {
-                $(
-                    #[doc = concat!("Command ", stringify!($cmd), ", gimbal to flight controller: [`", stringify!($rep), "`].")]
-                    $name($rep),
-                )*
-            }
-        }
-
-        siyi_kind_impl!(Request, ToGimbal: $( [$cmd $name $req] )*);
-        siyi_kind_impl!(Reply, FromGimbal: $( [$cmd $name $rep] )*);
-
-        $( siyi_message_data!($req, Request, ToGimbal, $cmd, $name); )*
-        $( siyi_message_data!($rep, Reply, FromGimbal, $cmd, $name); )*
-
-        /// Every command id this codec knows, in id order, each with both directions.
-        pub const CATALOG: &[CatalogEntry] = &[$(
-            CatalogEntry {
-                id: $cmd,
-                name: stringify!($name),
-                request_empty: <$req as Payload>::MAX_LEN == 0,
-                reply_empty: <$rep as Payload>::MAX_LEN == 0,
-            },
-        )*];
-    };
-}
-
-siyi_messages! {
-    0x00 Heartbeat { request: Heartbeat, reply: HeartbeatReply {} }
-    0x01 FirmwareVersion { request: FirmwareVersionQuery {}, reply: FirmwareVersions }
-    0x02 HardwareId { request: HardwareIdQuery {}, reply: HardwareId }
-    0x04 AutoFocus { request: AutoFocus, reply: AutoFocusAck(SetStatus) }
-    0x05 ManualZoom { request: ManualZoom, reply: ZoomRatio }
-    0x06 ManualFocus { request: ManualFocus, reply: ManualFocusAck(SetStatus) }
-    0x07 GimbalRotation { request: GimbalRotation, reply: GimbalRotationAck(SetStatus) }
-    0x08 Center { request: Center, reply: CenterAck(SetStatus) }
-    0x0A GimbalConfig { request: GimbalConfigQuery {}, reply: GimbalConfig }
-    0x0B FunctionFeedback { request: FunctionFeedbackRequest {}, reply: FunctionFeedback }
-    0x0C CameraFunction { request: CameraFunction, reply: CameraFunctionReply {} }
-    0x0D GimbalAttitude { request: GimbalAttitudeQuery {}, reply: GimbalAttitude }
-    0x0E SetAngles { request: SetAngles, reply: SetAnglesAck(Angles) }
-    0x0F AbsoluteZoom { request: AbsoluteZoom(ZoomLevel), reply: AbsoluteZoomAck(SetStatus) }
-    0x10 GetStitching { request: GetStitching {}, reply: Stitching }
-    0x11 SetStitching { request: SetStitching(Stitching), reply: SetStitchingAck(Stitching) }
-    0x12 PointTemperature { request: PointTemperatureRequest, reply: PointTemperature }
-    0x13 BoxTemperature { request: BoxTemperatureRequest, reply: BoxTemperature }
-    0x14 GlobalTemperature { request: GlobalTemperatureRequest, reply: GlobalTemperature }
-    0x15 LaserDistance { request: LaserDistanceQuery {}, reply: LaserDistance }
-    0x16 MaxZoom { request: MaxZoomQuery {}, reply: MaxZoom(ZoomLevel) }
-    0x17 LaserTarget { request: LaserTargetQuery {}, reply: LaserTarget }
-    0x18 CurrentZoom { request: CurrentZoomQuery {}, reply: CurrentZoom(ZoomLevel) }
-    0x19 GimbalMode { request: GimbalModeQuery {}, reply: GimbalMode }
-    0x1A GetThermalPalette { request: GetThermalPalette {}, reply: ThermalPalette }
-    0x1B SetThermalPalette {
-        request: SetThermalPalette(ThermalPalette),
-        reply: SetThermalPaletteAck(ThermalPalette),
+// Every command: its request (flight controller to gimbal) and its reply (gimbal to flight
+// controller, pushed data included). A direction without data is an empty struct
+// (`FirmwareVersionQuery {}`), a message sharing another's layout a newtype over it
+// (`GimbalRotationAck(SetStatus)`), decoded through that layout's one function (~900 bytes
+// less for SIYI than a decoder per newtype).
+message_table! {
+    /// The SIYI gimbal camera SDK protocol: every payload type implements
+    /// [`MessageData`] with `Protocol = Siyi`, and [`Directed`].
+    ///
+    /// ```
+    /// use protocol_core::Direction;
+    /// use protocol_core::siyi::{
+    ///     Directed, FirmwareVersions, GimbalRotationAck, MessageData, SetStatus,
+    /// };
+    /// assert_eq!(GimbalRotationAck::ID, 0x07);
+    /// assert_eq!(GimbalRotationAck::DIRECTION, Direction::FromGimbal);
+    /// assert_eq!(GimbalRotationAck::NAME, "GimbalRotation");
+    /// assert_eq!(GimbalRotationAck::ENCODED_LEN, 1);
+    /// // Variable-length replies give their longest layout.
+    /// assert_eq!(FirmwareVersions::ENCODED_LEN, 12);
+    /// ```
+    protocol Siyi { id: u8, key: u8, order: Le, lengths: variable, encoders: inlined }
+    /// Every command id this codec knows, in id order, each with both directions.
+    catalog;
+    /// A decoded message: what the payload of a frame means.
+    message Message [] {
+        /// Unknown command id.
+        Raw;
+        /// Flight controller to gimbal ([`Direction::ToGimbal`]): one variant per command
+        /// id.
+        Request [] impl Directed {
+            const DIRECTION: Direction = Direction::ToGimbal;
+        };
+        /// Gimbal to flight controller ([`Direction::FromGimbal`]; replies and pushed
+        /// data): one variant per command id.
+        Reply [Eq] impl Directed {
+            const DIRECTION: Direction = Direction::FromGimbal;
+        };
     }
-    0x20 GetCodec { request: CodecQuery, reply: CodecSpecs }
-    0x21 SetCodec { request: SetCodec, reply: SetCodecAck }
-    0x22 FcAttitude { request: FcAttitude, reply: FcAttitudeReply {} }
-    0x24 FcDataStream { request: FcStreamRequest, reply: FcStreamAck }
-    0x25 GimbalDataStream { request: GimbalStreamRequest, reply: GimbalStreamAck }
-    0x26 MagneticEncoder { request: MagneticEncoderQuery {}, reply: MagneticEncoder(Angles) }
-    0x30 SetUtcTime { request: UtcTime, reply: TimeAck }
-    0x31 GetLaserState { request: GetLaserState {}, reply: LaserState }
-    0x32 SetLaserState { request: SetLaserState(LaserState), reply: SetLaserStateAck(SetStatus) }
-    0x33 GetThermalOutput { request: GetThermalOutput {}, reply: ThermalOutputMode }
-    0x34 SetThermalOutput {
-        request: SetThermalOutput(ThermalOutputMode),
-        reply: SetThermalOutputAck(ThermalOutputMode),
-    }
-    0x35 TemperatureFrame { request: TemperatureFrame {}, reply: TemperatureFrameAck(SetStatus) }
-    0x37 GetThermalGain { request: GetThermalGain {}, reply: ThermalGain }
-    0x38 SetThermalGain {
-        request: SetThermalGain(ThermalGain),
-        reply: SetThermalGainAck(ThermalGain),
-    }
-    0x39 GetThermalEnvironment { request: GetThermalEnvironment {}, reply: ThermalEnvironment }
-    0x3A SetThermalEnvironment {
-        request: SetThermalEnvironment(ThermalEnvironment),
-        reply: SetThermalEnvironmentAck(SetStatus),
-    }
-    0x3B GetEnvCorrection { request: GetEnvCorrection {}, reply: EnvCorrection }
-    0x3C SetEnvCorrection {
-        request: SetEnvCorrection(EnvCorrection),
-        reply: SetEnvCorrectionAck(EnvCorrection),
-    }
-    0x3E FcPosition { request: FcPosition, reply: FcPositionReply {} }
-    0x41 SingleAxisAngle { request: SingleAxisAngle, reply: SingleAxisAngleAck(Angles) }
-    0x48 FormatSd { request: FormatSd {}, reply: FormatSdAck(SetStatus) }
-    0x80 SoftReboot { request: SoftReboot, reply: SoftRebootAck(SoftReboot) }
+    0x00 Heartbeat: Request(Heartbeat), Reply(HeartbeatReply {});
+    0x01 FirmwareVersion: Request(FirmwareVersionQuery {}), Reply(FirmwareVersions);
+    0x02 HardwareId: Request(HardwareIdQuery {}), Reply(HardwareId);
+    0x04 AutoFocus: Request(AutoFocus), Reply(AutoFocusAck(SetStatus));
+    0x05 ManualZoom: Request(ManualZoom), Reply(ZoomRatio);
+    0x06 ManualFocus: Request(ManualFocus), Reply(ManualFocusAck(SetStatus));
+    0x07 GimbalRotation: Request(GimbalRotation), Reply(GimbalRotationAck(SetStatus));
+    0x08 Center: Request(Center), Reply(CenterAck(SetStatus));
+    0x0A GimbalConfig: Request(GimbalConfigQuery {}), Reply(GimbalConfig);
+    0x0B FunctionFeedback: Request(FunctionFeedbackRequest {}), Reply(FunctionFeedback);
+    0x0C CameraFunction: Request(CameraFunction), Reply(CameraFunctionReply {});
+    0x0D GimbalAttitude: Request(GimbalAttitudeQuery {}), Reply(GimbalAttitude);
+    0x0E SetAngles: Request(SetAngles), Reply(SetAnglesAck(Angles));
+    0x0F AbsoluteZoom: Request(AbsoluteZoom(ZoomLevel)), Reply(AbsoluteZoomAck(SetStatus));
+    0x10 GetStitching: Request(GetStitching {}), Reply(Stitching);
+    0x11 SetStitching: Request(SetStitching(Stitching)), Reply(SetStitchingAck(Stitching));
+    0x12 PointTemperature: Request(PointTemperatureRequest), Reply(PointTemperature);
+    0x13 BoxTemperature: Request(BoxTemperatureRequest), Reply(BoxTemperature);
+    0x14 GlobalTemperature: Request(GlobalTemperatureRequest), Reply(GlobalTemperature);
+    0x15 LaserDistance: Request(LaserDistanceQuery {}), Reply(LaserDistance);
+    0x16 MaxZoom: Request(MaxZoomQuery {}), Reply(MaxZoom(ZoomLevel));
+    0x17 LaserTarget: Request(LaserTargetQuery {}), Reply(LaserTarget);
+    0x18 CurrentZoom: Request(CurrentZoomQuery {}), Reply(CurrentZoom(ZoomLevel));
+    0x19 GimbalMode: Request(GimbalModeQuery {}), Reply(GimbalMode);
+    0x1A GetThermalPalette: Request(GetThermalPalette {}), Reply(ThermalPalette);
+    0x1B SetThermalPalette:
+        Request(SetThermalPalette(ThermalPalette)), Reply(SetThermalPaletteAck(ThermalPalette));
+    0x20 GetCodec: Request(CodecQuery), Reply(CodecSpecs);
+    0x21 SetCodec: Request(SetCodec), Reply(SetCodecAck);
+    0x22 FcAttitude: Request(FcAttitude), Reply(FcAttitudeReply {});
+    0x24 FcDataStream: Request(FcStreamRequest), Reply(FcStreamAck);
+    0x25 GimbalDataStream: Request(GimbalStreamRequest), Reply(GimbalStreamAck);
+    0x26 MagneticEncoder: Request(MagneticEncoderQuery {}), Reply(MagneticEncoder(Angles));
+    0x30 SetUtcTime: Request(UtcTime), Reply(TimeAck);
+    0x31 GetLaserState: Request(GetLaserState {}), Reply(LaserState);
+    0x32 SetLaserState: Request(SetLaserState(LaserState)), Reply(SetLaserStateAck(SetStatus));
+    0x33 GetThermalOutput: Request(GetThermalOutput {}), Reply(ThermalOutputMode);
+    0x34 SetThermalOutput:
+        Request(SetThermalOutput(ThermalOutputMode)), Reply(SetThermalOutputAck(ThermalOutputMode));
+    0x35 TemperatureFrame: Request(TemperatureFrame {}), Reply(TemperatureFrameAck(SetStatus));
+    0x37 GetThermalGain: Request(GetThermalGain {}), Reply(ThermalGain);
+    0x38 SetThermalGain:
+        Request(SetThermalGain(ThermalGain)), Reply(SetThermalGainAck(ThermalGain));
+    0x39 GetThermalEnvironment: Request(GetThermalEnvironment {}), Reply(ThermalEnvironment);
+    0x3A SetThermalEnvironment:
+        Request(SetThermalEnvironment(ThermalEnvironment)),
+        Reply(SetThermalEnvironmentAck(SetStatus));
+    0x3B GetEnvCorrection: Request(GetEnvCorrection {}), Reply(EnvCorrection);
+    0x3C SetEnvCorrection:
+        Request(SetEnvCorrection(EnvCorrection)), Reply(SetEnvCorrectionAck(EnvCorrection));
+    0x3E FcPosition: Request(FcPosition), Reply(FcPositionReply {});
+    0x41 SingleAxisAngle: Request(SingleAxisAngle), Reply(SingleAxisAngleAck(Angles));
+    0x48 FormatSd: Request(FormatSd {}), Reply(FormatSdAck(SetStatus));
+    0x80 SoftReboot: Request(SoftReboot), Reply(SoftRebootAck(SoftReboot));
 }
 
 wire_derive! {
@@ -418,19 +266,6 @@ wire_derive! {
         pub payload: &'a [u8],
         /// The direction it was decoded for.
         pub direction: Direction,
-    }
-}
-
-wire_derive! {
-    []
-    /// A decoded message: what the payload of a frame means.
-    pub enum Message<'a> {
-        /// Flight controller to gimbal.
-        Request(Request),
-        /// Gimbal to flight controller.
-        Reply(Reply),
-        /// Unknown command id.
-        Raw(Raw<'a>),
     }
 }
 
@@ -453,7 +288,7 @@ impl<'a> Message<'a> {
         })))
     }
 
-    /// The direction.
+    /// The direction the message was decoded for.
     #[must_use]
     pub const fn direction(&self) -> Direction {
         match self {
@@ -461,68 +296,6 @@ impl<'a> Message<'a> {
             Message::Reply(_) => Reply::DIRECTION,
             Message::Raw(r) => r.direction,
         }
-    }
-
-    /// The command id.
-    #[must_use]
-    pub const fn id(&self) -> u8 {
-        match self {
-            Message::Request(m) => m.id(),
-            Message::Reply(m) => m.id(),
-            Message::Raw(r) => r.id,
-        }
-    }
-
-    /// The command name (`"Raw"` for unknown ids).
-    #[must_use]
-    pub const fn name(&self) -> &'static str {
-        match self {
-            Message::Request(m) => m.name(),
-            Message::Reply(m) => m.name(),
-            Message::Raw(_) => "Raw",
-        }
-    }
-
-    /// Encoded payload length.
-    #[must_use]
-    pub fn payload_len(&self) -> usize {
-        match self {
-            Message::Request(m) => m.payload_len(),
-            Message::Reply(m) => m.payload_len(),
-            Message::Raw(r) => r.payload.len(),
-        }
-    }
-
-    /// Writes the payload.
-    ///
-    /// # Errors
-    /// [`Error::BufferTooSmall`] when `w` has no room for it; [`Error::OutOfRange`] for
-    /// a variable-length reply with a trailing field after a missing one.
-    pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-        match self {
-            Message::Request(m) => m.encode(w),
-            Message::Reply(m) => m.encode(w),
-            Message::Raw(r) => w.put(r.payload),
-        }
-    }
-
-    /// The typed payload, if this is message `M` (same id and direction):
-    /// `message.get::<GimbalAttitude>()`.
-    #[must_use]
-    pub fn get<M: MessageData>(&self) -> Option<M> {
-        M::from_message(self)
-    }
-}
-
-impl From<Request> for Message<'_> {
-    fn from(m: Request) -> Self {
-        Message::Request(m)
-    }
-}
-
-impl From<Reply> for Message<'_> {
-    fn from(m: Reply) -> Self {
-        Message::Reply(m)
     }
 }
 
@@ -563,7 +336,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// CTRL and sequence number.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }
@@ -658,8 +431,12 @@ impl<'a> Packet<'a> {
 /// # Errors
 /// [`Error::BufferTooSmall`] when `buf` cannot hold the frame; [`Error::OutOfRange`] for
 /// a variable-length reply with a trailing field after a missing one.
-pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
-    emit_frame(*header, M::ID, buf, |w| message.encode(w))
+pub fn encode<M: MessageData<Protocol = Siyi>>(
+    message: &M,
+    header: &Header,
+    buf: &mut [u8],
+) -> Result<usize> {
+    emit_frame(*header, M::ID, buf, |w| message.encode_payload(w))
 }
 
 /// Writes the payload (through `payload`) after the header's place, then the header

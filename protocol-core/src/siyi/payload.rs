@@ -3,6 +3,7 @@
 //! messages share. All SIYI payload fields are little-endian.
 
 use crate::wire::encoding::{Field, Le};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
@@ -49,6 +50,23 @@ impl<T: Field<Le>> Payload for T {
 
     fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
         self.write(w)
+    }
+}
+
+/// The SIYI length rules, for the message table: every payload is a [`Payload`].
+impl<T: Payload> PayloadCodec<T> for super::Siyi {
+    const MAX_LEN: usize = T::MAX_LEN;
+
+    fn decode(payload: &[u8]) -> Result<T> {
+        T::decode(payload)
+    }
+
+    fn encoded_len(value: &T) -> usize {
+        value.encoded_len()
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.encode(w)
     }
 }
 
@@ -109,17 +127,17 @@ wire_struct! {
     /// A one-byte result (`sta`, `ack`, `format_sta`...): 1 success, 0 failure. The
     /// layout of the `...Ack` replies of the setting commands.
     pub struct SetStatus {
-        /// The result.
+        /// Success or failure (another value kept as received).
         pub status: AckStatus,
     }
 }
 
 impl SetStatus {
-    /// Success.
+    /// Success (1).
     pub const SUCCESS: SetStatus = SetStatus {
         status: AckStatus::Success,
     };
-    /// Failure.
+    /// Failure (0).
     pub const FAILED: SetStatus = SetStatus {
         status: AckStatus::Failed,
     };
@@ -331,7 +349,7 @@ impl HardwareId {
         }
     }
 
-    /// The product.
+    /// The product the id names (from its first two characters, read as hex).
     #[must_use]
     pub const fn product(&self) -> Product {
         match self.product_id() {

@@ -26,7 +26,7 @@ wire_struct! {
         pub x: u16,
         /// Y coordinate.
         pub y: u16,
-        /// Measurement.
+        /// Stop, measure once, or measure continuously (5 Hz).
         pub flag: MeasureFlag,
     }
 }
@@ -56,7 +56,7 @@ wire_struct! {
         pub end_x: u16,
         /// End corner Y.
         pub end_y: u16,
-        /// Measurement.
+        /// Stop, measure once, or measure continuously (5 Hz).
         pub flag: MeasureFlag,
     }
 }
@@ -92,7 +92,7 @@ wire_struct! {
     Le;
     /// 0x14: maximum and minimum temperature of the whole image.
     pub struct GlobalTemperatureRequest {
-        /// Measurement.
+        /// Stop, measure once, or measure continuously (5 Hz).
         pub flag: MeasureFlag,
     }
 }
@@ -150,7 +150,7 @@ wire_struct! {
     /// [`SetThermalPalette`](super::SetThermalPalette) and
     /// [`SetThermalPaletteAck`](super::SetThermalPaletteAck)).
     pub struct ThermalPalette {
-        /// The palette.
+        /// The false-colour palette of the thermal image.
         pub palette: Palette,
     }
 }
@@ -171,7 +171,7 @@ wire_struct! {
     /// [`SetThermalOutput`](super::SetThermalOutput) and
     /// [`SetThermalOutputAck`](super::SetThermalOutputAck)).
     pub struct ThermalOutputMode {
-        /// The mode.
+        /// 30 fps, or 25 fps with temperature frames.
         pub mode: ThermalOutput,
     }
 }
@@ -192,7 +192,7 @@ wire_struct! {
     /// [`SetThermalGain`](super::SetThermalGain) and
     /// [`SetThermalGainAck`](super::SetThermalGainAck)).
     pub struct ThermalGain {
-        /// The gain.
+        /// Low gain (50..550 °C) or high gain (-20..150 °C).
         pub gain: Gain,
     }
 }
@@ -221,7 +221,7 @@ wire_struct! {
     /// [`SetEnvCorrection`](super::SetEnvCorrection) and
     /// [`SetEnvCorrectionAck`](super::SetEnvCorrectionAck)).
     pub struct EnvCorrection {
-        /// The switch.
+        /// Environment correction on or off.
         pub state: OnOff,
     }
 }

@@ -4,6 +4,7 @@
 //! their command byte. Block fields are big-endian.
 
 use crate::wire::encoding::{Be, Field};
+use crate::wire::table::PayloadCodec;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
@@ -72,6 +73,24 @@ impl<T: Field<Be>> Block for T {
 
     fn block_len(&self) -> usize {
         <T as Field<Be>>::LEN
+    }
+}
+
+/// The Viewlink length rules, for the message table: a frame's payload is one [`Block`]
+/// (a combination is a block of blocks) taking all of its bytes.
+impl<T: Block> PayloadCodec<T> for super::Viewlink {
+    const MAX_LEN: usize = T::MAX_LEN;
+
+    fn decode(payload: &[u8]) -> Result<T> {
+        T::from_bytes(payload)
+    }
+
+    fn encoded_len(value: &T) -> usize {
+        value.block_len()
+    }
+
+    fn encode(value: &T, w: &mut Writer<'_>) -> Result<()> {
+        value.write_block(w)
     }
 }
 
@@ -146,7 +165,7 @@ macro_rules! viewlink_command_block {
                 /// A command without parameters of its own (or one the document does not
                 /// list), with the parameter bytes as received.
                 Plain {
-                    /// The command.
+                    /// The command byte.
                     command: $cmd,
                     /// The parameter bytes.
                     params: [u8; $plen],

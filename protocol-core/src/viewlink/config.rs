@@ -293,7 +293,6 @@ code_enum! {
         B57600 = 5,
         /// 115200 bps.
         B115200 = 6,
-        /// S.BUS.
         Sbus = 7,
         /// 2400 bps.
         B2400 = 8,
@@ -305,7 +304,6 @@ code_enum! {
 code_enum! {
     /// LRF default mode (appendix 0x0D).
     pub enum LrfMode: u8 {
-        /// Stopped.
         Stop = 0,
         /// Continuous (models with a rangefinder).
         Continuous = 1,
@@ -315,7 +313,6 @@ code_enum! {
 code_enum! {
     /// Record resolution (appendix 0x0E, Z40K only).
     pub enum RecordResolution: u8 {
-        /// 1080p.
         P1080 = 0,
         /// 4K.
         K4 = 1,
@@ -361,7 +358,7 @@ wire_derive! {
     [Eq, Hash, Default]
     /// A U setting with a one-byte value (byte 2); bytes 3..10 have no meaning.
     pub struct Setting1<T> {
-        /// The value.
+        /// The setting's value, as the command defines it.
         pub value: T,
         /// Bytes 3..10.
         pub reserved: [u8; 8],
@@ -383,7 +380,7 @@ wire_derive! {
     /// A U setting with a two-byte value (bytes 2..3, big-endian); bytes 4..10 have no
     /// meaning.
     pub struct Setting2<T> {
-        /// The value.
+        /// The setting's value, as the command defines it.
         pub value: T,
         /// Bytes 4..10.
         pub reserved: [u8; 7],
@@ -814,9 +811,9 @@ wire_struct! {
     Be;
     /// V time zone parameters.
     pub struct VTimeZone {
-        /// Hours.
+        /// Hours of the offset from UTC (signed).
         pub hours: i8,
-        /// Minutes.
+        /// Minutes of the offset from UTC (signed).
         pub minutes: i8,
     }
 }
@@ -852,7 +849,7 @@ wire_derive! {
         ProtocolControl(ProtocolControl),
         /// Time zone.
         TimeZone(VTimeZone),
-        /// OSD.
+        /// The on-screen display settings.
         Osd(VOsd),
         /// Baud rate.
         BaudRate(BaudRate),
@@ -916,7 +913,7 @@ wire_derive! {
     pub struct V {
         /// Byte 1: the control command.
         pub command: VCommand,
-        /// The parameters.
+        /// The parameters of the configuration command (typed, or raw: see [`VData`]).
         pub data: VData,
         /// Parameter bytes after the effective length.
         pub trailing: Bytes<22>,

@@ -466,7 +466,7 @@ wire_struct! {
     Be;
     /// C2 0x76: recording segment ("package") length.
     pub struct RecordSegment {
-        /// Minutes.
+        /// Length of a recording segment, in minutes.
         pub minutes: u16,
     }
 }
@@ -476,9 +476,7 @@ code_enum! {
     pub enum RebootAction: u8 {
         /// No action.
         NoAction = 0,
-        /// Reboot.
         Reboot = 1,
-        /// Auto-check.
         AutoCheck = 2,
     }
 }

@@ -196,7 +196,6 @@ code_enum! {
         Eo1IrPip = 0x02,
         /// IR main, EO 1 picture-in-picture.
         IrEo1Pip = 0x03,
-        /// Fusion.
         Fusion = 0x04,
         /// IR 1 (1352 models).
         Ir1 = 0x05,
@@ -212,7 +211,6 @@ code_enum! {
         NoAction = 0x00,
         /// EO 1.
         Eo1 = 0x01,
-        /// IR.
         Ir = 0x02,
         /// EO 2.
         Eo2 = 0x03,
@@ -224,7 +222,6 @@ code_enum! {
     pub enum TrackingCommand: u8 {
         /// No action.
         NoAction = 0x00,
-        /// Stop.
         Stop = 0x01,
         /// Search (bring up the cross); parameters 1 and 2 move it.
         Search = 0x02,
@@ -280,11 +277,8 @@ code_enum! {
 code_enum! {
     /// Tracker state of F1 (bits 3..4).
     pub enum TrackerState: u8 {
-        /// Stopped.
         Stop = 0x00,
-        /// Searching.
         Search = 0x01,
-        /// Tracking.
         Tracking = 0x02,
         /// Target lost.
         Lost = 0x03,

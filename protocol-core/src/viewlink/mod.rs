@@ -42,7 +42,8 @@
 //!   from a frame and emits into a buffer; [`FrameCounter`] produces the counter a
 //!   sender keeps.
 //! - Every frame id has its own payload type implementing [`MessageData`] (its id, name
-//!   and largest length), so one message is sent with [`encode`] and recognised with
+//!   and largest length; `Protocol = `[`Viewlink`]), so one message is sent with
+//!   [`encode`] and recognised with
 //!   [`Message::get`]. 0x42 and 0x92 carry the layouts of 0x40 and 0x29 under their own
 //!   types ([`StatusOsd`], [`IpFeedback`]).
 //! - Every block is a typed struct or enum implementing [`Block`]: [`A1`] [`A2`] [`B1`]
@@ -137,33 +138,7 @@ pub use status::*;
 use crate::wire::{Reader, Writer};
 use crate::{Error, Result};
 
-/// A typed Viewlink message: the payload type of one frame id (after rust-mavlink's
-/// `MessageData`). Every frame id of [`CATALOG`] has one, from the one table that also
-/// builds [`CATALOG`] and [`Message`].
-///
-/// ```
-/// use protocol_core::viewlink::{M, MessageData, Status, StatusOsd};
-/// assert_eq!(Status::ID, 0x40);
-/// assert_eq!(StatusOsd::ID, 0x42);
-/// assert_eq!(Status::NAME, "Status");
-/// assert_eq!(Status::ENCODED_LEN, 41);
-/// assert_eq!(M::ENCODED_LEN, 42); // the largest M
-/// ```
-pub trait MessageData: Block + Copy {
-    /// The frame id.
-    const ID: u8;
-    /// The message name, as [`CATALOG`] lists it (the [`Message`] variant).
-    const NAME: &'static str;
-    /// Encoded payload length in bytes; the largest one for the variable-size payloads
-    /// (V, M, AI targets, KLV, transparent data).
-    const ENCODED_LEN: usize;
-
-    /// This payload as a decoded [`Message`].
-    fn into_message(self) -> Message<'static>;
-
-    /// The payload, if `message` is this message.
-    fn from_message(message: &Message<'_>) -> Option<Self>;
-}
+pub use crate::wire::MessageData;
 
 /// One entry of [`CATALOG`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -181,235 +156,140 @@ pub struct CatalogEntry {
     pub from_ahrs: bool,
 }
 
-/// The catalogue's `(direction, from_ahrs)` for the sender column of the frame table.
-macro_rules! viewlink_route {
-    (ToGimbal) => {
-        (Direction::ToGimbal, false)
-    };
-    (FromAhrs) => {
-        (Direction::ToGimbal, true)
-    };
-    (FromGimbal) => {
-        (Direction::FromGimbal, false)
-    };
+/// The sender column of the frame table.
+#[derive(Clone, Copy)]
+enum Sender {
+    /// The console, to the gimbal.
+    ToGimbal,
+    /// The AHRS (M), to the gimbal.
+    FromAhrs,
+    /// The gimbal (the document's "payload"), to the console.
+    FromGimbal,
 }
 
-/// Declares the payload types the frame table names but no module defines: a frame id
-/// that carries another's layout (`Name(Inner)`, a newtype). A type written alone is
-/// defined elsewhere.
-macro_rules! viewlink_frame_type {
-    ([$(#[$doc:meta])*] $ty:ident) => {};
-    ([$(#[$doc:meta])*] $ty:ident ($inner:ty)) => {
-        wire_newtype! {
-            $(#[$doc])*
-            ///
-            #[doc = concat!("The layout of [`", stringify!($inner), "`] under a frame id of its own.")]
-            pub struct $ty($inner);
+use Sender::{FromAhrs, FromGimbal, ToGimbal};
+
+impl CatalogEntry {
+    /// The entry of a table row (the encoded length of its message is not listed).
+    const fn new(
+        id: u8,
+        name: &'static str,
+        _lens: &[usize],
+        blocks: &'static str,
+        sender: Sender,
+    ) -> Self {
+        let (direction, from_ahrs) = match sender {
+            ToGimbal => (Direction::ToGimbal, false),
+            FromAhrs => (Direction::ToGimbal, true),
+            FromGimbal => (Direction::FromGimbal, false),
+        };
+        CatalogEntry {
+            id,
+            name,
+            blocks,
+            direction,
+            from_ahrs,
         }
-    };
+    }
 }
 
-/// Implements [`MessageData`] and `From<payload> for Message` for the payload of one
-/// frame id.
-macro_rules! viewlink_message_data {
-    ($id:literal $variant:ident $ty:ident) => {
-        impl MessageData for $ty {
-            const ID: u8 = $id;
-            const NAME: &'static str = stringify!($variant);
-            const ENCODED_LEN: usize = <$ty as Block>::MAX_LEN;
-
-            fn into_message(self) -> Message<'static> {
-                Message::$variant(self)
-            }
-
-            fn from_message(message: &Message<'_>) -> Option<Self> {
-                match message {
-                    Message::$variant(m) => Some(*m),
-                    _ => None,
-                }
-            }
-        }
-
-        impl From<$ty> for Message<'_> {
-            fn from(m: $ty) -> Self {
-                Message::$variant(m)
-            }
-        }
-    };
-}
-
-/// Declares every frame id: its [`Message`] variant and payload type, the blocks as
-/// section 2.2 writes them, and who sends it. Generates the newtypes of shared layouts,
-/// [`Message`] with its decoding and encoding, [`MessageData`] for every payload type
-/// and [`CATALOG`] from the one table, so they cannot disagree.
-macro_rules! viewlink_frames {
-    ($(
-        $(#[$doc:meta])*
-        // `$ty ($inner)`: a newtype over another frame's layout, defined here.
-        $id:literal $variant:ident($ty:ident $(($inner:ty))?), $blocks:literal, $route:ident;
-    )*) => {
-        // The docs travel in brackets: `viewlink_frame_type!` cannot repeat them inside
-        // the optional `($inner)`.
-        $( viewlink_frame_type!([$(#[$doc])*] $ty $(($inner))?); )*
-
-        wire_derive! {
-            [Eq]
-            /// A decoded frame: what its payload means, by frame id.
-            pub enum Message<'a> {
-                $( $(#[$doc])* $variant($ty), )*
-                /// A frame id this codec does not know, with its payload.
-                Raw(Raw<'a>),
-            }
-        }
-
-        $( viewlink_message_data!($id $variant $ty); )*
-
-        impl<'a> Message<'a> {
-            /// Decodes the payload of a frame. Unknown ids give [`Message::Raw`].
-            ///
-            /// # Errors
-            /// [`Error::BadLength`] when a known id's payload does not have the length
-            /// its blocks take (too few bytes too: the payload is complete, the frame's
-            /// length says so, so it is never [`Error::Truncated`]).
-            pub fn decode(id: u8, payload: &'a [u8]) -> Result<Self> {
-                let decoded = match id {
-                    $( $id => <$ty as Block>::from_bytes(payload).map(Message::$variant), )*
-                    _ => Ok(Message::Raw(Raw { id, payload })),
-                };
-                decoded.map_err(|e| match e {
-                    Error::Truncated => Error::BadLength,
-                    other => other,
-                })
-            }
-
-            /// The frame id.
-            #[must_use]
-            pub const fn id(&self) -> u8 {
-                match self {
-                    $( Message::$variant(_) => $id, )*
-                    Message::Raw(r) => r.id,
-                }
-            }
-
-            /// The message name (`"Raw"` for unknown ids).
-            #[must_use]
-            pub const fn name(&self) -> &'static str {
-                match self {
-                    $( Message::$variant(_) => stringify!($variant), )*
-                    Message::Raw(_) => "Raw",
-                }
-            }
-
-            /// Encoded payload length.
-            #[must_use]
-            pub fn payload_len(&self) -> usize {
-                match self {
-                    $( Message::$variant(m) => m.block_len(), )*
-                    Message::Raw(r) => r.payload.len(),
-                }
-            }
-
-            /// Writes the payload.
-            ///
-            /// # Errors
-            /// [`Error::BufferTooSmall`] when `w` has no room for it,
-            /// [`Error::OutOfRange`] for a bit field whose value does not fit its bits.
-            pub fn encode(&self, w: &mut Writer<'_>) -> Result<()> {
-                match self {
-                    $( Message::$variant(m) => m.write_block(w), )*
-                    Message::Raw(r) => w.put(r.payload),
-                }
-            }
-        }
-
-        /// Every frame id this codec knows, in the order of section 2.2.
-        pub const CATALOG: &[CatalogEntry] = &[$(
-            CatalogEntry {
-                id: $id,
-                name: stringify!($variant),
-                blocks: $blocks,
-                direction: viewlink_route!($route).0,
-                from_ahrs: viewlink_route!($route).1,
-            },
-        )*];
-    };
-}
-
-viewlink_frames! {
+// Every frame id: its [`Message`] variant and payload type, the blocks as section 2.2
+// writes them, and who sends it. 0x42 and 0x92 carry the layouts of 0x40 and 0x29 under
+// types of their own.
+message_table! {
+    /// The Viewlink protocol: every payload type implements [`MessageData`] with
+    /// `Protocol = Viewlink`.
+    ///
+    /// ```
+    /// use protocol_core::viewlink::{M, MessageData, Status, StatusOsd};
+    /// assert_eq!(Status::ID, 0x40);
+    /// assert_eq!(StatusOsd::ID, 0x42);
+    /// assert_eq!(Status::NAME, "Status");
+    /// assert_eq!(Status::ENCODED_LEN, 41);
+    /// assert_eq!(M::ENCODED_LEN, 42); // the largest M
+    /// ```
+    protocol Viewlink { id: u8, key: u8, order: Be, lengths: variable, encoders: inlined }
+    /// Every frame id this codec knows, in the order of section 2.2.
+    catalog;
+    /// A decoded frame: what its payload means, by frame id.
+    message Message [Eq] {
+        /// A frame id this codec does not know, with its payload.
+        Raw;
+    }
     /// 0x30: A1 + C1 + E1.
-    0x30 Control(Control), "A1+C1+E1", ToGimbal;
+    0x30 Control: Message(Control) => "A1+C1+E1", ToGimbal;
     /// 0x32: A1 + C1 + E1 + S1.
-    0x32 ControlTgcc(ControlTgcc), "A1+C1+E1+S1", ToGimbal;
+    0x32 ControlTgcc: Message(ControlTgcc) => "A1+C1+E1+S1", ToGimbal;
     /// 0x1A: A1 alone.
-    0x1A A1(A1), "A1", ToGimbal;
+    0x1A A1: Message(A1) => "A1", ToGimbal;
     /// 0x1C: C1 alone.
-    0x1C C1(C1), "C1", ToGimbal;
+    0x1C C1: Message(C1) => "C1", ToGimbal;
     /// 0x1E: E1 alone.
-    0x1E E1(E1), "E1", ToGimbal;
+    0x1E E1: Message(E1) => "E1", ToGimbal;
     /// 0x16: S1 alone.
-    0x16 S1(S1), "S1", ToGimbal;
+    0x16 S1: Message(S1) => "S1", ToGimbal;
     /// 0x31: A2 + C2 + E2.
-    0x31 RareControl(RareControl), "A2+C2+E2", ToGimbal;
+    0x31 RareControl: Message(RareControl) => "A2+C2+E2", ToGimbal;
     /// 0x33: A2 + C2 + E2 + S2.
-    0x33 RareControlTgcc(RareControlTgcc), "A2+C2+E2+S2", ToGimbal;
+    0x33 RareControlTgcc: Message(RareControlTgcc) => "A2+C2+E2+S2", ToGimbal;
     /// 0x2A: A2 alone.
-    0x2A A2(A2), "A2", ToGimbal;
+    0x2A A2: Message(A2) => "A2", ToGimbal;
     /// 0x2C: C2 alone.
-    0x2C C2(C2), "C2", ToGimbal;
+    0x2C C2: Message(C2) => "C2", ToGimbal;
     /// 0x2E: E2 alone.
-    0x2E E2(E2), "E2", ToGimbal;
+    0x2E E2: Message(E2) => "E2", ToGimbal;
     /// 0x26: S2 alone.
-    0x26 S2(S2), "S2", ToGimbal;
+    0x26 S2: Message(S2) => "S2", ToGimbal;
     /// 0x01: U, configuration control.
-    0x01 U(U), "U", ToGimbal;
+    0x01 U: Message(U) => "U", ToGimbal;
     /// 0x02: V, configuration status.
-    0x02 V(V), "V", FromGimbal;
+    0x02 V: Message(V) => "V", FromGimbal;
     /// 0x40: T1 + F1 + B1 + D1.
-    0x40 Status(Status), "T1+F1+B1+D1", FromGimbal;
+    0x40 Status: Message(Status) => "T1+F1+B1+D1", FromGimbal;
     /// 0x42: T1 + F1 + B1 + D1, sent to refresh the OSD (payload to console).
-    0x42 StatusOsd(StatusOsd(Status)), "T1+F1+B1+D1 (refresh OSD)", FromGimbal;
+    0x42 StatusOsd: Message(StatusOsd(Status)) => "T1+F1+B1+D1 (refresh OSD)", FromGimbal;
     /// 0x41: T2 + F2 + B2 + D2.
-    0x41 RareStatus(RareStatus), "T2+F2+B2+D2", FromGimbal;
+    0x41 RareStatus: Message(RareStatus) => "T2+F2+B2+D2", FromGimbal;
     /// 0xB1: M, AHRS data.
-    0xB1 M(M), "M", FromAhrs;
+    0xB1 M: Message(M) => "M", FromAhrs;
     /// 0xF3: AI identification feedback.
-    0xF3 AiTargets(AiTargets), "F3 (AI identify)", FromGimbal;
+    0xF3 AiTargets: Message(AiTargets) => "F3 (AI identify)", FromGimbal;
     /// 0xF4: KLV data.
-    0xF4 Klv(Klv), "F4 (KLV)", ToGimbal;
+    0xF4 Klv: Message(Klv) => "F4 (KLV)", ToGimbal;
     /// 0x00: handshake.
-    0x00 Handshake(Handshake), "SH (handshake)", ToGimbal;
+    0x00 Handshake: Message(Handshake) => "SH (handshake)", ToGimbal;
     /// 0x10: heartbeat.
-    0x10 Heartbeat(Heartbeat), "HB (heartbeat)", ToGimbal;
+    0x10 Heartbeat: Message(Heartbeat) => "HB (heartbeat)", ToGimbal;
     /// 0xAC: ACK.
-    0xAC Ack(Ack), "ACK", FromGimbal;
+    0xAC Ack: Message(Ack) => "ACK", FromGimbal;
     /// 0x1D: D1 alone.
-    0x1D D1(D1), "D1", FromGimbal;
+    0x1D D1: Message(D1) => "D1", FromGimbal;
     /// 0x1B: B1 alone.
-    0x1B B1(B1), "B1", FromGimbal;
+    0x1B B1: Message(B1) => "B1", FromGimbal;
     /// 0x1F: F1 alone.
-    0x1F F1(F1), "F1", FromGimbal;
+    0x1F F1: Message(F1) => "F1", FromGimbal;
     /// 0x17: T1 alone.
-    0x17 T1(T1), "T1", FromGimbal;
+    0x17 T1: Message(T1) => "T1", FromGimbal;
     /// 0x27: T2 alone.
-    0x27 T2(T2), "T2", FromGimbal;
+    0x27 T2: Message(T2) => "T2", FromGimbal;
     /// 0x2F: F2 alone.
-    0x2F F2(F2), "F2", FromGimbal;
+    0x2F F2: Message(F2) => "F2", FromGimbal;
     /// 0x2B: B2 alone.
-    0x2B B2(B2), "B2", FromGimbal;
+    0x2B B2: Message(B2) => "B2", FromGimbal;
     /// 0x2D: D2 alone.
-    0x2D D2(D2), "D2", FromGimbal;
+    0x2D D2: Message(D2) => "D2", FromGimbal;
     /// 0xFF: transparent data.
-    0xFF Transparent(Transparent), "FW (transparent)", FromGimbal;
+    0xFF Transparent: Message(Transparent) => "FW (transparent)", FromGimbal;
     /// 0x5D: SD card query.
-    0x5D SdQuery(SdQuery), "CMD_SD", ToGimbal;
+    0x5D SdQuery: Message(SdQuery) => "CMD_SD", ToGimbal;
     /// 0xD5: SD card feedback.
-    0xD5 SdFeedback(SdFeedback), "ACK_SD", FromGimbal;
+    0xD5 SdFeedback: Message(SdFeedback) => "ACK_SD", FromGimbal;
     /// 0x19: IP query.
-    0x19 IpQuery(IpQuery), "IP_INQ", ToGimbal;
+    0x19 IpQuery: Message(IpQuery) => "IP_INQ", ToGimbal;
     /// 0x29: IP set.
-    0x29 IpSet(IpAddress), "IP_SET", ToGimbal;
+    0x29 IpSet: Message(IpAddress) => "IP_SET", ToGimbal;
     /// 0x92: IP feedback, the gimbal's IP address (payload to console).
-    0x92 IpFeedback(IpFeedback(IpAddress)), "ACK_IP", FromGimbal;
+    0x92 IpFeedback: Message(IpFeedback(IpAddress)) => "ACK_IP", FromGimbal;
 }
 
 wire_derive! {
@@ -420,14 +300,6 @@ wire_derive! {
         pub id: u8,
         /// The payload (data) bytes.
         pub payload: &'a [u8],
-    }
-}
-
-impl Message<'_> {
-    /// The typed payload, if this is message `M`: `message.get::<Status>()`.
-    #[must_use]
-    pub fn get<M: MessageData>(&self) -> Option<M> {
-        M::from_message(self)
     }
 }
 
@@ -460,7 +332,7 @@ wire_derive! {
     pub struct Packet<'a> {
         /// Sync order and frame counter.
         pub header: Header,
-        /// The message.
+        /// What the payload means.
         pub message: Message<'a>,
     }
 }
@@ -550,9 +422,13 @@ impl<'a> From<Message<'a>> for Packet<'a> {
 ///
 /// # Errors
 /// As [`Packet::emit`].
-pub fn encode<M: MessageData>(message: &M, header: &Header, buf: &mut [u8]) -> Result<usize> {
-    emit_frame(*header, M::ID, message.block_len(), buf, |w| {
-        message.write_block(w)
+pub fn encode<M: MessageData<Protocol = Viewlink>>(
+    message: &M,
+    header: &Header,
+    buf: &mut [u8],
+) -> Result<usize> {
+    emit_frame(*header, M::ID, message.payload_len(), buf, |w| {
+        message.encode_payload(w)
     })
 }
 

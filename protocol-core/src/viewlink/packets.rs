@@ -22,7 +22,7 @@ wire_struct! {
     Be;
     /// Heartbeat (frame 0x10, 1 byte). A heartbeat asks for a 0x40 status frame.
     pub struct Heartbeat {
-        /// The byte.
+        /// The data byte (the document gives it no meaning; ArduPilot sends 0).
         pub value: u8,
     }
 }
@@ -53,7 +53,6 @@ code_enum! {
     /// What an SD card query asks (frame 0x5D byte 2). Note: the feedback (0xD5) numbers
     /// the same items one lower.
     pub enum SdQueryItem: u8 {
-        /// None.
         None = 0x00,
         /// Card status.
         Status = 0x02,
@@ -146,7 +145,7 @@ wire_struct! {
     Be;
     /// An SD capacity in MB (0xD5 commands 0x02, 0x03).
     pub struct SdCapacity {
-        /// Megabytes.
+        /// The capacity, in MB.
         pub mb: u32,
     }
 }
@@ -164,7 +163,7 @@ wire_struct! {
     Be;
     /// Remaining recording time (0xD5 command 0x05).
     pub struct SdVideoTime {
-        /// Seconds.
+        /// The recording time left, in seconds.
         pub seconds: u32,
     }
 }
@@ -208,11 +207,8 @@ code_enum! {
     /// Class of an identified target (0xF3). The document gives only bits 0..1 a
     /// meaning; the byte is kept whole.
     pub enum TargetClass: u8 {
-        /// Car.
         Car = 0x00,
-        /// Human.
         Human = 0x01,
-        /// Logo.
         Logo = 0x02,
     }
 }
@@ -414,7 +410,7 @@ wire_derive! {
     /// Transparent data (frame 0xFF): bytes passed through the gimbal, 1..=60 of them,
     /// kept as received.
     pub struct Transparent {
-        /// The data.
+        /// The bytes passed through, as received.
         pub data: Bytes<MAX_PAYLOAD_LEN>,
     }
 }

@@ -147,7 +147,6 @@ code_enum! {
     pub enum RecordStatus: u8 {
         /// Not recording.
         Stopped = 0,
-        /// Recording.
         Recording = 1,
         /// Picture mode.
         PictureMode = 2,
@@ -157,9 +156,7 @@ code_enum! {
 code_enum! {
     /// IR thermal status extension of D1 (bytes 3..4 bits 2..5).
     pub enum IrColorMode: u8 {
-        /// Grayscale.
         Grayscale = 0,
-        /// Rainbow.
         Rainbow = 1,
     }
 }
@@ -264,17 +261,13 @@ code_enum! {
 code_enum! {
     /// Optical sensor pixel format of D2 (byte 2 bits 0..6).
     pub enum PixelFormat: u8 {
-        /// 1080p.
         P1080 = 1,
         /// 2K.
         K2 = 2,
         /// 4K.
         K4 = 3,
-        /// 960.
         P960 = 4,
-        /// 720.
         P720 = 5,
-        /// 640.
         P640 = 6,
     }
 }
@@ -282,7 +275,6 @@ code_enum! {
 code_enum! {
     /// Type of the extended parameter of D2 (byte 3).
     pub enum ExtendKind: u8 {
-        /// None.
         None = 0x00,
         /// Digital zoom (bytes 4..5 in 0.1x).
         DigitalZoom = 0x01,
@@ -413,7 +405,6 @@ code_enum! {
 code_enum! {
     /// N packet command response of T1 (byte 2 bits 4..7).
     pub enum NResponse: u8 {
-        /// None.
         None = 0,
         /// Gyro offset auto-adjusting.
         GyroOffsetAdjusting = 1,

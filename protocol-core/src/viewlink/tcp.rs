@@ -84,7 +84,7 @@ impl<T: AsRef<[u8]>> TcpFrame<T> {
         HEADER_LEN..HEADER_LEN.saturating_add(usize::from(self.body_len()))
     }
 
-    /// The body.
+    /// The bytes between the length byte and the checksum (a Viewlink frame).
     #[must_use]
     pub fn body(&self) -> &[u8] {
         self.buffer
@@ -130,7 +130,7 @@ wire_derive! {
     [Eq, Hash]
     /// A decoded TCP envelope: its body.
     pub struct Envelope<'a> {
-        /// The body.
+        /// The bytes between the length byte and the checksum (a Viewlink frame).
         pub body: &'a [u8],
     }
 }

@@ -119,20 +119,20 @@ pub enum Event<'a> {
     },
 }
 
-/// Counters kept by a [`Deframer`] (saturating).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Stats {
-    /// Valid frames delivered.
-    pub frames_ok: u32,
-    /// Candidates rejected for their checksum.
-    pub checksum_errors: u32,
-    /// Candidates rejected for an impossible length (or longer than the buffer), or
-    /// left incomplete when the line went idle.
-    pub length_errors: u32,
-    /// Bytes that were not part of any delivered frame.
-    pub bytes_discarded: u32,
+wire_derive! {
+    [Eq, Default]
+    /// Counters kept by a [`Deframer`] (saturating).
+    pub struct Stats {
+        /// Valid frames delivered.
+        pub frames_ok: u32,
+        /// Candidates rejected for their checksum.
+        pub checksum_errors: u32,
+        /// Candidates rejected for an impossible length (or longer than the buffer), or
+        /// left incomplete when the line went idle.
+        pub length_errors: u32,
+        /// Bytes that were not part of any delivered frame.
+        pub bytes_discarded: u32,
+    }
 }
 
 fn bump(counter: &mut u32, by: usize) {
@@ -400,7 +400,7 @@ pub enum Scanned<'a> {
     Frame {
         /// Offset of its first sync byte.
         offset: usize,
-        /// The frame.
+        /// The frame, sync bytes to checksum.
         bytes: &'a [u8],
     },
     /// A candidate that failed; scanning resumed at `offset + 1`.
@@ -416,7 +416,7 @@ pub enum Scanned<'a> {
     Garbage {
         /// Offset of the first byte.
         offset: usize,
-        /// The bytes.
+        /// The bytes skipped.
         bytes: &'a [u8],
     },
     /// The capture ends inside a candidate frame; scanning resumed at `offset + 1`.

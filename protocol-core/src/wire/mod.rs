@@ -1,5 +1,5 @@
-//! Codec machinery shared by the four protocols: bounds-checked cursors, checksums and
-//! the streaming deframer.
+//! Codec machinery shared by the four protocols: bounds-checked cursors, checksums, field
+//! encodings, the message-table generator and its traits, and the streaming deframer.
 
 mod checksum;
 mod cursor;
@@ -11,6 +11,14 @@ mod deframer;
     feature = "gcu"
 ))]
 pub mod encoding;
+#[cfg(any(
+    feature = "k40t",
+    feature = "siyi",
+    feature = "viewlink",
+    feature = "gcu"
+))]
+#[macro_use]
+pub(crate) mod table;
 
 pub use checksum::{MCRF4XX, XMODEM, crc16_mcrf4xx, crc16_xmodem, sum8, xor8};
 
@@ -38,6 +46,13 @@ pub(crate) fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
 }
 pub use cursor::{Reader, Writer};
 pub use deframer::{Deframer, Event, Framing, Scanned, Scanner, Stats};
+#[cfg(any(
+    feature = "k40t",
+    feature = "siyi",
+    feature = "viewlink",
+    feature = "gcu"
+))]
+pub use table::{MessageData, Protocol};
 
 /// Moves `buf[src]` to start at `dest`, like `buf.copy_within(src, dest)` without its
 /// panicking path (it stays out of line at opt-level z; see [`copy`]): parts out of

@@ -356,6 +356,6 @@ fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
 }
 
 /// The frame's payload as `M` when it carries `M` and decodes.
-fn typed<M: MessageData>(frame: &Frame<&[u8]>) -> Option<M> {
+fn typed<M: MessageData<Protocol = crate::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
     frame.decode_as::<M>().and_then(Result::ok)
 }

@@ -175,7 +175,7 @@ impl SiyiSide {
 }
 
 /// Encodes a reply (CTRL = 2) and queues it for the FC.
-fn send<M: MessageData>(ctx: &mut Ctx<'_>, message: &M, seq: u16) {
+fn send<M: MessageData<Protocol = crate::siyi::Siyi>>(ctx: &mut Ctx<'_>, message: &M, seq: u16) {
     let mut buf = [0u8; BUF];
     if let Ok(n) = siyi::encode(message, &Header::reply(seq), &mut buf) {
         ctx.reply(buf.get(..n).unwrap_or_default());

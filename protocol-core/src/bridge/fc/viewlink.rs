@@ -281,7 +281,11 @@ fn fc_id(frame: u8, command: u8) -> u16 {
 
 impl ViewlinkState {
     /// Encodes a reply with the next frame counter and queues it for the FC.
-    fn send<Msg: MessageData>(&mut self, ctx: &mut Ctx<'_>, message: &Msg) -> bool {
+    fn send<Msg: MessageData<Protocol = crate::viewlink::Viewlink>>(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        message: &Msg,
+    ) -> bool {
         let mut buf = [0u8; BUF];
         match viewlink::encode(message, &self.counter.next_header(), &mut buf) {
             Ok(n) => ctx.reply(buf.get(..n).unwrap_or_default()),
