@@ -854,7 +854,7 @@ mod tests {
             script(60)
                 .iter()
                 .filter(|(_, s)| matches!(s, Step::Photo))
-                .all(|&(t, _)| t > 50)
+                .all(|&(t, _)| t > 10)
         );
         assert_eq!(script(100).len(), 13);
     }

@@ -95,24 +95,46 @@ fn the_bridge_answers_gps_requests_the_fc_leaves_unanswered() {
     assert_eq!(s.pod.gps_replies().len(), 1);
     assert_eq!(s.pod.gps_replies()[0].reply.code.code(), AckCode::Ok);
     assert_eq!(s.engine.counters().geotags, 0, "the FC answered");
-    // The FC stops answering: 200 ms later the bridge answers from its history (the
-    // last fix is less than 1 s away).
+    // The FC stops answering: 200 ms later the bridge answers from its history. One fix
+    // half a second old, and the K40T reply carries no velocity: held, it could be metres
+    // off, so the failure code.
     s.fc.answer_gps = false;
     s.fc.send(&TakePhoto::default());
-    s.run_for(S);
+    s.run_for(S / 2);
     let replies = s.pod.gps_replies();
     assert_eq!(replies.len(), 2);
-    assert_eq!(replies[1].reply.code.code(), AckCode::Ok);
+    assert_eq!(replies[1].reply.code.code(), AckCode::Failure);
+    assert_eq!(s.engine.counters().geotags_failed, 1);
+    // Two answers of the FC half a second apart give the aircraft's velocity: the next
+    // photo, half a second later, unanswered by the FC, is carried forward with it.
+    s.fc.answer_gps = true;
+    for _ in 0..2 {
+        s.fc.send(&TakePhoto::default());
+        s.run_for(S / 2);
+    }
+    s.fc.answer_gps = false;
+    s.fc.send(&TakePhoto::default());
+    s.run_for(S / 2);
+    let replies = s.pod.gps_replies();
+    assert_eq!(replies.len(), 5);
+    let last = &replies[4].reply;
+    assert_eq!(last.code.code(), AckCode::Ok);
+    let photo = s.pod.photos().last().expect("a photo").at_us;
+    let (lat, lon) = s.fc.aircraft.position_e7(photo);
+    assert!(
+        (last.lat_e7 - lat).abs() < 50 && (last.lon_e7 - lon).abs() < 70,
+        "{last:?} vs {lat} {lon}"
+    );
     assert_eq!(s.engine.counters().geotags, 1);
     // Much later: no fix near the time asked, so a failure code and nothing invented.
     s.run_for(10 * S);
     s.fc.send(&TakePhoto::default());
     s.run_for(S);
     let replies = s.pod.gps_replies();
-    assert_eq!(replies.len(), 3);
-    assert_eq!(replies[2].reply.code.code(), AckCode::Failure);
-    assert_eq!(replies[2].reply.lat_e7, 0);
-    assert_eq!(s.engine.counters().geotags_failed, 1);
+    assert_eq!(replies.len(), 6);
+    assert_eq!(replies[5].reply.code.code(), AckCode::Failure);
+    assert_eq!(replies[5].reply.lat_e7, 0);
+    assert_eq!(s.engine.counters().geotags_failed, 2);
 }
 
 #[test]

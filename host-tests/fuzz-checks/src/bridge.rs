@@ -128,6 +128,13 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
     assert!(used(&fc) <= FC_QUEUE, "FC queue: {} bytes", used(&fc));
     assert!(used(&pod) <= POD_QUEUE, "pod queue: {} bytes", used(&pod));
     for f in &fc {
+        // GCU replies are followed by the resync mark `8A 00` (GcuIdentity::resync_mark).
+        let f = match protocol {
+            FcProtocol::Gcu => f
+                .strip_suffix(&[0x8A, 0x00])
+                .expect("a GCU reply ends with 8A 00"),
+            _ => f.as_slice(),
+        };
         let valid = match protocol {
             FcProtocol::Siyi => crate::siyi::valid(f, 255),
             FcProtocol::Viewlink => crate::viewlink::valid(f, SyncOrder::Standard.bytes()),

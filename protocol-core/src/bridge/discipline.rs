@@ -85,7 +85,7 @@
 //! # Jumps of the source
 //! A sample further from the current fit than [`DisciplineConfig::jump_tolerance`] (15 ms)
 //! plus its resolution contradicts it: it is not used. One such sample *below* the fit's
-//! floor (impossible for a delay: the source jumped forward), or two in a row above it,
+//! floor (impossible for a delay: the source jumped forward), or three in a row above it,
 //! make the direct mapping [`DisciplineState::Suspect`]: no UTC, no sync, until a
 //! consistent sample comes. When [`DisciplineConfig::step_confirm`] (5) consecutive
 //! contradicting samples agree with each other, the source has stepped: the estimator
@@ -266,7 +266,7 @@ pub struct DisciplineConfig {
     /// (default 10 ms: ArduPilot's transport jitter).
     pub unpaired_margin: Duration,
     /// A sample further than this plus its resolution from the current fit contradicts
-    /// it (default 15 ms): one below the fit's floor, or two in a row above it, suspend
+    /// it (default 15 ms): one below the fit's floor, or three in a row above it, suspend
     /// UTC ([`DisciplineState::Suspect`]) until a consistent sample comes or
     /// [`DisciplineConfig::step_confirm`] of them agree on a jump (the source stepped:
     /// the fit restarts from them). A time stamp off by more than 30 ms is worse than
@@ -644,9 +644,11 @@ impl ClockEstimator {
                 } else {
                     *c = StepCandidate { point: p, count: 1 };
                 }
-                // Below the fit's floor (no delay explains it) at once; above it, twice in
-                // a row (one late frame is ordinary).
-                self.suspect = residual.is_none_or(|r| r < 0) || c.count >= 2;
+                // Below the fit's floor (no delay explains it) at once; above it, three
+                // times in a row (a late frame, even two on a busy host, is ordinary), or
+                // once for a prompt sample (sent at once: never that late).
+                let high_runs = if prompt { 1 } else { 3 };
+                self.suspect = residual.is_none_or(|r| r < 0) || c.count >= high_runs;
                 let confirm = if prompt {
                     cfg.prompt_step_confirm
                 } else {
@@ -1590,7 +1592,7 @@ mod tests {
             feed_exact(&mut d, 0, 60_000_000);
             assert!(d.is_converged());
             // The FC's UTC jumps by `jump_us`: the first sample below the floor (a
-            // forward jump) suspends UTC at once; above it (backward), the second does.
+            // forward jump) suspends UTC at once; above it (backward), the third does.
             let at = |i: u64| 60_000_000 + i * 100_000;
             let value = |i: u64| (U0 + at(i)).checked_add_signed(jump_us).unwrap();
             let mut suspended_at = None;
@@ -1612,7 +1614,7 @@ mod tests {
                     break;
                 }
             }
-            let first = u64::from(jump_us <= 0);
+            let first = if jump_us > 0 { 0 } else { 2 };
             assert_eq!(suspended_at, Some(first), "{jump_us}");
             assert_eq!(restarted_at, Some(4), "{jump_us}");
             // A first mapping again after eight samples (seven after the step's).
