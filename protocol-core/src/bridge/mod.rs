@@ -44,7 +44,7 @@ pub use event::{Counters, Event, Port};
 pub use pod::PodState;
 pub use time::{Duration, Instant, UtcTime};
 
-use discipline::{DisciplineState, TimeDiscipline, serial_time};
+use discipline::{DisciplineState, TimeDiscipline};
 use fc::{Ctx, FcSide};
 use fixes::FixHistory;
 use geotag::Geotagger;
@@ -150,11 +150,6 @@ pub struct Engine {
     core: Core,
 }
 
-/// A quiet FC line for longer than this between two receptions starts a new burst (the
-/// firmware's idle detection uses 20 byte times, at least 5 ms; ArduPilot's drivers leave
-/// 10 ms or more between their bursts).
-const BURST_GAP: Duration = Duration::from_millis(5);
-
 /// Everything of the engine but the pod deframer.
 #[derive(Debug, Clone)]
 struct Core {
@@ -175,8 +170,6 @@ struct Core {
     out: Outputs,
     fc_last: Option<Instant>,
     fc_link: bool,
-    /// When the last FC bytes arrived (for inferring a quiet line between bursts).
-    fc_rx_last: Option<Instant>,
 }
 
 impl Engine {
@@ -203,7 +196,6 @@ impl Engine {
                 },
                 fc_last: None,
                 fc_link: false,
-                fc_rx_last: None,
                 config,
             },
         }
@@ -296,21 +288,6 @@ impl Engine {
     /// Bytes from the FC; `now` is the local instant the last of them arrived.
     pub fn receive_fc(&mut self, now: Instant, bytes: &[u8]) {
         let core = &mut self.core;
-        // A burst also starts when the line was quiet before these bytes, even if the
-        // caller's idle signal did not come (a late thread, a busy host): a time value's
-        // transit must never count bytes of an earlier burst (it would make the sample look
-        // early, which the discipline's minimum-delay filter would trust). A false start
-        // only makes a sample look late, which the filter discards.
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        let first_byte = now.saturating_sub(serial_time(n, core.config.fc_baud));
-        if core
-            .fc_rx_last
-            .and_then(|last| last.checked_add(BURST_GAP))
-            .is_some_and(|quiet_until| first_byte > quiet_until)
-        {
-            core.fc.new_burst();
-        }
-        core.fc_rx_last = Some(now);
         let (fc, mut ctx) = core.ctx(now);
         fc.receive(&mut ctx, bytes);
         let seen = ctx.fc_seen;
@@ -423,6 +400,7 @@ impl Core {
                 geotag: &mut self.geotag,
                 out: &mut self.out,
                 fc_seen: false,
+                transit: Duration::ZERO,
             },
         )
     }

@@ -32,10 +32,10 @@
 //!   [`Config`](crate::bridge::Config); its position (longitude first) and relative
 //!   altitude, with the main frame's carrier attitude, a fix.
 
-use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
-use crate::bridge::time::{Duration, Instant, UtcTime};
+use crate::bridge::time::{Instant, UtcTime};
 use crate::gcu::{
     self, CameraSet, CameraStatus, ClickToAim, Execution, ExternalTrack, ExternalTrackAction,
     Feedback, Frame, GcuFrames, GcuFraming, GcuMain, GcuPacket, GcuSub, GimbalCode,
@@ -45,9 +45,8 @@ use crate::gcu::{
 };
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
 use crate::k40t::{self, GimbalAttitude as PodAttitude, SdState};
-use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
-use super::Ctx;
+use super::{Ctx, FcHandler, clamp_i16};
 
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::bridge::GcuIdentity)):
 /// a first header byte followed by one that is not the second. ArduPilot's XF Robot
@@ -61,12 +60,8 @@ const RESYNC_MARK: [u8; 2] = [0x8A, 0x00];
 /// Deframer buffer, the longest package answered: the document's longest is 84 bytes
 /// (gaze, 0x15), ArduPilot's are 72 and 73; 96 leaves room for 26 bytes of parameters.
 /// Longer packages (no known order has them) are rejected and counted as length errors.
-const BUF: usize = 96;
+pub(crate) const BUF: usize = 96;
 
-/// Attitude older than this is not reported (the pod reports it at 10 Hz).
-const ATTITUDE_FRESH: Duration = Duration::from_millis(500);
-/// A laser distance older than this is not reported.
-const READING_FRESH: Duration = Duration::from_secs(1);
 /// Resolution of the held GPS time: the host's package period (ArduPilot's mount update
 /// runs at 50 Hz), the most by which the first package after a GPS fix was read late.
 const GPS_HOLD_US: u32 = 20_000;
@@ -110,13 +105,6 @@ mod order {
     pub(super) const RANGING: u8 = 0x81;
 }
 
-/// The GCU side.
-#[derive(Debug, Clone)]
-pub(crate) struct GcuSide {
-    deframer: Deframer<GcuFraming, BUF>,
-    st: GcuState,
-}
-
 /// A camera order sent to the pod, waiting for its ACK.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Awaiting {
@@ -125,11 +113,9 @@ struct Awaiting {
     cameras: CameraSet,
 }
 
-/// Everything of the GCU side but its deframer.
+/// The Gcu side (its link, deframer and bursts, is [`FcLink`](super::FcLink)).
 #[derive(Debug, Clone)]
-struct GcuState {
-    /// Bytes received since the line was last idle (the current burst).
-    burst_bytes: u32,
+pub(crate) struct GcuSide {
     /// The previous package's order (the edge trigger).
     last_order: Option<u8>,
     /// The GCU mode byte (reply byte 5): the mode order last executed.
@@ -161,72 +147,47 @@ struct GcuState {
 impl GcuSide {
     pub(crate) fn new() -> Self {
         GcuSide {
-            deframer: Deframer::new(GcuFraming::host()),
-            st: GcuState {
-                burst_bytes: 0,
-                last_order: None,
-                mode: order::HEAD_FOLLOW,
-                track_return: order::HEAD_FOLLOW,
-                tracking: false,
-                carrier_yaw: None,
-                positioned: false,
-                function_pending: false,
-                last_feedback: (order::NULL, Execution::Success),
-                awaiting: None,
-                report: None,
-                palette: k40t::Palette::WhiteHot.value(),
-                pip: 0,
-                thermal_zoom: 1,
-            },
+            last_order: None,
+            mode: order::HEAD_FOLLOW,
+            track_return: order::HEAD_FOLLOW,
+            tracking: false,
+            carrier_yaw: None,
+            positioned: false,
+            function_pending: false,
+            last_feedback: (order::NULL, Execution::Success),
+            awaiting: None,
+            report: None,
+            palette: k40t::Palette::WhiteHot.value(),
+            pip: 0,
+            thermal_zoom: 1,
         }
     }
+}
 
-    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
-        let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
-    }
+impl FcHandler for GcuSide {
+    type Framing = GcuFraming;
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-    }
-
-    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        let st = &mut self.st;
-        self.deframer.flush(|ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
-        self.st.burst_bytes = 0;
+    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        self.fc_frame(ctx, f);
     }
 
     /// Question and answer: nothing is sent unasked.
-    #[allow(clippy::unused_self)] // the same shape as every side
-    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
         let _ = ctx;
     }
 
-    #[allow(clippy::unused_self)] // the same shape as every side
-    pub(crate) fn poll_at(&self) -> Option<Instant> {
+    fn poll_at(&self) -> Option<Instant> {
         None
     }
 
-    pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
+    fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
         let _ = ctx;
         let (base, failed) = match notice {
             PodNotice::Acked { base, code } => (base, code != k40t::AckCode::Ok),
             PodNotice::TimedOut { base } => (base, true),
             _ => return,
         };
-        let st = &mut self.st;
+        let st = self;
         let Some(a) = st.awaiting.filter(|a| a.base == base) else {
             return;
         };
@@ -247,20 +208,6 @@ impl GcuSide {
             }
         }
     }
-
-    pub(crate) fn deframer_stats(&self) -> Stats {
-        self.deframer.stats()
-    }
-}
-
-/// The pod's attitude when it is fresh (`None` while the pod is lost or silent).
-fn attitude(ctx: &Ctx<'_>) -> Option<PodAttitude> {
-    let pod = ctx.pod();
-    if !pod.link {
-        return None;
-    }
-    let (a, at): (PodAttitude, Instant) = pod.attitude?;
-    (ctx.now.saturating_duration_since(at) <= ATTITUDE_FRESH).then_some(a)
 }
 
 /// A screen coordinate of the host (0..=10000) in pixels of a `size`-pixel side.
@@ -274,11 +221,6 @@ fn wrap_cdeg(v: i32) -> i32 {
     v.saturating_add(18_000)
         .rem_euclid(36_000)
         .saturating_sub(18_000)
-}
-
-/// An `i32` saturated to `i16`.
-fn clamp_i16(v: i32) -> i16 {
-    i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX })
 }
 
 /// The K40T view of a picture-in-picture choice (ArduPilot's 1..4).
@@ -301,9 +243,9 @@ fn card_ok(ctx: &Ctx<'_>) -> bool {
     })
 }
 
-impl GcuState {
+impl GcuSide {
     /// One valid package from the host.
-    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+    fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         let packet = Frame::new_checked(f)
             .ok()
             .and_then(|frame| HostPacket::parse(&frame).ok());
@@ -335,7 +277,7 @@ impl GcuState {
             return;
         }
         // The FC wrote the burst's first byte when it read these values.
-        let transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
+        let transit = ctx.transit;
         let week = u16::from_ne_bytes(sub.gps_week.to_ne_bytes());
         if let Some(utc) = UtcTime::from_gps(week, sub.gps_tow_ms, ctx.config.leap_seconds) {
             let s = Sample::new(ctx.now, utc.as_unix_micros(), GPS_HOLD_US)
@@ -367,7 +309,7 @@ impl GcuState {
     /// The reply to package `p`; `executed` is the state of its order when it executed.
     fn reply(&mut self, ctx: &mut Ctx<'_>, p: &HostPacket<'_>, executed: Option<Execution>) {
         let id = p.message.id();
-        let att = attitude(ctx);
+        let att = ctx.fresh_attitude();
         let frames = self.frames(ctx, att.as_ref());
         let mut packet: GcuPacket<'static> = p.answer(frames, Execution::Success);
         packet.feedback = if att.is_none() {
@@ -424,7 +366,7 @@ impl GcuState {
         let a = att.copied().unwrap_or_default();
         let distance = pod
             .laser_dm
-            .filter(|(d, at)| *d > 0 && ctx.now.saturating_duration_since(*at) <= READING_FRESH)
+            .filter(|(d, at)| *d > 0 && ctx.is_fresh(*at))
             .map(|(d, _)| d);
         let yaw_abs = match self.carrier_yaw {
             Some(c) => i32::from(c).saturating_add(i32::from(a.yaw_joint_cdeg)),

@@ -24,7 +24,8 @@
 //!   FC sends nothing for [`Config::fc_silence_stop`](crate::bridge::Config), the bridge
 //!   stops the pod.
 
-use crate::bridge::discipline::{Sample, serial_time};
+use super::{Ctx, FcHandler};
+use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::Fix;
 use crate::bridge::pod::AckClaim;
 use crate::bridge::time::{Duration, Instant};
@@ -33,22 +34,12 @@ use crate::k40t::{
     self, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, MessageData,
     MsgId, PitchMotion, ResponseCode, TimeSync, YawMotion,
 };
-use crate::wire::{Deframer, Event as DeframerEvent, Stats};
-
-use super::Ctx;
 
 /// FC sequence numbers remembered for the ACKs of forwarded requests.
 const SEQ_MAP: usize = 8;
 /// A forwarded request whose ACK has not come within this time gets none: its entry no
 /// longer claims ACKs (a later ACK of the same base belongs to a later request).
 const ACK_WAIT: Duration = Duration::from_secs(1);
-
-/// The K40T side.
-#[derive(Debug, Clone)]
-pub(crate) struct K40tSide {
-    deframer: Deframer<K40tFraming, { k40t::MAX_FRAME_LEN }>,
-    st: K40tState,
-}
 
 /// A forwarded request: the base id, the number the pod sees and the FC's own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,11 +60,11 @@ struct GpsPending {
     due: Instant,
 }
 
+/// The K40T side.
 #[derive(Debug, Clone)]
-struct K40tState {
+pub(crate) struct K40tSide {
     /// [`Config::fc_silence_stop`](crate::bridge::Config), for `poll_at`.
     silence: Duration,
-    burst_bytes: u32,
     forwarded: [Option<Forwarded>; SEQ_MAP],
     next_slot: usize,
     gps: Option<GpsPending>,
@@ -85,57 +76,33 @@ struct K40tState {
 impl K40tSide {
     pub(crate) fn new(silence: Duration) -> Self {
         K40tSide {
-            deframer: Deframer::new(K40tFraming::any()),
-            st: K40tState {
-                silence,
-                burst_bytes: 0,
-                forwarded: [None; SEQ_MAP],
-                next_slot: 0,
-                gps: None,
-                turning: false,
-                last_frame: None,
-            },
+            silence,
+            forwarded: [None; SEQ_MAP],
+            next_slot: 0,
+            gps: None,
+            turning: false,
+            last_frame: None,
         }
     }
+}
 
-    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
-        let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.fc_frame(ctx, f);
-            }
-        });
+impl FcHandler for K40tSide {
+    type Framing = K40tFraming;
+
+    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        self.fc_frame(ctx, f);
     }
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-    }
-
-    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        let st = &mut self.st;
-        self.deframer.flush(|ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.fc_frame(ctx, f);
-            }
-        });
-        self.st.burst_bytes = 0;
-    }
-
-    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        if let Some(g) = self.st.gps.filter(|g| ctx.now >= g.due) {
-            self.st.gps = None;
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some(g) = self.gps.filter(|g| ctx.now >= g.due) {
+            self.gps = None;
             ctx.geotag(g.header, g.request);
         }
         let silent = self
-            .st
             .last_frame
             .is_none_or(|t| ctx.now.saturating_duration_since(t) >= ctx.config.fc_silence_stop);
-        if self.st.turning && silent {
-            self.st.turning = false;
+        if self.turning && silent {
+            self.turning = false;
             ctx.command(
                 0x0010,
                 Command::Rates {
@@ -147,19 +114,18 @@ impl K40tSide {
         }
     }
 
-    pub(crate) fn poll_at(&self) -> Option<Instant> {
-        let gps = self.st.gps.map(|g| g.due);
+    fn poll_at(&self) -> Option<Instant> {
+        let gps = self.gps.map(|g| g.due);
         let stop = self
-            .st
             .last_frame
-            .filter(|_| self.st.turning)
-            .map(|t| t.saturating_add(self.st.silence));
+            .filter(|_| self.turning)
+            .map(|t| t.saturating_add(self.silence));
         gps.into_iter().chain(stop).min()
     }
 
     /// A valid pod frame: forwarded to the FC; an ACK only when the engine gave it to
     /// this side (`ack_claimed`), with the FC's own number.
-    pub(crate) fn pod_frame(
+    fn pod_frame(
         &mut self,
         ctx: &mut Ctx<'_>,
         bytes: &[u8],
@@ -175,7 +141,7 @@ impl K40tSide {
             let Some(claim) = self.ack_claim(ctx.now, id.base, header.seq) else {
                 return;
             };
-            let found = self.st.forwarded.iter_mut().find(|f| {
+            let found = self.forwarded.iter_mut().find(|f| {
                 f.is_some_and(|f| {
                     f.base == id.base
                         && f.sent == claim.sent
@@ -193,9 +159,8 @@ impl K40tSide {
     }
 
     /// The claim of the FC's forwarded requests on a pod ACK of `base` carrying `seq`.
-    pub(crate) fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
-        self.st
-            .forwarded
+    fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
+        self.forwarded
             .iter()
             .flatten()
             .filter(|f| f.base == base && now.saturating_duration_since(f.sent) <= ACK_WAIT)
@@ -207,27 +172,18 @@ impl K40tSide {
     }
 
     /// The pod asks for GPS: forwarded to the FC, answered by the bridge on time-out.
-    pub(crate) fn gps_request(
-        &mut self,
-        ctx: &mut Ctx<'_>,
-        header: Header,
-        request: GpsRequest,
-    ) -> bool {
+    fn gps_request(&mut self, ctx: &mut Ctx<'_>, header: Header, request: GpsRequest) -> bool {
         // The frame itself was forwarded by `pod_frame`.
-        self.st.gps = ctx.config.k40t_geotag_fallback.map(|wait| GpsPending {
+        self.gps = ctx.config.k40t_geotag_fallback.map(|wait| GpsPending {
             header,
             request,
             due: ctx.now.saturating_add(wait),
         });
         true
     }
-
-    pub(crate) fn deframer_stats(&self) -> Stats {
-        self.deframer.stats()
-    }
 }
 
-impl K40tState {
+impl K40tSide {
     /// One valid frame from the FC.
     fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         ctx.seen();
@@ -242,7 +198,7 @@ impl K40tState {
         // Only the three messages the side acts on are decoded; every other valid frame
         // is forwarded as it is (the pod judges its payload).
         if let Some(t) = typed::<TimeSync>(&frame) {
-            self.time_sync(ctx, t, header);
+            Self::time_sync(ctx, t, header);
             return;
         }
         if let Some(c) = typed::<GimbalControl>(&frame) {
@@ -277,11 +233,11 @@ impl K40tState {
     }
 
     /// The FC's time sync: a UTC sample, ACKed by the bridge, not forwarded.
-    fn time_sync(&mut self, ctx: &mut Ctx<'_>, t: TimeSync, header: Header) {
+    fn time_sync(ctx: &mut Ctx<'_>, t: TimeSync, header: Header) {
         // The FC sends it at once after its own RTC_IO edge (the document's procedure):
         // one is enough for a first mapping.
         let s = Sample::new(ctx.now, t.unix_ms.saturating_mul(1000), 1000)
-            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud))
+            .with_transit(ctx.transit)
             .prompt();
         ctx.time.utc_sample(s);
         let ack = k40t::TimeSyncAck {

@@ -1,18 +1,23 @@
-//! The flight-controller sides of the bridge, one per FC protocol. Each owns its
-//! deframer, decodes what the FC sends, turns commands into [`Command`]s for the pod
-//! driver, feeds the time discipline and the fix history, and answers the FC at once
-//! from the pod's cached state.
+//! The flight-controller sides of the bridge, one per FC protocol.
+//!
+//! Every side has the same shape: an [`FcLink`] owns what a serial FC link needs whatever
+//! its protocol (the protocol's deframer, the burst the FC is writing and its serial
+//! time), and hands each valid frame to the side's [`FcHandler`], which holds only its
+//! protocol's decisions: it decodes the frame, turns commands into [`Command`]s for the
+//! pod driver, feeds the time discipline and the fix history, and answers the FC at once
+//! from the pod's cached state. The handler's other methods (periodic work, pod notices,
+//! pod frames, GPS requests, ACK claims) default to nothing.
 
-use super::discipline::TimeDiscipline;
+use super::discipline::{TimeDiscipline, serial_time};
 use super::event::Event;
 use super::fixes::FixHistory;
 use super::geotag::Geotagger;
 use super::pod::{AckClaim, PodDriver, PodNotice, PodState};
-use super::time::Instant;
+use super::time::{Duration, Instant};
 use super::{Config, Outputs};
 use crate::gimbal::Command;
-use crate::k40t::{GpsRequest, Header, MsgId};
-use crate::wire::Stats;
+use crate::k40t::{GimbalAttitude, GpsRequest, Header, MsgId};
+use crate::wire::{Deframer, Event as DeframerEvent, Framing, Stats};
 
 /// What an FC side may use of the engine during one call.
 pub(crate) struct Ctx<'a> {
@@ -26,6 +31,9 @@ pub(crate) struct Ctx<'a> {
     pub(crate) out: &'a mut Outputs,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
+    /// The serial time of the current burst so far (set by [`FcLink`] for each frame): a
+    /// time value's transit from its sender's read, counted from the burst's first byte.
+    pub(crate) transit: Duration,
 }
 
 impl Ctx<'_> {
@@ -71,6 +79,169 @@ impl Ctx<'_> {
     pub(crate) fn pod(&self) -> &PodState {
         self.pod.state()
     }
+
+    /// The pod's attitude when it reports and the report is at most
+    /// [`ATTITUDE_FRESH`] old (`None` while the pod is lost or silent: a gimbal whose
+    /// attitude stopped).
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+        allow(dead_code)
+    )]
+    pub(crate) fn fresh_attitude(&self) -> Option<GimbalAttitude> {
+        let pod = self.pod();
+        let (a, at) = pod.attitude.filter(|_| pod.link)?;
+        (self.now.saturating_duration_since(at) <= ATTITUDE_FRESH).then_some(a)
+    }
+
+    /// A reading of the pod (laser distance, thermal measurement) taken at `at` is at most
+    /// [`READING_FRESH`] old.
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+        allow(dead_code)
+    )]
+    pub(crate) fn is_fresh(&self, at: Instant) -> bool {
+        self.now.saturating_duration_since(at) <= READING_FRESH
+    }
+}
+
+/// The pod's attitude older than this is not reported to the FC (the pod reports it at
+/// 10 Hz).
+pub(crate) const ATTITUDE_FRESH: Duration = Duration::from_millis(500);
+/// Thermal and laser readings older than this are not reported.
+pub(crate) const READING_FRESH: Duration = Duration::from_secs(1);
+
+/// A quiet FC line for longer than this between two receptions starts a new burst (the
+/// firmware's idle detection uses 20 byte times, at least 5 ms; ArduPilot's drivers leave
+/// 10 ms or more between their bursts).
+const BURST_GAP: Duration = Duration::from_millis(5);
+
+/// An `i32` saturated to `i16`.
+#[cfg_attr(
+    not(any(feature = "siyi", feature = "viewlink", feature = "gcu")),
+    allow(dead_code)
+)]
+pub(crate) fn clamp_i16(v: i32) -> i16 {
+    i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX })
+}
+
+/// The decisions of one FC protocol, over the [`FcLink`] that finds its frames.
+pub(crate) trait FcHandler {
+    /// The protocol's framing.
+    type Framing: Framing;
+
+    /// One valid frame from the FC; [`Ctx::transit`] is its burst's serial time so far.
+    fn frame(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]);
+
+    /// The FC starts a new burst (the line was quiet, or went idle).
+    fn burst_started(&mut self) {}
+
+    /// Periodic work due at `ctx.now`.
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        let _ = ctx;
+    }
+
+    /// When [`FcHandler::poll`] has work (`None`: only on input).
+    fn poll_at(&self) -> Option<Instant> {
+        None
+    }
+
+    /// A notice of the pod driver (link, ACKs, time-outs).
+    fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
+        let _ = (ctx, notice);
+    }
+
+    /// Every valid frame from the pod; `ack_claimed`: the frame is an ACK the engine gave
+    /// to this side (see [`FcHandler::ack_claim`]). Only a side that forwards needs it.
+    fn pod_frame(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        bytes: &[u8],
+        id: MsgId,
+        header: Header,
+        ack_claimed: bool,
+    ) {
+        let _ = (ctx, bytes, id, header, ack_claimed);
+    }
+
+    /// This side's claim on a pod ACK (requests it forwarded for the FC).
+    fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
+        let _ = (now, base, seq);
+        None
+    }
+
+    /// The pod asks for GPS: true when this side handles it (the K40T side forwards it to
+    /// the FC); else the engine answers from its fix history.
+    fn gps_request(&mut self, ctx: &mut Ctx<'_>, header: Header, request: GpsRequest) -> bool {
+        let _ = (ctx, header, request);
+        false
+    }
+}
+
+/// What every serial FC link has, whatever its protocol: the protocol's deframer (`N`
+/// bytes) and the burst the FC is writing, over the side's [`FcHandler`].
+#[derive(Debug, Clone)]
+pub(crate) struct FcLink<H: FcHandler, const N: usize> {
+    deframer: Deframer<H::Framing, N>,
+    /// Bytes received since the current burst began.
+    burst_bytes: u32,
+    /// When the last bytes arrived (for inferring a quiet line between bursts).
+    last_rx: Option<Instant>,
+    handler: H,
+}
+
+impl<H: FcHandler, const N: usize> FcLink<H, N> {
+    fn new(framing: H::Framing, handler: H) -> Self {
+        FcLink {
+            deframer: Deframer::new(framing),
+            burst_bytes: 0,
+            last_rx: None,
+            handler,
+        }
+    }
+
+    /// Bytes from the FC, the last of them arriving at `ctx.now`.
+    fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
+        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
+        // A burst also starts when the line was quiet before these bytes, even if the
+        // caller's idle signal did not come (a late thread, a busy host): a time value's
+        // transit must never count bytes of an earlier burst (it would make the sample
+        // look early, which the discipline's minimum-delay filter would trust). A false
+        // start only makes a sample look late, which the filter discards.
+        let first_byte = ctx.now.saturating_sub(serial_time(n, ctx.config.fc_baud));
+        if self
+            .last_rx
+            .and_then(|last| last.checked_add(BURST_GAP))
+            .is_some_and(|quiet_until| first_byte > quiet_until)
+        {
+            self.new_burst();
+        }
+        self.last_rx = Some(ctx.now);
+        self.burst_bytes = self.burst_bytes.saturating_add(n);
+        ctx.transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
+        let handler = &mut self.handler;
+        self.deframer.push(bytes, |ev| {
+            if let DeframerEvent::Frame(f) = ev {
+                handler.frame(ctx, f);
+            }
+        });
+    }
+
+    /// The FC line has gone idle: frames are complete, the burst is over.
+    fn idle(&mut self, ctx: &mut Ctx<'_>) {
+        ctx.transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
+        let handler = &mut self.handler;
+        self.deframer.flush(|ev| {
+            if let DeframerEvent::Frame(f) = ev {
+                handler.frame(ctx, f);
+            }
+        });
+        self.new_burst();
+    }
+
+    fn new_burst(&mut self) {
+        self.burst_bytes = 0;
+        self.handler.burst_started();
+    }
 }
 
 #[cfg(feature = "gcu")]
@@ -90,30 +261,30 @@ pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
     /// K40T: forwarding.
-    K40t(k40t::K40tSide),
+    K40t(FcLink<k40t::K40tSide, { crate::k40t::MAX_FRAME_LEN }>),
     /// SIYI.
     #[cfg(feature = "siyi")]
-    Siyi(siyi::SiyiSide),
+    Siyi(FcLink<siyi::SiyiSide, { siyi::BUF }>),
     /// Viewlink (Viewpro).
     #[cfg(feature = "viewlink")]
-    Viewlink(viewlink::ViewlinkSide),
+    Viewlink(FcLink<viewlink::ViewlinkSide, { viewlink::BUF }>),
     /// XF Robot GCU.
     #[cfg(feature = "gcu")]
-    Gcu(gcu::GcuSide),
+    Gcu(FcLink<gcu::GcuSide, { gcu::BUF }>),
 }
 
-/// Calls `$method` on the side in use; `Disabled` gives `$default`.
+/// Calls `$call` with `$link` bound to the side in use; `Disabled` gives `$default`.
 macro_rules! fc_dispatch {
-    ($self:ident, $side:ident => $call:expr, $default:expr) => {
+    ($self:ident, $link:ident => $call:expr, $default:expr) => {
         match $self {
             FcSide::Disabled => $default,
-            FcSide::K40t($side) => $call,
+            FcSide::K40t($link) => $call,
             #[cfg(feature = "siyi")]
-            FcSide::Siyi($side) => $call,
+            FcSide::Siyi($link) => $call,
             #[cfg(feature = "viewlink")]
-            FcSide::Viewlink($side) => $call,
+            FcSide::Viewlink($link) => $call,
             #[cfg(feature = "gcu")]
-            FcSide::Gcu($side) => $call,
+            FcSide::Gcu($link) => $call,
         }
     };
 }
@@ -122,47 +293,52 @@ impl FcSide {
     pub(crate) fn new(config: &Config) -> Self {
         match config.fc {
             #[cfg(feature = "siyi")]
-            super::FcProtocol::Siyi => {
-                FcSide::Siyi(siyi::SiyiSide::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN))
-            }
+            super::FcProtocol::Siyi => FcSide::Siyi(FcLink::new(
+                crate::siyi::SiyiFraming::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN),
+                siyi::SiyiSide::new(),
+            )),
             #[cfg(feature = "viewlink")]
-            super::FcProtocol::Viewlink => FcSide::Viewlink(viewlink::ViewlinkSide::new()),
+            super::FcProtocol::Viewlink => FcSide::Viewlink(FcLink::new(
+                crate::viewlink::ViewlinkFraming::new(),
+                viewlink::ViewlinkSide::new(),
+            )),
             #[cfg(feature = "gcu")]
-            super::FcProtocol::Gcu => FcSide::Gcu(gcu::GcuSide::new()),
-            super::FcProtocol::K40t => FcSide::K40t(k40t::K40tSide::new(config.fc_silence_stop)),
+            super::FcProtocol::Gcu => FcSide::Gcu(FcLink::new(
+                crate::gcu::GcuFraming::host(),
+                gcu::GcuSide::new(),
+            )),
+            super::FcProtocol::K40t => FcSide::K40t(FcLink::new(
+                crate::k40t::K40tFraming::any(),
+                k40t::K40tSide::new(config.fc_silence_stop),
+            )),
             #[allow(unreachable_patterns)] // the protocols whose feature is off
             _ => FcSide::Disabled,
         }
     }
 
     pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        fc_dispatch!(self, side => side.receive(ctx, bytes), {
+        fc_dispatch!(self, link => link.receive(ctx, bytes), {
             let _ = (ctx, bytes);
         });
     }
 
-    pub(crate) fn new_burst(&mut self) {
-        fc_dispatch!(self, side => side.new_burst(), {});
-    }
-
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        fc_dispatch!(self, side => side.idle(ctx), {
+        fc_dispatch!(self, link => link.idle(ctx), {
             let _ = ctx;
         });
     }
 
     pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        fc_dispatch!(self, side => side.poll(ctx), {
+        fc_dispatch!(self, link => link.handler.poll(ctx), {
             let _ = ctx;
         });
     }
 
     pub(crate) fn poll_at(&self) -> Option<Instant> {
-        fc_dispatch!(self, side => side.poll_at(), None)
+        fc_dispatch!(self, link => link.handler.poll_at(), None)
     }
 
-    /// Every valid frame from the pod (the K40T side forwards them); `ack_claimed`: the
-    /// frame is an ACK the engine gave to this side (see [`FcSide::ack_claim`]).
+    /// Every valid frame from the pod (see [`FcHandler::pod_frame`]).
     pub(crate) fn pod_frame(
         &mut self,
         ctx: &mut Ctx<'_>,
@@ -171,53 +347,39 @@ impl FcSide {
         header: Header,
         ack_claimed: bool,
     ) {
-        // Only the K40T side forwards pod frames.
-        if let FcSide::K40t(side) = self {
-            side.pod_frame(ctx, bytes, id, header, ack_claimed);
-        }
+        fc_dispatch!(self, link => link.handler.pod_frame(ctx, bytes, id, header, ack_claimed), {
+            let _ = (ctx, bytes, id, header, ack_claimed);
+        });
     }
 
-    /// This side's claim on a pod ACK (the K40T side: an FC request it forwarded).
+    /// This side's claim on a pod ACK (see [`FcHandler::ack_claim`]).
     pub(crate) fn ack_claim(&self, now: Instant, base: u16, seq: u8) -> Option<AckClaim> {
-        if let FcSide::K40t(side) = self {
-            side.ack_claim(now, base, seq)
-        } else {
+        fc_dispatch!(self, link => link.handler.ack_claim(now, base, seq), {
+            let _ = (now, base, seq);
             None
-        }
+        })
     }
 
     pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
-        match self {
-            #[cfg(feature = "siyi")]
-            FcSide::Siyi(side) => side.pod_notice(ctx, notice),
-            #[cfg(feature = "viewlink")]
-            FcSide::Viewlink(side) => side.pod_notice(ctx, notice),
-            #[cfg(feature = "gcu")]
-            FcSide::Gcu(side) => side.pod_notice(ctx, notice),
-            // The K40T side forwards the ACKs themselves.
-            FcSide::K40t(_) | FcSide::Disabled => {
-                let _ = (ctx, notice);
-            }
-        }
+        fc_dispatch!(self, link => link.handler.pod_notice(ctx, notice), {
+            let _ = (ctx, notice);
+        });
     }
 
-    /// The pod asks for GPS: true when this side handles it (the K40T side forwards it
-    /// to the FC); else the engine answers from its fix history.
+    /// The pod asks for GPS (see [`FcHandler::gps_request`]).
     pub(crate) fn gps_request(
         &mut self,
         ctx: &mut Ctx<'_>,
         header: Header,
         request: GpsRequest,
     ) -> bool {
-        // Only the K40T side forwards GPS requests.
-        if let FcSide::K40t(side) = self {
-            side.gps_request(ctx, header, request)
-        } else {
+        fc_dispatch!(self, link => link.handler.gps_request(ctx, header, request), {
+            let _ = (ctx, header, request);
             false
-        }
+        })
     }
 
     pub(crate) fn deframer_stats(&self) -> Stats {
-        fc_dispatch!(self, side => side.deframer_stats(), Stats::default())
+        fc_dispatch!(self, link => link.deframer.stats(), Stats::default())
     }
 }

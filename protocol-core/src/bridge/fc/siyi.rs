@@ -24,7 +24,7 @@
 //! ArduPilot's 32-byte data limit and has the exact length it checks.
 
 use crate::Direction;
-use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant};
@@ -40,31 +40,16 @@ use crate::siyi::{
     Stitching, StitchingMode, StreamFrequency, StreamType, ThermalOutputMode, ThermalPalette,
     TimeAck, VideoEncoding, VideoOutput, ZoomDirection, ZoomLevel, ZoomRatio,
 };
-use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
-use super::Ctx;
+use super::{Ctx, FcHandler, clamp_i16};
 
 /// Deframer buffer: ArduPilot's frames carry at most 32 data bytes (42-byte frames);
 /// longer frames are not ArduPilot's and are rejected.
-const BUF: usize = 64;
+pub(crate) const BUF: usize = 64;
 
-/// Attitude older than this is not reported (the pod reports it at 10 Hz).
-const ATTITUDE_FRESH: Duration = Duration::from_millis(500);
-/// Thermal and laser readings older than this are not reported.
-const READING_FRESH: Duration = Duration::from_secs(1);
-
-/// The SIYI side.
+/// The Siyi side (its link, deframer and bursts, is [`FcLink`](super::FcLink)).
 #[derive(Debug, Clone)]
 pub(crate) struct SiyiSide {
-    deframer: Deframer<SiyiFraming, BUF>,
-    st: SiyiState,
-}
-
-/// Everything of the SIYI side but its deframer.
-#[derive(Debug, Clone)]
-struct SiyiState {
-    /// Bytes received since the line was last idle (the current burst).
-    burst_bytes: u32,
     /// A 0x30 UTC value seen in the current burst, waiting for a 0x22/0x3E to pair with.
     burst_utc_us: Option<u64>,
     /// The motion mode ArduPilot last set (reported in 0x0A and 0x19).
@@ -85,92 +70,68 @@ struct SiyiState {
 }
 
 impl SiyiSide {
-    pub(crate) fn new(max_payload: usize) -> Self {
+    pub(crate) fn new() -> Self {
         SiyiSide {
-            deframer: Deframer::new(SiyiFraming::new(max_payload)),
-            st: SiyiState {
-                burst_bytes: 0,
-                burst_utc_us: None,
-                mode: MotionMode::Follow,
-                aircraft: None,
-                home_msl_dm: None,
-                stream: None,
-                thermal_output: ThermalOutputMode::default(),
-                photo_pending: false,
-                record_pending: false,
-                push_seq: 0,
-            },
+            burst_utc_us: None,
+            mode: MotionMode::Follow,
+            aircraft: None,
+            home_msl_dm: None,
+            stream: None,
+            thermal_output: ThermalOutputMode::default(),
+            photo_pending: false,
+            record_pending: false,
+            push_seq: 0,
         }
     }
+}
 
-    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
-        let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
+impl FcHandler for SiyiSide {
+    type Framing = SiyiFraming;
+
+    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        self.fc_frame(ctx, f);
     }
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-        self.st.burst_utc_us = None;
+    /// The 0x30 waiting for a 0x22/0x3E to pair with belongs to the burst that ended.
+    fn burst_started(&mut self) {
+        self.burst_utc_us = None;
     }
 
-    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        let st = &mut self.st;
-        self.deframer.flush(|ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
-        self.st.burst_bytes = 0;
-        self.st.burst_utc_us = None;
-    }
-
-    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        if let Some((period, due)) = self.st.stream
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some((period, due)) = self.stream
             && ctx.now >= due
         {
-            self.st.stream = Some((period, ctx.now.saturating_add(period)));
-            let seq = self.st.next_push_seq();
+            self.stream = Some((period, ctx.now.saturating_add(period)));
+            let seq = self.next_push_seq();
             if let Some(a) = attitude(ctx) {
                 send(ctx, &a, seq);
             }
         }
     }
 
-    pub(crate) fn poll_at(&self) -> Option<Instant> {
-        self.st.stream.map(|(_, due)| due)
+    fn poll_at(&self) -> Option<Instant> {
+        self.stream.map(|(_, due)| due)
     }
 
-    pub(crate) fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
+    fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
         let (base, failed) = match notice {
             PodNotice::Acked { base, code } => (base, code != k40t::AckCode::Ok),
             PodNotice::TimedOut { base } => (base, true),
             _ => return,
         };
         let info = match base {
-            0x0302 if core::mem::take(&mut self.st.photo_pending) => {
+            0x0302 if core::mem::take(&mut self.photo_pending) => {
                 failed.then_some(FeedbackInfo::PhotoFailed)
             }
-            0x0303 if core::mem::take(&mut self.st.record_pending) => {
+            0x0303 if core::mem::take(&mut self.record_pending) => {
                 failed.then_some(FeedbackInfo::RecordFailed)
             }
             _ => None,
         };
         if let Some(info) = info {
-            let seq = self.st.next_push_seq();
+            let seq = self.next_push_seq();
             send(ctx, &FunctionFeedback { info }, seq);
         }
-    }
-
-    pub(crate) fn deframer_stats(&self) -> Stats {
-        self.deframer.stats()
     }
 }
 
@@ -186,14 +147,7 @@ fn send<M: MessageData<Protocol = crate::siyi::Siyi>>(ctx: &mut Ctx<'_>, message
 /// convention (positive left), pitch and roll against the horizon; `None` when the pod
 /// does not report its attitude.
 fn attitude(ctx: &Ctx<'_>) -> Option<GimbalAttitude> {
-    let pod = ctx.pod();
-    if !pod.link {
-        return None;
-    }
-    let (a, at): (PodAttitude, Instant) = pod.attitude?;
-    if ctx.now.saturating_duration_since(at) > ATTITUDE_FRESH {
-        return None;
-    }
+    let a: PodAttitude = ctx.fresh_attitude()?;
     // 0.01° -> 0.1°.
     let d = |v: i16| v / 10;
     Some(GimbalAttitude {
@@ -221,7 +175,7 @@ const PALETTES: [(SiyiPalette, k40t::Palette); 11] = [
     (SiyiPalette::GloryHot, k40t::Palette::IceFire),
 ];
 
-impl SiyiState {
+impl SiyiSide {
     fn next_push_seq(&mut self) -> u16 {
         let s = self.push_seq;
         self.push_seq = self.push_seq.wrapping_add(1);
@@ -229,7 +183,7 @@ impl SiyiState {
     }
 
     /// One valid frame from the FC.
-    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+    fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         let Ok(packet) = Packet::decode(f, Direction::ToGimbal) else {
             ctx.seen();
             ctx.ignored();
@@ -248,13 +202,12 @@ impl SiyiState {
 
     /// The sample of a time value that came with this frame: local instant of the burst's
     /// start is `now` minus the serial time of the burst so far.
-    fn sample(&self, ctx: &Ctx<'_>, value_us: u64, resolution_us: u32) -> Sample {
-        Sample::new(ctx.now, value_us, resolution_us)
-            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud))
+    fn sample(ctx: &Ctx<'_>, value_us: u64, resolution_us: u32) -> Sample {
+        Sample::new(ctx.now, value_us, resolution_us).with_transit(ctx.transit)
     }
 
     fn fc_clock(&mut self, ctx: &mut Ctx<'_>, time_boot_ms: u32) {
-        let s = self.sample(ctx, u64::from(time_boot_ms).saturating_mul(1000), 1000);
+        let s = Self::sample(ctx, u64::from(time_boot_ms).saturating_mul(1000), 1000);
         ctx.time.fc_clock_sample(s);
         if let Some(utc) = self.burst_utc_us.take() {
             ctx.time.utc_fc_pair(utc, time_boot_ms);
@@ -434,10 +387,7 @@ impl SiyiState {
                 if !ctx.pod().ranging {
                     ctx.command(id, Command::Laser(crate::gimbal::Ranging::Continuous));
                 }
-                let fresh = ctx
-                    .pod()
-                    .laser_dm
-                    .filter(|(_, at)| ctx.now.saturating_duration_since(*at) <= READING_FRESH);
+                let fresh = ctx.pod().laser_dm.filter(|(_, at)| ctx.is_fresh(*at));
                 let distance_dm = fresh.map_or(0, |(d, _)| d);
                 send(ctx, &LaserDistance { distance_dm }, seq);
             }
@@ -484,9 +434,7 @@ impl SiyiState {
                 let msl_dm = p.alt_msl_cm / 10;
                 let home = *self.home_msl_dm.get_or_insert(msl_dm);
                 let [roll, pitch, yaw] = self.aircraft.unwrap_or_default();
-                let at = ctx
-                    .now
-                    .saturating_sub(serial_time(self.burst_bytes, ctx.config.fc_baud));
+                let at = ctx.now.saturating_sub(ctx.transit);
                 ctx.fixes.push(Fix {
                     at,
                     lat_e7: p.lat_e7,
@@ -504,7 +452,7 @@ impl SiyiState {
                 });
             }
             Request::SetUtcTime(t) => {
-                let s = self.sample(ctx, t.unix_us, 1);
+                let s = Self::sample(ctx, t.unix_us, 1);
                 ctx.time.utc_via_fc_sample(s);
                 self.burst_utc_us = Some(t.unix_us);
                 send(ctx, &TimeAck { result: 1 }, seq);
@@ -572,10 +520,7 @@ fn stitching(ctx: &Ctx<'_>) -> Stitching {
 
 /// The 0x14 reply from the pod's infrared measurements (0.1 °C -> 0.01 °C), when fresh.
 fn thermal(ctx: &Ctx<'_>) -> Option<GlobalTemperature> {
-    let (ir, at) = ctx.pod().ir?;
-    if ctx.now.saturating_duration_since(at) > READING_FRESH {
-        return None;
-    }
+    let (ir, _) = ctx.pod().ir.filter(|(_, at)| ctx.is_fresh(*at))?;
     let c = |dc: i16| u16::from_ne_bytes(dc.saturating_mul(10).to_ne_bytes());
     Some(GlobalTemperature {
         max_c_x100: c(ir.max_temp_dc),
@@ -614,9 +559,4 @@ fn rad_to_cdeg(rad: f32) -> i16 {
             .rem_euclid(36_000)
             .saturating_sub(18_000),
     )
-}
-
-/// An `i32` saturated to `i16`.
-fn clamp_i16(v: i32) -> i16 {
-    i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX })
 }

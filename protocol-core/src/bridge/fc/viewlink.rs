@@ -38,12 +38,12 @@
 //! masks it. Every reply fits ArduPilot's 63-byte packet buffer.
 
 use crate::Text;
-use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant, TimeOfDay, UtcTime};
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
-use crate::k40t::{self, AckCode, CaptureMode, Palette};
+use crate::k40t::{AckCode, CaptureMode, Palette};
 use crate::viewlink::{
     self, A1, A2, B1, B2, Block, C1, C2, C2Command, Control, ControlTgcc, D1, D2, D2Sensor, Date,
     DistanceSource, E1, E2, F1, F2, FixedBlock, Frame, FrameCounter, GpsStage, Handshake,
@@ -52,17 +52,12 @@ use crate::viewlink::{
     ServoCommand, Status, T1, T2, TimeCs, TrackerSensor, TrackerState, TrackingCommand, U,
     UCommand, V, VCommand, VData, VideoSource, ViewlinkFraming,
 };
-use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 
-use super::Ctx;
+use super::{Ctx, FcHandler, clamp_i16};
 
 /// Deframer buffer: the largest Viewlink frame (63 bytes of body).
-const BUF: usize = viewlink::MAX_FRAME_LEN;
+pub(crate) const BUF: usize = viewlink::MAX_FRAME_LEN;
 
-/// Attitude older than this is not reported (the pod reports it at 10 Hz).
-const ATTITUDE_FRESH: Duration = Duration::from_millis(500);
-/// A laser distance older than this is reported as none (0).
-const READING_FRESH: Duration = Duration::from_secs(1);
 /// The same control value received again within this time of the previous one is a
 /// repeat (the edge trigger); a longer pause re-arms it.
 pub(crate) const REPEAT_WINDOW: Duration = Duration::from_millis(300);
@@ -77,13 +72,6 @@ pub(crate) const STATUS_GAP: Duration = Duration::from_millis(50);
 const IR_ZOOM_MAX: u8 = 8;
 /// The picture's centre, in the pixels of [`Target`].
 const CENTRE: Target = Target::Point { x: 960, y: 540 };
-
-/// The Viewlink side.
-#[derive(Debug, Clone)]
-pub(crate) struct ViewlinkSide {
-    deframer: Deframer<ViewlinkFraming, BUF>,
-    st: ViewlinkState,
-}
 
 /// The last value of one control enumeration and when it came (the edge trigger).
 #[derive(Debug, Clone, Copy)]
@@ -118,11 +106,9 @@ enum LensMotion {
     Focus,
 }
 
-/// Everything of the Viewlink side but its deframer.
+/// The Viewlink side (its link, deframer and bursts, is [`FcLink`](super::FcLink)).
 #[derive(Debug, Clone)]
-struct ViewlinkState {
-    /// Bytes received since the line was last idle (the current burst).
-    burst_bytes: u32,
+pub(crate) struct ViewlinkSide {
     /// When a status frame was last sent.
     status_sent: Option<Instant>,
     /// The frame counter of the replies.
@@ -163,78 +149,54 @@ struct ViewlinkState {
 impl ViewlinkSide {
     pub(crate) fn new() -> Self {
         ViewlinkSide {
-            deframer: Deframer::new(ViewlinkFraming::new()),
-            st: ViewlinkState {
-                burst_bytes: 0,
-                status_sent: None,
-                counter: FrameCounter::new(),
-                servo: ServoCommand::FollowYaw,
-                sensor: None,
-                tracker: TrackerState::Stop,
-                track_pending: false,
-                track_armed: None,
-                rect_top_left: None,
-                ir_zoom: 1,
-                ir_zoom_pending: None,
-                lens_motion: LensMotion::None,
-                home_msl_dm: None,
-                date: Date::default(),
-                laser_seen: None,
-                lrf_toggle: false,
-                a1: Edge::NEW,
-                c1_op: Edge::NEW,
-                c1_lrf: Edge::NEW,
-                c2: Edge::NEW,
-                e1: Edge::NEW,
-                e2: Edge::NEW,
-            },
+            status_sent: None,
+            counter: FrameCounter::new(),
+            servo: ServoCommand::FollowYaw,
+            sensor: None,
+            tracker: TrackerState::Stop,
+            track_pending: false,
+            track_armed: None,
+            rect_top_left: None,
+            ir_zoom: 1,
+            ir_zoom_pending: None,
+            lens_motion: LensMotion::None,
+            home_msl_dm: None,
+            date: Date::default(),
+            laser_seen: None,
+            lrf_toggle: false,
+            a1: Edge::NEW,
+            c1_op: Edge::NEW,
+            c1_lrf: Edge::NEW,
+            c2: Edge::NEW,
+            e1: Edge::NEW,
+            e2: Edge::NEW,
         }
     }
+}
 
-    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
-        let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
+impl FcHandler for ViewlinkSide {
+    type Framing = ViewlinkFraming;
+
+    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        self.fc_frame(ctx, f);
     }
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-    }
-
-    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        let st = &mut self.st;
-        self.deframer.flush(|ev| {
-            if let DeframerEvent::Frame(f) = ev {
-                st.frame(ctx, f);
-            }
-        });
-        self.st.burst_bytes = 0;
-    }
-
-    pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        if let Some(at) = self.st.track_armed
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if let Some(at) = self.track_armed
             && ctx.now >= at.saturating_add(TRACK_TARGET_WAIT)
         {
             // A tracking start without a point or a box: what is under the cross.
-            self.st.start_track(ctx, 0x1E03, CENTRE);
+            self.start_track(ctx, 0x1E03, CENTRE);
         }
     }
 
-    pub(crate) fn poll_at(&self) -> Option<Instant> {
-        self.st
-            .track_armed
+    fn poll_at(&self) -> Option<Instant> {
+        self.track_armed
             .map(|at| at.saturating_add(TRACK_TARGET_WAIT))
     }
 
-    pub(crate) fn pod_notice(&mut self, _ctx: &mut Ctx<'_>, notice: PodNotice) {
-        let st = &mut self.st;
+    fn pod_notice(&mut self, _ctx: &mut Ctx<'_>, notice: PodNotice) {
+        let st = self;
         let (base, ok) = match notice {
             PodNotice::Acked { base, code } => (base, code == AckCode::Ok),
             PodNotice::TimedOut { base } => (base, false),
@@ -262,10 +224,6 @@ impl ViewlinkSide {
             _ => {}
         }
     }
-
-    pub(crate) fn deframer_stats(&self) -> Stats {
-        self.deframer.stats()
-    }
 }
 
 /// A block decoded from a whole payload.
@@ -279,7 +237,7 @@ fn fc_id(frame: u8, command: u8) -> u16 {
     u16::from_be_bytes([frame, command])
 }
 
-impl ViewlinkState {
+impl ViewlinkSide {
     /// Encodes a reply with the next frame counter and queues it for the FC.
     fn send<Msg: MessageData<Protocol = crate::viewlink::Viewlink>>(
         &mut self,
@@ -296,7 +254,7 @@ impl ViewlinkState {
     /// One valid frame from the FC. Only the blocks the side handles are decoded (by
     /// frame id, not through [`viewlink::Message`]), so that the codec's other types
     /// stay out of the firmware.
-    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+    fn fc_frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         ctx.seen();
         let Ok(frame) = Frame::new_checked(f) else {
             ctx.ignored();
@@ -421,20 +379,11 @@ impl ViewlinkState {
         }
     }
 
-    /// The pod's attitude, when fresh.
-    fn attitude(ctx: &Ctx<'_>) -> Option<k40t::GimbalAttitude> {
-        let pod = ctx.pod();
-        let (a, at) = pod.attitude.filter(|_| pod.link)?;
-        (ctx.now.saturating_duration_since(at) <= ATTITUDE_FRESH).then_some(a)
-    }
-
     /// The 0x40 frame from the pod's state; `None` while the pod reports no attitude.
     fn status(&mut self, ctx: &Ctx<'_>) -> Option<Status> {
-        let a = Self::attitude(ctx)?;
+        let a = ctx.fresh_attitude()?;
         let pod = ctx.pod();
-        let laser = pod
-            .laser_dm
-            .filter(|(_, at)| ctx.now.saturating_duration_since(*at) <= READING_FRESH);
+        let laser = pod.laser_dm.filter(|(_, at)| ctx.is_fresh(*at));
         if let Some((_, at)) = laser
             && self.laser_seen != Some(at)
         {
@@ -500,7 +449,7 @@ impl ViewlinkState {
     /// The 0x41 frame (asked by A2 bit 5): rates and roll in B2, the sensor in D2, the
     /// aircraft's attitude and the UTC time in T2.
     fn rare_status(&mut self, ctx: &Ctx<'_>, a2: A2) -> Option<RareStatus> {
-        let a = Self::attitude(ctx)?;
+        let a = ctx.fresh_attitude()?;
         let fix = ctx.fixes.latest().unwrap_or_default();
         let time = ctx
             .time
@@ -593,7 +542,7 @@ impl ViewlinkState {
         let Some(g) = m.gps else {
             return;
         };
-        let transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
+        let transit = ctx.transit;
         let utc = TimeOfDay::from_millis_of_day(g.time.0.saturating_mul(10)).and_then(|tod| {
             UtcTime::from_date_time(g.date.year(), g.date.month(), g.date.day(), tod)
         });
@@ -673,7 +622,7 @@ impl ViewlinkState {
             }
             A1::RelativeAngle(r) if fresh => {
                 // From where the gimbal is now: once per new value, never accumulated.
-                if let Some(now) = Self::attitude(ctx) {
+                if let Some(now) = ctx.fresh_attitude() {
                     self.servo = command;
                     let yaw = i32::from(now.yaw_joint_cdeg)
                         .saturating_add(bam16_to_cdeg(r.yaw_bam16))
@@ -1021,11 +970,6 @@ fn clamp_i32(v: i64) -> i32 {
     i32::try_from(v).unwrap_or(if v < 0 { i32::MIN } else { i32::MAX })
 }
 
-/// An `i32` saturated to `i16`.
-fn clamp_i16(v: i32) -> i16 {
-    i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1049,9 +993,9 @@ mod tests {
 
     #[test]
     fn sizes() {
-        let side = core::mem::size_of::<ViewlinkSide>();
-        let state = core::mem::size_of::<ViewlinkState>();
-        println!("ViewlinkSide {side} B, of which state {state} B");
+        let side = core::mem::size_of::<super::super::FcLink<ViewlinkSide, BUF>>();
+        let state = core::mem::size_of::<ViewlinkSide>();
+        println!("the Viewlink link {side} B, of which the side's state {state} B");
         assert!(state <= 320);
     }
 
