@@ -441,7 +441,15 @@ impl Core {
             .handle(now, &frame, header, driver_claimed, &mut self.out);
         {
             let (fc, mut ctx) = self.ctx(now);
-            fc.pod_frame(&mut ctx, f, id, header, fc_claimed);
+            fc.pod_frame(
+                &mut ctx,
+                fc::PodFrame {
+                    bytes: f,
+                    id,
+                    header,
+                    ack_claimed: fc_claimed,
+                },
+            );
         }
         for n in notices.iter() {
             self.notice(now, n);

@@ -24,7 +24,7 @@
 //!   FC sends nothing for [`Config::fc_silence_stop`](crate::bridge::Config), the bridge
 //!   stops the pod.
 
-use super::{Ctx, FcHandler};
+use super::{Ctx, FcHandler, PodFrame};
 use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::Fix;
 use crate::bridge::pod::AckClaim;
@@ -32,7 +32,7 @@ use crate::bridge::time::{Duration, Instant};
 use crate::gimbal::Command;
 use crate::k40t::{
     self, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, MessageData,
-    MsgId, PitchMotion, ResponseCode, TimeSync, YawMotion,
+    PitchMotion, ResponseCode, TimeSync, YawMotion,
 };
 
 /// FC sequence numbers remembered for the ACKs of forwarded requests.
@@ -124,15 +124,14 @@ impl FcHandler for K40tSide {
     }
 
     /// A valid pod frame: forwarded to the FC; an ACK only when the engine gave it to
-    /// this side (`ack_claimed`), with the FC's own number.
-    fn pod_frame(
-        &mut self,
-        ctx: &mut Ctx<'_>,
-        bytes: &[u8],
-        id: MsgId,
-        header: Header,
-        ack_claimed: bool,
-    ) {
+    /// this side, with the FC's own number.
+    fn pod_frame(&mut self, ctx: &mut Ctx<'_>, frame: PodFrame<'_>) {
+        let PodFrame {
+            bytes,
+            id,
+            header,
+            ack_claimed,
+        } = frame;
         if id.kind == Kind::Ack {
             // Not claimed: the ACK of one of the bridge's own frames, not forwarded.
             if !ack_claimed {

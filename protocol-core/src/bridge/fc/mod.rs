@@ -10,7 +10,7 @@
 
 use super::discipline::{TimeDiscipline, serial_time};
 use super::event::Event;
-use super::fixes::FixHistory;
+use super::fixes::{Fix, FixHistory, Velocity};
 use super::geotag::Geotagger;
 use super::pod::{AckClaim, PodDriver, PodNotice, PodState};
 use super::time::{Duration, Instant};
@@ -124,6 +124,53 @@ pub(crate) fn clamp_i16(v: i32) -> i16 {
     i16::try_from(v).unwrap_or(if v < 0 { i16::MIN } else { i16::MAX })
 }
 
+/// A valid frame from the pod, as an FC side sees it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PodFrame<'a> {
+    /// The whole frame.
+    pub(crate) bytes: &'a [u8],
+    /// Its message id.
+    pub(crate) id: MsgId,
+    /// Its header.
+    pub(crate) header: Header,
+    /// The frame is an ACK the engine gave to this side (see [`FcHandler::ack_claim`]).
+    pub(crate) ack_claimed: bool,
+}
+
+/// The relative altitude of fixes from FCs that send no home altitude (SIYI, Viewlink):
+/// above the first MSL altitude received.
+#[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(not(any(feature = "siyi", feature = "viewlink")), allow(dead_code))]
+pub(crate) struct Home {
+    msl_dm: Option<i32>,
+}
+
+#[cfg_attr(not(any(feature = "siyi", feature = "viewlink")), allow(dead_code))]
+impl Home {
+    /// A fix at `at` from a position with its MSL altitude (0.1 m), the aircraft's roll,
+    /// pitch and yaw (0.01°) and its velocity.
+    pub(crate) fn fix(
+        &mut self,
+        at: Instant,
+        (lat_e7, lon_e7, msl_dm): (i32, i32, i32),
+        [roll, pitch, yaw]: [i16; 3],
+        velocity: Velocity,
+    ) -> Fix {
+        let home = *self.msl_dm.get_or_insert(msl_dm);
+        Fix {
+            at,
+            lat_e7,
+            lon_e7,
+            alt_msl_dm: clamp_i16(msl_dm),
+            rel_alt_dm: clamp_i16(msl_dm.saturating_sub(home)),
+            yaw_cdeg: yaw,
+            roll_cdeg: roll,
+            pitch_cdeg: pitch,
+            velocity: Some(velocity),
+        }
+    }
+}
+
 /// The decisions of one FC protocol, over the [`FcLink`] that finds its frames.
 pub(crate) trait FcHandler {
     /// The protocol's framing.
@@ -150,17 +197,9 @@ pub(crate) trait FcHandler {
         let _ = (ctx, notice);
     }
 
-    /// Every valid frame from the pod; `ack_claimed`: the frame is an ACK the engine gave
-    /// to this side (see [`FcHandler::ack_claim`]). Only a side that forwards needs it.
-    fn pod_frame(
-        &mut self,
-        ctx: &mut Ctx<'_>,
-        bytes: &[u8],
-        id: MsgId,
-        header: Header,
-        ack_claimed: bool,
-    ) {
-        let _ = (ctx, bytes, id, header, ack_claimed);
+    /// Every valid frame from the pod. Only a side that forwards needs it.
+    fn pod_frame(&mut self, ctx: &mut Ctx<'_>, frame: PodFrame<'_>) {
+        let _ = (ctx, frame);
     }
 
     /// This side's claim on a pod ACK (requests it forwarded for the FC).
@@ -339,16 +378,9 @@ impl FcSide {
     }
 
     /// Every valid frame from the pod (see [`FcHandler::pod_frame`]).
-    pub(crate) fn pod_frame(
-        &mut self,
-        ctx: &mut Ctx<'_>,
-        bytes: &[u8],
-        id: MsgId,
-        header: Header,
-        ack_claimed: bool,
-    ) {
-        fc_dispatch!(self, link => link.handler.pod_frame(ctx, bytes, id, header, ack_claimed), {
-            let _ = (ctx, bytes, id, header, ack_claimed);
+    pub(crate) fn pod_frame(&mut self, ctx: &mut Ctx<'_>, frame: PodFrame<'_>) {
+        fc_dispatch!(self, link => link.handler.pod_frame(ctx, frame), {
+            let _ = (ctx, frame);
         });
     }
 

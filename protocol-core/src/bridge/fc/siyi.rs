@@ -25,7 +25,7 @@
 
 use crate::Direction;
 use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::{Fix, Velocity};
+use crate::bridge::fixes::Velocity;
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant};
 use crate::gimbal::{Command, GimbalMode, Motion, Target, View};
@@ -41,7 +41,7 @@ use crate::siyi::{
     TimeAck, VideoEncoding, VideoOutput, ZoomDirection, ZoomLevel, ZoomRatio,
 };
 
-use super::{Ctx, FcHandler, clamp_i16};
+use super::{Ctx, FcHandler, Home, clamp_i16};
 
 /// Deframer buffer: ArduPilot's frames carry at most 32 data bytes (42-byte frames);
 /// longer frames are not ArduPilot's and are rejected.
@@ -57,7 +57,7 @@ pub(crate) struct SiyiSide {
     /// The last aircraft attitude (0x22): roll, pitch, yaw in 0.01°.
     aircraft: Option<[i16; 3]>,
     /// MSL altitude of the first position, 0.1 m (the relative altitude's zero).
-    home_msl_dm: Option<i32>,
+    home: Home,
     /// The attitude stream ArduPilot asked for with 0x25, and when it is next due.
     stream: Option<(Duration, Instant)>,
     /// Thermal raw output mode (accepted and reported; the K40T has no equivalent).
@@ -75,7 +75,7 @@ impl SiyiSide {
             burst_utc_us: None,
             mode: MotionMode::Follow,
             aircraft: None,
-            home_msl_dm: None,
+            home: Home::default(),
             stream: None,
             thermal_output: ThermalOutputMode::default(),
             photo_pending: false,
@@ -431,25 +431,18 @@ impl SiyiSide {
             }
             Request::FcPosition(p) => {
                 self.fc_clock(ctx, p.time_boot_ms);
-                let msl_dm = p.alt_msl_cm / 10;
-                let home = *self.home_msl_dm.get_or_insert(msl_dm);
-                let [roll, pitch, yaw] = self.aircraft.unwrap_or_default();
-                let at = ctx.now.saturating_sub(ctx.transit);
-                ctx.fixes.push(Fix {
-                    at,
-                    lat_e7: p.lat_e7,
-                    lon_e7: p.lon_e7,
-                    alt_msl_dm: clamp_i16(msl_dm),
-                    rel_alt_dm: clamp_i16(msl_dm.saturating_sub(home)),
-                    yaw_cdeg: yaw,
-                    roll_cdeg: roll,
-                    pitch_cdeg: pitch,
-                    velocity: Some(Velocity::from_cm_s(
-                        p.vel_north_mm_s / 10,
-                        p.vel_east_mm_s / 10,
-                        p.vel_down_mm_s / 10,
-                    )),
-                });
+                let velocity = Velocity::from_cm_s(
+                    p.vel_north_mm_s / 10,
+                    p.vel_east_mm_s / 10,
+                    p.vel_down_mm_s / 10,
+                );
+                let fix = self.home.fix(
+                    ctx.now.saturating_sub(ctx.transit),
+                    (p.lat_e7, p.lon_e7, p.alt_msl_cm / 10),
+                    self.aircraft.unwrap_or_default(),
+                    velocity,
+                );
+                ctx.fixes.push(fix);
             }
             Request::SetUtcTime(t) => {
                 let s = Self::sample(ctx, t.unix_us, 1);

@@ -39,7 +39,7 @@
 
 use crate::Text;
 use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::{Fix, Velocity};
+use crate::bridge::fixes::Velocity;
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant, TimeOfDay, UtcTime};
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
@@ -53,7 +53,7 @@ use crate::viewlink::{
     UCommand, V, VCommand, VData, VideoSource, ViewlinkFraming,
 };
 
-use super::{Ctx, FcHandler, clamp_i16};
+use super::{Ctx, FcHandler, Home, clamp_i16};
 
 /// Deframer buffer: the largest Viewlink frame (63 bytes of body).
 pub(crate) const BUF: usize = viewlink::MAX_FRAME_LEN;
@@ -131,7 +131,7 @@ pub(crate) struct ViewlinkSide {
     /// What a C1 "stop" stops.
     lens_motion: LensMotion,
     /// MSL altitude of the first position, 0.1 m (the relative altitude's zero).
-    home_msl_dm: Option<i32>,
+    home: Home,
     /// The date of the last M_AHRS (for the 0x41 status).
     date: Date,
     /// The instant of the last laser distance seen, and D1's toggle bit.
@@ -160,7 +160,7 @@ impl ViewlinkSide {
             ir_zoom: 1,
             ir_zoom_pending: None,
             lens_motion: LensMotion::None,
-            home_msl_dm: None,
+            home: Home::default(),
             date: Date::default(),
             laser_seen: None,
             lrf_toggle: false,
@@ -555,9 +555,7 @@ impl ViewlinkSide {
         if g.lat_e7 == 0 && g.lon_e7 == 0 {
             return;
         }
-        let msl_dm = g.height_mm / 100;
-        let home = *self.home_msl_dm.get_or_insert(msl_dm);
-        let [roll, pitch, yaw] = m.attitude.map_or([0; 3], |a| {
+        let attitude = m.attitude.map_or([0; 3], |a| {
             [
                 clamp_i16(bam16_to_cdeg(a.roll_bam16)),
                 // ArduPilot sends the aircraft's pitch negated.
@@ -565,21 +563,18 @@ impl ViewlinkSide {
                 clamp_i16(bam16_to_cdeg(a.yaw_bam16)),
             ]
         });
-        ctx.fixes.push(Fix {
-            at: ctx.now.saturating_sub(transit),
-            lat_e7: g.lat_e7,
-            lon_e7: g.lon_e7,
-            alt_msl_dm: clamp_i16(msl_dm),
-            rel_alt_dm: clamp_i16(msl_dm.saturating_sub(home)),
-            yaw_cdeg: yaw,
-            roll_cdeg: roll,
-            pitch_cdeg: pitch,
-            velocity: Some(Velocity::from_cm_s(
-                i32::from(g.vel_north_cm_s),
-                i32::from(g.vel_east_cm_s),
-                i32::from(g.vel_down_cm_s),
-            )),
-        });
+        let velocity = Velocity::from_cm_s(
+            i32::from(g.vel_north_cm_s),
+            i32::from(g.vel_east_cm_s),
+            i32::from(g.vel_down_cm_s),
+        );
+        let fix = self.home.fix(
+            ctx.now.saturating_sub(transit),
+            (g.lat_e7, g.lon_e7, g.height_mm / 100),
+            attitude,
+            velocity,
+        );
+        ctx.fixes.push(fix);
     }
 
     // ------------------------------------------------------------------ A1
