@@ -6,15 +6,16 @@
 //! (`MavCmd`, `MavResult`, `GimbalDeviceFlags`, ...).
 //!
 //! `protocol_core::mavlink` is the way in (framing, header, checksum, packets); this
-//! crate holds the generated code on its own so that it can be compiled at opt-level 3
+//! crate holds the generated code on its own so that it can be compiled at opt-level s
 //! inside an opt-level-z firmware (the workspace's `[profile.release.package.
 //! gimbal-mavlink-dialect]`). At opt-level z, mavlink-core's byte cursors
 //! (`Bytes::get_*`, `BytesMut::put_*`) stay out of line with their length assertions
 //! and `copy_from_slice` checks, so panicking branches would stay reachable;
-//! compiled at opt-level 3 they are inlined into each message's (de)serialiser, where
+//! compiled at opt-level s they are inlined into each message's (de)serialiser, where
 //! every length is known, and `host-tests/no-panic` links (`scripts/no-panic`). The two
-//! functions below are the only way in for that reason: they are compiled here, with a
-//! buffer whose size is part of the type.
+//! functions below are the way in for that reason: they are compiled here, each
+//! deserialiser sees a 255-byte zero-extended payload (so its "payload shorter than the
+//! message" copy is provably dead) and each serialiser a 255-byte buffer.
 #![no_std]
 #![forbid(unsafe_code)]
 
