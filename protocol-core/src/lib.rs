@@ -32,7 +32,8 @@
 //! directions (SIYI, GCU), decoding takes the [`Direction`].
 //!
 //! # Cargo features
-//! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `defmt` derives
+//! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `mavlink` (not
+//! default) adds [`mavlink`], MAVLink 2 over rust-mavlink's generated types; `defmt` derives
 //! `defmt::Format` and `serde` derives `serde::Serialize` on the public types.
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(
@@ -67,6 +68,9 @@ pub mod viewlink;
 
 #[cfg(feature = "gcu")]
 pub mod gcu;
+
+#[cfg(feature = "mavlink")]
+pub mod mavlink;
 
 #[cfg(feature = "bridge")]
 pub mod bridge;

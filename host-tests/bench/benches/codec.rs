@@ -1,5 +1,6 @@
-//! Instruction counts (gungraun, Callgrind) of the four codecs' stages and of
-//! rust-mavlink on an equivalent MAVLink v2 stream: `scripts/bench` runs this at
+//! Instruction counts (gungraun, Callgrind) of the four codecs' stages, of rust-mavlink
+//! on an equivalent MAVLink v2 stream, and of the MAVLink 2 codec with its two candidate
+//! crates (rust-mavlink, mavio) on the bridge's message set: `scripts/bench` runs this at
 //! opt-level z (the firmware's release profile) and 3 and prints one table. The streams
 //! and stages: `codec_bench` (src/lib.rs). Each benchmark's input is built in its setup,
 //! which Callgrind does not count.
@@ -232,6 +233,215 @@ fn mavlink_parse(stream: &[u8]) -> usize {
     mavlink_messages(black_box(stream))
 }
 
+// MAVLink 2, the bridge's message set (protocol_core::mavlink over rust-mavlink's generated
+// types), and the two candidate crates' own readers and encoders on the same stream.
+type MavlinkInput = (
+    Stream,
+    Vec<(
+        protocol_core::mavlink::Header,
+        protocol_core::mavlink::MavMessage,
+    )>,
+);
+
+fn mavlink_set() -> &'static MavlinkInput {
+    leak(codec_bench::mavlink_stream())
+}
+
+// The floor: the checksum of each frame, with its message's CRC_EXTRA looked up.
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_checksum(input: &MavlinkInput) -> u32 {
+    use protocol_core::mavlink::{checksum, message_info};
+    let s = &input.0;
+    black_box(s.frames.iter().zip(&s.covered).fold(0u32, |acc, (f, c)| {
+        let b = &s.bytes[f.clone()];
+        let id = u32::from_le_bytes([b[7], b[8], b[9], 0]);
+        let extra = message_info(id).map_or(0, |i| i.crc_extra);
+        acc.wrapping_add(u32::from(checksum(&s.bytes[c.clone()], extra)))
+    }))
+}
+
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_deframe(input: &MavlinkInput) -> usize {
+    use protocol_core::mavlink::{MAX_FRAME_LEN, MavlinkFraming};
+    let n = deframe::<_, MAX_FRAME_LEN>(MavlinkFraming::new(), black_box(&input.0.bytes));
+    assert_eq!(n, input.0.frames.len());
+    n
+}
+
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_decode(input: &MavlinkInput) -> usize {
+    use protocol_core::mavlink::Packet;
+    let n = black_box(&input.0)
+        .frames()
+        .filter(|f| black_box(Packet::decode(f)).is_ok())
+        .count();
+    assert_eq!(n, input.0.frames.len());
+    n
+}
+
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_decode_encode(input: &MavlinkInput) -> usize {
+    use protocol_core::mavlink::{MAX_FRAME_LEN, Packet};
+    let mut out = [0u8; MAX_FRAME_LEN];
+    black_box(&input.0)
+        .frames()
+        .map(|f| Packet::decode(f).map_or(0, |p| p.emit(&mut out).unwrap_or(0)))
+        .sum()
+}
+
+// Encoding alone: each typed message into a whole frame.
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_encode(input: &MavlinkInput) -> usize {
+    use protocol_core::mavlink::{MAX_FRAME_LEN, encode};
+    let mut out = [0u8; MAX_FRAME_LEN];
+    black_box(&input.1)
+        .iter()
+        .map(|(h, m)| encode(m, h, black_box(&mut out)).unwrap_or(0))
+        .sum()
+}
+
+// rust-mavlink 0.21's own reader and parser (MavlinkReader::read_message) over the same
+// stream and the same generated types.
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn rmav_set_parse(input: &MavlinkInput) -> usize {
+    let mut reader = MavlinkReader::new(Chunked(black_box(&input.0.bytes)));
+    let mut n = 0;
+    while let Ok(m) = reader.read_message::<protocol_core::mavlink::MavMessage>(MavlinkVersion::V2)
+    {
+        black_box(&m);
+        n += 1;
+    }
+    assert_eq!(n, input.0.frames.len());
+    n
+}
+
+// rust-mavlink 0.21's own frame encoder (MAVLinkV2MessageRaw::serialize_message).
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn rmav_set_encode(input: &MavlinkInput) -> usize {
+    let mut n = 0;
+    for (h, m) in black_box(&input.1) {
+        let mut raw = mavlink::MAVLinkV2MessageRaw::new();
+        let header = mavlink::MavHeader {
+            system_id: u32::from(h.system_id),
+            component_id: h.component_id,
+            sequence: h.sequence,
+        };
+        raw.serialize_message(header, m);
+        n += black_box(raw.raw_bytes()).len();
+    }
+    n
+}
+
+/// mavio's receiver over a byte slice.
+struct MavioSlice<'a>(&'a [u8]);
+
+impl mavio::io::Read<mavio::error::IoError> for MavioSlice<'_> {
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), mavio::error::IoError> {
+        let Some((head, tail)) = self.0.split_at_checked(buf.len()) else {
+            return Err(mavio::error::IoErrorKind::UnexpectedEof.into());
+        };
+        buf.copy_from_slice(head);
+        self.0 = tail;
+        Ok(())
+    }
+}
+
+/// Every frame mavio's receiver takes from `stream`, decoded into its common dialect.
+fn mavio_messages(stream: &[u8]) -> Vec<mavio::dialects::common::Common> {
+    use mavio::protocol::V2;
+    let mut receiver = mavio::Receiver::versioned(MavioSlice(stream), V2);
+    let mut out = Vec::new();
+    while let Ok(frame) = receiver.recv() {
+        if let Ok(m) = frame.decode::<mavio::dialects::common::Common>() {
+            out.push(m);
+        }
+    }
+    out
+}
+
+// mavio 0.5's receiver and decoder (mavspec's common dialect) over the same stream. It
+// decodes 189 of the 200 frames: its common.xml is older (two MAV_CMD values and a
+// VIDEO_STREAM_TYPE value it does not list), and it refuses a payload longer than its
+// definition (GIMBAL_DEVICE_INFORMATION with the newer gimbal_device_id extension:
+// `V2PayloadIsTooLong`), where MAVLink 2 says to ignore unknown extensions.
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavio_set_parse(input: &MavlinkInput) -> usize {
+    let n = black_box(mavio_messages(black_box(&input.0.bytes))).len();
+    assert_eq!(n, 189);
+    n
+}
+
+/// mavio's frame builder takes one message type (`&dyn Message`), not the dialect enum.
+fn mavio_message(m: &mavio::dialects::common::Common) -> &dyn mavio::Message {
+    use mavio::dialects::common::Common as C;
+    macro_rules! each {
+        ($($v:ident),*) => {
+            match m {
+                $(C::$v(x) => x,)*
+                _ => unreachable!("not in the bridge's set"),
+            }
+        };
+    }
+    each!(
+        Heartbeat,
+        SystemTime,
+        GpsRawInt,
+        Attitude,
+        GlobalPositionInt,
+        RequestDataStream,
+        CommandInt,
+        CommandLong,
+        CommandAck,
+        Timesync,
+        CameraTrigger,
+        MessageInterval,
+        Statustext,
+        CameraInformation,
+        CameraSettings,
+        StorageInformation,
+        CameraCaptureStatus,
+        CameraImageCaptured,
+        VideoStreamInformation,
+        GimbalManagerInformation,
+        GimbalManagerStatus,
+        GimbalDeviceInformation,
+        GimbalDeviceSetAttitude,
+        GimbalDeviceAttitudeStatus,
+        AutopilotStateForGimbalDevice
+    )
+}
+
+// mavio 0.5's frame builder and serializer (each message of the stream, decoded by mavio
+// in the setup).
+#[library_benchmark]
+#[bench::stream(leak(mavio_messages(&mavlink_set().0.bytes)))]
+fn mavio_set_encode(messages: &Vec<mavio::dialects::common::Common>) -> usize {
+    use mavio::protocol::V2;
+    let mut out = [0u8; 280];
+    let mut n = 0;
+    for (i, m) in black_box(messages).iter().enumerate() {
+        let Ok(builder) = mavio::Frame::builder()
+            .sequence(i as u8)
+            .system_id(1)
+            .component_id(154)
+            .version(V2)
+            .message(mavio_message(m))
+        else {
+            continue;
+        };
+        n += builder.build().serialize(&mut out).unwrap_or(0);
+    }
+    n
+}
+
 // The bridge engine, per FC frame translated: a SIYI 0x07 rate command in (deframe,
 // decode, translate), a K40T gimbal control out (encode, queue, taken by the driver).
 #[library_benchmark]
@@ -277,6 +487,15 @@ library_benchmark_group!(
         gcu_reply_decode_encode,
         mavlink_raw,
         mavlink_parse,
+        mavlink_checksum,
+        mavlink_deframe,
+        mavlink_decode,
+        mavlink_decode_encode,
+        mavlink_encode,
+        rmav_set_parse,
+        rmav_set_encode,
+        mavio_set_parse,
+        mavio_set_encode,
         bridge_siyi_rate,
         bridge_pod_attitude
     ]

@@ -342,3 +342,41 @@ pub fn bridge_pod_attitudes() -> BridgeRun {
 
 /// Frames each bridge benchmark gives the engine.
 pub const BRIDGE_RUN_FRAMES: usize = BRIDGE_FRAMES;
+
+/// The MAVLink 2 stream: every message of the bridge's set (`protocol_core::mavlink::
+/// CATALOG`), eight rounds, pseudo-random field values (enumerations among their listed
+/// values), encoded by `protocol_core::mavlink::encode` (payload truncated as MAVLink 2
+/// sends it); and the messages with their headers, for the encoders.
+#[must_use]
+pub fn mavlink_stream() -> (
+    Stream,
+    Vec<(
+        protocol_core::mavlink::Header,
+        protocol_core::mavlink::MavMessage,
+    )>,
+) {
+    use fuzz_checks::mavlink::{enum_runs, typed_payload};
+    use protocol_core::mavlink::{self, CATALOG, Header, MAX_FRAME_LEN, dialect};
+    let mut rng = Rng(0x4D41_564C);
+    let mut frames = Vec::new();
+    let mut messages = Vec::new();
+    for round in 0..ROUNDS as u8 {
+        for (k, &id) in CATALOG.iter().enumerate() {
+            let bytes = rng.fill(255);
+            let payload = typed_payload(id, &bytes, enum_runs(id));
+            let message = dialect::decode(id, &payload).expect("a typed payload");
+            let header = Header {
+                sequence: round.wrapping_mul(32).wrapping_add(k as u8),
+                system_id: 1,
+                component_id: 154,
+            };
+            let mut buf = [0u8; MAX_FRAME_LEN];
+            let n = mavlink::encode(&message, &header, &mut buf).expect("encode");
+            frames.push(buf[..n].to_vec());
+            messages.push((header, message));
+        }
+    }
+    // CRC covers LEN to the end of the payload.
+    let stream = Stream::new(&frames, |f| 1..f.len() - 2);
+    (stream, messages)
+}

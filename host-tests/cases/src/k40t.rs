@@ -605,7 +605,7 @@ fn deframer_recovers_every_frame() -> Outcome {
                     next += 1;
                     found += 1;
                 }
-                Event::Rejected { .. } => rejected += 1,
+                Event::Rejected { .. } | Event::Skipped(_) => rejected += 1,
             });
         }
         ensure!(ok, "frames out of order or altered (chunk {chunk})");

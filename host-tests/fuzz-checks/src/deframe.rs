@@ -16,6 +16,8 @@ pub enum Ev {
     Frame(Vec<u8>),
     /// A rejected candidate.
     Rejected(Error, Vec<u8>),
+    /// A valid frame the framing skips (MAVLink 1 on a MAVLink 2 link).
+    Skipped(Vec<u8>),
 }
 
 impl Ev {
@@ -23,6 +25,7 @@ impl Ev {
         match event {
             Event::Frame(f) => Ev::Frame(f.to_vec()),
             Event::Rejected { error, raw } => Ev::Rejected(error, raw.to_vec()),
+            Event::Skipped(f) => Ev::Skipped(f.to_vec()),
         }
     }
 
@@ -31,7 +34,7 @@ impl Ev {
     pub fn frame(&self) -> Option<&[u8]> {
         match self {
             Ev::Frame(f) => Some(f),
-            Ev::Rejected(..) => None,
+            Ev::Rejected(..) | Ev::Skipped(_) => None,
         }
     }
 }
@@ -77,7 +80,7 @@ pub fn run_feed_poll<F: Framing, const N: usize>(
             // The event's bytes are released from the buffer: a frame whole, a rejected
             // candidate by its first byte.
             let released = match &ev {
-                Ev::Frame(f) => f.len(),
+                Ev::Frame(f) | Ev::Skipped(f) => f.len(),
                 Ev::Rejected(..) => 1,
             };
             let offset = fed - d.buffered() - released;
@@ -124,6 +127,9 @@ pub fn run_scanner<F: Framing>(framing: F, stream: &[u8]) -> Vec<(usize, Ev)> {
                 1,
                 Some(Ev::Rejected(Error::Truncated, bytes.to_vec())),
             ),
+            Scanned::Skipped { offset, bytes } => {
+                (offset, bytes.len(), Some(Ev::Skipped(bytes.to_vec())))
+            }
             Scanned::Garbage { offset, bytes } => (offset, bytes.len(), None),
         };
         assert_eq!(offset, next, "scanner items are not contiguous");
@@ -190,6 +196,9 @@ pub struct Spec<'a> {
     /// bytes, if one is there (written without the deframer; it must know the buffer
     /// size limit).
     pub valid: &'a dyn Fn(&[u8]) -> Option<usize>,
+    /// The reference scan's test for a frame the framing skips whole (MAVLink 1 on a
+    /// MAVLink 2 link): its length, if one is at the start of the bytes.
+    pub skipped: &'a dyn Fn(&[u8]) -> Option<usize>,
     /// The protocol's checked parse of a delivered frame (panics when it fails).
     pub checked: &'a dyn Fn(&[u8]),
     /// Whether the deframer's buffer holds the protocol's largest frame, so that the
@@ -197,18 +206,23 @@ pub struct Spec<'a> {
     pub compare_scanner: bool,
 }
 
-/// The reference scan: at each position take the frame `valid` finds there, else move
-/// on by one byte.
-pub fn reference(stream: &[u8], valid: &dyn Fn(&[u8]) -> Option<usize>) -> Vec<(usize, Vec<u8>)> {
+/// The reference scan: at each position take the frame `valid` finds there, else skip
+/// the frame `skipped` finds there, else move on by one byte.
+pub fn reference(
+    stream: &[u8],
+    valid: &dyn Fn(&[u8]) -> Option<usize>,
+    skipped: &dyn Fn(&[u8]) -> Option<usize>,
+) -> Vec<(usize, Vec<u8>)> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < stream.len() {
-        match valid(&stream[i..]) {
-            Some(n) => {
-                out.push((i, stream[i..i + n].to_vec()));
-                i += n;
-            }
-            None => i += 1,
+        if let Some(n) = valid(&stream[i..]) {
+            out.push((i, stream[i..i + n].to_vec()));
+            i += n;
+        } else if let Some(n) = skipped(&stream[i..]) {
+            i += n;
+        } else {
+            i += 1;
         }
     }
     out
@@ -243,7 +257,7 @@ pub fn check<F: Framing + Clone, const N: usize>(
         .collect();
     assert_eq!(
         frames,
-        reference(stream, spec.valid),
+        reference(stream, spec.valid, spec.skipped),
         "the deframer and the reference scan disagree"
     );
     for (offset, f) in &frames {
@@ -251,9 +265,14 @@ pub fn check<F: Framing + Clone, const N: usize>(
         (spec.checked)(f);
     }
 
-    let rejected = chunked.len() - frames.len();
+    let skipped = chunked
+        .iter()
+        .filter(|e| matches!(e, Ev::Skipped(_)))
+        .count();
+    let rejected = chunked.len() - frames.len() - skipped;
     let framed: usize = frames.iter().map(|(_, f)| f.len()).sum();
     assert_eq!(stats.frames_ok as usize, frames.len());
+    assert_eq!(stats.frames_skipped as usize, skipped);
     assert_eq!(
         (stats.checksum_errors + stats.length_errors) as usize,
         rejected

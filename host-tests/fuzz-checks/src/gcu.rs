@@ -140,6 +140,7 @@ pub fn deframe(data: &[u8]) {
     let checked = move |f: &[u8]| checked(framing, f);
     let spec = Spec {
         valid: &valid,
+        skipped: &|_| None,
         checked: &checked,
         compare_scanner: true,
     };

@@ -145,6 +145,7 @@ pub fn deframe(data: &[u8]) {
         let valid = |b: &[u8]| valid(b, framing.coverage, MAX_FRAME_LEN);
         let spec = Spec {
             valid: &valid,
+            skipped: &|_| None,
             checked: &checked,
             compare_scanner: true,
         };
@@ -153,6 +154,7 @@ pub fn deframe(data: &[u8]) {
         let valid = |b: &[u8]| valid(b, framing.coverage, 64);
         let spec = Spec {
             valid: &valid,
+            skipped: &|_| None,
             checked: &checked,
             compare_scanner: false,
         };

@@ -28,6 +28,7 @@ pub mod deframe;
 pub mod gcu;
 pub mod input;
 pub mod k40t;
+pub mod mavlink;
 pub mod resync;
 pub mod seeds;
 pub mod siyi;
@@ -85,6 +86,14 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "gcu_deframe",
         run: gcu::deframe,
+    },
+    Target {
+        name: "mavlink_decode",
+        run: mavlink::decode,
+    },
+    Target {
+        name: "mavlink_deframe",
+        run: mavlink::deframe,
     },
     Target {
         name: "resync",

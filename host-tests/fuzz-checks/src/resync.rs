@@ -125,6 +125,7 @@ fn embed<F: Framing + Clone, const N: usize>(
     let stream = [garbage.before, frame, garbage.after].concat();
     let spec = Spec {
         valid,
+        skipped: &|_| None,
         checked,
         compare_scanner: true,
     };

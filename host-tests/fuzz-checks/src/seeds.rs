@@ -193,6 +193,13 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             out.extend(streams(1, &gcu));
             out
         }
+        "mavlink_decode" => crate::mavlink::frames(),
+        "mavlink_deframe" => {
+            let frames = crate::mavlink::frames();
+            let mut out = streams(0, &frames);
+            out.extend(streams(1, &frames[..24]));
+            out
+        }
         "resync" => crate::resync::seeds(),
         "bridge" => crate::bridge::seeds(),
         _ => panic!("no target {name}"),

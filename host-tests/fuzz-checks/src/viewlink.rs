@@ -112,6 +112,7 @@ pub fn deframe(data: &[u8]) {
     let checked = move |f: &[u8]| checked(framing, f);
     let spec = Spec {
         valid: &valid,
+        skipped: &|_| None,
         checked: &checked,
         compare_scanner: true,
     };
@@ -200,6 +201,7 @@ fn tcp_deframe(data: &[u8]) {
     let (_, plan) = Plan::read(&mut input);
     let spec = Spec {
         valid: &tcp_valid,
+        skipped: &|_| None,
         checked: &tcp_checked,
         compare_scanner: true,
     };

@@ -1,5 +1,5 @@
 //! Proof at link time that protocol-core cannot panic: this thumbv7em binary calls every
-//! public decode, parse, emit, encode and deframe entry point of the four codecs (and
+//! public decode, parse, emit, encode and deframe entry point of the codecs (MAVLink included) (and
 //! the shared `wire` module), and every entry point of the bridge engine, with inputs the optimiser cannot see through
 //! (`core::hint::black_box`), and its panic handler calls a function that exists
 //! nowhere. Built in release (the firmware's profile: opt-level z, fat LTO), it links
@@ -19,6 +19,7 @@ mod bridge;
 mod constructors;
 mod gcu;
 mod k40t;
+mod mavlink;
 mod siyi;
 mod viewlink;
 mod wire;
@@ -43,6 +44,7 @@ fn main() -> ! {
         siyi::exercise(input(), out);
         viewlink::exercise(input(), out);
         gcu::exercise(input(), out);
+        mavlink::exercise(input(), out);
         constructors::exercise(input(), out);
         bridge::exercise(input(), out);
     }

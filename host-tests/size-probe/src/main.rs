@@ -15,6 +15,8 @@ mod bridge;
 mod gcu;
 #[cfg(feature = "k40t")]
 mod k40t;
+#[cfg(feature = "mavlink")]
+mod mavlink;
 #[cfg(feature = "siyi")]
 mod siyi;
 #[cfg(feature = "viewlink")]
@@ -36,6 +38,8 @@ fn main() -> ! {
         black_box(viewlink::probe(input, &mut out));
         #[cfg(feature = "gcu")]
         black_box(gcu::probe(input, &mut out));
+        #[cfg(feature = "mavlink")]
+        black_box(mavlink::probe(input, &mut out));
         #[cfg(feature = "bridge")]
         bridge::probe(input, &mut out);
         black_box((input, &mut out));

@@ -1710,7 +1710,7 @@ impl SimPod {
             let frame = match event {
                 None => break,
                 Some(Event::Frame(bytes)) => Some(bytes.to_vec()),
-                Some(Event::Rejected { .. }) => None,
+                Some(Event::Rejected { .. } | Event::Skipped(_)) => None,
             };
             any = true;
             if let Some(frame) = frame {

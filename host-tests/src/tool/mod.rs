@@ -109,7 +109,8 @@ pub fn scan_with<F: Framing>(
                     error: error.to_string(),
                 });
             }
-            Scanned::Garbage { offset, bytes } => {
+            // No framing of the tool skips frames (only MAVLink does): shown as garbage.
+            Scanned::Skipped { offset, bytes } | Scanned::Garbage { offset, bytes } => {
                 let end = offset + bytes.len();
                 if end <= covered_until {
                     continue;

@@ -47,6 +47,22 @@ pub trait Framing {
     /// # Errors
     /// Why the frame is not valid (normally [`Error::BadChecksum`]).
     fn check(&self, frame: &[u8]) -> Result<(), Error>;
+
+    /// Whether `buf` (not empty) may be the start of a frame: by default, whether it
+    /// starts with [`Framing::sync`] or a prefix of it. A framing with more than one
+    /// start byte (MAVLink 2 and 1) overrides this.
+    fn starts_like_frame(&self, buf: &[u8]) -> bool {
+        starts_like_sync(buf, self.sync())
+    }
+
+    /// Whether a complete frame that passed [`Framing::check`] is one the framing
+    /// recognises but does not deliver (a MAVLink 1 frame on a MAVLink 2 link): the
+    /// deframer then consumes it whole as [`Event::Skipped`] and counts it in
+    /// [`Stats::frames_skipped`]. By default, never.
+    fn skip(&self, frame: &[u8]) -> bool {
+        let _ = frame;
+        false
+    }
 }
 
 /// The outcome of looking at the front of a buffer.
@@ -54,6 +70,8 @@ pub trait Framing {
 enum Step {
     /// A valid frame of this length starts at the front.
     Frame(usize),
+    /// A valid frame of this length that the framing does not deliver starts at the front.
+    Skipped(usize),
     /// The candidate at the front (this many bytes of it) failed.
     Rejected(Error, usize),
     /// This many bytes at the front cannot start a frame.
@@ -73,12 +91,12 @@ fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
     if buf.is_empty() {
         return Step::NeedMore;
     }
-    if sync.is_empty() || !starts_like_sync(buf, sync) {
+    if sync.is_empty() || !framing.starts_like_frame(buf) {
         // The next position that could start a frame (possibly a partial sync at the end).
         let next = (1..buf.len())
             .find(|&i| {
                 buf.get(i..)
-                    .is_some_and(|tail| starts_like_sync(tail, sync))
+                    .is_some_and(|tail| framing.starts_like_frame(tail))
             })
             .unwrap_or(buf.len());
         return Step::Skip(next.max(1));
@@ -98,6 +116,7 @@ fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
         return Step::NeedMore;
     };
     match framing.check(frame) {
+        Ok(()) if framing.skip(frame) => Step::Skipped(len),
         Ok(()) => Step::Frame(len),
         Err(e) => Step::Rejected(e, len),
     }
@@ -108,6 +127,9 @@ fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
 pub enum Event<'a> {
     /// A complete frame whose length and checksum are valid, sync bytes to checksum.
     Frame(&'a [u8]),
+    /// A complete, valid frame of a kind the framing recognises but does not deliver (a
+    /// MAVLink 1 frame on a MAVLink 2 link, see [`Framing::skip`]), consumed whole.
+    Skipped(&'a [u8]),
     /// A candidate that started with the sync bytes but failed: `raw` is the candidate
     /// (its header, or its full claimed length when the checksum failed). Its first byte
     /// is discarded and the rest is scanned again.
@@ -125,12 +147,15 @@ wire_derive! {
     pub struct Stats {
         /// Valid frames delivered.
         pub frames_ok: u32,
-        /// Candidates rejected for their checksum.
+        /// Valid frames recognised and skipped whole ([`Event::Skipped`]: MAVLink 1).
+        pub frames_skipped: u32,
+        /// Candidates rejected for their checksum, or whose checksum cannot be checked (a
+        /// MAVLink message id outside the dialect: [`Error::UnknownId`]).
         pub checksum_errors: u32,
         /// Candidates rejected for an impossible length (or longer than the buffer), or
         /// left incomplete when the line went idle.
         pub length_errors: u32,
-        /// Bytes that were not part of any delivered frame.
+        /// Bytes that were not part of any delivered frame (skipped frames included).
         pub bytes_discarded: u32,
     }
 }
@@ -208,6 +233,7 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
             release: 0,
             stats: Stats {
                 frames_ok: 0,
+                frames_skipped: 0,
                 checksum_errors: 0,
                 length_errors: 0,
                 bytes_discarded: 0,
@@ -346,7 +372,9 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
         match reported {
             Step::Rejected(error, n) => {
                 match error {
-                    Error::BadChecksum { .. } => bump(&mut self.stats.checksum_errors, 1),
+                    Error::BadChecksum { .. } | Error::UnknownId => {
+                        bump(&mut self.stats.checksum_errors, 1);
+                    }
                     _ => bump(&mut self.stats.length_errors, 1),
                 }
                 bump(&mut self.stats.bytes_discarded, 1);
@@ -358,6 +386,12 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
                 bump(&mut self.stats.frames_ok, 1);
                 self.release = n;
                 Some(Event::Frame(window.get(..n).unwrap_or(window)))
+            }
+            Step::Skipped(n) => {
+                bump(&mut self.stats.frames_skipped, 1);
+                bump(&mut self.stats.bytes_discarded, n);
+                self.release = n;
+                Some(Event::Skipped(window.get(..n).unwrap_or(window)))
             }
             Step::NeedMore | Step::Skip(_) => None,
         }
@@ -412,6 +446,13 @@ pub enum Scanned<'a> {
         /// Why it failed.
         error: Error,
     },
+    /// A valid frame the framing does not deliver ([`Event::Skipped`]).
+    Skipped {
+        /// Offset of its first sync byte.
+        offset: usize,
+        /// The frame.
+        bytes: &'a [u8],
+    },
     /// Bytes that cannot start a frame.
     Garbage {
         /// Offset of the first byte.
@@ -459,6 +500,13 @@ impl<'a, F: Framing> Iterator for Scanner<'a, F> {
         let (item, advance) = match step(&self.framing, rest, usize::MAX) {
             Step::Frame(n) => (
                 Scanned::Frame {
+                    offset,
+                    bytes: rest.get(..n)?,
+                },
+                n,
+            ),
+            Step::Skipped(n) => (
+                Scanned::Skipped {
                     offset,
                     bytes: rest.get(..n)?,
                 },
@@ -553,6 +601,7 @@ mod tests {
             Event::Rejected { error, .. } => {
                 assert!(matches!(error, Error::BadChecksum { .. }));
             }
+            Event::Skipped(_) => panic!("the toy framing skips nothing"),
         });
         assert_eq!(seen, vec![real.to_vec()]);
         assert_eq!(d.stats().checksum_errors, 1);

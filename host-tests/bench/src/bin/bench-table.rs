@@ -83,6 +83,27 @@ fn main() {
     );
     row("raw-frame reader", "mavlink_raw", k40t_frames);
     row("parse (frame + message)", "mavlink_parse", k40t_frames);
+    let (mav, _) = codec_bench::mavlink_stream();
+    let mav_frames = mav.frames.len();
+    println!(
+        "| **MAVLink 2**, protocol_core::mavlink (the bridge's 25 messages, {mav_frames} frames, {} bytes) | | | | |",
+        mav.bytes.len()
+    );
+    row("checksum alone (floor)", "mavlink_checksum", mav_frames);
+    row("deframe", "mavlink_deframe", mav_frames);
+    row("decode", "mavlink_decode", mav_frames);
+    row("decode + encode", "mavlink_decode_encode", mav_frames);
+    row(
+        "encode (typed message to frame)",
+        "mavlink_encode",
+        mav_frames,
+    );
+    println!("| **rust-mavlink 0.21** own reader/encoder, same stream and types | | | | |");
+    row("reader + parse", "rmav_set_parse", mav_frames);
+    row("serialize_message", "rmav_set_encode", mav_frames);
+    println!("| **mavio 0.5 + mavspec 0.6** own receiver/builder, same stream | | | | |");
+    row("receiver + decode", "mavio_set_parse", mav_frames);
+    row("builder + serialize", "mavio_set_encode", mav_frames);
     let frames = codec_bench::BRIDGE_RUN_FRAMES;
     println!("| **bridge engine** (SIYI FC side, {frames} frames, outputs taken) | | | | |");
     row(
@@ -124,5 +145,20 @@ fn main() {
         "K40T deframe + decode / rust-mavlink parse",
         "k40t_deframe_decode",
         "mavlink_parse",
+    );
+    ratio(
+        "MAVLink: deframe / checksum floor",
+        "mavlink_deframe",
+        "mavlink_checksum",
+    );
+    ratio(
+        "MAVLink: rust-mavlink reader + parse / mavio",
+        "rmav_set_parse",
+        "mavio_set_parse",
+    );
+    ratio(
+        "MAVLink: rust-mavlink serialize / mavio",
+        "rmav_set_encode",
+        "mavio_set_encode",
     );
 }
