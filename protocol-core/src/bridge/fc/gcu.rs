@@ -119,8 +119,9 @@ struct Awaiting {
 /// Everything of the GCU side but its deframer.
 #[derive(Debug, Clone)]
 struct GcuState {
-    /// Bytes received since the line was last idle (the current burst).
-    burst_bytes: u32,
+    /// The package being handled: its bytes and those received after it in the same
+    /// reception (the serial time from its first byte to the reception's instant).
+    span_bytes: u32,
     /// The previous package's order (the edge trigger).
     last_order: Option<u8>,
     /// The GCU mode byte (reply byte 5): the mode order last executed.
@@ -154,7 +155,7 @@ impl GcuSide {
         GcuSide {
             deframer: Deframer::new(GcuFraming::host()),
             st: GcuState {
-                burst_bytes: 0,
+                span_bytes: 0,
                 last_order: None,
                 mode: order::HEAD_FOLLOW,
                 track_return: order::HEAD_FOLLOW,
@@ -173,30 +174,30 @@ impl GcuSide {
     }
 
     pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
         let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
+        self.deframer.push_counting_after(bytes, |ev, after| {
             if let DeframerEvent::Frame(f) = ev {
+                st.span_bytes = u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX);
                 st.frame(ctx, f);
             }
         });
     }
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-    }
+    /// Nothing to do: a package's time is counted from its own first byte, never from
+    /// its burst's (see `GcuState::feed`).
+    #[allow(clippy::unused_self)] // the same shape as every side
+    pub(crate) fn new_burst(&mut self) {}
 
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let st = &mut self.st;
         self.deframer.flush(|ev| {
             if let DeframerEvent::Frame(f) = ev {
+                // Completed by the idle, its last byte came at least the idle time ago:
+                // its own serial time only makes it look later.
+                st.span_bytes = u32::try_from(f.len()).unwrap_or(u32::MAX);
                 st.frame(ctx, f);
             }
         });
-        self.st.burst_bytes = 0;
     }
 
     /// Question and answer: nothing is sent unasked.
@@ -325,8 +326,15 @@ impl GcuState {
         if !sub.is_present() {
             return;
         }
-        // The FC wrote the burst's first byte when it read these values.
-        let transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
+        // The FC read these values before it wrote the package's first byte, and the
+        // package and what followed it in this reception came at most at the line's
+        // rate: that first byte arrived at least their serial time before `ctx.now`.
+        // Not the burst's first byte: ArduPilot writes one package per update, and a
+        // package queued behind earlier ones (an FC loop overrun, a USB-serial adapter
+        // or a host that froze, then the backlog back to back) was read after the burst
+        // began; counted from it, the sample would look early, and the discipline's
+        // minimum-delay filter trusts the earliest-looking samples.
+        let transit = serial_time(self.span_bytes, ctx.config.fc_baud);
         let week = u16::from_ne_bytes(sub.gps_week.to_ne_bytes());
         if let Some(utc) = UtcTime::from_gps(week, sub.gps_tow_ms, ctx.config.leap_seconds) {
             let s = Sample::new(ctx.now, utc.as_unix_micros(), GPS_HOLD_US)

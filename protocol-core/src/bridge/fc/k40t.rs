@@ -73,7 +73,9 @@ struct GpsPending {
 struct K40tState {
     /// [`Config::fc_silence_stop`](crate::bridge::Config), for `poll_at`.
     silence: Duration,
-    burst_bytes: u32,
+    /// The frame being handled: its bytes and those received after it in the same
+    /// reception (the serial time from its first byte to the reception's instant).
+    span_bytes: u32,
     forwarded: [Option<Forwarded>; SEQ_MAP],
     next_slot: usize,
     gps: Option<GpsPending>,
@@ -88,7 +90,7 @@ impl K40tSide {
             deframer: Deframer::new(K40tFraming::any()),
             st: K40tState {
                 silence,
-                burst_bytes: 0,
+                span_bytes: 0,
                 forwarded: [None; SEQ_MAP],
                 next_slot: 0,
                 gps: None,
@@ -99,30 +101,30 @@ impl K40tSide {
     }
 
     pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
-        let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        self.st.burst_bytes = self.st.burst_bytes.saturating_add(n);
         let st = &mut self.st;
-        self.deframer.push(bytes, |ev| {
+        self.deframer.push_counting_after(bytes, |ev, after| {
             if let DeframerEvent::Frame(f) = ev {
+                st.span_bytes = u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX);
                 st.fc_frame(ctx, f);
             }
         });
     }
 
-    /// The line was quiet before the bytes about to be received: they start a new burst
-    /// (the transit of a time value is counted from its burst's first byte).
-    pub(crate) fn new_burst(&mut self) {
-        self.st.burst_bytes = 0;
-    }
+    /// Nothing to do: the FC's time sync is timed from its own first byte, never from
+    /// its burst's (see `time_sync`).
+    #[allow(clippy::unused_self)] // the same shape as every side
+    pub(crate) fn new_burst(&mut self) {}
 
     pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let st = &mut self.st;
         self.deframer.flush(|ev| {
             if let DeframerEvent::Frame(f) = ev {
+                // Completed by the idle, its last byte came at least the idle time ago:
+                // its own serial time only makes it look later.
+                st.span_bytes = u32::try_from(f.len()).unwrap_or(u32::MAX);
                 st.fc_frame(ctx, f);
             }
         });
-        self.st.burst_bytes = 0;
     }
 
     pub(crate) fn poll(&mut self, ctx: &mut Ctx<'_>) {
@@ -279,9 +281,13 @@ impl K40tState {
     /// The FC's time sync: a UTC sample, ACKed by the bridge, not forwarded.
     fn time_sync(&mut self, ctx: &mut Ctx<'_>, t: TimeSync, header: Header) {
         // The FC sends it at once after its own RTC_IO edge (the document's procedure):
-        // one is enough for a first mapping.
+        // one is enough for a first mapping. Its first byte left at or after the edge,
+        // and it and what followed it in this reception came at most at the line's
+        // rate. Not the burst's first byte: frames the FC wrote before its edge may
+        // still have been going out, the 0x00030E right behind them; counted from them,
+        // the sample would look early, which the discipline trusts.
         let s = Sample::new(ctx.now, t.unix_ms.saturating_mul(1000), 1000)
-            .with_transit(serial_time(self.burst_bytes, ctx.config.fc_baud))
+            .with_transit(serial_time(self.span_bytes, ctx.config.fc_baud))
             .prompt();
         ctx.time.utc_sample(s);
         let ack = k40t::TimeSyncAck {
