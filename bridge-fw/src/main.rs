@@ -169,13 +169,48 @@ async fn led(sh: &'static Sh, led: Output<'static>) -> ! {
 
 #[embassy_executor::task]
 async fn log(sh: &'static Sh) -> ! {
-    bridge_fw::log_task(sh, |r: &Record| match r.what {
+    bridge_fw::log_task(sh, |r: &Record| {
+        #[cfg(feature = "qemu")]
+        qemu_time_event(r);
+        log_defmt(r);
+    })
+    .await
+}
+
+/// The time-sync events on QEMU's stdout (the emulated-board scenarios report them).
+#[cfg(feature = "qemu")]
+fn qemu_time_event(r: &Record) {
+    use bridge_fw::Event;
+    let at = r.at.as_micros();
+    match r.what {
+        What::Engine(Event::UtcValid {
+            error_bound_us,
+            converged,
+        }) => semihosting::println!(
+            "bridge-fw (qemu): {at} us: UTC valid, bound {error_bound_us} us, converged {converged}"
+        ),
+        What::Engine(Event::UtcLost) => {
+            semihosting::println!("bridge-fw (qemu): {at} us: UTC lost")
+        }
+        What::Engine(Event::TimeSync {
+            edge,
+            utc_ms,
+            error_bound_us,
+        }) => semihosting::println!(
+            "bridge-fw (qemu): {at} us: time sync, edge {} us, UTC {utc_ms} ms, bound {error_bound_us} us",
+            edge.as_micros()
+        ),
+        _ => {}
+    }
+}
+
+fn log_defmt(r: &Record) {
+    match r.what {
         What::ReadError(_) | What::WriteError(_) | What::PinError(_) | What::Stalled(_) => {
             defmt::warn!("{}", r);
         }
         _ => defmt::info!("{}", r),
-    })
-    .await
+    }
 }
 
 /// Emulated board: report a fault on QEMU's stdout and end QEMU with a failure code, so a

@@ -9,18 +9,22 @@
 //! real time runs the simulated FC driver and the simulated pod (`sim::peer::run_peer`)
 //! and a script that drives the FC and checks, in order: the firmware boots as that side,
 //! the FC simulator reaches healthy, a command reaches the pod with the right fields,
-//! telemetry from the pod comes back to the FC simulator, an RTC_IO High edge (GPIOD pin
-//! 14 in the trace) precedes a valid 0x00030E on the pod socket, the bytes on both links
-//! were all valid and QEMU still runs.
+//! telemetry from the pod comes back to the FC simulator, [`SYNCS`] times an RTC_IO High
+//! edge (GPIOD pin 14 in the trace) precedes a valid 0x00030E on the pod socket that
+//! carries the FC's UTC at the edge within 30 ms, the bytes on both links were all valid
+//! and QEMU still runs.
 //!
 //! RTC_IO reaches the simulated pod from the trace file: the file is read every few
 //! milliseconds, and always just before bytes from the pod socket are handed to the pod.
 //! QEMU writes (and flushes) the trace line while the guest stores to BSRR, before the
 //! guest goes on to write the 0x00030E to the USART, so an edge is always delivered
-//! before the frame that follows it.
+//! before the frame that follows it. QEMU stamps each trace line with the wall clock
+//! (`-msg timestamp=on`): that stamp, not the moment the watch read the line, is the
+//! edge's instant the time check compares against.
 //!
 //! Emulated time runs slower than wall time when the host is busy: every wait is a
-//! generous time-out, and no check is on a duration (the durations are reported).
+//! generous time-out, and no check is on a duration (the durations are reported). The
+//! one check on time is the product's: no 0x00030E more than 30 ms off the FC's UTC.
 
 use core::cell::RefCell;
 use core::convert::Infallible;
@@ -147,8 +151,12 @@ impl Outcome {
     }
 }
 
-/// The 0x00030E's time against the FC's UTC at the edge, largest accepted error.
-const MAX_UTC_ERROR_MS: i128 = 5_000;
+/// The 0x00030E's time against the FC's UTC at the edge, largest accepted error (the
+/// product's: no time stamp off by 30 ms or more).
+const MAX_UTC_ERROR_US: i128 = 30_000;
+
+/// Time syncs each scenario checks (one every 10 s from the first).
+pub const SYNCS: usize = 3;
 
 /// How many checks a complete scenario has.
 pub const CHECKS: usize = 7;
@@ -178,6 +186,40 @@ pub fn pin_write(line: &str, port: &str, pin: u32) -> Option<bool> {
     }
 }
 
+/// The wall-clock instant (µs since the Unix epoch) QEMU stamped a trace line with
+/// (`-msg timestamp=on`: `<pid>@<seconds>.<microseconds>:<event> ...`), if it has one.
+#[must_use]
+pub fn trace_stamp_us(line: &str) -> Option<u64> {
+    let (head, _) = line.split_once(':')?;
+    let (_, stamp) = head.split_once('@')?;
+    let (secs, micros) = stamp.split_once('.')?;
+    if micros.len() != 6 {
+        return None;
+    }
+    let secs: u64 = secs.parse().ok()?;
+    let micros: u64 = micros.parse().ok()?;
+    secs.checked_mul(1_000_000)?.checked_add(micros)
+}
+
+/// The offset from the simulators' clock ([`now_us`]) to the wall clock (µs since the
+/// Unix epoch), read back to back a few times, the tightest pair kept (to a few µs).
+fn wall_offset_us() -> i128 {
+    let mut best: Option<(u64, i128)> = None;
+    for _ in 0..8 {
+        let a = now_us();
+        let wall = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_micros());
+        let b = now_us();
+        let spread = b.saturating_sub(a);
+        let offset = i128::try_from(wall).unwrap_or(0) - i128::from(a / 2 + b / 2);
+        if best.is_none_or(|(s, _)| spread < s) {
+            best = Some((spread, offset));
+        }
+    }
+    best.map_or(0, |(_, o)| o)
+}
+
 fn parse_hex(s: &str) -> Option<u32> {
     u32::from_str_radix(s.strip_prefix("0x")?, 16).ok()
 }
@@ -188,11 +230,26 @@ struct TraceWatch {
     file: Option<File>,
     pending: Vec<u8>,
     level: bool,
-    /// Every level change: (wall µs when seen, new level).
-    edges: Vec<(u64, bool)>,
+    /// Every level change: when the watch saw it, the instant QEMU traced it (both on the
+    /// simulators' clock), the new level.
+    edges: Vec<Edge>,
+    /// The simulators' clock to the wall clock of QEMU's trace stamps, µs.
+    wall_offset_us: i128,
     /// LED2 (PB14): its level and the wall µs of its changes.
     led: bool,
     led_edges: Vec<(u64, bool)>,
+}
+
+/// One RTC_IO change seen in the trace.
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    /// When the watch read it (µs, simulators' clock): what the simulated pod was told.
+    seen_us: u64,
+    /// When the guest wrote the pin, from QEMU's stamp on the trace line (µs, the
+    /// simulators' clock; `None` for a line without a stamp). The reference instant of
+    /// the time-sync check: the watch reads the file every 5 ms, later under load.
+    traced_us: Option<u64>,
+    level: bool,
 }
 
 impl TraceWatch {
@@ -203,6 +260,7 @@ impl TraceWatch {
             pending: Vec::new(),
             level: false,
             edges: Vec::new(),
+            wall_offset_us: wall_offset_us(),
             led: false,
             led_edges: Vec::new(),
         }
@@ -274,7 +332,16 @@ impl TraceWatch {
             {
                 self.level = level;
                 let t = now_us();
-                self.edges.push((t, level));
+                // Traced before it was seen, by less than a second: else the wall clock
+                // stepped since the offset was taken, and the stamp is not used.
+                let traced_us = trace_stamp_us(&line)
+                    .and_then(|wall| u64::try_from(i128::from(wall) - self.wall_offset_us).ok())
+                    .filter(|&traced| traced <= t + 1_000 && t < traced + 1_000_000);
+                self.edges.push(Edge {
+                    seen_us: t,
+                    traced_us,
+                    level,
+                });
                 pod.borrow_mut().rtc_edge(t, level);
             }
         }
@@ -690,6 +757,7 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         .arg(chardev("fc", &fc_sock))
         .args(["-serial", "null", "-serial", "chardev:pod"])
         .args(["-serial", "null", "-serial", "chardev:fc"])
+        .args(["-msg", "timestamp=on"])
         .args(["-trace", "enable=stm32l4x5_gpio_write", "-D"])
         .arg(&trace)
         .arg("-kernel")
@@ -790,6 +858,87 @@ fn drive<F: FcUnderTest>(
     checks
 }
 
+/// The time syncs so far: each must be applied by the pod (a traced High edge before its
+/// first byte, within the window), in time zone 0, and carry the FC's UTC at the edge
+/// within [`MAX_UTC_ERROR_US`]; [`SYNCS`] of them pass. The reference instant is the
+/// edge as QEMU stamped it in the trace (the watch that tells the pod may see it
+/// milliseconds later).
+fn sync_step<F: FcUnderTest>(fc: &F, pod: &SimPod, trace: &TraceWatch, qemu_out: &Path) -> Step {
+    let syncs = pod.syncs();
+    if syncs.is_empty() {
+        return Step::Waiting(trace.led_status());
+    }
+    let bounds = firmware_bounds(qemu_out);
+    let mut errors = Vec::new();
+    let mut delays = Vec::new();
+    for (i, s) in syncs.iter().enumerate() {
+        let traced = s.edge_us.and_then(|seen| {
+            trace
+                .edges
+                .iter()
+                .find(|e| e.level && e.seen_us == seen)
+                .map(|e| e.traced_us.unwrap_or(seen))
+        });
+        let (SyncOutcome::Applied, Some(edge)) = (s.outcome, traced) else {
+            return Step::Fail(format!("sync {}: {s:?}", i + 1));
+        };
+        if s.tz_minuteswest != 0 {
+            return Step::Fail(format!("sync {}: time zone {}", i + 1, s.tz_minuteswest));
+        }
+        let err_us = i128::from(s.unix_ms) * 1000 - i128::from(fc.utc_us(edge));
+        let bound = bounds
+            .iter()
+            .find(|(ms, _)| *ms == s.unix_ms)
+            .map_or(String::new(), |(_, b)| {
+                format!(" (bound {:.1})", f64::from(*b) / 1000.0)
+            });
+        errors.push(format!("{:+.1}{bound}", err_us as f64 / 1000.0));
+        if err_us.abs() >= MAX_UTC_ERROR_US {
+            return Step::Fail(format!(
+                "sync {}: UTC {:+.1} ms off the FC's at the edge (limit {} ms); so far {} ms",
+                i + 1,
+                err_us as f64 / 1000.0,
+                MAX_UTC_ERROR_US / 1000,
+                errors.join(", ")
+            ));
+        }
+        delays.push(s.delay_us.unwrap_or(0));
+    }
+    let figures = format!(
+        "{} sync(s), a traced High edge before each; UTC off the FC's at the edge by {} ms; \
+         edge to frame at most {:.1} ms",
+        syncs.len(),
+        errors.join(", "),
+        delays.iter().max().copied().unwrap_or(0) as f64 / 1000.0
+    );
+    if syncs.len() >= SYNCS {
+        Step::Pass(figures)
+    } else {
+        Step::Waiting(figures)
+    }
+}
+
+/// The error bounds the firmware believed for its time syncs, from its semihosting lines
+/// (`... time sync, edge .. us, UTC <ms> ms, bound <µs> us`): (UTC ms, bound µs).
+fn firmware_bounds(qemu_out: &Path) -> Vec<(u64, u32)> {
+    let text = std::fs::read(qemu_out).unwrap_or_default();
+    String::from_utf8_lossy(&text)
+        .lines()
+        .filter_map(|l| {
+            let rest = l.split("time sync, edge ").nth(1)?;
+            let utc = rest.split("UTC ").nth(1)?.split(' ').next()?.parse().ok()?;
+            let bound = rest
+                .split("bound ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()?;
+            Some((utc, bound))
+        })
+        .collect()
+}
+
 /// Waits (polling every 100 ms) until `f` decides, QEMU ends or the deadline passes.
 async fn wait_for(
     qemu: &RefCell<Qemu>,
@@ -887,34 +1036,10 @@ async fn script<F: FcUnderTest>(
     if !push("telemetry back to the FC", telemetry) {
         return;
     }
-    // 5. An RTC_IO High edge, then a valid 0x00030E.
+    // 5. RTC_IO High edges, each followed by a valid 0x00030E carrying the FC's UTC at
+    // the edge, SYNCS times.
     let sync = wait_for(qemu, deadline, || {
-        let pod = pod.borrow();
-        let Some(s) = pod.syncs().first() else {
-            return Step::Waiting(trace.borrow().led_status());
-        };
-        let highs = trace.borrow().edges.iter().filter(|e| e.1).count();
-        let err_ms = s.edge_us.map(|edge| {
-            (i128::from(s.unix_ms) * 1000 - i128::from(fc.borrow().utc_us(edge))) / 1000
-        });
-        match (s.outcome, err_ms) {
-            // The frame's time is the FC's UTC at the edge: within seconds, which no
-            // emulation lag reaches and any mistake of epoch, leap seconds or time zone
-            // exceeds (the milliseconds are reported, not checked).
-            (SyncOutcome::Applied, Some(err_ms))
-                if err_ms.abs() < MAX_UTC_ERROR_MS && s.tz_minuteswest == 0 =>
-            {
-                Step::Pass(format!(
-                    "{highs} High edge(s) by then; edge to frame {:.1} ms; UTC {} ms off the \
-                     FC's",
-                    s.delay_us.unwrap_or(0) as f64 / 1000.0,
-                    err_ms
-                ))
-            }
-            _ => Step::Fail(format!(
-                "{s:?}, UTC off by {err_ms:?} ms, {highs} High edge(s) traced"
-            )),
-        }
+        sync_step(&*fc.borrow(), &pod.borrow(), &trace.borrow(), qemu_out)
     })
     .await;
     if !push("RTC_IO High, then 0x00030E", sync) {
@@ -1000,6 +1125,23 @@ mod tests {
             None
         );
         assert_eq!(pin_write("", "GPIOD", 14), None);
+    }
+
+    #[test]
+    fn trace_stamps_read_as_wall_clock_microseconds() {
+        let line = "11054@1795551751.337070:stm32l4x5_gpio_write GPIOD addr: 0x18 val: 0x4000";
+        assert_eq!(trace_stamp_us(line), Some(1_795_551_751_337_070));
+        assert_eq!(pin_write(line, "GPIOD", 14), Some(true));
+        // No stamp (QEMU without `-msg timestamp=on`), a malformed one.
+        assert_eq!(
+            trace_stamp_us("stm32l4x5_gpio_write GPIOD addr: 0x18 val: 0x4000"),
+            None
+        );
+        assert_eq!(trace_stamp_us("1@17.5:stm32l4x5_gpio_write GPIOD"), None);
+        assert_eq!(
+            trace_stamp_us("1@x.000001:stm32l4x5_gpio_write GPIOD"),
+            None
+        );
     }
 
     #[test]

@@ -813,19 +813,25 @@ fn time_sync_accuracy_over_one_hour_flights_with_held_gps_time() {
 }
 
 /// Without any idle signal from the caller (a busy host, a UART driver without idle
-/// detection) the engine still finds the bursts from the gaps between receptions, so the
-/// held GPS time still converges and syncs stay as accurate.
+/// detection) the syncs are those of the same flight with them: each package's time is
+/// counted from its own first byte, so neither the idle signal nor the gaps between
+/// receptions matter.
 #[test]
 fn time_sync_needs_no_idle_signal_from_the_caller() {
-    let ap = ApXfRobotConfig {
-        ppm: 15.0,
-        seed: 31,
-        ..ApXfRobotConfig::default()
+    let flight = |idle_off: bool| {
+        let ap = ApXfRobotConfig {
+            ppm: 15.0,
+            seed: 31,
+            ..ApXfRobotConfig::default()
+        };
+        let mut s = scenario(ap, PodSimConfig::default(), -20);
+        s.fc_idle_off = idle_off;
+        s.run_until(600 * S);
+        sync_errors(&s, 60 * S)
     };
-    let mut s = scenario(ap, PodSimConfig::default(), -20);
-    s.fc_idle_off = true;
-    s.run_until(600 * S);
-    let mut errs: Vec<i64> = sync_errors(&s, 60 * S).iter().map(|e| e.abs()).collect();
+    let with = flight(false);
+    let without = flight(true);
+    let mut errs: Vec<i64> = without.iter().map(|e| e.abs()).collect();
     errs.sort_unstable();
     println!(
         "GCU without idle signals: {} edges, p50 {} us, max {} us",
@@ -834,11 +840,11 @@ fn time_sync_needs_no_idle_signal_from_the_caller() {
         errs[errs.len() - 1]
     );
     assert!(errs.len() >= 50, "{} edges", errs.len());
-    // Without the engine's own burst detection no sync is ever sent (the burst, hence
-    // the transit, grows without end); with it, within a few ms of the idle-signalled
-    // figures (15 ms there).
-    assert!(quantile(&errs, 0.5) < 8_000);
-    assert!(errs[errs.len() - 1] < 20_000);
+    assert_eq!(with.len(), without.len());
+    for (a, b) in with.iter().zip(&without) {
+        assert!((a - b).abs() < 1_000, "with idle {a} us, without {b} us");
+    }
+    assert!(errs[errs.len() - 1] < 15_000);
 }
 
 /// A GPS receiver's latency before the FC knows a fix is a constant bias the bridge

@@ -85,6 +85,47 @@ fn the_fc_time_sync_is_a_utc_sample_and_the_bridge_owns_rtc_io() {
     );
 }
 
+/// The FC's 0x00030E right behind frames it wrote before its edge and that were still
+/// going out (one burst on the line): it is timed from its own first byte, so the syncs
+/// carry the FC's UTC within the 2 ms it waited for the line. Timed from the burst's
+/// first byte (as the bridge did) it looked 15 ms early, and the discipline, which
+/// trusts the earliest-looking sample, kept the syncs 15 ms ahead.
+#[test]
+fn a_time_sync_behind_other_frames_is_timed_from_its_own_first_byte() {
+    let mut s = scenario();
+    // The FC's first time sync goes out at 1 s of true time; 15 ms before, it writes
+    // twelve frames (17 ms of line time): the 0x00030E follows them back to back.
+    s.run_until(S - 15_000);
+    for _ in 0..12 {
+        s.fc.send(&HybridZoom {
+            start: 0,
+            zoom_x10: 10,
+        });
+    }
+    s.run_for(1);
+    assert!(
+        s.fc_line.busy_until() > S,
+        "the line is busy at the FC's edge"
+    );
+    s.run_until(40 * S);
+    let highs: Vec<_> = s
+        .pin_edges
+        .iter()
+        .filter(|e| e.level == Level::High)
+        .copied()
+        .collect();
+    let errors: Vec<i64> = highs
+        .iter()
+        .zip(s.pod.syncs())
+        .map(|(edge, sync)| {
+            assert_eq!(sync.outcome, SyncOutcome::Applied);
+            sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64
+        })
+        .collect();
+    assert!(errors.len() >= 3, "{errors:?}");
+    assert!(errors.iter().all(|e| e.abs() < 3_000), "{errors:?} us");
+}
+
 #[test]
 fn the_bridge_answers_gps_requests_the_fc_leaves_unanswered() {
     let mut s = scenario();

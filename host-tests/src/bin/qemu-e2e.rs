@@ -214,11 +214,11 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         };
     }
-    // Two at a time by default: each scenario mostly waits for the bridge's time discipline
-    // (some 30 s of samples before the first sync), and two emulated boards share a
-    // 2-core machine without starving each other (four did: the XF Robot driver's 3.6 kB/s
-    // then backed up and its UTC never converged). The heaviest side goes first, next to
-    // the lightest.
+    // Two at a time by default: each scenario mostly waits for its three time syncs (on
+    // the 10 s UTC grid, the first about 10 s after start), and two emulated boards share a
+    // 2-core machine without starving each other (four at once pass too since the GCU side
+    // times each package from its own first byte, but each then waits longer for its CPU).
+    // The heaviest side goes first, next to the lightest.
     let next = AtomicUsize::new(0);
     let order: Vec<Side> = args.sides.clone();
     let mut results: Vec<(Side, String, bool)> = std::thread::scope(|scope| {

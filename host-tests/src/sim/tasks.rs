@@ -12,8 +12,9 @@
 //! good or for a while: [`Wires::pull_fc`], [`Wires::pull_pod`]) or change them (a
 //! [`Corrupter`], or a seeded [`Faults`] model: [`Wires::set_fc_faults`],
 //! [`Wires::set_pod_faults`]), in both directions, and can trickle them one byte at a
-//! time at the line's pace (into the bridge). RTC_IO goes to the pod through [`PodPin`]; every record of
-//! the tasks' log (engine events, pin changes, edge-to-frame delays) is kept.
+//! time at the line's pace or hold them up for a while (into the bridge). RTC_IO goes
+//! to the pod through [`PodPin`]; every record of the tasks' log (engine events, pin
+//! changes, edge-to-frame delays) is kept.
 //!
 //! A [`Bench`] runs once ([`Bench::run`]): virtual time starts at 0 with each run. A
 //! script called every tick acts on the peers and the wires while the tasks run.
@@ -51,6 +52,9 @@ pub struct Wire {
     pub log: Vec<(u64, Vec<u8>)>,
     /// Write one byte at a time, this many µs apart (into the bridge only).
     pub trickle_us: Option<u64>,
+    /// Hold every byte written before this instant (µs) until then (into the bridge
+    /// only; [`Wire::hold_for`]).
+    pub hold_until_us: u64,
     corrupt: Option<Box<Corrupter>>,
     faults: Option<FaultStage>,
 }
@@ -92,6 +96,14 @@ impl Wire {
     /// Pulls the cable out for `duration_us` from `now_us`: bytes are lost until then.
     pub fn pull_for(&mut self, now_us: u64, duration_us: u64) {
         self.cut_until_us = now_us.saturating_add(duration_us);
+    }
+
+    /// Holds the bytes for `duration_us` from `now_us`: the sender's output backs up
+    /// (an FC loop overrun, a UART held by flow control, a USB-serial adapter or a host
+    /// that froze), nothing is lost, and what was held then goes out back to back, with
+    /// whatever the sender writes meanwhile behind it (into the bridge only).
+    pub fn hold_for(&mut self, now_us: u64, duration_us: u64) {
+        self.hold_until_us = now_us.saturating_add(duration_us);
     }
 
     /// The cable is out at `now_us`.
@@ -140,6 +152,10 @@ impl<W: ErrorType> ErrorType for WireTx<'_, W> {
 
 impl<W: Write> Write for WireTx<'_, W> {
     async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        let hold = self.wire.borrow().hold_until_us;
+        if now_us() < hold {
+            Timer::at(EmbassyInstant::from_micros(hold)).await;
+        }
         let (out, trickle) = {
             let mut w = self.wire.borrow_mut();
             (w.pass(buf), w.trickle_us)

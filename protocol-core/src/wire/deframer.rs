@@ -340,7 +340,7 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     /// The next event from the buffered bytes, or `None` when more bytes are needed.
     /// The returned frame stays valid until the next call on the deframer.
     pub fn poll(&mut self) -> Option<Event<'_>> {
-        self.next_event(false)
+        self.next_event(false).map(|(event, _)| event)
     }
 
     /// Like [`Deframer::poll`], for when the line has gone idle (e.g. a UART idle
@@ -350,10 +350,11 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     /// claims a longer frame holds back the valid frames behind it until enough further
     /// bytes arrive. Returns `None` once the buffer is empty.
     pub fn poll_idle(&mut self) -> Option<Event<'_>> {
-        self.next_event(true)
+        self.next_event(true).map(|(event, _)| event)
     }
 
-    fn next_event(&mut self, idle: bool) -> Option<Event<'_>> {
+    /// The next event and the number of bytes held behind the bytes it covers.
+    fn next_event(&mut self, idle: bool) -> Option<(Event<'_>, usize)> {
         self.apply_release();
         let reported = loop {
             let held = self.end.saturating_sub(self.start);
@@ -369,6 +370,7 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
             }
         };
         let window = self.buf.get(self.start..self.end).unwrap_or_default();
+        let behind = |n: usize| window.len().saturating_sub(n);
         match reported {
             Step::Rejected(error, n) => {
                 match error {
@@ -380,18 +382,18 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
                 bump(&mut self.stats.bytes_discarded, 1);
                 self.release = 1;
                 let raw = window.get(..n).unwrap_or(window);
-                Some(Event::Rejected { error, raw })
+                Some((Event::Rejected { error, raw }, behind(n)))
             }
             Step::Frame(n) => {
                 bump(&mut self.stats.frames_ok, 1);
                 self.release = n;
-                Some(Event::Frame(window.get(..n).unwrap_or(window)))
+                Some((Event::Frame(window.get(..n).unwrap_or(window)), behind(n)))
             }
             Step::Skipped(n) => {
                 bump(&mut self.stats.frames_skipped, 1);
                 bump(&mut self.stats.bytes_discarded, n);
                 self.release = n;
-                Some(Event::Skipped(window.get(..n).unwrap_or(window)))
+                Some((Event::Skipped(window.get(..n).unwrap_or(window)), behind(n)))
             }
             Step::NeedMore | Step::Skip(_) => None,
         }
@@ -413,12 +415,26 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
     }
 
     /// Feeds all of `input` and hands every resulting event to `sink`, in stream order.
-    pub fn push(&mut self, mut input: &[u8], mut sink: impl FnMut(Event<'_>)) {
+    pub fn push(&mut self, input: &[u8], mut sink: impl FnMut(Event<'_>)) {
+        self.push_counting_after(input, |event, _| sink(event));
+    }
+
+    /// [`Deframer::push`], also telling `sink` with each event how many bytes of the
+    /// stream came after the bytes it covers, up to the end of `input` (those held
+    /// behind it and the rest of `input`). A frame's own bytes and these are the serial
+    /// time between its first byte and the last byte of `input`, at the line's rate:
+    /// what a receiver that stamps `input` with the arrival of its last byte needs to
+    /// time the frame's start, whatever came before it.
+    pub fn push_counting_after(
+        &mut self,
+        mut input: &[u8],
+        mut sink: impl FnMut(Event<'_>, usize),
+    ) {
         loop {
             let n = self.feed(input);
             input = input.get(n..).unwrap_or_default();
-            while let Some(event) = self.poll() {
-                sink(event);
+            while let Some((event, behind)) = self.next_event(false) {
+                sink(event, behind.saturating_add(input.len()));
             }
             if input.is_empty() {
                 return;
@@ -625,6 +641,33 @@ mod tests {
         assert_eq!(whole.stats(), bytes.stats());
         assert_eq!(whole.stats().frames_ok, 2);
         assert_eq!(whole.buffered(), 1);
+    }
+
+    #[test]
+    fn each_frame_is_told_the_bytes_that_came_after_it() {
+        // Garbage, two frames and the start of a third in one input, through a buffer
+        // smaller than the input (fed in two parts); then the third completed.
+        let a = [0xAA, 0x55, 0x01, 0x07, 0x07];
+        let b = [0xAA, 0x55, 0x02, 0x01, 0x02, 0x03];
+        let mut input = vec![0x00, 0x11];
+        input.extend_from_slice(&a);
+        input.extend_from_slice(&b);
+        input.extend_from_slice(&[0xAA, 0x55, 0x00]);
+        let mut d = Deframer::<Toy, 8>::new(Toy);
+        let mut seen = vec![];
+        d.push_counting_after(&input, |e, after| {
+            if let Event::Frame(f) = e {
+                seen.push((f.to_vec(), after));
+            }
+        });
+        assert_eq!(seen, vec![(a.to_vec(), 6 + 3), (b.to_vec(), 3)]);
+        seen.clear();
+        d.push_counting_after(&[0x00, 0x99], |e, after| {
+            if let Event::Frame(f) = e {
+                seen.push((f.to_vec(), after));
+            }
+        });
+        assert_eq!(seen, vec![(vec![0xAA, 0x55, 0x00, 0x00], 1)]);
     }
 
     #[test]

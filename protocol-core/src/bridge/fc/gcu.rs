@@ -276,7 +276,7 @@ impl GcuSide {
         if !sub.is_present() {
             return;
         }
-        // The FC wrote the burst's first byte when it read these values.
+        // The FC read these values before it wrote the package's first byte.
         let transit = ctx.transit;
         let week = u16::from_ne_bytes(sub.gps_week.to_ne_bytes());
         if let Some(utc) = UtcTime::from_gps(week, sub.gps_tow_ms, ctx.config.leap_seconds) {

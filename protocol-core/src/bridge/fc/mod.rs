@@ -1,7 +1,7 @@
 //! The flight-controller sides of the bridge, one per FC protocol.
 //!
 //! Every side has the same shape: an [`FcLink`] owns what a serial FC link needs whatever
-//! its protocol (the protocol's deframer, the burst the FC is writing and its serial
+//! its protocol (the protocol's deframer, the FC's bursts and each frame's serial
 //! time), and hands each valid frame to the side's [`FcHandler`], which holds only its
 //! protocol's decisions: it decodes the frame, turns commands into [`Command`]s for the
 //! pod driver, feeds the time discipline and the fix history, and answers the FC at once
@@ -31,8 +31,8 @@ pub(crate) struct Ctx<'a> {
     pub(crate) out: &'a mut Outputs,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
-    /// The serial time of the current burst so far (set by [`FcLink`] for each frame): a
-    /// time value's transit from its sender's read, counted from the burst's first byte.
+    /// The serial time from the current frame's first byte to `now` (set by [`FcLink`]
+    /// for each frame): a time value's transit from its sender's read, at least.
     pub(crate) transit: Duration,
 }
 
@@ -176,7 +176,7 @@ pub(crate) trait FcHandler {
     /// The protocol's framing.
     type Framing: Framing;
 
-    /// One valid frame from the FC; [`Ctx::transit`] is its burst's serial time so far.
+    /// One valid frame from the FC; [`Ctx::transit`] is the serial time since its first byte.
     fn frame(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]);
 
     /// The FC starts a new burst (the line was quiet, or went idle).
@@ -217,12 +217,10 @@ pub(crate) trait FcHandler {
 }
 
 /// What every serial FC link has, whatever its protocol: the protocol's deframer (`N`
-/// bytes) and the burst the FC is writing, over the side's [`FcHandler`].
+/// bytes) and the FC's bursts, over the side's [`FcHandler`].
 #[derive(Debug, Clone)]
 pub(crate) struct FcLink<H: FcHandler, const N: usize> {
     deframer: Deframer<H::Framing, N>,
-    /// Bytes received since the current burst began.
-    burst_bytes: u32,
     /// When the last bytes arrived (for inferring a quiet line between bursts).
     last_rx: Option<Instant>,
     handler: H,
@@ -232,7 +230,6 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
     fn new(framing: H::Framing, handler: H) -> Self {
         FcLink {
             deframer: Deframer::new(framing),
-            burst_bytes: 0,
             last_rx: None,
             handler,
         }
@@ -242,24 +239,30 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
     fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
         let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
         // A burst also starts when the line was quiet before these bytes, even if the
-        // caller's idle signal did not come (a late thread, a busy host): a time value's
-        // transit must never count bytes of an earlier burst (it would make the sample
-        // look early, which the discipline's minimum-delay filter would trust). A false
-        // start only makes a sample look late, which the filter discards.
+        // caller's idle signal did not come (a late thread, a busy host).
         let first_byte = ctx.now.saturating_sub(serial_time(n, ctx.config.fc_baud));
         if self
             .last_rx
             .and_then(|last| last.checked_add(BURST_GAP))
             .is_some_and(|quiet_until| first_byte > quiet_until)
         {
-            self.new_burst();
+            self.handler.burst_started();
         }
         self.last_rx = Some(ctx.now);
-        self.burst_bytes = self.burst_bytes.saturating_add(n);
-        ctx.transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
         let handler = &mut self.handler;
-        self.deframer.push(bytes, |ev| {
+        self.deframer.push_counting_after(bytes, |ev, after| {
             if let DeframerEvent::Frame(f) = ev {
+                // The FC read the frame's values before it wrote the frame's first byte,
+                // and the frame and what came after it in this reception came at most at
+                // the line's rate: that byte arrived at least their serial time before
+                // `ctx.now`. Not the burst's first byte: a frame queued behind earlier
+                // ones (an FC loop overrun, a USB-serial adapter or a host that froze,
+                // then the backlog back to back; a K40T 0x00030E right behind frames
+                // written before its edge) was read after the burst began; timed from
+                // it, the sample would look early, which the discipline's minimum-delay
+                // filter trusts. Timed from its own first byte, it can only look late.
+                let bytes = u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX);
+                ctx.transit = serial_time(bytes, ctx.config.fc_baud);
                 handler.frame(ctx, f);
             }
         });
@@ -267,18 +270,16 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
 
     /// The FC line has gone idle: frames are complete, the burst is over.
     fn idle(&mut self, ctx: &mut Ctx<'_>) {
-        ctx.transit = serial_time(self.burst_bytes, ctx.config.fc_baud);
         let handler = &mut self.handler;
         self.deframer.flush(|ev| {
             if let DeframerEvent::Frame(f) = ev {
+                // Completed by the idle, its last byte came at least the idle time ago:
+                // its own serial time only makes it look later.
+                let bytes = u32::try_from(f.len()).unwrap_or(u32::MAX);
+                ctx.transit = serial_time(bytes, ctx.config.fc_baud);
                 handler.frame(ctx, f);
             }
         });
-        self.new_burst();
-    }
-
-    fn new_burst(&mut self) {
-        self.burst_bytes = 0;
         self.handler.burst_started();
     }
 }

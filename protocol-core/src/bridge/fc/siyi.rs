@@ -200,8 +200,8 @@ impl SiyiSide {
         self.request(ctx, request, packet.header.seq);
     }
 
-    /// The sample of a time value that came with this frame: local instant of the burst's
-    /// start is `now` minus the serial time of the burst so far.
+    /// The sample of a time value that came with this frame: read before the frame's
+    /// first byte went out, `now` minus the frame's serial time so far.
     fn sample(ctx: &Ctx<'_>, value_us: u64, resolution_us: u32) -> Sample {
         Sample::new(ctx.now, value_us, resolution_us).with_transit(ctx.transit)
     }
