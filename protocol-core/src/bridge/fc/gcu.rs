@@ -46,7 +46,7 @@ use crate::gcu::{
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
 use crate::k40t::{self, GimbalAttitude as PodAttitude, SdState};
 
-use super::{Ctx, FcHandler, clamp_i16};
+use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
 
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::bridge::GcuIdentity)):
 /// a first header byte followed by one that is not the second. ArduPilot's XF Robot
@@ -166,6 +166,7 @@ impl GcuSide {
 
 impl FcHandler for GcuSide {
     type Framing = GcuFraming;
+    const TIMED_FROM: TimedFrom = TimedFrom::Frame;
 
     fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         self.fc_frame(ctx, f);

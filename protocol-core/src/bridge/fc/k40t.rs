@@ -24,7 +24,7 @@
 //!   FC sends nothing for [`Config::fc_silence_stop`](crate::bridge::Config), the bridge
 //!   stops the pod.
 
-use super::{Ctx, FcHandler, PodFrame};
+use super::{Ctx, FcHandler, PodFrame, TimedFrom};
 use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::Fix;
 use crate::bridge::pod::AckClaim;
@@ -88,6 +88,7 @@ impl K40tSide {
 
 impl FcHandler for K40tSide {
     type Framing = K40tFraming;
+    const TIMED_FROM: TimedFrom = TimedFrom::Frame;
 
     fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         self.fc_frame(ctx, f);

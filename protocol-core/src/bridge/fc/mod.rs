@@ -31,8 +31,9 @@ pub(crate) struct Ctx<'a> {
     pub(crate) out: &'a mut Outputs,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
-    /// The serial time from the current frame's first byte to `now` (set by [`FcLink`]
-    /// for each frame): a time value's transit from its sender's read, at least.
+    /// The serial time from the first byte written after the FC read the current frame's
+    /// values (its burst's or its own, [`FcHandler::TIMED_FROM`]) to `now`, set by
+    /// [`FcLink`] for each frame: the least transit of a time value in it.
     pub(crate) transit: Duration,
 }
 
@@ -176,7 +177,15 @@ pub(crate) trait FcHandler {
     /// The protocol's framing.
     type Framing: Framing;
 
-    /// One valid frame from the FC; [`Ctx::transit`] is the serial time since its first byte.
+    /// Where the FC read the values of a frame: at its burst's first byte (the FC writes
+    /// all the frames of one update at once, as ArduPilot's SIYI and Viewpro drivers do:
+    /// the UART's buffer then sends them back to back), or at the frame's own first byte
+    /// (one frame per update, or one written after an event: ArduPilot's XF Robot
+    /// driver, a K40T FC's 0x00030E after its edge). See [`Ctx::transit`].
+    const TIMED_FROM: TimedFrom;
+
+    /// One valid frame from the FC; [`Ctx::transit`] is its serial time as
+    /// [`FcHandler::TIMED_FROM`] says.
     fn frame(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]);
 
     /// The FC starts a new burst (the line was quiet, or went idle).
@@ -216,6 +225,18 @@ pub(crate) trait FcHandler {
     }
 }
 
+/// The first byte written after an FC read the values of a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TimedFrom {
+    /// The first byte of the frame's burst.
+    Burst,
+    /// The frame's own first byte. Never early: a frame queued behind others (an FC loop
+    /// overrun, a USB-serial adapter or a host that froze, then the backlog back to back)
+    /// was read after its burst began, and timed from the burst it would look early,
+    /// which the discipline's minimum-delay filter trusts.
+    Frame,
+}
+
 /// What every serial FC link has, whatever its protocol: the protocol's deframer (`N`
 /// bytes) and the FC's bursts, over the side's [`FcHandler`].
 #[derive(Debug, Clone)]
@@ -223,6 +244,8 @@ pub(crate) struct FcLink<H: FcHandler, const N: usize> {
     deframer: Deframer<H::Framing, N>,
     /// When the last bytes arrived (for inferring a quiet line between bursts).
     last_rx: Option<Instant>,
+    /// Bytes received since the current burst began.
+    burst_bytes: u32,
     handler: H,
 }
 
@@ -231,6 +254,7 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
         FcLink {
             deframer: Deframer::new(framing),
             last_rx: None,
+            burst_bytes: 0,
             handler,
         }
     }
@@ -246,22 +270,23 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
             .and_then(|last| last.checked_add(BURST_GAP))
             .is_some_and(|quiet_until| first_byte > quiet_until)
         {
-            self.handler.burst_started();
+            self.new_burst();
         }
         self.last_rx = Some(ctx.now);
+        self.burst_bytes = self.burst_bytes.saturating_add(n);
+        let burst_bytes = self.burst_bytes;
         let handler = &mut self.handler;
         self.deframer.push_counting_after(bytes, |ev, after| {
             if let DeframerEvent::Frame(f) = ev {
-                // The FC read the frame's values before it wrote the frame's first byte,
-                // and the frame and what came after it in this reception came at most at
-                // the line's rate: that byte arrived at least their serial time before
-                // `ctx.now`. Not the burst's first byte: a frame queued behind earlier
-                // ones (an FC loop overrun, a USB-serial adapter or a host that froze,
-                // then the backlog back to back; a K40T 0x00030E right behind frames
-                // written before its edge) was read after the burst began; timed from
-                // it, the sample would look early, which the discipline's minimum-delay
-                // filter trusts. Timed from its own first byte, it can only look late.
-                let bytes = u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX);
+                // The frame (or its burst) and what came after it in this reception came
+                // at most at the line's rate: its first byte arrived at least their
+                // serial time before `ctx.now`.
+                let bytes = match H::TIMED_FROM {
+                    TimedFrom::Burst => burst_bytes,
+                    TimedFrom::Frame => {
+                        u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX)
+                    }
+                };
                 ctx.transit = serial_time(bytes, ctx.config.fc_baud);
                 handler.frame(ctx, f);
             }
@@ -270,16 +295,25 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
 
     /// The FC line has gone idle: frames are complete, the burst is over.
     fn idle(&mut self, ctx: &mut Ctx<'_>) {
+        let burst_bytes = self.burst_bytes;
         let handler = &mut self.handler;
         self.deframer.flush(|ev| {
             if let DeframerEvent::Frame(f) = ev {
                 // Completed by the idle, its last byte came at least the idle time ago:
-                // its own serial time only makes it look later.
-                let bytes = u32::try_from(f.len()).unwrap_or(u32::MAX);
+                // its own serial time (or its burst's) only makes it look later.
+                let bytes = match H::TIMED_FROM {
+                    TimedFrom::Burst => burst_bytes,
+                    TimedFrom::Frame => u32::try_from(f.len()).unwrap_or(u32::MAX),
+                };
                 ctx.transit = serial_time(bytes, ctx.config.fc_baud);
                 handler.frame(ctx, f);
             }
         });
+        self.new_burst();
+    }
+
+    fn new_burst(&mut self) {
+        self.burst_bytes = 0;
         self.handler.burst_started();
     }
 }

@@ -41,7 +41,7 @@ use crate::siyi::{
     TimeAck, VideoEncoding, VideoOutput, ZoomDirection, ZoomLevel, ZoomRatio,
 };
 
-use super::{Ctx, FcHandler, Home, clamp_i16};
+use super::{Ctx, FcHandler, Home, TimedFrom, clamp_i16};
 
 /// Deframer buffer: ArduPilot's frames carry at most 32 data bytes (42-byte frames);
 /// longer frames are not ArduPilot's and are rejected.
@@ -87,6 +87,7 @@ impl SiyiSide {
 
 impl FcHandler for SiyiSide {
     type Framing = SiyiFraming;
+    const TIMED_FROM: TimedFrom = TimedFrom::Burst;
 
     fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         self.fc_frame(ctx, f);
@@ -200,8 +201,8 @@ impl SiyiSide {
         self.request(ctx, request, packet.header.seq);
     }
 
-    /// The sample of a time value that came with this frame: read before the frame's
-    /// first byte went out, `now` minus the frame's serial time so far.
+    /// The sample of a time value that came with this frame: read before its burst's
+    /// first byte went out, `now` minus the burst's serial time so far.
     fn sample(ctx: &Ctx<'_>, value_us: u64, resolution_us: u32) -> Sample {
         Sample::new(ctx.now, value_us, resolution_us).with_transit(ctx.transit)
     }

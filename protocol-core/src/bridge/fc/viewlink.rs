@@ -53,7 +53,7 @@ use crate::viewlink::{
     UCommand, V, VCommand, VData, VideoSource, ViewlinkFraming,
 };
 
-use super::{Ctx, FcHandler, Home, clamp_i16};
+use super::{Ctx, FcHandler, Home, TimedFrom, clamp_i16};
 
 /// Deframer buffer: the largest Viewlink frame (63 bytes of body).
 pub(crate) const BUF: usize = viewlink::MAX_FRAME_LEN;
@@ -176,6 +176,7 @@ impl ViewlinkSide {
 
 impl FcHandler for ViewlinkSide {
     type Framing = ViewlinkFraming;
+    const TIMED_FROM: TimedFrom = TimedFrom::Burst;
 
     fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
         self.fc_frame(ctx, f);
