@@ -45,13 +45,13 @@ use protocol_core::k40t::{
     YawMotion,
 };
 
-use crate::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
-use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
-use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
-use crate::sim::fc_k40t::FcK40t;
-use crate::sim::peer::{PeerError, now_us, run_peer};
-use crate::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
-use crate::sim::scenario::FcSim;
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
+use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
+use gimbal::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
+use gimbal::sim::fc_k40t::FcK40t;
+use gimbal::sim::peer::{PeerError, now_us, run_peer};
+use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::scenario::FcSim;
 
 /// Both links' baud rate (bridge.toml's `fc_baud` and `pod_baud`; QEMU's chardevs ignore it,
 /// the simulators pace their output with it).

@@ -1,10 +1,5 @@
-//! Host-side harness of the project: the `gimbal` command-line tool (decode captures,
-//! list messages, the bridge on Linux, the simulators on real ports), the simulated
-//! peers of the bridge ([`sim`]) and, as integration tests, the native test suites.
+//! The project's test harness beyond the test files: the emulated-board driver
+//! ([`emulated`], run by the `qemu-e2e` binary). The simulators it drives are the `gimbal`
+//! tool's ([`gimbal::sim`]).
 
-pub mod cli;
-pub mod demo;
 pub mod emulated;
-pub mod runner;
-pub mod sim;
-pub mod tool;

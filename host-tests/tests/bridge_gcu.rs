@@ -3,9 +3,9 @@
 
 use std::sync::{Arc, Mutex};
 
-use host_tests::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
-use host_tests::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
-use host_tests::sim::scenario::Scenario;
+use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
+use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, FcProtocol, GcuIdentity, Level};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, Focus, FocusMode, GimbalAngle, GimbalControl,

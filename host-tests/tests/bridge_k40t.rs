@@ -2,9 +2,9 @@
 //! pod: forwarding with consistent sequence numbers, RTC_IO owned by the bridge, the
 //! geotag fallback, FC silence.
 
-use host_tests::sim::fc_k40t::FcK40t;
-use host_tests::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
-use host_tests::sim::scenario::Scenario;
+use gimbal::sim::fc_k40t::FcK40t;
+use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::{
     AckCode, DialSpeed, GimbalAttitude, GimbalControl, GimbalFunction, HybridZoom, HybridZoomAck,

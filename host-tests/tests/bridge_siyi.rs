@@ -1,9 +1,9 @@
 //! The bridge between a simulated ArduPilot SIYI driver and a simulated K40T pod: the
 //! scenarios of the bridge engine issue, in simulated time.
 
-use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
-use host_tests::sim::pod::{MotionCommand, PodSimConfig, SimPod};
-use host_tests::sim::scenario::Scenario;
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
+use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod};
+use gimbal::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, GimbalControl, HybridZoom, ImageModeSetting,
@@ -322,7 +322,7 @@ fn time_syncs_follow_the_fc_utc_and_photos_are_geotagged() {
         );
         assert_eq!(
             sync.outcome,
-            host_tests::sim::pod::SyncOutcome::Applied,
+            gimbal::sim::pod::SyncOutcome::Applied,
             "{sync:?}"
         );
     }
@@ -407,7 +407,7 @@ fn time_sync_accuracy_over_one_hour_flights() {
             .zip(syncs)
             .filter(|(e, _)| e.at_us >= 60 * S)
             .map(|(e, sync)| {
-                assert_eq!(sync.outcome, host_tests::sim::pod::SyncOutcome::Applied);
+                assert_eq!(sync.outcome, gimbal::sim::pod::SyncOutcome::Applied);
                 (sync.unix_ms * 1000).abs_diff(s.fc.fc_utc_us(e.at_us))
             })
             .collect();
@@ -474,7 +474,7 @@ fn damaged_lines_cost_frames_not_health_or_control() {
         }
         out
     }));
-    s.pod.set_output_faults(host_tests::sim::pod::OutputFaults {
+    s.pod.set_output_faults(gimbal::sim::pod::OutputFaults {
         seed: 77,
         garbage_probability: 0.05,
         max_garbage_len: 16,
@@ -571,7 +571,7 @@ fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
 #[test]
 fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
     let mut s = healthy_scenario();
-    s.pod.set_output_faults(host_tests::sim::pod::OutputFaults {
+    s.pod.set_output_faults(gimbal::sim::pod::OutputFaults {
         seed: 5,
         garbage_probability: 1.0,
         max_garbage_len: 64,
@@ -586,7 +586,7 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
         s.fc.health_log
     );
     s.pod
-        .set_output_faults(host_tests::sim::pod::OutputFaults::default());
+        .set_output_faults(gimbal::sim::pod::OutputFaults::default());
     let back = s.now_us;
     s.run_for(4 * S);
     assert!(s.engine.pod_state().link);

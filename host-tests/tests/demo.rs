@@ -1,4 +1,4 @@
-//! The demo (`host_tests::demo`) for each FC protocol: the bridge's firmware tasks
+//! The demo (`gimbal::demo`) for each FC protocol: the bridge's firmware tasks
 //! between the simulated FC and the simulated pod, 60 s of simulated time. The FC calls
 //! the mount healthy, time syncs reach the pod and are accurate, every photo is
 //! geotagged, nothing is dropped, and it takes seconds, not minutes.
@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant};
 
-use host_tests::demo::{self, DemoOptions, Summary};
+use gimbal::demo::{self, DemoOptions, Summary};
 use protocol_core::bridge::FcProtocol;
 
 fn run(fc: FcProtocol) -> (Summary, String) {

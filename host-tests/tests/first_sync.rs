@@ -6,13 +6,13 @@
 //! steady state, 15 ms). Eight flights per side, FC and bridge crystals up to ±25 ppm,
 //! different boot phases. Run with `--nocapture` for the figures.
 
-use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
-use host_tests::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
-use host_tests::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
-use host_tests::sim::fc_k40t::FcK40t;
-use host_tests::sim::pilot::Pilot;
-use host_tests::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
-use host_tests::sim::scenario::Scenario;
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
+use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
+use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
+use gimbal::sim::fc_k40t::FcK40t;
+use gimbal::sim::pilot::Pilot;
+use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::scenario::Scenario;
 use protocol_core::bridge::{Config, Event, Level};
 
 const S: u64 = 1_000_000;

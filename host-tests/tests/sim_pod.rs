@@ -1,9 +1,7 @@
-//! The simulated K40T pod (`host_tests::sim::pod`), driven the way the bridge will drive
+//! The simulated K40T pod (`gimbal::sim::pod`), driven the way the bridge will drive
 //! it: frames built with the codec go in, the pod's bytes come out and are deframed.
 
-use host_tests::sim::pod::{
-    AckSeq, MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome,
-};
+use gimbal::sim::pod::{AckSeq, MotionCommand, OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use protocol_core::k40t::{
     self, AckCode, Address, AiRecognition, CameraVersionAck, CameraVersionQuery, ContinuousZoom,
     CrcCoverage, DialSpeed, Focus, FocusMode, FocusState, GimbalAngle, GimbalAttitude,
@@ -288,7 +286,7 @@ fn reports_arrive_at_the_document_rates_with_incrementing_sequence_numbers() {
     assert_eq!(s.self_test.0, 0x0F);
     let sys = fc.of::<SystemStatus>()[0].2;
     assert_eq!(sys.stream, ImageMode::Visible);
-    assert_eq!(fc.of::<IrStatus>()[0].2, host_tests::sim::pod::IR_STATUS);
+    assert_eq!(fc.of::<IrStatus>()[0].2, gimbal::sim::pod::IR_STATUS);
     let vis = fc.of::<VisibleStatus>()[0].2;
     assert_eq!((vis.zoom_x10, vis.zoom_state), (10, ZoomState::Done));
     assert_eq!(vis.focal_length_10um, 450);

@@ -6,12 +6,12 @@
 
 mod task_scenarios;
 
-use host_tests::sim::ap_siyi::ApSiyi;
-use host_tests::sim::ap_viewpro::ApViewpro;
-use host_tests::sim::ap_xfrobot::ApXfRobot;
-use host_tests::sim::fc_k40t::FcK40t;
-use host_tests::sim::pilot::Pilot;
-use host_tests::sim::pod::AckSeq;
+use gimbal::sim::ap_siyi::ApSiyi;
+use gimbal::sim::ap_viewpro::ApViewpro;
+use gimbal::sim::ap_xfrobot::ApXfRobot;
+use gimbal::sim::fc_k40t::FcK40t;
+use gimbal::sim::pilot::Pilot;
+use gimbal::sim::pod::AckSeq;
 use task_scenarios::S;
 use task_scenarios::faults;
 

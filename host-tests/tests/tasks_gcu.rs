@@ -5,8 +5,8 @@
 
 mod task_scenarios;
 
-use host_tests::sim::ap_xfrobot::ApXfRobot;
-use host_tests::sim::pod::SyncOutcome;
+use gimbal::sim::ap_xfrobot::ApXfRobot;
+use gimbal::sim::pod::SyncOutcome;
 use protocol_core::bridge::{Event, Level};
 use task_scenarios::{Bounds, S};
 

@@ -5,7 +5,7 @@
 
 mod task_scenarios;
 
-use host_tests::sim::fc_k40t::FcK40t;
+use gimbal::sim::fc_k40t::FcK40t;
 use task_scenarios::{Bounds, S};
 
 const BOUNDS: Bounds = Bounds {

@@ -10,9 +10,9 @@ use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{Record, Timing, What};
 use embassy_futures::select::{Either3, select, select3};
 use embassy_time::{Duration, Timer};
-use host_tests::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
-use host_tests::sim::peer::{PodPin, run_peer};
-use host_tests::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
+use gimbal::sim::peer::{PodPin, run_peer};
+use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use protocol_core::bridge::{Config, Engine, Event, FcProtocol, Level};
 use task_scenarios::{Bounds, S};
 

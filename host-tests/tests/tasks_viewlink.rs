@@ -5,7 +5,7 @@
 
 mod task_scenarios;
 
-use host_tests::sim::ap_viewpro::ApViewpro;
+use gimbal::sim::ap_viewpro::ApViewpro;
 use task_scenarios::{Bounds, S};
 
 const BOUNDS: Bounds = Bounds {

@@ -2,7 +2,7 @@
 //! `decoded` objects, written independently of this codec), and the `gimbal` tool's
 //! Viewlink adapter.
 
-use host_tests::tool::{self, Item};
+use gimbal::tool::{self, Item};
 use protocol_core::viewlink::tcp::Envelope;
 use protocol_core::viewlink::*;
 use serde_json::Value;

@@ -8,11 +8,11 @@
 //! own time-out).
 
 use bridge_fw::What;
-use host_tests::sim::FcReboot;
-use host_tests::sim::faults::Faults;
-use host_tests::sim::pilot::Pilot;
-use host_tests::sim::pod::{AckSeq, PodSimConfig, SimPod, SyncOutcome};
-use host_tests::sim::tasks::{Bench, Outcome};
+use gimbal::sim::FcReboot;
+use gimbal::sim::faults::Faults;
+use gimbal::sim::pilot::Pilot;
+use gimbal::sim::pod::{AckSeq, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::tasks::{Bench, Outcome};
 use protocol_core::bridge::{Config, Event};
 use protocol_core::k40t::{self, AckCode, Address, CrcCoverage, Header, TakePhoto};
 

@@ -9,9 +9,9 @@
 pub mod faults;
 
 use bridge_fw::What;
-use host_tests::sim::pilot::{Pilot, describe_k40t};
-use host_tests::sim::pod::SyncOutcome;
-use host_tests::sim::tasks::{Bench, Outcome};
+use gimbal::sim::pilot::{Pilot, describe_k40t};
+use gimbal::sim::pod::SyncOutcome;
+use gimbal::sim::tasks::{Bench, Outcome};
 use protocol_core::bridge::{Event, Level};
 use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData};
 use protocol_core::wire::{Deframer, Event as WireEvent};
@@ -390,7 +390,7 @@ pub fn pod_loss<P: Pilot>(b: Bounds) {
 }
 
 /// A pseudo-random garbage maker: every `every`-th write gets `n` bytes in front.
-fn garbage(seed: u64, every: u32, n: usize) -> Box<host_tests::sim::line::Corrupter> {
+fn garbage(seed: u64, every: u32, n: usize) -> Box<gimbal::sim::line::Corrupter> {
     let mut x = seed | 1;
     let mut count = 0u32;
     Box::new(move |_t, bytes: &[u8]| {

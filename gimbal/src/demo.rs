@@ -3,7 +3,7 @@
 //! short scripted flight, told as a timeline a person can read, then a summary table.
 //!
 //! ```no_run
-//! use host_tests::demo::{self, DemoOptions};
+//! use gimbal::demo::{self, DemoOptions};
 //! use protocol_core::bridge::FcProtocol;
 //!
 //! let summary = demo::run(

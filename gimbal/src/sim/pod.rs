@@ -7,7 +7,7 @@
 //! latest one seen).
 //!
 //! ```
-//! use host_tests::sim::pod::{PodSimConfig, SimPod};
+//! use gimbal::sim::pod::{PodSimConfig, SimPod};
 //!
 //! let mut pod = SimPod::new(PodSimConfig::default());
 //! let mut wire = Vec::new();

@@ -1,7 +1,7 @@
 //! `gimbal`: decode gimbal-protocol serial captures, list the supported messages, run
 //! the bridge on Linux and the simulators on real ports. `gimbal --help` and
 //! `gimbal <command> --help` say how; the command line is defined in
-//! `host_tests::cli`.
+//! `gimbal::cli`.
 //!
 //! Exit status: 0 on success, 1 on a run-time failure (a port that cannot be opened,
 //! a simulator's expectation not met), 2 for bad arguments.
@@ -12,11 +12,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
-use host_tests::cli::{Cli, Command, DecodeArgs};
-use host_tests::demo;
-use host_tests::runner::output::Output;
-use host_tests::runner::{bridge, sims};
-use host_tests::tool::{self, looks_like_hex, parse_hex};
+use gimbal::cli::{Cli, Command, DecodeArgs};
+use gimbal::demo;
+use gimbal::runner::output::Output;
+use gimbal::runner::{bridge, sims};
+use gimbal::tool::{self, looks_like_hex, parse_hex};
 
 /// Set by Ctrl-C (SIGINT) or SIGTERM: the run stops cleanly.
 static STOP: AtomicBool = AtomicBool::new(false);
