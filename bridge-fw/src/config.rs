@@ -6,8 +6,6 @@
 //! `fc = "auto"` it is read from two strap pins at start-up ([`FcChoice::Straps`],
 //! [`from_straps`]).
 
-#[allow(unused_imports)]
-use protocol_core::bridge::Duration;
 use protocol_core::bridge::{Config, FcProtocol};
 
 /// How the firmware picks its FC protocol.

@@ -827,3 +827,12 @@ fn timing_straps_and_led_patterns() {
     let ons: Vec<u16> = pod_only.iter().filter(|b| b.on).map(|b| b.ms).collect();
     assert_eq!(ons, vec![40, 300, 40]);
 }
+
+/// `bridge.toml` lists every key with its default: the configuration `build.rs` wrote out
+/// (deserialized into protocol-core's `Config`, validated, baked as a `const`) is
+/// `Config::DEFAULT` itself, and valid.
+#[test]
+fn the_built_configuration_is_bridge_toml() {
+    assert_eq!(bridge_fw::config::CONFIG, Config::DEFAULT);
+    assert_eq!(bridge_fw::config::CONFIG.validate(), Ok(()));
+}

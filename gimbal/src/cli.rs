@@ -2,11 +2,19 @@
 //! their help. The binary (`src/bin/gimbal.rs`) parses [`Cli`] and dispatches; the
 //! parsing of port specifications and option values lives with the types they produce
 //! ([`PortSpec`], [`RtcSpec`], [`parse_version`], ...) so that it is unit-tested.
+//!
+//! The bridge's configuration options ([`ConfigArgs`]) are the keys of the configuration
+//! file (`protocol_core::bridge::Config`'s, as in `bridge-fw/bridge.toml`): each names
+//! its key (`#[serde(rename)]`), is checked with the key's own parser or range
+//! (`protocol_core::bridge::config::Limit`), and serializes into the keys it overrides
+//! (`runner::bridge::config_of`).
 
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use protocol_core::bridge::FcProtocol;
+use protocol_core::bridge::config::Limit;
+use protocol_core::bridge::{FcProtocol, SiyiIdentity, ViewlinkIdentity};
+use serde::{Serialize, Serializer};
 
 use crate::runner::pin::RtcSpec;
 use crate::runner::port::PortSpec;
@@ -268,109 +276,187 @@ pub struct BridgeArgs {
     /// Make the pod cable faulty (see FAULTS below; not RTC_IO).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
     pub pod_faults: Option<Faults>,
+    /// The bridge's configuration from a file: the firmware's TOML
+    /// (`bridge-fw/bridge.toml`, every key optional). The options below, a port's
+    /// `:BAUD` and --fc override its keys (its `fc` is not used).
+    #[arg(long = "config", value_name = "FILE")]
+    pub config_file: Option<PathBuf>,
     /// The bridge's configuration (the keys of bridge-fw/bridge.toml).
     #[command(flatten)]
     pub config: ConfigArgs,
 }
 
-/// The bridge's configuration: every key of `bridge-fw/bridge.toml`, same ranges, same
-/// defaults (`protocol_core::bridge::Config::DEFAULT`).
-#[derive(Debug, Args, Default)]
+/// The bridge's configuration: every key of `bridge-fw/bridge.toml` (serialized under
+/// that key: what `--config FILE` says is overridden), same ranges, same defaults
+/// (`protocol_core::bridge::Config::DEFAULT`).
+#[derive(Debug, Args, Default, Serialize)]
 #[command(next_help_heading = "Bridge configuration (the keys of bridge-fw/bridge.toml)")]
 pub struct ConfigArgs {
     /// FC link baud rate, 8N1 [default: the FC port's :BAUD, else 115200].
-    #[arg(long, value_name = "BAUD", value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    #[arg(long, value_name = "BAUD", value_parser = ranged::<u32>(Limit::FC_BAUD))]
+    #[serde(skip)] // with the port's :BAUD (runner::bridge::config_of)
     pub fc_baud: Option<u32>,
     /// Pod link baud rate, 8N1 [default: the pod port's :BAUD, else 115200].
-    #[arg(long, value_name = "BAUD", value_parser = clap::value_parser!(u32).range(1200..=4_000_000))]
+    #[arg(long, value_name = "BAUD", value_parser = ranged::<u32>(Limit::POD_BAUD))]
+    #[serde(skip)]
     pub pod_baud: Option<u32>,
     /// GPS time minus UTC, seconds [default: 18].
     #[arg(long, value_name = "S", value_parser = clap::value_parser!(u8))]
+    #[serde(rename = "leap_seconds")]
     pub leap_seconds: Option<u8>,
     /// Time zone sent to the pod in 0x00030E, minutes west of Greenwich (0: the pod
     /// keeps UTC) [default: 0].
     #[arg(long, value_name = "MIN", allow_negative_numbers = true,
-          value_parser = clap::value_parser!(i32).range(-1440..=1440))]
+          value_parser = ranged::<i32>(Limit::TZ_MINUTESWEST))]
+    #[serde(rename = "tz_minuteswest")]
     pub tz_minuteswest: Option<i32>,
     /// The FC link is down after this long without a valid frame, ms [default: 2000].
-    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(100..=60_000))]
+    #[arg(long, value_name = "MS", value_parser = ranged::<u64>(Limit::FC_LINK_TIMEOUT_MS))]
+    #[serde(rename = "fc_link_timeout_ms")]
     pub fc_link_timeout_ms: Option<u64>,
     /// The pod is stopped when the FC sends no motion for this long while it turns, ms
     /// [default: 500].
-    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(50..=60_000))]
+    #[arg(long, value_name = "MS", value_parser = ranged::<u64>(Limit::FC_SILENCE_STOP_MS))]
+    #[serde(rename = "fc_silence_stop_ms")]
     pub fc_silence_stop_ms: Option<u64>,
     /// K40T FC: the bridge answers the pod's GPS request itself when the FC has not
     /// within this time, ms, or `off` [default: 200].
     #[arg(long, value_name = "MS|off", value_parser = parse_fallback)]
+    #[serde(rename = "k40t_geotag_fallback_ms")]
     pub k40t_geotag_fallback_ms: Option<Fallback>,
     /// RTC_IO pulse period, ms: one edge every period, on the UTC grid [default: 10000].
-    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1000..=3_600_000))]
+    #[arg(long, value_name = "MS", value_parser = ranged::<u64>(Limit::SYNC_PERIOD_MS))]
+    #[serde(rename = "sync.period_ms")]
     pub sync_period_ms: Option<u64>,
     /// RTC_IO pulse width, ms [default: 50].
-    #[arg(long, value_name = "MS", value_parser = clap::value_parser!(u64).range(1..=900))]
+    #[arg(long, value_name = "MS", value_parser = ranged::<u64>(Limit::SYNC_WIDTH_MS))]
+    #[serde(rename = "sync.width_ms")]
     pub sync_width_ms: Option<u64>,
     /// SIYI: the 12-character hardware id; its first two characters pick the model in
     /// ArduPilot ("7A" = ZT30: 30x zoom, laser, lens, thermal) [default: 7A0000000001].
-    #[arg(long, value_name = "ID", value_parser = parse_hardware_id)]
-    pub siyi_hardware_id: Option<[u8; 12]>,
+    #[arg(long, value_name = "ID", value_parser = checked(parse_hardware_id))]
+    #[serde(rename = "siyi.hardware_id")]
+    pub siyi_hardware_id: Option<String>,
     /// SIYI: camera firmware MAJOR.MINOR.PATCH (ArduPilot needs it non-zero) [default: 0.3.1].
     #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    #[serde(rename = "siyi.camera_version")]
     pub siyi_camera_version: Option<[u8; 3]>,
     /// SIYI: gimbal firmware [default: 0.3.1].
     #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    #[serde(rename = "siyi.gimbal_version")]
     pub siyi_gimbal_version: Option<[u8; 3]>,
     /// SIYI: zoom firmware [default: 0.1.0].
     #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
+    #[serde(rename = "siyi.zoom_version")]
     pub siyi_zoom_version: Option<[u8; 3]>,
     /// SIYI: largest zoom reported, times ten [default: 300].
-    #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u16).range(10..))]
+    #[arg(long, value_name = "X10", value_parser = ranged::<u16>(Limit::SIYI_MAX_ZOOM_X10))]
+    #[serde(rename = "siyi.max_zoom_x10")]
     pub siyi_max_zoom_x10: Option<u16>,
     /// Viewlink: the model text answered to the 0xE4 query, up to 10 ASCII characters
     /// [default: K40TBRIDGE].
-    #[arg(long, value_name = "TEXT", value_parser = parse_model)]
-    pub viewlink_model: Option<[u8; 10]>,
+    #[arg(long, value_name = "TEXT", value_parser = checked(parse_model))]
+    #[serde(rename = "viewlink.model")]
+    pub viewlink_model: Option<String>,
     /// Viewlink: firmware MAJOR.MINOR.PATCH, each 0..=99, answered to 0xD0 as the text
     /// `S20MMmmpp` [default: 0.1.0].
-    #[arg(long, value_name = "X.Y.Z", value_parser = parse_viewlink_firmware)]
-    pub viewlink_firmware: Option<[u8; 20]>,
+    #[arg(long, value_name = "X.Y.Z", value_parser = parse_viewlink_version)]
+    #[serde(rename = "viewlink.firmware")]
+    pub viewlink_firmware: Option<[u8; 3]>,
     /// GCU: hardware version times ten [default: 10].
     #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
+    #[serde(rename = "gcu.hardware_x10")]
     pub gcu_hardware_x10: Option<u8>,
     /// GCU: firmware version times ten [default: 10].
     #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
+    #[serde(rename = "gcu.firmware_x10")]
     pub gcu_firmware_x10: Option<u8>,
+    /// GCU: gimbal code, reply byte 40 (the document's "Gimbal Code" table; the K40T is
+    /// none of its models) [default: 255].
+    #[arg(long, value_name = "CODE", value_parser = clap::value_parser!(u8))]
+    #[serde(rename = "gcu.gimbal_code")]
+    pub gcu_gimbal_code: Option<u8>,
     /// GCU: send no `8A 00` after each reply (it puts ArduPilot's XF Robot parser back in
     /// step after a corrupted reply).
     #[arg(long)]
+    #[serde(
+        rename = "gcu.resync_mark",
+        serialize_with = "negated",
+        skip_serializing_if = "is_false"
+    )]
     pub gcu_no_resync_mark: bool,
     /// The pod reports yaw positive to the left.
     #[arg(long)]
+    #[serde(rename = "pod.yaw_positive_left", skip_serializing_if = "is_false")]
     pub pod_yaw_positive_left: bool,
     /// The pod reports pitch positive down.
     #[arg(long)]
+    #[serde(rename = "pod.pitch_positive_down", skip_serializing_if = "is_false")]
     pub pod_pitch_positive_down: bool,
     /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
     /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
-          value_parser = clap::value_parser!(u64).range(500..=60_000))]
+          value_parser = ranged::<u64>(Limit::DISCIPLINE_BIN_MS))]
+    #[serde(rename = "discipline.bin_ms")]
     pub discipline_bin_ms: Option<u64>,
     /// Advanced: bins needed before a clock estimate is trusted [default: 5].
     #[arg(long, value_name = "N", help_heading = "Time discipline (advanced)",
-          value_parser = clap::value_parser!(u8).range(2..=32))]
+          value_parser = ranged::<u8>(Limit::DISCIPLINE_MIN_BINS))]
+    #[serde(rename = "discipline.min_bins")]
     pub discipline_min_bins: Option<u8>,
     /// Advanced: local time the trusted bins must span, ms [default: 16000].
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
-          value_parser = clap::value_parser!(u64).range(1000..=600_000))]
+          value_parser = ranged::<u64>(Limit::DISCIPLINE_MIN_SPAN_MS))]
+    #[serde(rename = "discipline.min_span_ms")]
     pub discipline_min_span_ms: Option<u64>,
 }
 
-/// `--k40t-geotag-fallback-ms`: a time or `off`.
+/// `--k40t-geotag-fallback-ms`: a time or `off` (serialized as the file has it: ms or
+/// `"off"`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Fallback {
     /// Answer after this many ms.
     Ms(u64),
     /// Never answer in the FC's place.
     Off,
+}
+
+impl Serialize for Fallback {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Fallback::Ms(ms) => s.serialize_u64(ms),
+            Fallback::Off => s.serialize_str("off"),
+        }
+    }
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's signature
+fn is_false(b: &bool) -> bool {
+    !b
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's signature
+fn negated<S: Serializer>(b: &bool, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_bool(!b)
+}
+
+/// An integer option checked against its key's range (`Config::validate`'s [`Limit`]).
+fn ranged<T>(limit: Limit) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: TryFrom<i64> + Clone + Send + Sync + 'static,
+{
+    move |s| {
+        let v: i64 = s.parse().map_err(|_| format!("`{s}` is not an integer"))?;
+        limit.check(v).map_err(|e| e.problem.to_string())?;
+        T::try_from(v).map_err(|_| format!("{v} is out of range"))
+    }
+}
+
+/// A text option, kept as text once `parse` (the configuration's own parser) takes it.
+fn checked<T: 'static>(
+    parse: fn(&str) -> Result<T, String>,
+) -> impl Fn(&str) -> Result<String, String> + Clone + Send + Sync + 'static {
+    move |s| parse(s).map(|_| s.to_owned())
 }
 
 /// `gimbal sim-fc`.
@@ -510,60 +596,50 @@ pub fn parse_version(s: &str) -> Result<[u8; 3], String> {
     Ok([n(a)?, n(b)?, n(c)?])
 }
 
-/// The Viewlink firmware text `S20MMmmpp`, padded with zeros to 20 bytes (as
-/// `bridge-fw/build.rs` makes it).
+/// The Viewlink firmware text `S20MMmmpp` of `MAJOR.MINOR.PATCH`, padded with zeros to
+/// 20 bytes (`ViewlinkIdentity::firmware_text`, as the firmware's configuration has it).
 ///
 /// # Errors
 /// Not a version, or a part above 99.
 pub fn parse_viewlink_firmware(s: &str) -> Result<[u8; 20], String> {
-    let [major, minor, patch] = parse_version(s)?;
-    if major > 99 || minor > 99 || patch > 99 {
-        return Err(format!("`{s}`: each of MAJOR.MINOR.PATCH must be 0..=99"));
-    }
-    let text = format!("S20{major:02}{minor:02}{patch:02}");
-    let mut out = [0u8; 20];
-    for (slot, b) in out.iter_mut().zip(text.bytes()) {
-        *slot = b;
-    }
-    Ok(out)
+    ViewlinkIdentity::firmware_text(parse_version(s)?).map_err(|e| format!("`{s}`: {}", e.problem))
 }
 
-/// Exactly 12 ASCII characters.
+/// `--viewlink-firmware`: the version, checked as the configuration checks it.
+fn parse_viewlink_version(s: &str) -> Result<[u8; 3], String> {
+    parse_viewlink_firmware(s)?;
+    parse_version(s)
+}
+
+/// Exactly 12 ASCII characters (`SiyiIdentity::parse_hardware_id`).
 ///
 /// # Errors
 /// Anything else.
 pub fn parse_hardware_id(s: &str) -> Result<[u8; 12], String> {
-    s.as_bytes()
-        .try_into()
-        .ok()
-        .filter(|_| s.is_ascii())
-        .ok_or_else(|| format!("`{s}`: expected 12 ASCII characters (e.g. 7A0000000001)"))
+    SiyiIdentity::parse_hardware_id(s)
+        .map_err(|e| format!("`{s}`: {} (e.g. 7A0000000001)", e.problem))
 }
 
-/// 1 to 10 printable ASCII characters, padded with zeros.
+/// 1 to 10 printable ASCII characters, padded with zeros
+/// (`ViewlinkIdentity::parse_model`).
 ///
 /// # Errors
 /// Anything else.
 pub fn parse_model(s: &str) -> Result<[u8; 10], String> {
-    if s.is_empty() || s.len() > 10 || !s.bytes().all(|b| b.is_ascii_graphic() || b == b' ') {
-        return Err(format!(
-            "`{s}`: expected 1 to 10 printable ASCII characters"
-        ));
-    }
-    let mut out = [0u8; 10];
-    for (slot, b) in out.iter_mut().zip(s.bytes()) {
-        *slot = b;
-    }
-    Ok(out)
+    ViewlinkIdentity::parse_model(s).map_err(|e| format!("`{s}`: {}", e.problem))
 }
 
 fn parse_fallback(s: &str) -> Result<Fallback, String> {
     if s.eq_ignore_ascii_case("off") || s.eq_ignore_ascii_case("never") {
         return Ok(Fallback::Off);
     }
-    match s.parse::<u64>() {
-        Ok(ms) if (1..=10_000).contains(&ms) => Ok(Fallback::Ms(ms)),
-        _ => Err(format!("`{s}`: expected a time in ms (1..=10000) or `off`")),
+    let limit = Limit::K40T_GEOTAG_FALLBACK_MS;
+    match s.parse::<i64>() {
+        Ok(ms) if limit.check(ms).is_ok() => Ok(Fallback::Ms(ms.unsigned_abs())),
+        _ => Err(format!(
+            "`{s}`: expected a time in ms ({}..={}) or `off`",
+            limit.min, limit.max
+        )),
     }
 }
 

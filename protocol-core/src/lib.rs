@@ -34,7 +34,10 @@
 //! # Cargo features
 //! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `mavlink` (not
 //! default) adds [`mavlink`], MAVLink 2 over rust-mavlink's generated types; `defmt` derives
-//! `defmt::Format` and `serde` derives `serde::Serialize` on the public types.
+//! `defmt::Format` and `serde` derives `serde::Serialize` on the public types, and
+//! `serde::Deserialize` on the bridge's `Config` from its configuration file's keys;
+//! `bake` (host only) derives `databake::Bake` on `Config`, for a build script that writes
+//! one out as Rust source.
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(
     test,

@@ -15,15 +15,16 @@ use embassy_futures::select::{Either4, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
 use protocol_core::bridge::{Config, Duration, Engine};
 use serde_json::{Value, json};
+use toml::Table;
 
 use super::events;
 use super::output::{Output, now_us, wants_status_line};
 use super::pin::{GpioLine, RtcSpec, RunnerPin};
-use super::port::{self, CableFaults, Pump, link_baud, stats_json};
+use super::port::{self, CableFaults, Pump, port_baud, stats_json};
 use super::simfc::{AnyFc, system_utc_us};
 use super::trace::{TapRead, TapWrite, tap};
 use super::watch::{FcWatcher, PodWatcher};
-use crate::cli::{BridgeArgs, ConfigArgs, Fallback};
+use crate::cli::{BridgeArgs, ConfigArgs};
 use crate::sim::faults::Faults;
 use crate::sim::peer::{PodPin, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};
@@ -39,89 +40,68 @@ pub const TICK: EmbassyDuration = EmbassyDuration::from_millis(50);
 /// never sees a burst end and its GPS time samples are unusable).
 pub const DEFAULT_IDLE_MS: u64 = 8;
 
-/// The bridge's configuration from the command line: `Config::for_fc(fc)` with every
-/// option given applied, and the task timing (`idle_ms`).
+/// The bridge's configuration from the command line: the `--config` file's keys (none:
+/// `Config::DEFAULT`), overridden by the options given ([`ConfigArgs`] serializes into
+/// the keys it sets), a port's `:BAUD` and `--fc`; deserialized into one
+/// `protocol_core::bridge::Config` and checked with `Config::validate`, as the firmware's
+/// `build.rs` does with `bridge.toml`. Also the task timing (`idle_ms`).
 ///
 /// # Errors
-/// Options that contradict each other (a port's `:BAUD` and `--fc-baud`, a pulse as
-/// long as its period).
+/// A configuration file that cannot be read or is not valid, a value out of range
+/// (naming its key), options that contradict each other (a port's `:BAUD` and
+/// `--fc-baud`).
 pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
-    let mut c = Config::for_fc(args.fc.protocol());
+    let mut keys = match &args.config_file {
+        Some(path) => std::fs::read_to_string(path)
+            .map_err(|e| e.to_string())
+            .and_then(|text| text.parse::<Table>().map_err(|e| e.to_string()))
+            .map_err(|e| format!("--config {}: {e}", path.display()))?,
+        None => Table::new(),
+    };
+    let options = Table::try_from(&args.config).map_err(|e| e.to_string())?;
+    for (key, value) in options {
+        set(&mut keys, &key, value);
+    }
     let a: &ConfigArgs = &args.config;
-    c.fc_baud = link_baud(&args.fc_port, a.fc_baud, "--fc-port")?;
-    c.pod_baud = link_baud(&args.pod_port, a.pod_baud, "--pod-port")?;
-    if let Some(v) = a.leap_seconds {
-        c.leap_seconds = v;
+    for (key, port, option, what) in [
+        ("fc_baud", &args.fc_port, a.fc_baud, "--fc-port"),
+        ("pod_baud", &args.pod_port, a.pod_baud, "--pod-port"),
+    ] {
+        if let Some(baud) = port_baud(port, option, what)? {
+            set(&mut keys, key, toml::Value::Integer(baud.into()));
+        }
     }
-    if let Some(v) = a.tz_minuteswest {
-        c.tz_minuteswest = v;
-    }
-    if let Some(v) = a.fc_link_timeout_ms {
-        c.fc_link_timeout = Duration::from_millis(v);
-    }
-    if let Some(v) = a.fc_silence_stop_ms {
-        c.fc_silence_stop = Duration::from_millis(v);
-    }
-    match a.k40t_geotag_fallback_ms {
-        Some(Fallback::Ms(ms)) => c.k40t_geotag_fallback = Some(Duration::from_millis(ms)),
-        Some(Fallback::Off) => c.k40t_geotag_fallback = None,
-        None => {}
-    }
-    if let Some(v) = a.sync_period_ms {
-        c.sync.period = Duration::from_millis(v);
-    }
-    if let Some(v) = a.sync_width_ms {
-        c.sync.width = Duration::from_millis(v);
-    }
-    if c.sync.width >= c.sync.period {
-        return Err(format!(
-            "--sync-width-ms {} must be shorter than the period ({} ms)",
-            c.sync.width.as_millis(),
-            c.sync.period.as_millis()
-        ));
-    }
-    if let Some(v) = a.siyi_hardware_id {
-        c.siyi.hardware_id = v;
-    }
-    if let Some(v) = a.siyi_camera_version {
-        c.siyi.camera_version = v;
-    }
-    if let Some(v) = a.siyi_gimbal_version {
-        c.siyi.gimbal_version = v;
-    }
-    if let Some(v) = a.siyi_zoom_version {
-        c.siyi.zoom_version = v;
-    }
-    if let Some(v) = a.siyi_max_zoom_x10 {
-        c.siyi.max_zoom_x10 = v;
-    }
-    if let Some(v) = a.viewlink_model {
-        c.viewlink.model = v;
-    }
-    if let Some(v) = a.viewlink_firmware {
-        c.viewlink.firmware = v;
-    }
-    if let Some(v) = a.gcu_hardware_x10 {
-        c.gcu.hardware_x10 = v;
-    }
-    if let Some(v) = a.gcu_firmware_x10 {
-        c.gcu.firmware_x10 = v;
-    }
-    c.gcu.resync_mark = !a.gcu_no_resync_mark;
-    c.pod.yaw_positive_left = a.pod_yaw_positive_left;
-    c.pod.pitch_positive_down = a.pod_pitch_positive_down;
-    if let Some(v) = a.discipline_bin_ms {
-        c.discipline.bin_len = Duration::from_millis(v);
-    }
-    if let Some(v) = a.discipline_min_bins {
-        c.discipline.min_bins = v;
-    }
-    if let Some(v) = a.discipline_min_span_ms {
-        c.discipline.min_span = Duration::from_millis(v);
-    }
+    set(&mut keys, "fc", toml::Value::String(args.fc.name().into()));
+
+    let source = match &args.config_file {
+        Some(path) => format!("--config {}: ", path.display()),
+        None => String::new(),
+    };
+    let c: Config = keys
+        .try_into()
+        .map_err(|e| format!("{source}{}", e.to_string().trim_end().replace('\n', " ")))?;
+    c.validate().map_err(|e| format!("{source}{e}"))?;
     let mut timing = Timing::from_config(&c);
     timing.idle_min = Duration::from_millis(args.idle_ms.unwrap_or(DEFAULT_IDLE_MS));
     Ok((c, timing))
+}
+
+/// Sets a key of the configuration (`sync.period_ms`: `period_ms` in `[sync]`). A section
+/// the file gives as something else than a table is left to the deserializer's error.
+fn set(keys: &mut Table, key: &str, value: toml::Value) {
+    match key.split_once('.') {
+        Some((section, rest)) => {
+            let section = keys
+                .entry(section)
+                .or_insert_with(|| toml::Value::Table(Table::new()));
+            if let toml::Value::Table(t) = section {
+                set(t, rest, value);
+            }
+        }
+        None => {
+            keys.insert(key.to_owned(), value);
+        }
+    }
 }
 
 /// What the status line shows, from the events.

@@ -174,13 +174,21 @@ impl PortSpec {
 /// # Errors
 /// The two rates disagree.
 pub fn link_baud(spec: &PortSpec, option: Option<u32>, what: &str) -> Result<u32, String> {
+    Ok(port_baud(spec, option, what)?.unwrap_or(115_200))
+}
+
+/// The baud rate the command line gives a link: the port's `:BAUD` or the option (the
+/// two must agree), or `None` when neither says.
+///
+/// # Errors
+/// The port and the option name different rates.
+pub fn port_baud(spec: &PortSpec, option: Option<u32>, what: &str) -> Result<Option<u32>, String> {
     match (spec.baud(), option) {
         (Some(a), Some(b)) if a != b => Err(format!(
             "{what}: the port says {a} baud and the option {b}: give one"
         )),
-        (Some(a), _) => Ok(a),
-        (None, Some(b)) => Ok(b),
-        (None, None) => Ok(115_200),
+        (Some(a), _) => Ok(Some(a)),
+        (None, b) => Ok(b),
     }
 }
 

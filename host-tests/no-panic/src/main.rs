@@ -16,6 +16,7 @@
 #![allow(unused_must_use)]
 
 mod bridge;
+mod config;
 mod constructors;
 mod gcu;
 mod k40t;
@@ -47,6 +48,7 @@ fn main() -> ! {
         mavlink::exercise(input(), out);
         constructors::exercise(input(), out);
         bridge::exercise(input(), out);
+        config::exercise(input(), out);
     }
 }
 

@@ -1,6 +1,44 @@
 //! The bridge's configuration: one `Copy` struct with documented defaults
-//! ([`Config::DEFAULT`]). Firmware picks it at build time; the Linux runner from its
-//! command line.
+//! ([`Config::DEFAULT`]), its checks ([`Config::validate`], [`Limit`], [`ConfigError`])
+//! and, with the `serde` feature, its configuration file.
+//!
+//! The firmware reads it at build time from `bridge-fw/bridge.toml` (its `build.rs`
+//! deserializes the file into a [`Config`], validates it and writes it out as Rust
+//! source); `gimbal bridge` reads the same file (`--config`) and lets its options
+//! override the keys.
+//!
+//! # The configuration file
+//! With the `serde` feature, [`Config`] implements `serde::Deserialize` from the file's
+//! keys: every key is optional (absent: [`Config::DEFAULT`]'s value), an unknown key is
+//! an error, times are whole milliseconds (`fc_link_timeout_ms`), texts are strings
+//! (`siyi.hardware_id`), versions `[major, minor, patch]`. Fields without a key keep
+//! their default. The keys and their ranges:
+//!
+//! | key | field | allowed |
+//! | --- | --- | --- |
+//! | `fc` | [`Config::fc`] | `"siyi"`, `"viewlink"`, `"gcu"`, `"k40t"` |
+//! | `fc_baud`, `pod_baud` | [`Config::fc_baud`], [`Config::pod_baud`] | [`Limit::FC_BAUD`], [`Limit::POD_BAUD`] |
+//! | `leap_seconds` | [`Config::leap_seconds`] | 0..=255 |
+//! | `tz_minuteswest` | [`Config::tz_minuteswest`] | [`Limit::TZ_MINUTESWEST`] |
+//! | `fc_link_timeout_ms` | [`Config::fc_link_timeout`] | [`Limit::FC_LINK_TIMEOUT_MS`] |
+//! | `fc_silence_stop_ms` | [`Config::fc_silence_stop`] | [`Limit::FC_SILENCE_STOP_MS`] |
+//! | `k40t_geotag_fallback_ms` | [`Config::k40t_geotag_fallback`] | [`Limit::K40T_GEOTAG_FALLBACK_MS`] or `"off"` |
+//! | `[sync] period_ms`, `width_ms` | [`SyncConfig::period`], [`SyncConfig::width`] | [`Limit::SYNC_PERIOD_MS`], [`Limit::SYNC_WIDTH_MS`] |
+//! | `[siyi] hardware_id` | [`SiyiIdentity::hardware_id`] | 12 ASCII characters ([`SiyiIdentity::parse_hardware_id`]) |
+//! | `[siyi] camera_version`, `gimbal_version`, `zoom_version` | [`SiyiIdentity`] | `[major, minor, patch]`, each 0..=255 |
+//! | `[siyi] max_zoom_x10` | [`SiyiIdentity::max_zoom_x10`] | [`Limit::SIYI_MAX_ZOOM_X10`] |
+//! | `[viewlink] model` | [`ViewlinkIdentity::model`] | 1 to 10 printable ASCII characters ([`ViewlinkIdentity::parse_model`]) |
+//! | `[viewlink] firmware` | [`ViewlinkIdentity::firmware`] | `[major, minor, patch]`, each [`Limit::VIEWLINK_FIRMWARE`] ([`ViewlinkIdentity::firmware_text`]) |
+//! | `[gcu] hardware_x10`, `firmware_x10`, `gimbal_code` | [`GcuIdentity`] | 0..=255 |
+//! | `[gcu] resync_mark` | [`GcuIdentity::resync_mark`] | `true`, `false` |
+//! | `[pod] yaw_positive_left`, `pitch_positive_down` | [`PodConfig`] | `true`, `false` |
+//! | `[discipline] bin_ms`, `min_bins`, `min_span_ms` | [`DisciplineConfig`] | [`Limit::DISCIPLINE_BIN_MS`], [`Limit::DISCIPLINE_MIN_BINS`], [`Limit::DISCIPLINE_MIN_SPAN_MS`] |
+//!
+//! Deserializing checks types, texts and versions; [`Config::validate`] checks the
+//! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
+//! the Rust field names and microseconds.)
+
+use core::fmt;
 
 use super::discipline::DisciplineConfig;
 use super::fixes::FixConfig;
@@ -10,7 +48,10 @@ use crate::k40t::{Address, CrcCoverage};
 
 wire_derive! {
     [Eq, Hash]
-    /// The protocol the flight controller speaks.
+    /// The protocol the flight controller speaks (in the configuration file: `"siyi"`,
+    /// `"viewlink"`, `"gcu"`, `"k40t"`).
+    #[cfg_attr(feature = "serde", derive(serde::Deserialize), serde(rename_all(deserialize = "lowercase")))]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
     pub enum FcProtocol {
         /// SIYI SDK (ArduPilot `MNT1_TYPE` 8): the bridge acts as a SIYI gimbal.
         Siyi,
@@ -26,10 +67,17 @@ wire_derive! {
 /// How the bridge presents itself to a SIYI flight controller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
 pub struct SiyiIdentity {
     /// The 12-character hardware id (0x02). Its first two characters select the model
     /// in ArduPilot: "7A" is the ZT30, for which ArduPilot enables 30x zoom, the laser
     /// rangefinder, lens selection and thermal min/max.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::hardware_id"))]
     pub hardware_id: [u8; 12],
     /// Camera firmware (major, minor, patch); ArduPilot needs it non-zero.
     pub camera_version: [u8; 3],
@@ -38,6 +86,7 @@ pub struct SiyiIdentity {
     /// Zoom firmware (major, minor, patch).
     pub zoom_version: [u8; 3],
     /// Largest zoom reported by 0x16, times ten (the ZT30 reports 30x).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub max_zoom_x10: u16,
 }
 
@@ -50,18 +99,46 @@ impl SiyiIdentity {
         zoom_version: [0, 1, 0],
         max_zoom_x10: 300,
     };
+
+    /// The hardware id from its text (`siyi.hardware_id`): exactly 12 ASCII characters.
+    ///
+    /// # Errors
+    /// Any other text ([`Problem::Text`]).
+    pub fn parse_hardware_id(text: &str) -> Result<[u8; 12], ConfigError> {
+        let bad = ConfigError::text("siyi.hardware_id", TextRule::Ascii(12));
+        if text.is_ascii() {
+            text.as_bytes().try_into().map_err(|_| bad)
+        } else {
+            Err(bad)
+        }
+    }
+}
+
+impl Default for SiyiIdentity {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 /// How the bridge presents itself to a Viewlink flight controller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
 pub struct ViewlinkIdentity {
     /// Model text answered to the 0xE4 query (10 bytes, padded with 0x00; ArduPilot
     /// prints it).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::model"))]
     pub model: [u8; 10],
     /// Firmware text answered to the 0xD0 query (20 bytes, padded with 0x00). Viewpro
     /// gimbals send "S" and a date (`Syyyymmdd`); ArduPilot reads bytes 3..9 as three
-    /// two-digit numbers, major, minor and patch.
+    /// two-digit numbers, major, minor and patch. In the configuration file: the version
+    /// `[major, minor, patch]` ([`ViewlinkIdentity::firmware_text`]).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::viewlink_firmware"))]
     pub firmware: [u8; 20],
 }
 
@@ -72,19 +149,85 @@ impl ViewlinkIdentity {
         model: *b"K40TBRIDGE",
         firmware: *b"S20000100\0\0\0\0\0\0\0\0\0\0\0",
     };
+
+    /// The model from its text (`viewlink.model`): 1 to 10 printable ASCII characters
+    /// (space included), padded with zeros.
+    ///
+    /// # Errors
+    /// Any other text ([`Problem::Text`]).
+    pub fn parse_model(text: &str) -> Result<[u8; 10], ConfigError> {
+        let mut model = [0u8; 10];
+        if text.len() > model.len() {
+            return Err(ConfigError::text("viewlink.model", TextRule::Printable(10)));
+        }
+        for (slot, b) in model.iter_mut().zip(text.bytes()) {
+            *slot = b;
+        }
+        if model_is_valid(&model) && !text.bytes().any(|b| b == 0) {
+            Ok(model)
+        } else {
+            Err(ConfigError::text("viewlink.model", TextRule::Printable(10)))
+        }
+    }
+
+    /// The firmware text of a version (`viewlink.firmware`): `S20MMmmpp` (a Viewpro
+    /// date-like text that ArduPilot reads as major.minor.patch), padded with zeros.
+    ///
+    /// # Errors
+    /// A part above 99 ([`Limit::VIEWLINK_FIRMWARE`]).
+    pub fn firmware_text(version: [u8; 3]) -> Result<[u8; 20], ConfigError> {
+        let mut digits = [0u8; 6];
+        for (pair, part) in digits.chunks_exact_mut(2).zip(version) {
+            Limit::VIEWLINK_FIRMWARE.check(part.into())?;
+            for (slot, d) in pair.iter_mut().zip([part / 10, part % 10]) {
+                *slot = b'0'.wrapping_add(d);
+            }
+        }
+        let mut text = [0u8; 20];
+        for (slot, b) in text.iter_mut().zip(b"S20".iter().chain(&digits)) {
+            *slot = *b;
+        }
+        Ok(text)
+    }
+}
+
+impl Default for ViewlinkIdentity {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// 1 to 10 printable ASCII characters, then zeros.
+fn model_is_valid(model: &[u8; 10]) -> bool {
+    let len = model.iter().position(|&b| b == 0).unwrap_or(model.len());
+    len > 0
+        && model
+            .iter()
+            .take(len)
+            .all(|&b| b.is_ascii_graphic() || b == b' ')
+        && model.iter().skip(len).all(|&b| b == 0)
 }
 
 /// How the bridge presents itself to a GCU flight controller (the sub data frame of
 /// every reply).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
 pub struct GcuIdentity {
     /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub hardware_x10: u8,
     /// Firmware version times ten (reply byte 39).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub firmware_x10: u8,
     /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
     /// of the listed models: 0xFF by default, which no table entry uses.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub gimbal_code: u8,
     /// Send `8A 00` after every reply (default true): ArduPilot's XF Robot parser keeps
     /// skipped bytes in its buffer and, after one corrupted reply, can lose step with
@@ -103,37 +246,64 @@ impl GcuIdentity {
     };
 }
 
-/// The pod link: addresses, CRC coverage, retries, time-outs and rate limits.
+impl Default for GcuIdentity {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// The pod link: addresses, CRC coverage, retries, time-outs and rate limits. The
+/// configuration file sets the axis conventions only (`[pod] yaw_positive_left`,
+/// `pitch_positive_down`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
 pub struct PodConfig {
     /// The bridge's own address on the pod link: the flight controller's (0x02/0x01).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub own: Address,
     /// Where gimbal-class requests (0x000010..0x0000FF) go until the pod's reports
     /// show its address (default 0x03/0x01, section 3.1 of the document).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub gimbal: Address,
     /// Where camera requests go until learnt (default 0x04/0x01).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub camera: Address,
     /// CRC coverage until the pod's first report shows its own (default: MAVLink's).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub coverage: CrcCoverage,
     /// Learn addresses and coverage from the pod's reports (default true).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub learn: bool,
     /// Tries of a setting or camera action before giving up (default 3).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub tries: u8,
     /// Time between tries (default 200 ms).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub retry_interval: Duration,
     /// The pod is lost when no report arrives for this long (default 1 s).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub link_timeout: Duration,
     /// While lost, a version query is sent this often (default 1 s).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub probe_interval: Duration,
     /// A motion command is refreshed this often while the gimbal turns (default 1 s).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub motion_refresh: Duration,
     /// Least time between two motion commands (default 100 ms): a flight controller's
     /// 50 Hz control loop becomes at most 10 motion commands a second.
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub motion_interval: Duration,
     /// A rate change smaller than this (0.01 °/s) is no new command (default 50: 0.5 °/s).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub rate_deadband_cdeg_s: u16,
     /// An angle change smaller than this (0.01 °) is no new command (default 20).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub angle_deadband_cdeg: u16,
     /// The pod reports yaw positive to the left (the document does not say; default
     /// false: positive right, the aerospace convention).
@@ -144,6 +314,7 @@ pub struct PodConfig {
     /// tracking (0x000319 bytes 3..12: ids of the pod model's label file; the document
     /// names none). Default 0..=9, the first ten (with the usual YOLO labels: person,
     /// bicycle, car, motorcycle, aeroplane, bus, train, truck, boat, traffic light).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub ai_classes: [u8; 10],
 }
 
@@ -169,15 +340,29 @@ impl PodConfig {
     };
 }
 
+impl Default for PodConfig {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 /// Everything the bridge can be told.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
 pub struct Config {
     /// The flight controller's protocol (default SIYI).
     pub fc: FcProtocol,
     /// Baud rate of the FC link (default 115200; used to time bursts).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub fc_baud: u32,
     /// Baud rate of the pod link (default 115200).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub pod_baud: u32,
     /// SIYI identity.
     pub siyi: SiyiIdentity,
@@ -191,20 +376,38 @@ pub struct Config {
     pub sync: SyncConfig,
     /// The UTC discipline.
     pub discipline: DisciplineConfig,
-    /// The fix history.
+    /// The fix history (no key in the configuration file).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub fixes: FixConfig,
     /// GPS time minus UTC, seconds (default 18, since 2017).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub leap_seconds: u8,
     /// The bridge stops the pod when the FC sends no motion for this long while the pod
     /// turns (default 500 ms): a cut FC cable must not leave the pod spinning.
+    #[cfg_attr(
+        feature = "serde",
+        serde(rename = "fc_silence_stop_ms", deserialize_with = "de::ms")
+    )]
     pub fc_silence_stop: Duration,
     /// The FC link is down when no valid frame arrives for this long (default 2 s).
+    #[cfg_attr(
+        feature = "serde",
+        serde(rename = "fc_link_timeout_ms", deserialize_with = "de::ms")
+    )]
     pub fc_link_timeout: Duration,
     /// K40T side: the bridge answers the pod's GPS request itself when the FC has not
-    /// within this time (default 200 ms; `None`: never).
+    /// within this time (default 200 ms; `None`: never, `"off"` in the file).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename = "k40t_geotag_fallback_ms",
+            deserialize_with = "de::fallback_ms"
+        )
+    )]
     pub k40t_geotag_fallback: Option<Duration>,
     /// Send the K40T 0x00030E with this time zone (minutes west of Greenwich; default 0:
     /// the pod keeps UTC).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub tz_minuteswest: i32,
 }
 
@@ -235,10 +438,453 @@ impl Config {
         c.fc = fc;
         c
     }
+
+    /// Checks every value that has a key in the configuration file against its range
+    /// ([`Limit`]) and the texts against their rules. [`Config::DEFAULT`] passes. (The
+    /// RTC_IO pulse is shorter than its period by the ranges alone.)
+    ///
+    /// # Errors
+    /// The first key whose value is not allowed, with what is.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        Limit::FC_BAUD.check(self.fc_baud.into())?;
+        Limit::POD_BAUD.check(self.pod_baud.into())?;
+        Limit::TZ_MINUTESWEST.check(self.tz_minuteswest.into())?;
+        Limit::FC_LINK_TIMEOUT_MS.check_ms(self.fc_link_timeout)?;
+        Limit::FC_SILENCE_STOP_MS.check_ms(self.fc_silence_stop)?;
+        if let Some(after) = self.k40t_geotag_fallback {
+            Limit::K40T_GEOTAG_FALLBACK_MS.check_ms(after)?;
+        }
+        Limit::SYNC_PERIOD_MS.check_ms(self.sync.period)?;
+        Limit::SYNC_WIDTH_MS.check_ms(self.sync.width)?;
+        if !self.siyi.hardware_id.is_ascii() {
+            return Err(ConfigError::text("siyi.hardware_id", TextRule::Ascii(12)));
+        }
+        Limit::SIYI_MAX_ZOOM_X10.check(self.siyi.max_zoom_x10.into())?;
+        if !model_is_valid(&self.viewlink.model) {
+            return Err(ConfigError::text("viewlink.model", TextRule::Printable(10)));
+        }
+        Limit::DISCIPLINE_BIN_MS.check_ms(self.discipline.bin_len)?;
+        Limit::DISCIPLINE_MIN_BINS.check(self.discipline.min_bins.into())?;
+        Limit::DISCIPLINE_MIN_SPAN_MS.check_ms(self.discipline.min_span)?;
+        Ok(())
+    }
 }
 
 impl Default for Config {
     fn default() -> Self {
         Self::DEFAULT
+    }
+}
+
+/// A time in whole milliseconds, as the configuration file gives it.
+fn millis(d: Duration) -> i64 {
+    i64::try_from(d.as_millis()).unwrap_or(i64::MAX)
+}
+
+/// The integers a key of the configuration file allows: `min..=max`. [`Config::validate`]
+/// checks a [`Config`] against these; `gimbal bridge` checks its options with them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Limit {
+    /// The key (`sync.period_ms`).
+    pub key: &'static str,
+    /// The least value allowed.
+    pub min: i64,
+    /// The greatest value allowed.
+    pub max: i64,
+}
+
+impl Limit {
+    /// `fc_baud`: 1200..=4000000.
+    pub const FC_BAUD: Self = Self::new("fc_baud", 1200, 4_000_000);
+    /// `pod_baud`: 1200..=4000000.
+    pub const POD_BAUD: Self = Self::new("pod_baud", 1200, 4_000_000);
+    /// `tz_minuteswest`: -1440..=1440 (a day either way).
+    pub const TZ_MINUTESWEST: Self = Self::new("tz_minuteswest", -1440, 1440);
+    /// `fc_link_timeout_ms`: 100..=60000.
+    pub const FC_LINK_TIMEOUT_MS: Self = Self::new("fc_link_timeout_ms", 100, 60_000);
+    /// `fc_silence_stop_ms`: 50..=60000.
+    pub const FC_SILENCE_STOP_MS: Self = Self::new("fc_silence_stop_ms", 50, 60_000);
+    /// `k40t_geotag_fallback_ms`: 1..=10000 (or `"off"`).
+    pub const K40T_GEOTAG_FALLBACK_MS: Self = Self::new("k40t_geotag_fallback_ms", 1, 10_000);
+    /// `sync.period_ms`: 1000..=3600000 (1 s to an hour).
+    pub const SYNC_PERIOD_MS: Self = Self::new("sync.period_ms", 1000, 3_600_000);
+    /// `sync.width_ms`: 1..=900 (shorter than any period).
+    pub const SYNC_WIDTH_MS: Self = Self::new("sync.width_ms", 1, 900);
+    /// `siyi.max_zoom_x10`: 10..=65535.
+    pub const SIYI_MAX_ZOOM_X10: Self = Self::new("siyi.max_zoom_x10", 10, 65_535);
+    /// Each part of `viewlink.firmware`: 0..=99 (two digits of the firmware text).
+    pub const VIEWLINK_FIRMWARE: Self = Self::new("viewlink.firmware", 0, 99);
+    /// `discipline.bin_ms`: 500..=60000.
+    pub const DISCIPLINE_BIN_MS: Self = Self::new("discipline.bin_ms", 500, 60_000);
+    /// `discipline.min_bins`: 2..=32.
+    pub const DISCIPLINE_MIN_BINS: Self = Self::new("discipline.min_bins", 2, 32);
+    /// `discipline.min_span_ms`: 1000..=600000.
+    pub const DISCIPLINE_MIN_SPAN_MS: Self = Self::new("discipline.min_span_ms", 1000, 600_000);
+
+    /// Every limit above.
+    pub const ALL: [Self; 13] = [
+        Self::FC_BAUD,
+        Self::POD_BAUD,
+        Self::TZ_MINUTESWEST,
+        Self::FC_LINK_TIMEOUT_MS,
+        Self::FC_SILENCE_STOP_MS,
+        Self::K40T_GEOTAG_FALLBACK_MS,
+        Self::SYNC_PERIOD_MS,
+        Self::SYNC_WIDTH_MS,
+        Self::SIYI_MAX_ZOOM_X10,
+        Self::VIEWLINK_FIRMWARE,
+        Self::DISCIPLINE_BIN_MS,
+        Self::DISCIPLINE_MIN_BINS,
+        Self::DISCIPLINE_MIN_SPAN_MS,
+    ];
+
+    const fn new(key: &'static str, min: i64, max: i64) -> Self {
+        Self { key, min, max }
+    }
+
+    /// Whether `value` is in `min..=max`.
+    ///
+    /// # Errors
+    /// [`Problem::OutOfRange`] when it is not.
+    pub const fn check(self, value: i64) -> Result<(), ConfigError> {
+        if value >= self.min && value <= self.max {
+            Ok(())
+        } else {
+            Err(ConfigError {
+                key: self.key,
+                problem: Problem::OutOfRange {
+                    value,
+                    min: self.min,
+                    max: self.max,
+                },
+            })
+        }
+    }
+
+    /// Whether a time is in range, in whole milliseconds (a key ending in `_ms`).
+    ///
+    /// # Errors
+    /// [`Problem::OutOfRange`] when it is not.
+    pub fn check_ms(self, d: Duration) -> Result<(), ConfigError> {
+        self.check(millis(d))
+    }
+}
+
+// Every RTC_IO pulse the ranges allow is shorter than every period they allow.
+const _: () = assert!(Limit::SYNC_WIDTH_MS.max < Limit::SYNC_PERIOD_MS.min);
+
+/// A value of the configuration that is not allowed: its key (as in the configuration
+/// file, `sync.period_ms`; `gimbal bridge`'s option is `--sync-period-ms`) and what is
+/// wrong. Displays as `fc_baud: 12 is out of range 1200..=4000000`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConfigError {
+    /// The key.
+    pub key: &'static str,
+    /// What is wrong with its value.
+    pub problem: Problem,
+}
+
+impl ConfigError {
+    const fn text(key: &'static str, rule: TextRule) -> Self {
+        Self {
+            key,
+            problem: Problem::Text(rule),
+        }
+    }
+}
+
+/// What is wrong with a value of the configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Problem {
+    /// A number outside `min..=max`.
+    OutOfRange {
+        /// The value given.
+        value: i64,
+        /// The least value allowed.
+        min: i64,
+        /// The greatest value allowed.
+        max: i64,
+    },
+    /// A text that breaks its rule.
+    Text(TextRule),
+}
+
+/// What a text of the configuration must be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TextRule {
+    /// Exactly this many ASCII characters.
+    Ascii(u8),
+    /// 1 to this many printable ASCII characters (space included).
+    Printable(u8),
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Problem::OutOfRange { value, min, max } => {
+                write!(f, "{value} is out of range {min}..={max}")
+            }
+            Problem::Text(TextRule::Ascii(n)) => write!(f, "expected {n} ASCII characters"),
+            Problem::Text(TextRule::Printable(n)) => {
+                write!(f, "expected 1 to {n} printable ASCII characters")
+            }
+        }
+    }
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.key, self.problem)
+    }
+}
+
+impl core::error::Error for ConfigError {}
+
+/// The configuration file's forms of the fields that differ from the Rust types: times
+/// in ms, texts, the Viewlink firmware version.
+#[cfg(feature = "serde")]
+pub(crate) mod de {
+    use core::fmt;
+
+    use serde::Deserialize as _;
+    use serde::de::{Deserializer, Error, Unexpected, Visitor};
+
+    use super::{ConfigError, Duration, Problem, SiyiIdentity, ViewlinkIdentity};
+
+    /// An integer type's range.
+    pub(crate) trait Int: TryFrom<i64> {
+        const MIN: i64;
+        const MAX: i64;
+    }
+
+    macro_rules! int {
+        ($($t:ty),*) => {$(
+            impl Int for $t {
+                const MIN: i64 = <$t>::MIN as i64;
+                const MAX: i64 = <$t>::MAX as i64;
+            }
+        )*};
+    }
+    int!(u8, u16, u32, i32);
+
+    /// An integer, out of the field type's range an error that names the range
+    /// (`300 is out of range 0..=255`; [`Config::validate`](super::Config::validate)
+    /// checks the narrower ranges of the keys that have a [`Limit`](super::Limit)).
+    pub(crate) fn int<'de, D: Deserializer<'de>, T: Int>(d: D) -> Result<T, D::Error> {
+        let value = i64::deserialize(d)?;
+        T::try_from(value).map_err(|_| {
+            D::Error::custom(Problem::OutOfRange {
+                value,
+                min: T::MIN,
+                max: T::MAX,
+            })
+        })
+    }
+
+    /// Whole milliseconds.
+    pub(crate) fn ms<'de, D: Deserializer<'de>>(d: D) -> Result<Duration, D::Error> {
+        let value = i64::deserialize(d)?;
+        u64::try_from(value)
+            .map(Duration::from_millis)
+            .map_err(|_| D::Error::invalid_value(Unexpected::Signed(value), &"a time in ms"))
+    }
+
+    /// Whole milliseconds, or `"off"`: `None`.
+    pub(crate) fn fallback_ms<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Duration>, D::Error> {
+        struct Fallback;
+        impl Visitor<'_> for Fallback {
+            type Value = Option<Duration>;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a time in ms or \"off\"")
+            }
+            fn visit_u64<E: Error>(self, v: u64) -> Result<Self::Value, E> {
+                Ok(Some(Duration::from_millis(v)))
+            }
+            fn visit_i64<E: Error>(self, v: i64) -> Result<Self::Value, E> {
+                u64::try_from(v)
+                    .map(|v| Some(Duration::from_millis(v)))
+                    .map_err(|_| E::invalid_value(Unexpected::Signed(v), &self))
+            }
+            fn visit_str<E: Error>(self, v: &str) -> Result<Self::Value, E> {
+                if v.eq_ignore_ascii_case("off") {
+                    Ok(None)
+                } else {
+                    Err(E::invalid_value(Unexpected::Str(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(Fallback)
+    }
+
+    /// A text, turned into the field's bytes by `parse` (its error without the key: the
+    /// deserializer names where it is).
+    struct Text<F>(F, &'static str);
+
+    impl<T, F: FnOnce(&str) -> Result<T, ConfigError>> Visitor<'_> for Text<F> {
+        type Value = T;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str(self.1)
+        }
+        fn visit_str<E: Error>(self, v: &str) -> Result<T, E> {
+            (self.0)(v).map_err(|e| E::custom(e.problem))
+        }
+    }
+
+    pub(crate) fn hardware_id<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 12], D::Error> {
+        d.deserialize_str(Text(SiyiIdentity::parse_hardware_id, "12 ASCII characters"))
+    }
+
+    pub(crate) fn model<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 10], D::Error> {
+        d.deserialize_str(Text(
+            ViewlinkIdentity::parse_model,
+            "1 to 10 printable ASCII characters",
+        ))
+    }
+
+    /// `[major, minor, patch]`, each 0..=99.
+    pub(crate) fn viewlink_firmware<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 20], D::Error> {
+        ViewlinkIdentity::firmware_text(<[u8; 3]>::deserialize(d)?)
+            .map_err(|e| D::Error::custom(e.problem))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    extern crate std;
+    use std::string::ToString;
+
+    #[test]
+    fn the_defaults_are_valid_and_their_texts_parse_back() {
+        assert_eq!(Config::DEFAULT.validate(), Ok(()));
+        assert_eq!(
+            ViewlinkIdentity::firmware_text([0, 1, 0]),
+            Ok(ViewlinkIdentity::DEFAULT.firmware)
+        );
+        assert_eq!(
+            ViewlinkIdentity::parse_model("K40TBRIDGE"),
+            Ok(ViewlinkIdentity::DEFAULT.model)
+        );
+        assert_eq!(
+            SiyiIdentity::parse_hardware_id("7A0000000001"),
+            Ok(SiyiIdentity::DEFAULT.hardware_id)
+        );
+    }
+
+    #[test]
+    fn limits_name_the_key_and_the_range() {
+        for limit in Limit::ALL {
+            assert_eq!(limit.check(limit.min), Ok(()));
+            assert_eq!(limit.check(limit.max), Ok(()));
+            for bad in [limit.min - 1, limit.max + 1] {
+                let e = limit.check(bad).unwrap_err();
+                assert_eq!(e.key, limit.key);
+                assert_eq!(
+                    e.to_string(),
+                    std::format!(
+                        "{}: {bad} is out of range {}..={}",
+                        limit.key,
+                        limit.min,
+                        limit.max
+                    )
+                );
+            }
+        }
+        let mut c = Config::DEFAULT;
+        c.fc_baud = 12;
+        assert_eq!(
+            c.validate().unwrap_err().to_string(),
+            "fc_baud: 12 is out of range 1200..=4000000"
+        );
+    }
+
+    #[test]
+    fn validate_checks_every_key() {
+        fn spoilt(spoil: impl FnOnce(&mut Config)) -> Config {
+            let mut c = Config::DEFAULT;
+            spoil(&mut c);
+            c
+        }
+        let cases = [
+            ("fc_baud", spoilt(|c| c.fc_baud = 1199)),
+            ("pod_baud", spoilt(|c| c.pod_baud = 4_000_001)),
+            ("tz_minuteswest", spoilt(|c| c.tz_minuteswest = -1441)),
+            ("fc_link_timeout_ms", spoilt(|c| c.fc_link_timeout = ms(99))),
+            (
+                "fc_silence_stop_ms",
+                spoilt(|c| c.fc_silence_stop = ms(60_001)),
+            ),
+            (
+                "k40t_geotag_fallback_ms",
+                spoilt(|c| c.k40t_geotag_fallback = Some(ms(0))),
+            ),
+            ("sync.period_ms", spoilt(|c| c.sync.period = ms(999))),
+            ("sync.width_ms", spoilt(|c| c.sync.width = ms(0))),
+            ("siyi.hardware_id", spoilt(|c| c.siyi.hardware_id[3] = 0xB0)),
+            ("siyi.max_zoom_x10", spoilt(|c| c.siyi.max_zoom_x10 = 9)),
+            ("viewlink.model", spoilt(|c| c.viewlink.model = [0; 10])),
+            (
+                "discipline.bin_ms",
+                spoilt(|c| c.discipline.bin_len = ms(499)),
+            ),
+            (
+                "discipline.min_bins",
+                spoilt(|c| c.discipline.min_bins = 33),
+            ),
+            (
+                "discipline.min_span_ms",
+                spoilt(|c| c.discipline.min_span = ms(600_001)),
+            ),
+        ];
+        for (key, c) in cases {
+            assert_eq!(c.validate().map_err(|e| e.key), Err(key));
+        }
+        let c = spoilt(|c| c.k40t_geotag_fallback = None);
+        assert_eq!(c.validate(), Ok(()));
+    }
+
+    fn ms(ms: u64) -> Duration {
+        Duration::from_millis(ms)
+    }
+
+    #[test]
+    fn texts() {
+        assert_eq!(
+            ViewlinkIdentity::firmware_text([1, 2, 99]).unwrap()[..10],
+            *b"S20010299\0"
+        );
+        assert_eq!(
+            ViewlinkIdentity::firmware_text([1, 100, 3])
+                .unwrap_err()
+                .to_string(),
+            "viewlink.firmware: 100 is out of range 0..=99"
+        );
+        assert_eq!(
+            ViewlinkIdentity::parse_model("A B"),
+            Ok(*b"A B\0\0\0\0\0\0\0")
+        );
+        for bad in ["", "ELEVENCHARS", "tab\there", "nul\0", "caf\u{e9}"] {
+            assert_eq!(
+                ViewlinkIdentity::parse_model(bad).unwrap_err().to_string(),
+                "viewlink.model: expected 1 to 10 printable ASCII characters",
+                "{bad:?}"
+            );
+        }
+        for bad in ["7A", "7A00000000012", "7A000000000\u{e9}"] {
+            assert_eq!(
+                SiyiIdentity::parse_hardware_id(bad)
+                    .unwrap_err()
+                    .to_string(),
+                "siyi.hardware_id: expected 12 ASCII characters",
+                "{bad:?}"
+            );
+        }
     }
 }

@@ -20,19 +20,44 @@ use super::time::{Duration, Instant, UtcTime};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge::sync))]
 pub struct SyncConfig {
     /// Time between edges; edges fall on whole multiples of it in UTC (default 10 s).
+    /// Configuration file: `[sync] period_ms`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename(deserialize = "period_ms"),
+            deserialize_with = "super::config::de::ms"
+        )
+    )]
     pub period: Duration,
     /// How long the pin stays high (default 50 ms; the K40T document does not say).
+    /// Configuration file: `[sync] width_ms`.
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            rename(deserialize = "width_ms"),
+            deserialize_with = "super::config::de::ms"
+        )
+    )]
     pub width: Duration,
     /// Least time between planning an edge and the edge (default 2 ms).
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub lead: Duration,
     /// How late the pin may rise and still carry the planned UTC (default 20 µs); later
     /// than that, [`SyncScheduler::stamp`] re-stamps it from the discipline.
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub late_tolerance: Duration,
     /// No edge is planned, and no 0x00030E sent, while the discipline believes its UTC
     /// at the edge may be off by more than this (default 30 ms): a wrong stamp is worse
     /// than none.
+    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
     pub max_error: Duration,
 }
 

@@ -484,6 +484,42 @@ fn days_from_civil(year: u16, month: u8, day: u8) -> Option<u64> {
         .checked_sub(719_468)
 }
 
+/// `Duration` and `UtcTime` bake as their `const` constructors (their field is private).
+#[cfg(feature = "bake")]
+mod bake {
+    use databake::{Bake, BakeSize, CrateEnv, TokenStream, quote};
+
+    use super::{Duration, UtcTime};
+
+    impl Bake for Duration {
+        fn bake(&self, env: &CrateEnv) -> TokenStream {
+            env.insert("protocol_core");
+            let us = self.0;
+            quote!(protocol_core::bridge::Duration::from_micros(#us))
+        }
+    }
+
+    impl BakeSize for Duration {
+        fn borrows_size(&self) -> usize {
+            0
+        }
+    }
+
+    impl Bake for UtcTime {
+        fn bake(&self, env: &CrateEnv) -> TokenStream {
+            env.insert("protocol_core");
+            let us = self.0;
+            quote!(protocol_core::bridge::UtcTime::from_unix_micros(#us))
+        }
+    }
+
+    impl BakeSize for UtcTime {
+        fn borrows_size(&self) -> usize {
+            0
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -31,6 +31,7 @@ mod offset {
 wire_derive! {
     [Eq, Hash, Default]
     /// A system/component address pair.
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::k40t))]
     pub struct Address {
         /// System id.
         pub system: u8,
@@ -123,6 +124,7 @@ impl MsgId {
 wire_derive! {
     [Eq, Hash, Default]
     /// Which bytes the CRC covers. The document does not say (see SPEC-NOTES).
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::k40t))]
     pub enum CrcCoverage {
         /// LEN through the last payload byte (as MAVLink v2, without CRC_EXTRA). The default.
         #[default]

@@ -1,0 +1,400 @@
+//! The bridge's one configuration: `protocol_core::bridge::Config` read from the
+//! configuration file (`bridge-fw/bridge.toml`, as the firmware's `build.rs` reads it),
+//! checked by `Config::validate`, overridden by `gimbal bridge`'s options; and the README's
+//! key table checked against all three.
+
+use std::collections::BTreeSet;
+use std::process::Command;
+
+use clap::Parser;
+use gimbal::cli::{Cli, Command as Sub};
+use gimbal::runner::bridge::config_of;
+use protocol_core::bridge::config::Limit;
+use protocol_core::bridge::{Config, Duration, FcProtocol};
+use toml::{Table, Value};
+
+const BRIDGE_TOML: &str = include_str!("../../bridge-fw/bridge.toml");
+const README: &str = include_str!("../../README.md");
+
+/// The file's text deserialized and validated, as `build.rs` does (`fc = "auto"` aside).
+fn load(text: &str) -> Result<Config, String> {
+    let mut keys: Table = text.parse().map_err(|e| format!("{e}"))?;
+    if keys.get("fc").and_then(Value::as_str) == Some("auto") {
+        keys.remove("fc");
+    }
+    let c: Config = keys
+        .try_into()
+        .map_err(|e| format!("{e}").trim_end().replace('\n', " "))?;
+    c.validate().map_err(|e| e.to_string())?;
+    Ok(c)
+}
+
+/// Every key of a table, sections flattened (`sync.period_ms`), in the file's order.
+fn leaf_keys(t: &Table, prefix: &str, out: &mut Vec<(String, Value)>) {
+    for (k, v) in t {
+        match v {
+            Value::Table(sub) => leaf_keys(sub, &format!("{prefix}{k}."), out),
+            v => out.push((format!("{prefix}{k}"), v.clone())),
+        }
+    }
+}
+
+/// The keys `Config` deserializes at one level (`section` "" for the top), from serde's
+/// own list in its unknown-field error.
+fn accepted(section: &str) -> BTreeSet<String> {
+    let text = if section.is_empty() {
+        "no_such_key = 1".to_string()
+    } else {
+        format!("[{section}]\nno_such_key = 1")
+    };
+    let e = text
+        .parse::<Table>()
+        .unwrap()
+        .try_into::<Config>()
+        .unwrap_err();
+    let e = e.to_string();
+    let expected = &e[e.find("expected").expect(&e)..];
+    let expected = expected.lines().next().unwrap();
+    expected
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn bridge_toml_lists_every_key_with_its_default() {
+    let file: Table = BRIDGE_TOML.parse().unwrap();
+    assert_eq!(file["fc"].as_str(), Some("auto"));
+    assert_eq!(load(BRIDGE_TOML), Ok(Config::DEFAULT));
+
+    let sections: Vec<&String> = file
+        .iter()
+        .filter(|(_, v)| v.is_table())
+        .map(|(k, _)| k)
+        .collect();
+    assert_eq!(
+        accepted(""),
+        file.keys().cloned().collect::<BTreeSet<_>>(),
+        "top-level keys"
+    );
+    for section in sections {
+        assert_eq!(
+            accepted(section),
+            file[section.as_str()]
+                .as_table()
+                .unwrap()
+                .keys()
+                .cloned()
+                .collect::<BTreeSet<_>>(),
+            "[{section}]"
+        );
+    }
+}
+
+#[test]
+fn the_readme_table_is_the_configuration() {
+    let section = &README[README.find("### Configuration\n").unwrap()..];
+    let section = &section[..section.find("\n### ").unwrap()];
+    let rows: Vec<Vec<&str>> = section
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .map(|l| l.trim_matches('|').split(" | ").map(str::trim).collect())
+        .filter(|cells: &Vec<&str>| cells.len() == 5)
+        .collect();
+    let file: Table = BRIDGE_TOML.parse().unwrap();
+    let mut keys = Vec::new();
+    leaf_keys(&file, "", &mut keys);
+    assert_eq!(
+        rows.iter()
+            .map(|r| r[0].trim_matches('`'))
+            .collect::<Vec<_>>(),
+        keys.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>(),
+        "the README's keys, in bridge.toml's order"
+    );
+    for (row, (key, value)) in rows.iter().zip(&keys) {
+        assert_eq!(row[1], format!("`{value}`"), "{key}: default");
+        let option = format!("--{}", key.replace(['.', '_'], "-"));
+        if key != "gcu.resync_mark" {
+            assert!(
+                row[4].starts_with(&format!("`{option}")),
+                "{key}: {}",
+                row[4]
+            );
+        }
+    }
+    for limit in Limit::ALL {
+        let row = rows
+            .iter()
+            .find(|r| r[0] == format!("`{}`", limit.key))
+            .unwrap_or_else(|| panic!("{}: no row", limit.key));
+        assert!(
+            row[2].contains(&format!("{}..={}", limit.min, limit.max)),
+            "{}: {}",
+            limit.key,
+            row[2]
+        );
+    }
+}
+
+#[test]
+fn every_key_is_read_and_checked() {
+    let c = load(
+        r#"
+        fc = "viewlink"
+        fc_baud = 57600
+        pod_baud = 921600
+        leap_seconds = 19
+        tz_minuteswest = -480
+        fc_link_timeout_ms = 1500
+        fc_silence_stop_ms = 300
+        k40t_geotag_fallback_ms = "off"
+        [sync]
+        period_ms = 2000
+        width_ms = 20
+        [siyi]
+        hardware_id = "6B0000000002"
+        camera_version = [1, 2, 3]
+        gimbal_version = [4, 5, 6]
+        zoom_version = [7, 8, 9]
+        max_zoom_x10 = 100
+        [viewlink]
+        model = "K40T"
+        firmware = [1, 2, 3]
+        [gcu]
+        hardware_x10 = 11
+        firmware_x10 = 12
+        gimbal_code = 13
+        resync_mark = false
+        [pod]
+        yaw_positive_left = true
+        pitch_positive_down = true
+        [discipline]
+        bin_ms = 1000
+        min_bins = 3
+        min_span_ms = 2000
+        "#,
+    )
+    .unwrap();
+    let mut want = Config::for_fc(FcProtocol::Viewlink);
+    want.fc_baud = 57_600;
+    want.pod_baud = 921_600;
+    want.leap_seconds = 19;
+    want.tz_minuteswest = -480;
+    want.fc_link_timeout = Duration::from_millis(1500);
+    want.fc_silence_stop = Duration::from_millis(300);
+    want.k40t_geotag_fallback = None;
+    want.sync.period = Duration::from_millis(2000);
+    want.sync.width = Duration::from_millis(20);
+    want.siyi.hardware_id = *b"6B0000000002";
+    want.siyi.camera_version = [1, 2, 3];
+    want.siyi.gimbal_version = [4, 5, 6];
+    want.siyi.zoom_version = [7, 8, 9];
+    want.siyi.max_zoom_x10 = 100;
+    want.viewlink.model = *b"K40T\0\0\0\0\0\0";
+    want.viewlink.firmware = *b"S20010203\0\0\0\0\0\0\0\0\0\0\0";
+    want.gcu.hardware_x10 = 11;
+    want.gcu.firmware_x10 = 12;
+    want.gcu.gimbal_code = 13;
+    want.gcu.resync_mark = false;
+    want.pod.yaw_positive_left = true;
+    want.pod.pitch_positive_down = true;
+    want.discipline.bin_len = Duration::from_millis(1000);
+    want.discipline.min_bins = 3;
+    want.discipline.min_span = Duration::from_millis(2000);
+    assert_eq!(c, want);
+    assert_eq!(
+        load("k40t_geotag_fallback_ms = 350")
+            .unwrap()
+            .k40t_geotag_fallback,
+        Some(Duration::from_millis(350))
+    );
+
+    // Each range, from the file: the key and the range in the message.
+    for limit in Limit::ALL {
+        if limit.key == "viewlink.firmware" {
+            continue; // a part of a version: below
+        }
+        let (section, key) = limit.key.split_once('.').unwrap_or(("", limit.key));
+        let header = if section.is_empty() {
+            String::new()
+        } else {
+            format!("[{section}]\n")
+        };
+        for (value, ok) in [
+            (limit.min, true),
+            (limit.max, true),
+            (limit.min - 1, false),
+            (limit.max + 1, false),
+        ] {
+            let got = load(&format!("{header}{key} = {value}"));
+            if ok {
+                assert!(got.is_ok(), "{} = {value}: {got:?}", limit.key);
+            } else {
+                let e = got.unwrap_err();
+                // Beyond the field's type (below zero, a u16 above 65535): the
+                // deserializer's message, with the key; else the key's own range.
+                let beyond_type =
+                    value < 0 && limit.min >= 0 || value > 65_535 && key == "max_zoom_x10";
+                let expected = if beyond_type {
+                    format!("in `{}`", limit.key)
+                } else {
+                    format!(
+                        "{}: {value} is out of range {}..={}",
+                        limit.key, limit.min, limit.max
+                    )
+                };
+                assert!(e.contains(&expected), "{} = {value}: {e}", limit.key);
+            }
+        }
+    }
+}
+
+#[test]
+fn errors_name_the_key() {
+    for (text, wanted) in [
+        ("fc_baud = 12", "fc_baud: 12 is out of range 1200..=4000000"),
+        ("no_such = 1", "unknown field `no_such`"),
+        ("[sync]\nlead_ms = 1", "unknown field `lead_ms`"),
+        (
+            "leap_seconds = 300",
+            "300 is out of range 0..=255 in `leap_seconds`",
+        ),
+        (
+            "[gcu]\ngimbal_code = -1",
+            "-1 is out of range 0..=255 in `gcu.gimbal_code`",
+        ),
+        (
+            "fc_link_timeout_ms = -1",
+            "expected a time in ms in `fc_link_timeout_ms`",
+        ),
+        ("fc = \"mavlink\"", "unknown variant `mavlink`"),
+        (
+            "[siyi]\nhardware_id = \"7A\"",
+            "expected 12 ASCII characters",
+        ),
+        ("[siyi]\ncamera_version = [1, 2]", "camera_version"),
+        (
+            "[viewlink]\nmodel = \"ELEVENCHARS\"",
+            "expected 1 to 10 printable ASCII",
+        ),
+        (
+            "[viewlink]\nfirmware = [1, 100, 0]",
+            "100 is out of range 0..=99",
+        ),
+        (
+            "k40t_geotag_fallback_ms = \"never ever\"",
+            "k40t_geotag_fallback_ms",
+        ),
+        ("[gcu]\nresync_mark = 1", "resync_mark"),
+    ] {
+        let e = load(text).unwrap_err();
+        assert!(e.contains(wanted), "{text:?}: {e}");
+    }
+}
+
+fn bridge_args(extra: &[&str]) -> Box<gimbal::cli::BridgeArgs> {
+    let mut args = vec![
+        "gimbal",
+        "bridge",
+        "--fc",
+        "gcu",
+        "--fc-port",
+        "sim",
+        "--pod-port",
+        "sim",
+    ];
+    args.extend_from_slice(extra);
+    match Cli::try_parse_from(args).unwrap().command {
+        Sub::Bridge(b) => b,
+        _ => unreachable!(),
+    }
+}
+
+#[test]
+fn the_command_line_overrides_the_file() {
+    let dir = std::env::temp_dir().join(format!("gimbal-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("mine.toml");
+    std::fs::write(
+        &path,
+        "fc = \"siyi\"\nfc_baud = 57600\n[sync]\nperiod_ms = 2000\nwidth_ms = 100\n\
+         [gcu]\nresync_mark = false\n[pod]\nyaw_positive_left = true\n",
+    )
+    .unwrap();
+    let file = path.to_str().unwrap();
+
+    // Without options: the file, with --fc's protocol.
+    let (c, _) = config_of(&bridge_args(&["--config", file])).unwrap();
+    assert_eq!(c.fc, FcProtocol::Gcu);
+    assert_eq!(c.fc_baud, 57_600);
+    assert_eq!(c.sync.period, Duration::from_millis(2000));
+    assert_eq!(c.sync.width, Duration::from_millis(100));
+    assert!(!c.gcu.resync_mark);
+    assert!(c.pod.yaw_positive_left);
+    assert_eq!(c.pod_baud, 115_200);
+
+    // Options over the file; flags not given leave the file's value.
+    let (c, _) = config_of(&bridge_args(&[
+        "--config",
+        file,
+        "--fc-baud",
+        "9600",
+        "--sync-width-ms",
+        "30",
+        "--pod-pitch-positive-down",
+        "--viewlink-firmware",
+        "2.3.4",
+        "--siyi-hardware-id",
+        "6B0000000002",
+        "--k40t-geotag-fallback-ms",
+        "off",
+        "--gcu-gimbal-code",
+        "7",
+    ]))
+    .unwrap();
+    assert_eq!(c.fc_baud, 9600);
+    assert_eq!(c.sync.period, Duration::from_millis(2000));
+    assert_eq!(c.sync.width, Duration::from_millis(30));
+    assert!(c.pod.yaw_positive_left && c.pod.pitch_positive_down);
+    assert!(!c.gcu.resync_mark);
+    assert_eq!(c.gcu.gimbal_code, 7);
+    assert_eq!(&c.viewlink.firmware[..9], b"S20020304");
+    assert_eq!(c.siyi.hardware_id, *b"6B0000000002");
+    assert_eq!(c.k40t_geotag_fallback, None);
+
+    // A port's :BAUD overrides the file too.
+    let args = bridge_args(&["--config", file]);
+    let mut args = *args;
+    args.fc_port = "/dev/ttyS9:19200".parse().unwrap();
+    assert_eq!(config_of(&args).unwrap().0.fc_baud, 19_200);
+
+    // Without a file: the defaults, as before.
+    let (c, _) = config_of(&bridge_args(&[])).unwrap();
+    assert_eq!(c, Config::for_fc(FcProtocol::Gcu));
+
+    // A bad file: a usage error (exit 2) naming the file and the key.
+    std::fs::write(&path, "[sync]\nperiod_ms = 10\n").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_gimbal"))
+        .args([
+            "bridge",
+            "--fc",
+            "siyi",
+            "--fc-port",
+            "sim",
+            "--pod-port",
+            "sim",
+            "--config",
+            file,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("mine.toml: sync.period_ms: 10 is out of range 1000..=3600000"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,34 @@
+//! The bridge's configuration checks: `Config::validate` on an opaque configuration,
+//! every `Limit`, the texts' parsers on opaque text, and `ConfigError`'s message.
+
+use core::fmt::{self, Write};
+use core::hint::black_box;
+use protocol_core::bridge::config::{ConfigError, Limit};
+use protocol_core::bridge::{Config, SiyiIdentity, ViewlinkIdentity};
+
+/// A `fmt::Write` that keeps nothing (but the optimiser cannot see that).
+struct Sink;
+
+impl Write for Sink {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        black_box(s);
+        Ok(())
+    }
+}
+
+fn show(e: Result<impl Sized, ConfigError>) {
+    if let Err(e) = e {
+        black_box(write!(black_box(&mut Sink), "{e}"));
+    }
+}
+
+pub fn exercise(input: &[u8], _out: &mut [u8]) {
+    show(black_box(Config::DEFAULT).validate());
+    for limit in Limit::ALL {
+        show(black_box(limit).check(black_box(0)));
+    }
+    let text = core::str::from_utf8(input).unwrap_or_default();
+    show(SiyiIdentity::parse_hardware_id(text));
+    show(ViewlinkIdentity::parse_model(text));
+    show(ViewlinkIdentity::firmware_text(black_box([0; 3])));
+}
