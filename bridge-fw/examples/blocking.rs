@@ -20,15 +20,8 @@ use std::convert::Infallible;
 
 use embedded_hal::digital::OutputPin;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
-use protocol_core::bridge::{Config, Duration, Engine, FC_QUEUE, Instant, Level, POD_QUEUE, Port};
+use protocol_core::bridge::{Config, Duration, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 use protocol_core::k40t::{self, Address, GimbalAttitude, Header};
-
-/// Largest frame the engine gives (a frame never exceeds its queue).
-const FRAME: usize = if FC_QUEUE > POD_QUEUE {
-    FC_QUEUE
-} else {
-    POD_QUEUE
-};
 
 /// A monotonic clock in microseconds (a 32-bit timer extended to 64 bits, DWT, SysTick...).
 pub trait Monotonic {
@@ -140,7 +133,7 @@ impl Bridge {
         }
         // 4. Outputs, whole frames. A pod frame that would still be on the wire at the
         // next rising edge waits for it.
-        let mut frame = [0u8; FRAME];
+        let mut frame = [0u8; MAX_FRAME_LEN];
         while let Some(len) = self.engine.pending(Port::Pod) {
             let wire = Duration::from_micros(self.pod_byte_us * (len as u64 + 2));
             let edge = self.engine.pin().filter(|a| a.level == Level::High);

@@ -5,7 +5,7 @@ use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::{Timer, with_timeout};
 use embedded_io_async::{Read, Write};
-use protocol_core::bridge::{FC_QUEUE, Instant, Level, POD_QUEUE, PinAction, Port};
+use protocol_core::bridge::{Instant, Level, MAX_FRAME_LEN, PinAction, Port};
 
 use crate::engine::BridgeEngine;
 use crate::log::What;
@@ -14,12 +14,6 @@ use crate::{now, to_embassy};
 
 /// Bytes taken from the UART per read (the UART driver buffers the rest).
 const READ_CHUNK: usize = 64;
-/// Largest frame a writer takes (a frame never exceeds its queue).
-const FRAME: usize = if FC_QUEUE > POD_QUEUE {
-    FC_QUEUE
-} else {
-    POD_QUEUE
-};
 
 /// Reads `port` forever: bytes go to the engine with the instant they were read; when
 /// the line has been silent for [`Timing::idle`] after bytes, the engine is told the line
@@ -101,7 +95,7 @@ pub async fn link_writer<M: RawMutex, E: BridgeEngine, W: Write>(
     mut tx: W,
 ) -> ! {
     let timing: Timing = *shared.timing();
-    let mut buf = [0u8; FRAME];
+    let mut buf = [0u8; MAX_FRAME_LEN];
     loop {
         let start = now();
         let mut edge = None;

@@ -28,7 +28,8 @@ use std::sync::OnceLock;
 
 use protocol_core::Direction;
 use protocol_core::bridge::{
-    Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, POD_QUEUE, PinAction, Port,
+    Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, MAX_FRAME_LEN, POD_QUEUE,
+    PinAction, Port,
 };
 use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
@@ -117,7 +118,7 @@ fn pod_frame(config: &Config, id: MsgId, fill: &[u8], seq: u8) -> Vec<u8> {
 fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
     let mut take = |port| {
         let mut frames = Vec::new();
-        let mut buf = [0u8; POD_QUEUE];
+        let mut buf = [0u8; MAX_FRAME_LEN];
         while let Some(len) = engine.pending(port) {
             assert_eq!(engine.transmit(port, &mut buf), Some(len), "{port:?}");
             frames.push(buf[..len].to_vec());

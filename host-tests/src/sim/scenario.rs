@@ -13,7 +13,7 @@
 //! [`Scenario::set_pod_faults`] for a noisy cable (a seeded [`Faults`] model in both
 //! directions).
 
-use protocol_core::bridge::{Config, Engine, Event, Instant, Level, POD_QUEUE, Port};
+use protocol_core::bridge::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
 use super::line::Line;
@@ -280,8 +280,7 @@ impl<F: FcSim> Scenario<F> {
     /// Moves the engine's output frames onto the lines and collects its events.
     fn drain_engine(&mut self) {
         let now = self.now_us;
-        // Any frame fits: none exceeds its queue, and the pod's is the larger.
-        let mut f = [0u8; POD_QUEUE];
+        let mut f = [0u8; MAX_FRAME_LEN];
         while let Some(n) = self.engine.transmit(Port::Fc, &mut f) {
             if !self.fc_is_cut() {
                 self.to_fc_line.send(now, &f[..n]);

@@ -66,6 +66,13 @@ use event::EventQueue;
 pub const FC_QUEUE: usize = 256;
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
+/// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never
+/// exceeds its queue).
+pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
+    FC_QUEUE
+} else {
+    POD_QUEUE
+};
 
 /// The level of the RTC_IO pin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -240,12 +247,12 @@ const POD_FRAME: usize = k40t::MAX_FRAME_LEN;
 ///
 /// ```
 /// use protocol_core::bridge::discipline::serial_time;
-/// use protocol_core::bridge::{Changes, Config, Engine, Instant, Level, Port};
+/// use protocol_core::bridge::{Changes, Config, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 /// use protocol_core::{k40t, siyi};
 ///
 /// let mut engine = Engine::new(Config::DEFAULT);
 /// let mut frame = [0u8; 64]; // a SIYI frame from the FC
-/// let mut out = [0u8; 256]; // a frame taken from the engine
+/// let mut out = [0u8; MAX_FRAME_LEN]; // a frame taken from the engine
 ///
 /// // ArduPilot zooms in (SIYI 0x05): a K40T continuous zoom (0x000306) for the pod, and
 /// // the zoom ratio for the FC.
@@ -413,9 +420,10 @@ impl Engine {
     }
 
     /// Copies the next frame for `port` into `buf` and takes it off the queue; returns its
-    /// length (`None`: nothing queued, or `buf` too small and the frame kept). Write the
-    /// whole frame before taking the next. A time-sync frame put at the head of the pod
-    /// queue while a taken frame is being written comes next.
+    /// length (`None`: nothing queued, or `buf` too small and the frame kept; a buffer of
+    /// [`MAX_FRAME_LEN`] bytes takes any). Write the whole frame before taking the next. A
+    /// time-sync frame put at the head of the pod queue while a taken frame is being
+    /// written comes next.
     // `#[inline]` here and on `pending`, `receive` and `idle`: a dispatch on the port that
     // the caller often knows; out of line, the call cost a driver's loop 2 % more
     // instructions (scripts/bench).
@@ -782,7 +790,7 @@ mod changes_tests {
     #[test]
     fn each_input_reports_what_it_changed() {
         let mut e = Engine::new(Config::for_fc(FcProtocol::K40t));
-        let mut buf = [0u8; POD_QUEUE];
+        let mut buf = [0u8; MAX_FRAME_LEN];
         let ms = Instant::from_millis;
         // The pod is not there: a version probe for it.
         assert_eq!(e.poll(ms(0)), Changes::POD_FRAME);
