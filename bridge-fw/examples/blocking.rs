@@ -20,7 +20,7 @@ use std::convert::Infallible;
 
 use embedded_hal::digital::OutputPin;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
-use protocol_core::bridge::{Config, Duration, Engine, Instant, Level, Port};
+use protocol_core::bridge::{Config, Duration, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 use protocol_core::k40t::{self, Address, GimbalAttitude, Header};
 
 /// A monotonic clock in microseconds (a 32-bit timer extended to 64 bits, DWT, SysTick...).
@@ -74,7 +74,8 @@ impl Bridge {
     }
 
     /// One pass: RTC_IO, inputs, poll, outputs. UART errors are returned; the engine's
-    /// state stays consistent whatever happens (a frame is marked sent only once written).
+    /// state stays consistent whatever happens (a frame whose write failed is lost, as on
+    /// a cable that dropped it).
     #[allow(clippy::too_many_arguments)]
     pub fn service<E, FR, FT, PR, PT, P, C>(
         &mut self,
@@ -115,21 +116,14 @@ impl Bridge {
                     Port::Fc => fc_rx.read(&mut buf)?,
                     Port::Pod => pod_rx.read(&mut buf)?,
                 };
-                let bytes = buf.get(..n).unwrap_or(&[]);
-                match port {
-                    Port::Fc => self.engine.receive_fc(now, bytes),
-                    Port::Pod => self.engine.receive_pod(now, bytes),
-                }
+                self.engine.receive(now, port, buf.get(..n).unwrap_or(&[]));
                 line.last = Some(now);
             } else if line
                 .last
                 .is_some_and(|t| now.saturating_duration_since(t) >= self.idle)
             {
                 line.last = None;
-                match port {
-                    Port::Fc => self.engine.fc_idle(now),
-                    Port::Pod => self.engine.pod_idle(now),
-                }
+                self.engine.idle(now, port);
             }
         }
         // 3. Timers.
@@ -139,18 +133,20 @@ impl Bridge {
         }
         // 4. Outputs, whole frames. A pod frame that would still be on the wire at the
         // next rising edge waits for it.
-        while let Some(f) = self.engine.pod_frame() {
-            let wire = Duration::from_micros(self.pod_byte_us * (f.len() as u64 + 2));
+        let mut frame = [0u8; MAX_FRAME_LEN];
+        while let Some(len) = self.engine.pending(Port::Pod) {
+            let wire = Duration::from_micros(self.pod_byte_us * (len as u64 + 2));
             let edge = self.engine.pin().filter(|a| a.level == Level::High);
             if edge.is_some_and(|a| clock.now().saturating_add(wire) >= a.at) {
                 break;
             }
-            pod_tx.write_all(f)?;
-            self.engine.pod_sent();
+            let Some(n) = self.engine.transmit(Port::Pod, &mut frame) else {
+                break;
+            };
+            pod_tx.write_all(frame.get(..n).unwrap_or(&[]))?;
         }
-        while let Some(f) = self.engine.fc_frame() {
-            fc_tx.write_all(f)?;
-            self.engine.fc_sent();
+        while let Some(n) = self.engine.transmit(Port::Fc, &mut frame) {
+            fc_tx.write_all(frame.get(..n).unwrap_or(&[]))?;
         }
         Ok(())
     }

@@ -1,7 +1,8 @@
-//! What the tasks need of the engine, as a trait: [`Engine`] implements it; tests wrap it
-//! (for instance to plan RTC_IO edges before an FC side gives UTC).
+//! What the tasks need of the engine, as a trait: [`Engine`] implements it with its own
+//! methods; tests put doubles in its place (a spy around the engine, a scripted engine
+//! that plans RTC_IO edges without an FC side).
 
-use protocol_core::bridge::{Engine, Event, Instant, Level, PinAction, Port};
+use protocol_core::bridge::{Changes, Engine, Event, Instant, Level, PinAction, Port};
 
 /// Link and time status, for the LED.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -16,25 +17,26 @@ pub struct Status {
     pub utc: bool,
 }
 
-/// The sans-IO engine as the tasks drive it. Each method is the [`Engine`] method of the
-/// same name for `port`.
+/// The sans-IO engine as the tasks drive it: each method but [`BridgeEngine::status`] is
+/// the [`Engine`] method of the same name. A double must report its [`Changes`] as the
+/// engine does: the tasks wake only whom they concern.
 pub trait BridgeEngine {
-    /// Bytes from `port`, the last of them at `now`.
-    fn receive(&mut self, port: Port, now: Instant, bytes: &[u8]);
-    /// `port`'s line has gone idle.
-    fn idle(&mut self, port: Port, now: Instant);
+    /// [`Engine::receive`].
+    fn receive(&mut self, now: Instant, port: Port, bytes: &[u8]) -> Changes;
+    /// [`Engine::idle`].
+    fn idle(&mut self, now: Instant, port: Port) -> Changes;
     /// [`Engine::poll`].
-    fn poll(&mut self, now: Instant);
+    fn poll(&mut self, now: Instant) -> Changes;
     /// [`Engine::poll_at`].
     fn poll_at(&self) -> Option<Instant>;
-    /// The next frame for `port`.
-    fn frame(&self, port: Port) -> Option<&[u8]>;
-    /// The frame [`BridgeEngine::frame`] gave is on its way.
-    fn sent(&mut self, port: Port);
+    /// [`Engine::pending`].
+    fn pending(&self, port: Port) -> Option<usize>;
+    /// [`Engine::transmit`].
+    fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize>;
     /// [`Engine::pin`].
     fn pin(&self) -> Option<PinAction>;
     /// [`Engine::pin_done`].
-    fn pin_done(&mut self, level: Level, at: Instant);
+    fn pin_done(&mut self, level: Level, at: Instant) -> Changes;
     /// [`Engine::next_event`].
     fn next_event(&mut self) -> Option<Event>;
     /// Link and time status.
@@ -42,48 +44,36 @@ pub trait BridgeEngine {
 }
 
 impl BridgeEngine for Engine {
-    fn receive(&mut self, port: Port, now: Instant, bytes: &[u8]) {
-        match port {
-            Port::Fc => self.receive_fc(now, bytes),
-            Port::Pod => self.receive_pod(now, bytes),
-        }
+    fn receive(&mut self, now: Instant, port: Port, bytes: &[u8]) -> Changes {
+        Engine::receive(self, now, port, bytes)
     }
 
-    fn idle(&mut self, port: Port, now: Instant) {
-        match port {
-            Port::Fc => self.fc_idle(now),
-            Port::Pod => self.pod_idle(now),
-        }
+    fn idle(&mut self, now: Instant, port: Port) -> Changes {
+        Engine::idle(self, now, port)
     }
 
-    fn poll(&mut self, now: Instant) {
-        Engine::poll(self, now);
+    fn poll(&mut self, now: Instant) -> Changes {
+        Engine::poll(self, now)
     }
 
     fn poll_at(&self) -> Option<Instant> {
         Engine::poll_at(self)
     }
 
-    fn frame(&self, port: Port) -> Option<&[u8]> {
-        match port {
-            Port::Fc => self.fc_frame(),
-            Port::Pod => self.pod_frame(),
-        }
+    fn pending(&self, port: Port) -> Option<usize> {
+        Engine::pending(self, port)
     }
 
-    fn sent(&mut self, port: Port) {
-        match port {
-            Port::Fc => self.fc_sent(),
-            Port::Pod => self.pod_sent(),
-        }
+    fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize> {
+        Engine::transmit(self, port, buf)
     }
 
     fn pin(&self) -> Option<PinAction> {
         Engine::pin(self)
     }
 
-    fn pin_done(&mut self, level: Level, at: Instant) {
-        Engine::pin_done(self, level, at);
+    fn pin_done(&mut self, level: Level, at: Instant) -> Changes {
+        Engine::pin_done(self, level, at)
     }
 
     fn next_event(&mut self) -> Option<Event> {

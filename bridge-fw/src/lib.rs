@@ -8,8 +8,8 @@
 //!
 //! | task | what it does |
 //! | --- | --- |
-//! | [`link_reader`] | UART → [`Engine::receive_fc`]/[`receive_pod`](Engine::receive_pod); a silence of [`Timing::idle`] after bytes → [`fc_idle`](Engine::fc_idle)/[`pod_idle`](Engine::pod_idle) |
-//! | [`link_writer`] | engine → UART, one whole frame at a time; on the pod link it holds a frame that would still be on the wire at a planned RTC_IO edge |
+//! | [`link_reader`] | UART → [`Engine::receive`]; a silence of [`Timing::idle`] after bytes → [`Engine::idle`] (an input: what it means is the engine's decision) |
+//! | [`link_writer`] | engine → UART, one whole frame at a time ([`Engine::transmit`]); on the pod link it holds a frame that would still be on the wire at a planned RTC_IO edge |
 //! | [`link`] | both of the above for one port |
 //! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names (a timer alarm): pin, clock, [`pin_done`](Engine::pin_done) in one critical section, then the pod writer is woken |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and all four link loops make progress |
@@ -18,7 +18,9 @@
 //!
 //! The tasks share one [`Shared`]: the engine behind a blocking mutex (never held across
 //! an `.await`), and [`Signal`](embassy_sync::signal::Signal)s that wake the writers, the
-//! engine task and the logger when the engine has something new.
+//! engine task and the logger. Each wakes only when the engine's [`Changes`] concern it
+//! (its queue got a frame, the pin plan changed, events wait) or, the engine task, when an
+//! input brings its next poll forward.
 //!
 //! # RTC_IO edge → first byte of the 0x00030E
 //! The engine task sleeps on a timer alarm set to the edge's instant. When it fires, in one
@@ -32,7 +34,9 @@
 //! its measured delay ([`What::EdgeToFrame`]).
 //!
 //! [`Engine`]: protocol_core::bridge::Engine
-//! [`Engine::receive_fc`]: protocol_core::bridge::Engine::receive_fc
+//! [`Engine::receive`]: protocol_core::bridge::Engine::receive
+//! [`Engine::idle`]: protocol_core::bridge::Engine::idle
+//! [`Engine::transmit`]: protocol_core::bridge::Engine::transmit
 #![cfg_attr(not(feature = "host"), no_std)]
 
 pub mod config;
@@ -55,7 +59,7 @@ pub use shared::{Heartbeat, Shared, Timing};
 pub use timer::engine_task;
 pub use watchdog::watchdog_task;
 
-pub use protocol_core::bridge::{Config, Engine, Event, Instant, Level, PinAction, Port};
+pub use protocol_core::bridge::{Changes, Config, Engine, Event, Instant, Level, PinAction, Port};
 
 /// The engine's clock: embassy-time's, in microseconds since boot.
 #[must_use]

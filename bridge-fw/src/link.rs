@@ -5,7 +5,7 @@ use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::{Timer, with_timeout};
 use embedded_io_async::{Read, Write};
-use protocol_core::bridge::{FC_QUEUE, Instant, Level, POD_QUEUE, PinAction, Port};
+use protocol_core::bridge::{Instant, Level, MAX_FRAME_LEN, PinAction, Port};
 
 use crate::engine::BridgeEngine;
 use crate::log::What;
@@ -14,16 +14,12 @@ use crate::{now, to_embassy};
 
 /// Bytes taken from the UART per read (the UART driver buffers the rest).
 const READ_CHUNK: usize = 64;
-/// Largest frame a writer takes (a frame never exceeds its queue).
-const FRAME: usize = if FC_QUEUE > POD_QUEUE {
-    FC_QUEUE
-} else {
-    POD_QUEUE
-};
 
 /// Reads `port` forever: bytes go to the engine with the instant they were read; when
 /// the line has been silent for [`Timing::idle`] after bytes, the engine is told the line
-/// is idle (frames are complete). Marks its heartbeat at least every
+/// is idle (frames are complete). That is all it says: what a silence means (on the FC
+/// link, where a burst starts) is the engine's decision. Each input wakes the tasks it
+/// concerns ([`Shared::input`]). Marks its heartbeat at least every
 /// [`Timing::heartbeat`]. Read errors are logged and reading goes on.
 pub async fn link_reader<M: RawMutex, E: BridgeEngine, R: Read>(
     shared: &Shared<M, E>,
@@ -44,7 +40,7 @@ pub async fn link_reader<M: RawMutex, E: BridgeEngine, R: Read>(
             Ok(Ok(n)) if n > 0 => {
                 let at = now();
                 let bytes = buf.get(..n).unwrap_or(&buf);
-                shared.with(|e| e.receive(port, at, bytes));
+                shared.input(|e| e.receive(at, port, bytes));
                 pending = true;
             }
             // End of stream (a host peer closed): nothing to read for now.
@@ -52,7 +48,7 @@ pub async fn link_reader<M: RawMutex, E: BridgeEngine, R: Read>(
             Ok(Err(_)) => shared.record(now(), What::ReadError(port)),
             Err(_) if pending => {
                 let at = now();
-                shared.with(|e| e.idle(port, at));
+                shared.input(|e| e.idle(at, port));
                 pending = false;
             }
             Err(_) => {}
@@ -83,8 +79,10 @@ fn hold_for_edge(
 }
 
 /// Writes `port`'s frames forever, one whole frame at a time, each taken from the engine
-/// (and marked sent) under the lock, then written and flushed: a frame is never split and
-/// never waits behind more than the frame before it in the UART's buffer.
+/// ([`Engine::transmit`](protocol_core::bridge::Engine::transmit)) under the lock, then
+/// written and flushed: a frame is never split and never waits behind more than the frame
+/// before it in the UART's buffer. Woken when its queue gets a frame (the pod writer also
+/// when the RTC_IO plan changes), else it looks every [`Timing::heartbeat`].
 ///
 /// On the pod link, a frame that would still be on the wire at the next planned RTC_IO
 /// rising edge ([`Timing::wire_time`] at the link's baud rate, plus two byte times) is
@@ -97,15 +95,14 @@ pub async fn link_writer<M: RawMutex, E: BridgeEngine, W: Write>(
     mut tx: W,
 ) -> ! {
     let timing: Timing = *shared.timing();
-    let mut buf = [0u8; FRAME];
+    let mut buf = [0u8; MAX_FRAME_LEN];
     loop {
         let start = now();
         let mut edge = None;
         let next = shared.with_state(|s| {
-            let Some(frame) = s.engine.frame(port) else {
+            let Some(n) = s.engine.pending(port) else {
                 return Next::Idle;
             };
-            let n = frame.len();
             if port == Port::Pod {
                 let wire = timing.wire_time(port, n.saturating_add(2));
                 if let Some(at) = hold_for_edge(s.engine.pin(), start, wire) {
@@ -113,16 +110,10 @@ pub async fn link_writer<M: RawMutex, E: BridgeEngine, W: Write>(
                 }
                 edge = s.edge.take();
             }
-            match buf.get_mut(..n) {
-                Some(b) => b.copy_from_slice(frame),
-                // Larger than any queue: cannot happen; drop it rather than stall.
-                None => {
-                    s.engine.sent(port);
-                    return Next::Idle;
-                }
-            }
-            s.engine.sent(port);
-            Next::Write(n)
+            // The buffer holds any frame a queue can (`None`: cannot happen).
+            s.engine
+                .transmit(port, &mut buf)
+                .map_or(Next::Idle, Next::Write)
         });
         match next {
             Next::Write(n) => {

@@ -7,7 +7,7 @@ use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::channel::Channel;
 use embassy_sync::signal::Signal;
-use protocol_core::bridge::{Config, Duration, Instant, Port};
+use protocol_core::bridge::{Changes, Config, Duration, Instant, Port};
 
 use crate::engine::BridgeEngine;
 use crate::log::{Record, What};
@@ -37,9 +37,10 @@ pub struct Timing {
 impl Timing {
     /// 20 byte times (1.7 ms at 115200), at least 5 ms; heartbeat every 100 ms.
     ///
-    /// A line idle only flushes a broken candidate (a complete frame is handled on its
-    /// last byte), while a false idle in the middle of a frame loses that frame: so the
-    /// floor is generous. A host runner reading USB serial adapters (which deliver bytes
+    /// A line idle flushes a broken candidate (a complete frame is handled on its last
+    /// byte) and, on the FC link, is one input to the engine's burst rule (which also sees
+    /// quiet gaps itself), while a false idle in the middle of a frame loses that frame:
+    /// so the floor is generous. A host runner reading USB serial adapters (which deliver bytes
     /// in bursts, milliseconds apart) should raise [`Timing::idle_min`] to 20 ms or more.
     #[must_use]
     pub const fn from_config(config: &Config) -> Self {
@@ -126,6 +127,9 @@ pub(crate) struct State<E> {
     pub(crate) engine: E,
     /// The last rising edge not yet followed by a pod frame (for [`What::EdgeToFrame`]).
     pub(crate) edge: Option<Instant>,
+    /// When the engine task wakes by itself (its timer, set before it sleeps): an input
+    /// after which the engine wants a poll sooner wakes it.
+    pub(crate) engine_wakes_at: Instant,
 }
 
 /// Everything the tasks share. `M` is the mutex kind: `CriticalSectionRawMutex` on the
@@ -146,7 +150,11 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
     /// The shared state around `engine`.
     pub const fn new(engine: E, timing: Timing) -> Self {
         Shared {
-            state: Mutex::new(RefCell::new(State { engine, edge: None })),
+            state: Mutex::new(RefCell::new(State {
+                engine,
+                edge: None,
+                engine_wakes_at: Instant::ZERO,
+            })),
             timing,
             wake_engine: Signal::new(),
             wake_fc_tx: Signal::new(),
@@ -163,14 +171,30 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         &self.timing
     }
 
-    /// Runs `f` on the engine (a blocking lock: `f` must not wait), then wakes every task
-    /// that may have something new to do. For readers of the engine's state (a status
-    /// display, a test) as well as the tasks.
+    /// Runs `f` on the engine (a blocking lock: `f` must not wait), waking nobody: for
+    /// readers of the engine's state (a status display, a test) and for taking its
+    /// outputs. An input goes through [`Shared::input`].
     pub fn with<R>(&self, f: impl FnOnce(&mut E) -> R) -> R {
-        let r = self.with_state(|s| f(&mut s.engine));
-        self.wake_engine.signal(());
-        self.wake_outputs();
-        r
+        self.with_state(|s| f(&mut s.engine))
+    }
+
+    /// Runs an input `f` on the engine ([`BridgeEngine::receive`],
+    /// [`BridgeEngine::idle`]) and wakes the tasks it concerns, by the [`Changes`] it
+    /// returns: the writer of each port whose queue got a frame, the pod writer also when
+    /// the pin plan changed (it may hold a frame for a planned edge), the log task when
+    /// events wait; and the engine task when the pin plan changed or the engine now wants
+    /// a poll before the task's timer.
+    pub fn input(&self, f: impl FnOnce(&mut E) -> Changes) -> Changes {
+        let (changes, poll_sooner) = self.with_state(|s| {
+            let changes = f(&mut s.engine);
+            let sooner = s.engine.poll_at().is_some_and(|t| t < s.engine_wakes_at);
+            (changes, sooner)
+        });
+        if poll_sooner || changes.contains(Changes::PIN) {
+            self.wake_engine.signal(());
+        }
+        self.wake(changes);
+        changes
     }
 
     /// Runs `f` on the state, waking nobody.
@@ -178,11 +202,18 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         self.state.lock(|s| f(&mut s.borrow_mut()))
     }
 
-    /// Wakes the writers and the log task.
-    pub(crate) fn wake_outputs(&self) {
-        self.wake_fc_tx.signal(());
-        self.wake_pod_tx.signal(());
-        self.wake_log.signal(());
+    /// Wakes the output tasks that `changes` concern (see [`Shared::input`]); the engine
+    /// task is the caller's.
+    pub(crate) fn wake(&self, changes: Changes) {
+        if changes.contains(Changes::FC_FRAME) {
+            self.wake_fc_tx.signal(());
+        }
+        if changes.intersects(Changes::POD_FRAME | Changes::PIN) {
+            self.wake_pod_tx.signal(());
+        }
+        if changes.contains(Changes::EVENTS) {
+            self.wake_log.signal(());
+        }
     }
 
     /// The writer of `port`'s wake-up.

@@ -4,7 +4,7 @@ use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Timer;
 use embedded_hal::digital::OutputPin;
-use protocol_core::bridge::{Instant, Level};
+use protocol_core::bridge::{Changes, Instant, Level};
 
 use crate::engine::BridgeEngine;
 use crate::log::What;
@@ -14,9 +14,11 @@ use crate::{now, to_embassy};
 /// Drives the engine's clock and the RTC_IO pin forever.
 ///
 /// Each turn: [`poll`](protocol_core::bridge::Engine::poll) if
-/// [`poll_at`](protocol_core::bridge::Engine::poll_at) is due, then sleep until the
-/// earliest of the next poll, the next pin change ([`pin`](protocol_core::bridge::Engine::pin)),
-/// [`Timing::heartbeat`](crate::Timing::heartbeat), or new input from a reader. When the
+/// [`poll_at`](protocol_core::bridge::Engine::poll_at) is due (waking the writers and the
+/// log task its changes concern), then sleep until the earliest of the next poll, the
+/// next pin change ([`pin`](protocol_core::bridge::Engine::pin)),
+/// [`Timing::heartbeat`](crate::Timing::heartbeat), or an input that changed the pin plan
+/// or wants a poll sooner ([`Shared::input`](crate::Shared::input)). When the
 /// pin's instant comes (a timer alarm), in one critical section with nothing that can
 /// wait in between: the pin is set, the clock read, and
 /// [`pin_done`](protocol_core::bridge::Engine::pin_done) told that instant (for a rising
@@ -33,22 +35,28 @@ pub async fn engine_task<M: RawMutex, E: BridgeEngine, P: OutputPin>(
     let heartbeat = shared.timing().heartbeat;
     loop {
         let start = now();
-        let (action, poll_at) = shared.with_state(|s| {
-            if s.engine.poll_at().is_some_and(|t| t <= start) {
-                s.engine.poll(start);
+        let (action, wake, changes) = shared.with_state(|s| {
+            let changes = if s.engine.poll_at().is_some_and(|t| t <= start) {
+                s.engine.poll(start)
+            } else {
+                Changes::NONE
+            };
+            let action = s.engine.pin();
+            let mut wake = start.saturating_add(heartbeat);
+            if let Some(t) = s.engine.poll_at().filter(|&t| t > start) {
+                wake = wake.min(t);
             }
-            (s.engine.pin(), s.engine.poll_at())
+            if let Some(a) = action {
+                wake = wake.min(a.at);
+            }
+            // Set under the lock with what it derives from: an input after it that wants
+            // a poll sooner wakes this task (`Shared::input`).
+            s.engine_wakes_at = wake;
+            (action, wake, changes)
         });
-        shared.wake_outputs();
+        shared.wake(changes);
         shared.alive(Heartbeat::ENGINE);
 
-        let mut wake = start.saturating_add(heartbeat);
-        if let Some(t) = poll_at.filter(|&t| t > start) {
-            wake = wake.min(t);
-        }
-        if let Some(a) = action {
-            wake = wake.min(a.at);
-        }
         if action.is_some_and(|a| a.at <= start) {
             fire(shared, &mut pin);
             continue;
@@ -60,9 +68,11 @@ pub async fn engine_task<M: RawMutex, E: BridgeEngine, P: OutputPin>(
     }
 }
 
-/// Applies the engine's pin action if it is due: pin, clock, `pin_done` under the lock.
+/// Applies the engine's pin action if it is due: pin, clock, `pin_done` under the lock;
+/// then wakes whom the change concerns (the pod writer: the 0x00030E at the head of its
+/// queue after a rising edge).
 fn fire<M: RawMutex, E: BridgeEngine, P: OutputPin>(shared: &Shared<M, E>, pin: &mut P) {
-    let done: Option<(Level, Instant, bool)> = shared.with_state(|s| {
+    let done: Option<(Level, Instant, bool, Changes)> = shared.with_state(|s| {
         let a = s.engine.pin().filter(|a| a.at <= now())?;
         let ok = match a.level {
             Level::High => pin.set_high(),
@@ -72,19 +82,16 @@ fn fire<M: RawMutex, E: BridgeEngine, P: OutputPin>(shared: &Shared<M, E>, pin: 
         let at = now();
         // The engine has no "edge failed": a pin that cannot be set (none of the
         // supported ones can fail) is reported as set, and logged below.
-        s.engine.pin_done(a.level, at);
+        let changes = s.engine.pin_done(a.level, at);
         if a.level == Level::High {
             s.edge = Some(at);
         }
-        Some((a.level, at, ok))
+        Some((a.level, at, ok, changes))
     });
-    let Some((level, at, ok)) = done else {
+    let Some((level, at, ok, changes)) = done else {
         return;
     };
-    if level == Level::High {
-        shared.wake_pod_tx.signal(());
-    }
-    shared.wake_outputs();
+    shared.wake(changes);
     if !ok {
         shared.record(at, What::PinError(level));
     }

@@ -12,8 +12,8 @@ use std::collections::VecDeque;
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared, PinRecorder};
 use bridge_fw::{
-    BridgeEngine, Config, Engine, Event, Heartbeat, Instant, Level, PinAction, Port, Record,
-    Status, Timing, What,
+    BridgeEngine, Changes, Config, Engine, Event, Heartbeat, Instant, Level, PinAction, Port,
+    Record, Status, Timing, What,
 };
 use embassy_futures::select::{Either, select, select3};
 use embassy_time::{Duration as EDuration, Timer};
@@ -304,31 +304,31 @@ struct Spy {
 }
 
 impl BridgeEngine for Spy {
-    fn receive(&mut self, port: Port, now: Instant, bytes: &[u8]) {
+    fn receive(&mut self, now: Instant, port: Port, bytes: &[u8]) -> Changes {
         self.inputs.push((now, Input::Bytes(port, bytes.len())));
-        self.inner.receive(port, now, bytes);
+        self.inner.receive(now, port, bytes)
     }
-    fn idle(&mut self, port: Port, now: Instant) {
+    fn idle(&mut self, now: Instant, port: Port) -> Changes {
         self.inputs.push((now, Input::Idle(port)));
-        self.inner.idle(port, now);
+        self.inner.idle(now, port)
     }
-    fn poll(&mut self, now: Instant) {
-        BridgeEngine::poll(&mut self.inner, now);
+    fn poll(&mut self, now: Instant) -> Changes {
+        BridgeEngine::poll(&mut self.inner, now)
     }
     fn poll_at(&self) -> Option<Instant> {
         BridgeEngine::poll_at(&self.inner)
     }
-    fn frame(&self, port: Port) -> Option<&[u8]> {
-        self.inner.frame(port)
+    fn pending(&self, port: Port) -> Option<usize> {
+        self.inner.pending(port)
     }
-    fn sent(&mut self, port: Port) {
-        self.inner.sent(port);
+    fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize> {
+        self.inner.transmit(port, buf)
     }
     fn pin(&self) -> Option<PinAction> {
         BridgeEngine::pin(&self.inner)
     }
-    fn pin_done(&mut self, level: Level, at: Instant) {
-        BridgeEngine::pin_done(&mut self.inner, level, at);
+    fn pin_done(&mut self, level: Level, at: Instant) -> Changes {
+        BridgeEngine::pin_done(&mut self.inner, level, at)
     }
     fn next_event(&mut self) -> Option<Event> {
         BridgeEngine::next_event(&mut self.inner)
@@ -433,30 +433,40 @@ impl Scripted {
 }
 
 impl BridgeEngine for Scripted {
-    fn receive(&mut self, _: Port, _: Instant, _: &[u8]) {}
-    fn idle(&mut self, _: Port, _: Instant) {}
-    fn poll(&mut self, now: Instant) {
+    fn receive(&mut self, _: Instant, _: Port, _: &[u8]) -> Changes {
+        Changes::NONE
+    }
+    fn idle(&mut self, _: Instant, _: Port) -> Changes {
+        Changes::NONE
+    }
+    fn poll(&mut self, now: Instant) -> Changes {
+        let mut changes = Changes::NONE;
         while self.next_filler <= now {
             let mut f = vec![FILLER; self.filler_len];
             f[1..5].copy_from_slice(&self.fillers.to_le_bytes());
             self.pod.push_back(f);
             self.fillers += 1;
             self.next_filler = self.next_filler.saturating_add(self.filler_every);
+            changes |= Changes::POD_FRAME;
         }
+        changes
     }
     fn poll_at(&self) -> Option<Instant> {
         Some(self.next_filler)
     }
-    fn frame(&self, port: Port) -> Option<&[u8]> {
+    fn pending(&self, port: Port) -> Option<usize> {
         match port {
-            Port::Pod => self.pod.front().map(Vec::as_slice),
+            Port::Pod => self.pod.front().map(Vec::len),
             Port::Fc => None,
         }
     }
-    fn sent(&mut self, port: Port) {
-        if port == Port::Pod {
-            self.pod.pop_front();
-        }
+    fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize> {
+        let f = match port {
+            Port::Pod => self.pod.pop_front()?,
+            Port::Fc => return None,
+        };
+        buf[..f.len()].copy_from_slice(&f);
+        Some(f.len())
     }
     fn pin(&self) -> Option<PinAction> {
         match (self.low_at, self.edges.front()) {
@@ -471,7 +481,7 @@ impl BridgeEngine for Scripted {
             (None, None) => None,
         }
     }
-    fn pin_done(&mut self, level: Level, at: Instant) {
+    fn pin_done(&mut self, level: Level, at: Instant) -> Changes {
         match level {
             Level::High => {
                 self.edges.pop_front();
@@ -479,8 +489,12 @@ impl BridgeEngine for Scripted {
                 m[1..9].copy_from_slice(&at.as_micros().to_le_bytes());
                 self.pod.push_front(m);
                 self.low_at = Some(at.saturating_add(Duration::from_millis(50)));
+                Changes::PIN | Changes::POD_FRAME
             }
-            Level::Low => self.low_at = None,
+            Level::Low => {
+                self.low_at = None;
+                Changes::PIN
+            }
         }
     }
     fn next_event(&mut self) -> Option<Event> {

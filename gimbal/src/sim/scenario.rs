@@ -13,7 +13,7 @@
 //! [`Scenario::set_pod_faults`] for a noisy cable (a seeded [`Faults`] model in both
 //! directions).
 
-use protocol_core::bridge::{Config, Engine, Event, Instant, Level};
+use protocol_core::bridge::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
 use super::line::Line;
@@ -207,7 +207,7 @@ impl<F: FcSim> Scenario<F> {
             self.pod_line.next_event(),
             self.to_pod_line.next_event(),
             self.engine
-                .pod_frame()
+                .pending(Port::Pod)
                 .map(|_| self.to_pod_line.busy_until()),
         ]
         .into_iter()
@@ -222,17 +222,17 @@ impl<F: FcSim> Scenario<F> {
         // Lines into the bridge.
         let (bytes, idle) = self.fc_line.deliver(now);
         if !bytes.is_empty() && !self.fc_is_cut() {
-            self.engine.receive_fc(local, &bytes);
+            self.engine.receive(local, Port::Fc, &bytes);
         }
         if idle && !self.fc_idle_off {
-            self.engine.fc_idle(local);
+            self.engine.idle(local, Port::Fc);
         }
         let (bytes, idle) = self.pod_line.deliver(now);
         if !bytes.is_empty() && !self.pod_is_cut() {
-            self.engine.receive_pod(local, &bytes);
+            self.engine.receive(local, Port::Pod, &bytes);
         }
         if idle {
-            self.engine.pod_idle(local);
+            self.engine.idle(local, Port::Pod);
         }
         // Lines out of the bridge.
         let (bytes, _) = self.to_fc_line.deliver(now);
@@ -280,22 +280,19 @@ impl<F: FcSim> Scenario<F> {
     /// Moves the engine's output frames onto the lines and collects its events.
     fn drain_engine(&mut self) {
         let now = self.now_us;
-        while let Some(f) = self.engine.fc_frame() {
-            let f = f.to_vec();
-            self.engine.fc_sent();
+        let mut f = [0u8; MAX_FRAME_LEN];
+        while let Some(n) = self.engine.transmit(Port::Fc, &mut f) {
             if !self.fc_is_cut() {
-                self.to_fc_line.send(now, &f);
+                self.to_fc_line.send(now, &f[..n]);
             }
         }
         // One frame at a time, when the line is free (the firmware writes a frame and
         // waits for it to leave before taking the next): a time-sync frame put at the
         // head of the queue goes next.
         if self.to_pod_line.busy_until() <= now
-            && let Some(f) = self.engine.pod_frame()
+            && let Some(n) = self.engine.transmit(Port::Pod, &mut f)
         {
-            let f = f.to_vec();
-            self.engine.pod_sent();
-            self.to_pod_line.send(now, &f);
+            self.to_pod_line.send(now, &f[..n]);
         }
         while let Some(e) = self.engine.next_event() {
             self.events.push((now, e));

@@ -19,6 +19,7 @@
 
 use std::ops::Range;
 
+use protocol_core::bridge::Port;
 use protocol_core::wire::{Deframer, Event, Framing};
 
 /// UART-sized pieces: the deframer is fed, and rust-mavlink reads, at most this many
@@ -244,15 +245,12 @@ impl BridgeRun {
         let mut buf = [0u8; 256];
         for f in &self.frames {
             self.now = self.now.saturating_add(self.step);
-            if self.from_fc {
-                self.engine.receive_fc(self.now, f);
-            } else {
-                self.engine.receive_pod(self.now, f);
-            }
-            while self.engine.take_pod_frame(&mut buf).is_some() {
+            let port = if self.from_fc { Port::Fc } else { Port::Pod };
+            self.engine.receive(self.now, port, f);
+            while self.engine.transmit(Port::Pod, &mut buf).is_some() {
                 pod += 1;
             }
-            while self.engine.take_fc_frame(&mut buf).is_some() {
+            while self.engine.transmit(Port::Fc, &mut buf).is_some() {
                 fc += 1;
             }
             while self.engine.next_event().is_some() {}

@@ -15,6 +15,10 @@
 //!   for the pod at most [`POD_QUEUE`]; at most [`EVENTS`] events are waiting;
 //! - every frame for the FC is a valid frame of its protocol (checked by the reference
 //!   scans written from the documents), every frame for the pod a valid K40T frame;
+//! - every input's [`Changes`] say what it did, as the firmware's wake-ups rely on: a
+//!   queue's frame bit exactly when the input queued a frame for that port, the events
+//!   bit exactly when it queued an event, the pin bit whenever the RTC_IO plan
+//!   ([`Engine::pin`]) changed;
 //! - whatever came before, once the lines went idle, a valid FC request is answered:
 //!   SIYI's firmware-version request (0x01) with the 0x01 reply of its sequence number;
 //!   Viewlink's handshake (0x00) with a 0x40 status while the pod reports its attitude;
@@ -23,7 +27,10 @@
 use std::sync::OnceLock;
 
 use protocol_core::Direction;
-use protocol_core::bridge::{Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, POD_QUEUE};
+use protocol_core::bridge::{
+    Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, MAX_FRAME_LEN, POD_QUEUE,
+    PinAction, Port,
+};
 use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
 use protocol_core::viewlink::{self, SyncOrder};
@@ -109,16 +116,17 @@ fn pod_frame(config: &Config, id: MsgId, fill: &[u8], seq: u8) -> Vec<u8> {
 
 /// Takes every output and checks it; returns the frames for the FC and for the pod.
 fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
-    let mut fc = Vec::new();
-    while let Some(f) = engine.fc_frame() {
-        fc.push(f.to_vec());
-        engine.fc_sent();
-    }
-    let mut pod = Vec::new();
-    while let Some(f) = engine.pod_frame() {
-        pod.push(f.to_vec());
-        engine.pod_sent();
-    }
+    let mut take = |port| {
+        let mut frames = Vec::new();
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        while let Some(len) = engine.pending(port) {
+            assert_eq!(engine.transmit(port, &mut buf), Some(len), "{port:?}");
+            frames.push(buf[..len].to_vec());
+        }
+        frames
+    };
+    let fc = take(Port::Fc);
+    let pod = take(Port::Pod);
     let mut events = 0;
     while engine.next_event().is_some() {
         events += 1;
@@ -157,6 +165,50 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
     (fc, pod)
 }
 
+/// What a caller sees of the engine, taken before and after an input to check the
+/// [`Changes`] it returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Seen {
+    /// Frames queued so far, for the FC and for the pod.
+    fc_queued: u32,
+    pod_queued: u32,
+    /// Events queued so far: those waiting and those dropped for newer ones.
+    events: usize,
+    pin: Option<PinAction>,
+}
+
+impl Seen {
+    fn of(engine: &Engine) -> Self {
+        let counters = engine.counters();
+        let mut copy = engine.clone();
+        let waiting = std::iter::from_fn(|| copy.next_event()).count();
+        Seen {
+            fc_queued: counters.fc_sent,
+            pod_queued: counters.pod_sent,
+            events: waiting + counters.events_dropped as usize,
+            pin: engine.pin(),
+        }
+    }
+
+    /// `changes`, returned by the input from `self` to `after`, say what it did.
+    fn check(&self, after: &Self, changes: Changes) {
+        let said = |c| changes.contains(c);
+        let what = format!("{changes:?} from {self:?} to {after:?}");
+        assert_eq!(
+            said(Changes::FC_FRAME),
+            after.fc_queued != self.fc_queued,
+            "{what}"
+        );
+        assert_eq!(
+            said(Changes::POD_FRAME),
+            after.pod_queued != self.pod_queued,
+            "{what}"
+        );
+        assert_eq!(said(Changes::EVENTS), after.events != self.events, "{what}");
+        assert!(said(Changes::PIN) || after.pin == self.pin, "{what}");
+    }
+}
+
 /// Runs one program; panics when a property fails.
 pub fn run(data: &[u8]) {
     let mut input = Input::new(data);
@@ -174,41 +226,45 @@ pub fn run(data: &[u8]) {
             break;
         }
         let op = input.byte();
-        match op % 8 {
+        let before = Seen::of(&engine);
+        let changes = match op % 8 {
             op::FC_BYTES => {
                 let n = usize::from(input.byte());
-                engine.receive_fc(now, input.bytes(n));
+                engine.receive(now, Port::Fc, input.bytes(n))
             }
             op::POD_BYTES => {
                 let n = usize::from(input.byte());
-                engine.receive_pod(now, input.bytes(n));
+                engine.receive(now, Port::Pod, input.bytes(n))
             }
             op::WAIT => {
                 let ms = u16::from_le_bytes([input.byte(), input.byte()]);
                 now = now.saturating_add(Duration::from_millis(ms.into()));
-                engine.poll(now);
+                engine.poll(now)
             }
-            op::FC_IDLE => engine.fc_idle(now),
-            op::POD_IDLE => engine.pod_idle(now),
-            op::PIN => {
-                if let Some(p) = engine.pin() {
+            op::FC_IDLE => engine.idle(now, Port::Fc),
+            op::POD_IDLE => engine.idle(now, Port::Pod),
+            op::PIN => match engine.pin() {
+                Some(p) => {
                     now = now.max(p.at);
-                    engine.pin_done(p.level, now);
+                    engine.pin_done(p.level, now)
                 }
-            }
+                None => Changes::NONE,
+            },
             op::DRAIN => {
                 drain(&mut engine, protocol);
+                continue;
             }
             _ => {
                 let pick = usize::from(input.byte());
                 if op & 8 == 0 {
                     let list = &frames.fc[which];
-                    engine.receive_fc(now, &list[pick % list.len()]);
+                    engine.receive(now, Port::Fc, &list[pick % list.len()])
                 } else {
-                    engine.receive_pod(now, &frames.pod[pick % frames.pod.len()]);
+                    engine.receive(now, Port::Pod, &frames.pod[pick % frames.pod.len()])
                 }
             }
-        }
+        };
+        before.check(&Seen::of(&engine), changes);
         // The read-only views never fail either.
         let _ = (engine.poll_at(), engine.counters(), engine.utc(now));
         let _ = (engine.pod_state(), engine.utc_state(), engine.fc_link());
@@ -220,8 +276,8 @@ pub fn run(data: &[u8]) {
 /// answered (see the module documentation).
 fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
     drain(engine, protocol);
-    engine.fc_idle(now);
-    engine.pod_idle(now);
+    engine.idle(now, Port::Fc);
+    engine.idle(now, Port::Pod);
     now = now.saturating_add(Duration::from_secs(1));
     engine.poll(now);
     drain(engine, protocol);
@@ -236,7 +292,7 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
         FcProtocol::Viewlink => {
             // The status carries the pod's attitude: the pod reports it first.
             let attitude = pod_frame(&config, k40t::GimbalAttitude::ID, &[1; 32], 0);
-            engine.receive_pod(now, &attitude);
+            engine.receive(now, Port::Pod, &attitude);
             drain(engine, protocol);
             crate::viewlink::encoded(
                 viewlink::Handshake::ID,
@@ -262,8 +318,8 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
         )),
     }
     .expect("the probe request encodes");
-    engine.receive_fc(now, &request);
-    engine.fc_idle(now);
+    engine.receive(now, Port::Fc, &request);
+    engine.idle(now, Port::Fc);
     let (fc, pod) = drain(engine, protocol);
     let answered = match protocol {
         // 55 66 CTRL LEN(2) SEQ(2) CMD: the firmware versions, same sequence number.

@@ -6,29 +6,28 @@
 //! have left).
 
 use core::hint::black_box;
-use protocol_core::bridge::{Config, Engine, Instant, Level};
+use protocol_core::bridge::{Config, Engine, Instant, Level, Port};
 
 pub fn exercise(input: &[u8], out: &mut [u8]) {
     let mut engine = Engine::new(black_box(Config::DEFAULT));
     let now = || Instant::from_micros(black_box(0));
-    black_box(&mut engine).receive_fc(now(), input);
-    black_box(&mut engine).fc_idle(now());
-    black_box(&mut engine).receive_pod(now(), input);
-    black_box(&mut engine).pod_idle(now());
-    black_box(&mut engine).poll(now());
+    let port = || black_box(Port::Fc);
+    black_box(black_box(&mut engine).receive(now(), port(), input));
+    black_box(black_box(&mut engine).idle(now(), port()));
+    black_box(black_box(&mut engine).receive(now(), black_box(Port::Pod), input));
+    black_box(black_box(&mut engine).idle(now(), black_box(Port::Pod)));
+    black_box(black_box(&mut engine).poll(now()));
     if let Some(p) = black_box(&mut engine).pin() {
         black_box(p);
     }
-    black_box(&mut engine).pin_done(black_box(Level::High), now());
-    black_box(&mut engine).pin_done(black_box(Level::Low), now());
+    black_box(black_box(&mut engine).pin_done(black_box(Level::High), now()));
+    black_box(black_box(&mut engine).pin_done(black_box(Level::Low), now()));
     let e = black_box(&mut engine);
-    black_box((e.fc_frame(), e.pod_frame(), e.poll_at(), e.fc_link()));
+    black_box((e.pending(port()), e.poll_at(), e.fc_link()));
     black_box((e.counters(), e.utc(now()), e.utc_state(), e.pod_state()));
     black_box(e.config());
-    e.fc_sent();
-    e.pod_sent();
-    black_box(e.take_fc_frame(out));
-    black_box(e.take_pod_frame(out));
+    black_box(e.transmit(port(), out));
+    black_box(e.transmit(black_box(Port::Pod), out));
     while let Some(ev) = black_box(&mut *e).next_event() {
         black_box(ev);
     }

@@ -3,23 +3,25 @@
 //! actions taken and its queues and events drained.
 
 use core::hint::black_box;
-use protocol_core::bridge::{Config, Engine, Instant};
+use protocol_core::bridge::{Config, Engine, Instant, Port};
 
 pub fn probe(input: &[u8], out: &mut [u8]) {
     let mut engine = Engine::new(black_box(Config::DEFAULT));
     let now = Instant::from_micros(black_box(0));
     let e = black_box(&mut engine);
-    e.receive_fc(now, input);
-    e.fc_idle(now);
-    e.receive_pod(now, input);
-    e.pod_idle(now);
-    e.poll(now);
+    for port in [Port::Fc, Port::Pod] {
+        let port = black_box(port);
+        black_box(e.receive(now, port, input));
+        black_box(e.idle(now, port));
+    }
+    black_box(e.poll(now));
     if let Some(p) = e.pin() {
-        e.pin_done(p.level, p.at);
+        black_box(e.pin_done(p.level, p.at));
     }
     black_box(e.poll_at());
-    black_box(e.take_fc_frame(out));
-    black_box(e.take_pod_frame(out));
+    for port in [Port::Fc, Port::Pod] {
+        black_box(e.transmit(black_box(port), out));
+    }
     while let Some(ev) = e.next_event() {
         black_box(ev);
     }

@@ -2,15 +2,21 @@
 //! SIYI, Viewlink, GCU or K40T on the other.
 //!
 //! No I/O, no clock reads, no allocation, a size fixed at compile time. Like smoltcp's
-//! `Interface`, the [`Engine`] is driven by its caller:
+//! `Interface`, the [`Engine`] is driven by its caller, per [`Port`] (the FC's serial
+//! link and the pod's):
 //!
-//! - **Inputs:** bytes from the FC ([`Engine::receive_fc`]) and from the pod
-//!   ([`Engine::receive_pod`]), each with the local [`Instant`] the last byte arrived;
-//!   "line idle" per port ([`Engine::fc_idle`], [`Engine::pod_idle`]); and
-//!   [`Engine::poll`] at the instant [`Engine::poll_at`] names.
-//! - **Outputs:** whole frames for the FC ([`Engine::fc_frame`] + [`Engine::fc_sent`])
-//!   and for the pod ([`Engine::pod_frame`] + [`Engine::pod_sent`]); the RTC_IO pin
-//!   ([`Engine::pin`], [`Engine::pin_done`]); [`Event`]s for logging and [`Counters`].
+//! - **Inputs:** bytes from a port ([`Engine::receive`]), with the local [`Instant`] the
+//!   last of them arrived; "the line went idle" ([`Engine::idle`]); and [`Engine::poll`]
+//!   at the instant [`Engine::poll_at`] names.
+//! - **Outputs:** whole frames for a port, one at a time ([`Engine::transmit`] copies the
+//!   next into the caller's buffer and takes it off the queue; [`Engine::pending`] gives
+//!   its length); the RTC_IO pin ([`Engine::pin`], [`Engine::pin_done`]); [`Event`]s for
+//!   logging and [`Counters`].
+//! - **What changed:** every input ([`Engine::receive`], [`Engine::idle`],
+//!   [`Engine::poll`], [`Engine::pin_done`]) returns the [`Changes`] since the previous
+//!   one (a port's queue got a frame, the RTC_IO plan changed, events wait), so that a
+//!   caller with a task per output wakes only the task concerned. [`Engine::poll_at`] may
+//!   move with any input: read it again after each.
 //!
 //! # RTC_IO and time sync
 //! While UTC is valid the engine plans a pulse every [`SyncConfig::period`](sync::SyncConfig)
@@ -60,6 +66,13 @@ use event::EventQueue;
 pub const FC_QUEUE: usize = 256;
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
+/// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never
+/// exceeds its queue).
+pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
+    FC_QUEUE
+} else {
+    POD_QUEUE
+};
 
 /// The level of the RTC_IO pin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -83,6 +96,73 @@ pub struct PinAction {
     pub at: Instant,
 }
 
+/// What an input changed, for a caller that wakes only whom it concerns (after smoltcp's
+/// `PollResult`): [`Engine::receive`], [`Engine::idle`], [`Engine::poll`] and
+/// [`Engine::pin_done`] each return the changes since the previous of them. A small bit
+/// set: test it with [`Changes::contains`], combine with `|`.
+///
+/// Deadlines are not in it: [`Engine::poll_at`] may move with any input, whatever the
+/// changes say.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Changes(u8);
+
+impl Changes {
+    /// Nothing changed.
+    pub const NONE: Self = Self(0);
+    /// The FC queue got a frame ([`Engine::transmit`] for [`Port::Fc`]).
+    pub const FC_FRAME: Self = Self(1);
+    /// The pod queue got a frame ([`Engine::transmit`] for [`Port::Pod`]); after a rising
+    /// edge, the 0x00030E at its head.
+    pub const POD_FRAME: Self = Self(1 << 1);
+    /// The RTC_IO plan changed: [`Engine::pin`] names another action, or none.
+    pub const PIN: Self = Self(1 << 2);
+    /// New events wait ([`Engine::next_event`]).
+    pub const EVENTS: Self = Self(1 << 3);
+
+    /// The queue of `port` got a frame: [`Changes::FC_FRAME`] or [`Changes::POD_FRAME`].
+    #[must_use]
+    pub const fn frame(port: Port) -> Self {
+        match port {
+            Port::Fc => Self::FC_FRAME,
+            Port::Pod => Self::POD_FRAME,
+        }
+    }
+
+    /// Nothing changed.
+    #[must_use]
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Every change of `other` is in `self`.
+    #[must_use]
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// `self` and `other` have a change in common.
+    #[must_use]
+    pub const fn intersects(self, other: Self) -> bool {
+        self.0 & other.0 != 0
+    }
+}
+
+impl core::ops::BitOr for Changes {
+    type Output = Self;
+
+    fn bitor(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+}
+
+impl core::ops::BitOrAssign for Changes {
+    fn bitor_assign(&mut self, other: Self) {
+        self.0 |= other.0;
+    }
+}
+
 /// The engine's outputs, shared by its parts.
 #[derive(Debug, Clone)]
 pub(crate) struct Outputs {
@@ -90,10 +170,24 @@ pub(crate) struct Outputs {
     pub(crate) pod: FrameQueue<POD_QUEUE>,
     pub(crate) events: EventQueue,
     pub(crate) counters: Counters,
+    /// What changed since the last report ([`Core::report`]).
+    pub(crate) changes: Changes,
 }
 
 impl Outputs {
+    /// Empty queues, no event, zero counters, no change.
+    pub(crate) fn new() -> Self {
+        Outputs {
+            fc: FrameQueue::new(),
+            pod: FrameQueue::new(),
+            events: EventQueue::new(),
+            counters: Counters::default(),
+            changes: Changes::NONE,
+        }
+    }
+
     pub(crate) fn event(&mut self, e: Event) {
+        self.changes |= Changes::EVENTS;
         if !self.events.push(e) {
             self.counters.events_dropped = self.counters.events_dropped.saturating_add(1);
         }
@@ -109,6 +203,7 @@ impl Outputs {
             });
         }
         if p.queued {
+            self.changes |= Changes::frame(port);
             let sent = match port {
                 Port::Fc => &mut self.counters.fc_sent,
                 Port::Pod => &mut self.counters.pod_sent,
@@ -143,6 +238,86 @@ impl Outputs {
 const POD_FRAME: usize = k40t::MAX_FRAME_LEN;
 
 /// The bridge engine. See the [module documentation](self).
+///
+/// # Example
+///
+/// The default configuration: ArduPilot's SIYI driver on the FC link. A command from the
+/// FC goes to the pod; then the FC's time is fed until the first RTC_IO edge, and the
+/// 0x00030E of that edge is the next frame for the pod.
+///
+/// ```
+/// use protocol_core::bridge::discipline::serial_time;
+/// use protocol_core::bridge::{Changes, Config, Engine, Instant, Level, MAX_FRAME_LEN, Port};
+/// use protocol_core::{k40t, siyi};
+///
+/// let mut engine = Engine::new(Config::DEFAULT);
+/// let mut frame = [0u8; 64]; // a SIYI frame from the FC
+/// let mut out = [0u8; MAX_FRAME_LEN]; // a frame taken from the engine
+///
+/// // ArduPilot zooms in (SIYI 0x05): a K40T continuous zoom (0x000306) for the pod, and
+/// // the zoom ratio for the FC.
+/// let zoom_in = siyi::ManualZoom { direction: siyi::ZoomDirection::In };
+/// let n = siyi::encode(&zoom_in, &siyi::Header::request(1), &mut frame)?;
+/// let changes = engine.receive(Instant::from_millis(100), Port::Fc, &frame[..n]);
+/// assert!(changes.contains(Changes::POD_FRAME | Changes::FC_FRAME));
+/// let n = engine.transmit(Port::Pod, &mut out).expect("a frame for the pod");
+/// let zoom = k40t::Packet::decode(&out[..n])?.message.get::<k40t::ContinuousZoom>();
+/// assert_eq!(zoom.map(|z| z.control), Some(k40t::ZoomControl::In));
+///
+/// // ArduPilot's time, 10 times a second: its boot clock (0x22, with the aircraft's
+/// // attitude) and, in its first five updates, UTC before it (0x30). Its clock and the
+/// // bridge's started together, at 2026-01-01 00:00:00.250 UTC; each update arrives
+/// // after its time on the wire. The engine plans an RTC_IO edge on the 10 s grid; the
+/// // caller raises the pin at that instant and reports it.
+/// let boot_utc_us: u64 = 1_767_225_600_250_000;
+/// let mut on_the_wire: Option<(Instant, Vec<u8>)> = None;
+/// let mut ms: u64 = 200;
+/// let edge = loop {
+///     let now = Instant::from_millis(ms);
+///     if let Some(p) = engine.pin().filter(|p| p.at <= now) {
+///         assert_eq!(p.level, Level::High);
+///         let changes = engine.pin_done(Level::High, p.at);
+///         assert!(changes.contains(Changes::POD_FRAME | Changes::PIN));
+///         break p.at;
+///     }
+///     if ms % 100 == 0 {
+///         let mut update = Vec::new();
+///         let seq = u16::try_from(ms / 100).unwrap_or(0);
+///         if ms <= 600 {
+///             let utc = siyi::UtcTime { unix_us: boot_utc_us + ms * 1000 };
+///             let n = siyi::encode(&utc, &siyi::Header::request(seq), &mut frame)?;
+///             update.extend_from_slice(&frame[..n]);
+///         }
+///         let attitude = siyi::FcAttitude {
+///             time_boot_ms: u32::try_from(ms).unwrap_or(0),
+///             ..Default::default()
+///         };
+///         let n = siyi::encode(&attitude, &siyi::Header::request(seq), &mut frame)?;
+///         update.extend_from_slice(&frame[..n]);
+///         let wire = serial_time(u32::try_from(update.len()).unwrap_or(0), 115_200);
+///         on_the_wire = Some((now.saturating_add(wire), update));
+///     }
+///     if let Some((arrived, update)) = on_the_wire.take_if(|(at, _)| *at <= now) {
+///         engine.receive(arrived, Port::Fc, &update);
+///     }
+///     if engine.poll_at().is_some_and(|t| t <= now) {
+///         engine.poll(now);
+///     }
+///     // What the writers send: answers to the FC, version probes to the pod.
+///     while engine.transmit(Port::Fc, &mut out).is_some() {}
+///     while engine.transmit(Port::Pod, &mut out).is_some() {}
+///     ms += 1;
+/// };
+///
+/// // The first edge: 00:00:10.000 UTC on the FC's clock, 9.55 s after its first UTC.
+/// // The next frame for the pod is that edge's 0x00030E, carrying that UTC.
+/// assert_eq!(edge, Instant::from_millis(9_750));
+/// assert_eq!(boot_utc_us + edge.as_micros(), 1_767_225_610_000_000);
+/// let n = engine.transmit(Port::Pod, &mut out).expect("the time sync");
+/// let sync = k40t::Packet::decode(&out[..n])?.message.get::<k40t::TimeSync>();
+/// assert_eq!(sync.map(|s| s.unix_ms), Some(1_767_225_610_000));
+/// # Ok::<(), protocol_core::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Engine {
     /// Apart from the rest, so that each frame it yields is handled with all the rest.
@@ -188,12 +363,7 @@ impl Engine {
                 edge: None,
                 edge_settled: false,
                 pin_low: None,
-                out: Outputs {
-                    fc: FrameQueue::new(),
-                    pod: FrameQueue::new(),
-                    events: EventQueue::new(),
-                    counters: Counters::default(),
-                },
+                out: Outputs::new(),
                 fc_last: None,
                 fc_link: false,
                 config,
@@ -249,90 +419,105 @@ impl Engine {
         self.core.out.events.pop()
     }
 
-    /// The next frame for the FC: write all of it, then call [`Engine::fc_sent`].
+    /// Copies the next frame for `port` into `buf` and takes it off the queue; returns its
+    /// length (`None`: nothing queued, or `buf` too small and the frame kept; a buffer of
+    /// [`MAX_FRAME_LEN`] bytes takes any). Write the whole frame before taking the next. A
+    /// time-sync frame put at the head of the pod queue while a taken frame is being
+    /// written comes next.
+    // `#[inline]` here and on `pending`, `receive` and `idle`: a dispatch on the port that
+    // the caller often knows; out of line, the call cost a driver's loop 2 % more
+    // instructions (scripts/bench).
+    #[inline]
+    pub fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize> {
+        match port {
+            Port::Fc => self.core.out.fc.pop_into(buf),
+            Port::Pod => self.core.out.pod.pop_into(buf),
+        }
+    }
+
+    /// The length of the next frame [`Engine::transmit`] gives for `port` (`None`: nothing
+    /// queued), for a writer that times a frame before it takes it.
+    #[inline]
     #[must_use]
-    pub fn fc_frame(&self) -> Option<&[u8]> {
-        self.core.out.fc.front()
+    pub fn pending(&self, port: Port) -> Option<usize> {
+        match port {
+            Port::Fc => self.core.out.fc.front(),
+            Port::Pod => self.core.out.pod.front(),
+        }
+        .map(<[u8]>::len)
     }
 
-    /// The frame [`Engine::fc_frame`] gave is on its way.
-    pub fn fc_sent(&mut self) {
-        self.core.out.fc.pop();
+    /// Bytes from `port`; `now` is the local instant the last of them arrived. Returns what
+    /// changed.
+    #[inline]
+    pub fn receive(&mut self, now: Instant, port: Port, bytes: &[u8]) -> Changes {
+        match port {
+            Port::Fc => self.fc_bytes(now, bytes),
+            Port::Pod => self.pod_bytes(now, bytes),
+        }
     }
 
-    /// Copies the next frame for the FC into `buf` and takes it off the queue; returns
-    /// its length (`None`: nothing queued, or `buf` too small and the frame kept). For
-    /// a caller that writes asynchronously: take the frame, then write it.
-    pub fn take_fc_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
-        self.core.out.fc.pop_into(buf)
+    /// `port`'s line has gone idle (a UART idle interrupt, a read time-out): frames are
+    /// complete, and an incomplete candidate will not be (see
+    /// [`Deframer::poll_idle`](crate::wire::Deframer::poll_idle)). On the FC link it is
+    /// also one of the two signs by which the engine tells the FC's bursts apart (the
+    /// other, a quiet line before bytes, it sees itself). Returns what changed.
+    #[inline]
+    pub fn idle(&mut self, now: Instant, port: Port) -> Changes {
+        match port {
+            Port::Fc => self.fc_line_idle(now),
+            Port::Pod => self.pod_line_idle(now),
+        }
     }
 
-    /// As [`Engine::take_fc_frame`], for the pod. A time-sync frame put at the head of the
-    /// queue while a taken frame is being written comes next.
-    pub fn take_pod_frame(&mut self, buf: &mut [u8]) -> Option<usize> {
-        self.core.out.pod.pop_into(buf)
-    }
-
-    /// The next frame for the pod: write all of it, then call [`Engine::pod_sent`]. A
-    /// time-sync frame comes first, after the frame being written.
-    #[must_use]
-    pub fn pod_frame(&self) -> Option<&[u8]> {
-        self.core.out.pod.front()
-    }
-
-    /// The frame [`Engine::pod_frame`] gave is on its way.
-    pub fn pod_sent(&mut self) {
-        self.core.out.pod.pop();
-    }
-
-    /// Bytes from the FC; `now` is the local instant the last of them arrived.
-    pub fn receive_fc(&mut self, now: Instant, bytes: &[u8]) {
+    /// [`Engine::receive`] for the FC.
+    fn fc_bytes(&mut self, now: Instant, bytes: &[u8]) -> Changes {
         let core = &mut self.core;
         let (fc, mut ctx) = core.ctx(now);
         fc.receive(&mut ctx, bytes);
         let seen = ctx.fc_seen;
         core.fc_frame_seen(now, seen);
-        core.after_input(now);
+        core.after_input(now)
     }
 
-    /// The FC line has gone idle (a UART idle interrupt, a read time-out): frames are
-    /// complete, and an incomplete candidate will not be (see
-    /// [`Deframer::poll_idle`](crate::wire::Deframer::poll_idle)).
-    pub fn fc_idle(&mut self, now: Instant) {
+    /// [`Engine::idle`] for the FC.
+    fn fc_line_idle(&mut self, now: Instant) -> Changes {
         let core = &mut self.core;
         let (fc, mut ctx) = core.ctx(now);
         fc.idle(&mut ctx);
         let seen = ctx.fc_seen;
         core.fc_frame_seen(now, seen);
-        core.after_input(now);
+        core.after_input(now)
     }
 
-    /// Bytes from the pod; `now` is the local instant the last of them arrived.
-    pub fn receive_pod(&mut self, now: Instant, bytes: &[u8]) {
+    /// [`Engine::receive`] for the pod.
+    fn pod_bytes(&mut self, now: Instant, bytes: &[u8]) -> Changes {
         let core = &mut self.core;
         self.pod_deframer.push(bytes, |ev| {
             if let DeframerEvent::Frame(f) = ev {
                 core.pod_frame(now, f);
             }
         });
-        core.after_input(now);
+        core.after_input(now)
     }
 
-    /// The pod line has gone idle.
-    pub fn pod_idle(&mut self, now: Instant) {
+    /// [`Engine::idle`] for the pod.
+    fn pod_line_idle(&mut self, now: Instant) -> Changes {
         let core = &mut self.core;
         self.pod_deframer.flush(|ev| {
             if let DeframerEvent::Frame(f) = ev {
                 core.pod_frame(now, f);
             }
         });
-        core.after_input(now);
+        core.after_input(now)
     }
 
     /// Does the work due at `now`: retries and time-outs, link supervision, the FC
-    /// silence stop, streamed replies, the UTC discipline and the sync plan.
-    pub fn poll(&mut self, now: Instant) {
+    /// silence stop, streamed replies, the UTC discipline and the sync plan. Returns what
+    /// changed.
+    pub fn poll(&mut self, now: Instant) -> Changes {
         self.core.poll(now);
+        self.core.report()
     }
 
     /// The next RTC_IO change: the planned rising edge, or the falling edge after it.
@@ -354,9 +539,10 @@ impl Engine {
 
     /// The caller set RTC_IO to `level` at the local instant `at`. For a rising edge,
     /// the 0x00030E of that edge goes to the head of the pod queue (send it next) and
-    /// the falling edge is planned.
-    pub fn pin_done(&mut self, level: Level, at: Instant) {
+    /// the falling edge is planned. Returns what changed (always the pin plan).
+    pub fn pin_done(&mut self, level: Level, at: Instant) -> Changes {
         self.core.pin_done(level, at);
+        self.core.report()
     }
 
     /// When the engine wants [`Engine::poll`] called next (`None`: only on input).
@@ -388,6 +574,11 @@ impl Engine {
 }
 
 impl Core {
+    /// What changed since the last report; starts collecting again.
+    fn report(&mut self) -> Changes {
+        core::mem::take(&mut self.out.changes)
+    }
+
     fn ctx(&mut self, now: Instant) -> (&mut FcSide, Ctx<'_>) {
         (
             &mut self.fc,
@@ -474,13 +665,14 @@ impl Core {
     }
 
     /// Reports a change of the UTC discipline's state (samples arrive with the input)
-    /// and plans the next edge.
-    fn after_input(&mut self, now: Instant) {
+    /// and plans the next edge; returns what the input changed.
+    fn after_input(&mut self, now: Instant) -> Changes {
         self.utc_transition(now);
         // A fix may have come in for a waiting GPS request.
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
         self.plan_sync(now);
+        self.report()
     }
 
     fn utc_transition(&mut self, now: Instant) {
@@ -536,15 +728,21 @@ impl Core {
         }
         // Holdover is still usable: the local clock carries UTC between sparse samples
         // (the K40T FC sends one every 10 s) and after the FC falls silent, for a while.
+        let planned = self.edge.map(|e| e.at);
         self.edge = if self.time.state().is_usable() {
             self.sync.next_edge(now, &self.time)
         } else {
             None
         };
+        if self.edge.map(|e| e.at) != planned {
+            self.out.changes |= Changes::PIN;
+        }
         self.edge_settled = self.edge.is_some_and(|e| e.at <= lead_start);
     }
 
     fn pin_done(&mut self, level: Level, at: Instant) {
+        // The action done is no longer the next one.
+        self.out.changes |= Changes::PIN;
         match level {
             Level::Low => self.pin_low = None,
             Level::High => {
@@ -572,6 +770,81 @@ impl Core {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod changes_tests {
+    use super::*;
+    use crate::k40t::{Address, Header, TimeSync};
+
+    fn frame_from_fc<M: k40t::MessageData<Protocol = k40t::K40t>>(m: &M, seq: u8) -> Vec<u8> {
+        let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, seq);
+        let mut buf = [0u8; k40t::MAX_FRAME_LEN];
+        let n = k40t::encode(m, &header, &mut buf).unwrap();
+        buf[..n].to_vec()
+    }
+
+    /// Each input reports what it changed, and only that (the firmware wakes its tasks
+    /// by it); `poll_at` is not in it.
+    #[test]
+    fn each_input_reports_what_it_changed() {
+        let mut e = Engine::new(Config::for_fc(FcProtocol::K40t));
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let ms = Instant::from_millis;
+        // The pod is not there: a version probe for it.
+        assert_eq!(e.poll(ms(0)), Changes::POD_FRAME);
+        assert!(e.transmit(Port::Pod, &mut buf).is_some());
+        // Nothing due, nothing to say.
+        assert_eq!(e.poll(ms(1)), Changes::NONE);
+        // The FC's own time sync (K40T side): ACKed to the FC, the FC link comes up, UTC
+        // becomes valid and the first edge is planned.
+        let sync = TimeSync {
+            unix_ms: 1_767_225_600_000,
+            tz_minuteswest: 0,
+            tz_dsttime: 0,
+        };
+        let c = e.receive(ms(100), Port::Fc, &frame_from_fc(&sync, 1));
+        assert_eq!(c, Changes::FC_FRAME | Changes::PIN | Changes::EVENTS);
+        assert!(e.pending(Port::Fc).is_some() && e.pending(Port::Pod).is_none());
+        let edge = e.pin().unwrap();
+        assert_eq!(edge.level, Level::High);
+        // The line goes idle with nothing left in the deframer: nothing changed.
+        assert_eq!(e.idle(ms(105), Port::Fc), Changes::NONE);
+        // Taking outputs is no input: it reports nothing, and clears nothing.
+        while e.next_event().is_some() {}
+        assert!(e.transmit(Port::Fc, &mut buf).is_some());
+        // The rising edge: the 0x00030E at the head of the pod queue, the falling edge
+        // planned, the time-sync event.
+        let c = e.pin_done(Level::High, edge.at);
+        assert_eq!(c, Changes::POD_FRAME | Changes::PIN | Changes::EVENTS);
+        let n = e.pending(Port::Pod).unwrap();
+        assert_eq!(e.transmit(Port::Pod, &mut buf), Some(n));
+        let sync = k40t::Packet::decode(&buf[..n]).unwrap();
+        assert!(sync.message.get::<TimeSync>().is_some());
+        assert_eq!(e.pin().map(|p| p.level), Some(Level::Low));
+        // A buffer too small keeps the frame.
+        let mut small = [0u8; 4];
+        e.pin_done(
+            Level::Low,
+            edge.at.saturating_add(Duration::from_millis(50)),
+        );
+        e.poll(ms(12_000));
+        let n = e.pending(Port::Pod).unwrap();
+        assert_eq!(e.transmit(Port::Pod, &mut small), None);
+        assert_eq!(e.pending(Port::Pod), Some(n));
+    }
+
+    #[test]
+    fn changes_are_a_small_bit_set() {
+        let c = Changes::FC_FRAME | Changes::EVENTS;
+        assert!(c.contains(Changes::FC_FRAME) && c.contains(Changes::EVENTS));
+        assert!(!c.contains(Changes::FC_FRAME | Changes::PIN));
+        assert!(c.intersects(Changes::FC_FRAME | Changes::PIN));
+        assert!(!c.intersects(Changes::frame(Port::Pod)));
+        assert_eq!(Changes::frame(Port::Fc), Changes::FC_FRAME);
+        assert!(Changes::NONE.is_empty() && !c.is_empty());
+        assert_eq!(Changes::default(), Changes::NONE);
     }
 }
 

@@ -1244,8 +1244,6 @@ fn typed<M: MessageData<Protocol = crate::k40t::K40t>>(frame: &Frame<&[u8]>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bridge::event::{Counters, EventQueue};
-    use crate::bridge::queue::FrameQueue;
     use crate::k40t::{
         CameraVersionAck, DialSpeed, GimbalAttitude, HybridZoomAck, Kind, MessageData, MsgId,
         TakePhotoAck,
@@ -1253,12 +1251,7 @@ mod tests {
     use crate::k40t::{Message, Packet};
 
     fn outputs() -> Outputs {
-        Outputs {
-            fc: FrameQueue::new(),
-            pod: FrameQueue::new(),
-            events: EventQueue::new(),
-            counters: Counters::default(),
-        }
+        Outputs::new()
     }
 
     fn ms(t: u64) -> Instant {

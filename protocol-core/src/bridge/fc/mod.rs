@@ -111,9 +111,9 @@ pub(crate) const ATTITUDE_FRESH: Duration = Duration::from_millis(500);
 /// Thermal and laser readings older than this are not reported.
 pub(crate) const READING_FRESH: Duration = Duration::from_secs(1);
 
-/// A quiet FC line for longer than this between two receptions starts a new burst (the
-/// firmware's idle detection uses 20 byte times, at least 5 ms; ArduPilot's drivers leave
-/// 10 ms or more between their bursts).
+/// A quiet FC line for longer than this before bytes starts a new burst (ArduPilot's
+/// drivers leave 10 ms or more between their bursts; the firmware reports a line idle
+/// after 20 byte times, at least 5 ms). See [`FcLink::receive`].
 const BURST_GAP: Duration = Duration::from_millis(5);
 
 /// An `i32` saturated to `i16`.
@@ -188,7 +188,7 @@ pub(crate) trait FcHandler {
     /// [`FcHandler::TIMED_FROM`] says.
     fn frame(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]);
 
-    /// The FC starts a new burst (the line was quiet, or went idle).
+    /// The FC starts a new burst (the line went idle, or was quiet, before these bytes).
     fn burst_started(&mut self) {}
 
     /// Periodic work due at `ctx.now`.
@@ -239,10 +239,15 @@ pub(crate) enum TimedFrom {
 
 /// What every serial FC link has, whatever its protocol: the protocol's deframer (`N`
 /// bytes) and the FC's bursts, over the side's [`FcHandler`].
+///
+/// Bursts are decided here and nowhere else, by one rule ([`FcLink::receive`]): bytes
+/// start a new burst when the line was idle before them, because the caller said so
+/// ([`FcLink::idle`], its UART's idle detection: an input, not a rule of its own) or
+/// because they came more than [`BURST_GAP`] after the last bytes.
 #[derive(Debug, Clone)]
 pub(crate) struct FcLink<H: FcHandler, const N: usize> {
     deframer: Deframer<H::Framing, N>,
-    /// When the last bytes arrived (for inferring a quiet line between bursts).
+    /// When the last bytes arrived; `None` before any and after the caller's idle.
     last_rx: Option<Instant>,
     /// Bytes received since the current burst began.
     burst_bytes: u32,
@@ -259,18 +264,19 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
         }
     }
 
-    /// Bytes from the FC, the last of them arriving at `ctx.now`.
+    /// Bytes from the FC, the last of them arriving at `ctx.now`. They start a new burst
+    /// when the line was idle before them: the caller said so, or (when its idle signal
+    /// did not come: a late thread, a busy host, a UART without idle detection) the line
+    /// was quiet for over [`BURST_GAP`] before their first byte.
     fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
         let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        // A burst also starts when the line was quiet before these bytes, even if the
-        // caller's idle signal did not come (a late thread, a busy host).
         let first_byte = ctx.now.saturating_sub(serial_time(n, ctx.config.fc_baud));
-        if self
-            .last_rx
-            .and_then(|last| last.checked_add(BURST_GAP))
-            .is_some_and(|quiet_until| first_byte > quiet_until)
-        {
-            self.new_burst();
+        if self.last_rx.is_none_or(|last| {
+            last.checked_add(BURST_GAP)
+                .is_some_and(|quiet_until| first_byte > quiet_until)
+        }) {
+            self.burst_bytes = 0;
+            self.handler.burst_started();
         }
         self.last_rx = Some(ctx.now);
         self.burst_bytes = self.burst_bytes.saturating_add(n);
@@ -293,7 +299,8 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
         });
     }
 
-    /// The FC line has gone idle: frames are complete, the burst is over.
+    /// The FC line has gone idle: frames are complete, the burst is over (the next bytes
+    /// start one, [`FcLink::receive`]).
     fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let burst_bytes = self.burst_bytes;
         let handler = &mut self.handler;
@@ -309,12 +316,7 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
                 handler.frame(ctx, f);
             }
         });
-        self.new_burst();
-    }
-
-    fn new_burst(&mut self) {
-        self.burst_bytes = 0;
-        self.handler.burst_started();
+        self.last_rx = None;
     }
 }
 
