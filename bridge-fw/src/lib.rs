@@ -14,7 +14,7 @@
 //! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names (a timer alarm): pin, clock, [`pin_done`](Engine::pin_done) in one critical section, then the pod writer is woken |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and all four link loops make progress |
 //! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
-//! | [`log_task`] | engine events and the tasks' own [`Record`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
+//! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //!
 //! The tasks share one [`Shared`]: the engine behind a blocking mutex (never held across
 //! an `.await`), and [`Signal`](embassy_sync::signal::Signal)s that wake the writers, the
@@ -31,7 +31,7 @@
 //! frame that would still be on the wire at a planned edge ([`link_writer`]), and it waits
 //! for each frame to leave the UART (`flush`) before taking the next, so at most one
 //! frame is ever in the UART's buffer. Every first pod frame after an edge is logged with
-//! its measured delay ([`What::EdgeToFrame`]).
+//! its measured delay ([`LogKind::EdgeToFrame`]).
 //!
 //! [`Engine`]: protocol_core::bridge::Engine
 //! [`Engine::receive`]: protocol_core::bridge::Engine::receive
@@ -41,22 +41,22 @@
 
 pub mod config;
 mod engine;
+mod engine_task;
 mod led;
 mod link;
 mod log;
 mod shared;
-mod timer;
 mod watchdog;
 
 #[cfg(feature = "host")]
 pub mod host;
 
 pub use engine::{BridgeEngine, Status};
+pub use engine_task::engine_task;
 pub use led::{Blink, led_pattern, led_task};
 pub use link::{link, link_reader, link_writer};
-pub use log::{EventSink, Record, What, log_task};
-pub use shared::{Heartbeat, Shared, Timing};
-pub use timer::engine_task;
+pub use log::{EventSink, log_task};
+pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
 pub use watchdog::watchdog_task;
 
 pub use protocol_core::bridge::{Changes, Config, Engine, Event, Instant, Level, PinAction, Port};

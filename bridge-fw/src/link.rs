@@ -8,7 +8,7 @@ use embedded_io_async::{Read, Write};
 use protocol_core::bridge::{Instant, Level, MAX_FRAME_LEN, PinAction, Port};
 
 use crate::engine::BridgeEngine;
-use crate::log::What;
+use crate::shared::LogKind;
 use crate::shared::{Heartbeat, Shared, Timing};
 use crate::{now, to_embassy};
 
@@ -45,7 +45,7 @@ pub async fn link_reader<M: RawMutex, E: BridgeEngine, R: Read>(
             }
             // End of stream (a host peer closed): nothing to read for now.
             Ok(Ok(_)) => Timer::after(to_embassy_duration(timing.heartbeat)).await,
-            Ok(Err(_)) => shared.record(now(), What::ReadError(port)),
+            Ok(Err(_)) => shared.record(now(), LogKind::ReadError(port)),
             Err(_) if pending => {
                 let at = now();
                 shared.input(|e| e.idle(at, port));
@@ -120,7 +120,7 @@ pub async fn link_writer<M: RawMutex, E: BridgeEngine, W: Write>(
                 if let Some(edge) = edge {
                     shared.record(
                         start,
-                        What::EdgeToFrame {
+                        LogKind::EdgeToFrame {
                             delay: start.saturating_duration_since(edge),
                             len: u16::try_from(n).unwrap_or(u16::MAX),
                         },
@@ -129,7 +129,7 @@ pub async fn link_writer<M: RawMutex, E: BridgeEngine, W: Write>(
                 let frame = buf.get(..n).unwrap_or(&buf);
                 let ok = tx.write_all(frame).await.is_ok() && tx.flush().await.is_ok();
                 if !ok {
-                    shared.record(now(), What::WriteError(port));
+                    shared.record(now(), LogKind::WriteError(port));
                 }
             }
             Next::Hold(at) => {

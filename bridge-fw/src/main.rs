@@ -29,7 +29,7 @@ mod stack;
 #[allow(unsafe_code)]
 mod systick_driver;
 
-use bridge_fw::{Engine, Port, Record, Shared, Timing, What};
+use bridge_fw::{Engine, LogKind, LogRecord, Port, Shared, Timing};
 use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_stm32::gpio::Output;
@@ -43,7 +43,7 @@ use panic_probe as _;
 use static_cell::StaticCell;
 
 /// The tasks' shared state, concrete.
-type Sh = Shared<CriticalSectionRawMutex, Engine>;
+type BoardShared = Shared<CriticalSectionRawMutex, Engine>;
 
 /// The watchdog check period (the supervised loops mark their heartbeat every 100 ms).
 const WATCHDOG_PERIOD: Duration = Duration::from_millis(250);
@@ -86,8 +86,9 @@ fn start(spawner: Spawner) {
         b.config.fc,
         timing
     );
-    static SHARED: StaticCell<Sh> = StaticCell::new();
-    let shared: &'static Sh = SHARED.init_with(|| Shared::new(Engine::new(b.config), timing));
+    static SHARED: StaticCell<BoardShared> = StaticCell::new();
+    let shared: &'static BoardShared =
+        SHARED.init_with(|| Shared::new(Engine::new(b.config), timing));
 
     let (fc_tx, fc_rx) = b.fc.split();
     let (pod_tx, pod_rx) = b.pod.split();
@@ -143,33 +144,41 @@ fn defmt_fc(fc: protocol_core::bridge::FcProtocol) -> &'static str {
 }
 
 #[embassy_executor::task]
-async fn fc_link(sh: &'static Sh, rx: BufferedUartRx<'static>, tx: BufferedUartTx<'static>) -> ! {
-    bridge_fw::link(sh, Port::Fc, rx, tx).await
+async fn fc_link(
+    shared: &'static BoardShared,
+    rx: BufferedUartRx<'static>,
+    tx: BufferedUartTx<'static>,
+) -> ! {
+    bridge_fw::link(shared, Port::Fc, rx, tx).await
 }
 
 #[embassy_executor::task]
-async fn pod_link(sh: &'static Sh, rx: BufferedUartRx<'static>, tx: BufferedUartTx<'static>) -> ! {
-    bridge_fw::link(sh, Port::Pod, rx, tx).await
+async fn pod_link(
+    shared: &'static BoardShared,
+    rx: BufferedUartRx<'static>,
+    tx: BufferedUartTx<'static>,
+) -> ! {
+    bridge_fw::link(shared, Port::Pod, rx, tx).await
 }
 
 #[embassy_executor::task]
-async fn engine(sh: &'static Sh, rtc_io: Output<'static>) -> ! {
-    bridge_fw::engine_task(sh, rtc_io).await
+async fn engine(shared: &'static BoardShared, rtc_io: Output<'static>) -> ! {
+    bridge_fw::engine_task(shared, rtc_io).await
 }
 
 #[embassy_executor::task]
-async fn watchdog(sh: &'static Sh, mut wd: IndependentWatchdog<'static, IWDG>) -> ! {
-    bridge_fw::watchdog_task(sh, WATCHDOG_PERIOD, || wd.pet()).await
+async fn watchdog(shared: &'static BoardShared, mut wd: IndependentWatchdog<'static, IWDG>) -> ! {
+    bridge_fw::watchdog_task(shared, WATCHDOG_PERIOD, || wd.pet()).await
 }
 
 #[embassy_executor::task]
-async fn led(sh: &'static Sh, led: Output<'static>) -> ! {
-    bridge_fw::led_task(sh, led).await
+async fn led(shared: &'static BoardShared, led: Output<'static>) -> ! {
+    bridge_fw::led_task(shared, led).await
 }
 
 #[embassy_executor::task]
-async fn log(sh: &'static Sh) -> ! {
-    bridge_fw::log_task(sh, |r: &Record| {
+async fn log(shared: &'static BoardShared) -> ! {
+    bridge_fw::log_task(shared, |r: &LogRecord| {
         #[cfg(feature = "qemu")]
         qemu_time_event(r);
         log_defmt(r);
@@ -179,20 +188,20 @@ async fn log(sh: &'static Sh) -> ! {
 
 /// The time-sync events on QEMU's stdout (the emulated-board scenarios report them).
 #[cfg(feature = "qemu")]
-fn qemu_time_event(r: &Record) {
+fn qemu_time_event(r: &LogRecord) {
     use bridge_fw::Event;
     let at = r.at.as_micros();
     match r.what {
-        What::Engine(Event::UtcValid {
+        LogKind::Engine(Event::UtcValid {
             error_bound_us,
             converged,
         }) => semihosting::println!(
             "bridge-fw (qemu): {at} us: UTC valid, bound {error_bound_us} us, converged {converged}"
         ),
-        What::Engine(Event::UtcLost) => {
+        LogKind::Engine(Event::UtcLost) => {
             semihosting::println!("bridge-fw (qemu): {at} us: UTC lost")
         }
-        What::Engine(Event::TimeSync {
+        LogKind::Engine(Event::TimeSync {
             edge,
             utc_ms,
             error_bound_us,
@@ -204,9 +213,12 @@ fn qemu_time_event(r: &Record) {
     }
 }
 
-fn log_defmt(r: &Record) {
+fn log_defmt(r: &LogRecord) {
     match r.what {
-        What::ReadError(_) | What::WriteError(_) | What::PinError(_) | What::Stalled(_) => {
+        LogKind::ReadError(_)
+        | LogKind::WriteError(_)
+        | LogKind::PinError(_)
+        | LogKind::Stalled(_) => {
             defmt::warn!("{}", r);
         }
         _ => defmt::info!("{}", r),

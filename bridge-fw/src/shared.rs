@@ -7,10 +7,47 @@ use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::channel::Channel;
 use embassy_sync::signal::Signal;
-use protocol_core::bridge::{Changes, Config, Duration, Instant, Port};
+use protocol_core::bridge::{Changes, Config, Duration, Event, Instant, Level, Port};
 
 use crate::engine::BridgeEngine;
-use crate::log::{Record, What};
+
+/// What a [`LogRecord`] reports: an engine event or one of the tasks' own happenings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum LogKind {
+    /// An engine event (stamped when the log task took it).
+    Engine(Event),
+    /// RTC_IO was set to this level (stamped with the instant read right after).
+    Pin(Level),
+    /// RTC_IO could not be set to this level (the engine was told it was).
+    PinError(Level),
+    /// The first pod frame after a rising edge started: `delay` after the edge.
+    EdgeToFrame {
+        /// From the edge to the first byte handed to the pod UART.
+        delay: Duration,
+        /// Length of that frame (the 0x00030E, unless the engine had none to send).
+        len: u16,
+    },
+    /// A UART error (framing, noise, overrun...) on a read.
+    ReadError(Port),
+    /// A write failed: the frame was dropped.
+    WriteError(Port),
+    /// The watchdog was not fed: these loops made no progress in the last period.
+    Stalled(Heartbeat),
+}
+
+/// One entry for the log task, from the engine or a task, with its instant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct LogRecord {
+    /// The local instant it happened (or was logged, for engine events).
+    pub at: Instant,
+    /// What happened.
+    pub what: LogKind,
+}
 
 /// Records (pin edges, link errors, delays) waiting for the log task.
 const RECORDS: usize = 8;
@@ -125,7 +162,7 @@ impl Heartbeat {
 /// The engine and the task-side state around it.
 pub(crate) struct State<E> {
     pub(crate) engine: E,
-    /// The last rising edge not yet followed by a pod frame (for [`What::EdgeToFrame`]).
+    /// The last rising edge not yet followed by a pod frame (for [`LogKind::EdgeToFrame`]).
     pub(crate) edge: Option<Instant>,
     /// When the engine task wakes by itself (its timer, set before it sleeps): an input
     /// after which the engine wants a poll sooner wakes it.
@@ -141,7 +178,7 @@ pub struct Shared<M: RawMutex, E> {
     pub(crate) wake_fc_tx: Signal<M, ()>,
     pub(crate) wake_pod_tx: Signal<M, ()>,
     pub(crate) wake_log: Signal<M, ()>,
-    pub(crate) records: Channel<M, Record, RECORDS>,
+    pub(crate) records: Channel<M, LogRecord, RECORDS>,
     alive: AtomicU8,
     records_dropped: AtomicU32,
 }
@@ -235,8 +272,8 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
     }
 
     /// Queues a record for the log task (never waits: counted and dropped when full).
-    pub fn record(&self, at: Instant, what: What) {
-        if self.records.try_send(Record { at, what }).is_err() {
+    pub fn record(&self, at: Instant, what: LogKind) {
+        if self.records.try_send(LogRecord { at, what }).is_err() {
             self.records_dropped.fetch_add(1, Ordering::Relaxed);
         }
         self.wake_log.signal(());

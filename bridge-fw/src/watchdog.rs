@@ -4,13 +4,13 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::{Duration, Ticker};
 
 use crate::engine::BridgeEngine;
-use crate::log::What;
 use crate::now;
+use crate::shared::LogKind;
 use crate::shared::{Heartbeat, Shared};
 
 /// Every `period`, feeds the watchdog (`feed`) if the engine task and the four link
 /// loops (FC and pod, reader and writer) have each marked their heartbeat since the
-/// last check; else logs which did not ([`What::Stalled`]) and does not feed.
+/// last check; else logs which did not ([`LogKind::Stalled`]) and does not feed.
 ///
 /// Each loop marks its heartbeat at least every [`Timing::heartbeat`](crate::Timing::heartbeat)
 /// (100 ms) while healthy, so `period` must be longer than that (the firmware uses
@@ -28,7 +28,10 @@ pub async fn watchdog_task<M: RawMutex, E: BridgeEngine, F: FnMut()>(
         if alive.0 & Heartbeat::ALL.0 == Heartbeat::ALL.0 {
             feed();
         } else {
-            shared.record(now(), What::Stalled(Heartbeat(Heartbeat::ALL.0 & !alive.0)));
+            shared.record(
+                now(),
+                LogKind::Stalled(Heartbeat(Heartbeat::ALL.0 & !alive.0)),
+            );
         }
     }
 }

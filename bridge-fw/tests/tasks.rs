@@ -12,8 +12,8 @@ use std::collections::VecDeque;
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared, PinRecorder};
 use bridge_fw::{
-    BridgeEngine, Changes, Config, Engine, Event, Heartbeat, Instant, Level, PinAction, Port,
-    Record, Status, Timing, What,
+    BridgeEngine, Changes, Config, Engine, Event, Heartbeat, Instant, Level, LogKind, LogRecord,
+    PinAction, Port, Status, Timing,
 };
 use embassy_futures::select::{Either, select, select3};
 use embassy_time::{Duration as EDuration, Timer};
@@ -131,7 +131,7 @@ async fn sim_pod(links: &HostLinks, side: &RefCell<PodSide>, reports_until: Inst
 /// The whole bridge on the real engine with the simulated pod, for `secs` of virtual time.
 struct Run {
     shared: HostShared,
-    records: Vec<Record>,
+    records: Vec<LogRecord>,
     pod: PodSide,
     feeds: u32,
     edges: Vec<(Level, Instant)>,
@@ -151,7 +151,7 @@ fn run_with_pod(secs: u64, reports_until: Instant) -> Run {
                 &shared,
                 &links,
                 rtc_io.clone(),
-                |r: &Record| records.borrow_mut().push(*r),
+                |r: &LogRecord| records.borrow_mut().push(*r),
                 || feeds.set(feeds.get() + 1),
             ),
             sim_pod(&links, &pod, reports_until),
@@ -167,11 +167,11 @@ fn run_with_pod(secs: u64, reports_until: Instant) -> Run {
     }
 }
 
-fn engine_events(records: &[Record]) -> Vec<(Instant, Event)> {
+fn engine_events(records: &[LogRecord]) -> Vec<(Instant, Event)> {
     records
         .iter()
         .filter_map(|r| match r.what {
-            What::Engine(e) => Some((r.at, e)),
+            LogKind::Engine(e) => Some((r.at, e)),
             _ => None,
         })
         .collect()
@@ -257,7 +257,7 @@ fn pod_link_comes_up_versions_are_answered_reports_are_processed() {
     assert!(
         !run.records
             .iter()
-            .any(|r| matches!(r.what, What::Stalled(_)))
+            .any(|r| matches!(r.what, LogKind::Stalled(_)))
     );
     assert_eq!(run.shared.records_dropped(), 0);
 }
@@ -354,7 +354,13 @@ fn bytes_reach_the_engine_with_their_instant_and_silence_means_idle() {
     let links = HostLinks::new();
     host::run(Clock::Virtual, || {
         select(
-            host::bridge(&shared, &links, PinRecorder::new(), |_: &Record| {}, || {}),
+            host::bridge(
+                &shared,
+                &links,
+                PinRecorder::new(),
+                |_: &LogRecord| {},
+                || {},
+            ),
             async {
                 Timer::at(embassy_time::Instant::from_millis(100)).await;
                 links.fc_rx.write_all(&[0x55; 10]).await;
@@ -541,7 +547,7 @@ async fn pod_reader(
 struct EdgeRun {
     edges: Vec<(Level, Instant)>,
     seen: Vec<(Instant, Vec<u8>)>,
-    records: Vec<Record>,
+    records: Vec<LogRecord>,
     fillers_made: u32,
     fillers_queued: usize,
     timing: Timing,
@@ -567,7 +573,7 @@ fn run_edges(
                 &shared,
                 &links,
                 rtc_io.clone(),
-                |r: &Record| records.borrow_mut().push(*r),
+                |r: &LogRecord| records.borrow_mut().push(*r),
                 || {},
             ),
             pod_reader(&links, filler_len, &seen),
@@ -631,7 +637,7 @@ fn rtc_io_rises_at_the_planned_instant_and_the_marker_is_the_next_frame() {
         .records
         .iter()
         .filter_map(|r| match r.what {
-            What::EdgeToFrame { delay, len } => Some((delay, len)),
+            LogKind::EdgeToFrame { delay, len } => Some((delay, len)),
             _ => None,
         })
         .collect();
@@ -661,7 +667,7 @@ fn edge_to_marker_delay_on_real_time() {
         .records
         .iter()
         .filter_map(|r| match r.what {
-            What::EdgeToFrame { delay, .. } => Some(delay),
+            LogKind::EdgeToFrame { delay, .. } => Some(delay),
             _ => None,
         })
         .collect();
@@ -701,7 +707,7 @@ fn a_stalled_writer_stops_the_watchdog_feed() {
                 &shared,
                 &links,
                 PinRecorder::new(),
-                |r: &Record| records.borrow_mut().push(*r),
+                |r: &LogRecord| records.borrow_mut().push(*r),
                 || feeds.borrow_mut().push(bridge_fw::now()),
             ),
             Timer::after(EDuration::from_secs(3)),
@@ -716,7 +722,7 @@ fn a_stalled_writer_stops_the_watchdog_feed() {
         .borrow()
         .iter()
         .filter_map(|r| match r.what {
-            What::Stalled(h) => Some((r.at, h)),
+            LogKind::Stalled(h) => Some((r.at, h)),
             _ => None,
         })
         .collect();
@@ -782,7 +788,7 @@ fn real_time_with_the_pod_fed_from_another_thread() {
                     &shared,
                     links,
                     PinRecorder::new(),
-                    |r: &Record| records.borrow_mut().push(*r),
+                    |r: &LogRecord| records.borrow_mut().push(*r),
                     || {},
                 ),
                 Timer::after(EDuration::from_millis(600)),

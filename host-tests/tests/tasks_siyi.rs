@@ -7,7 +7,7 @@
 use core::cell::RefCell;
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{Record, Timing, What};
+use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either3, select, select3};
 use embassy_time::{Duration, Timer};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
@@ -21,7 +21,7 @@ mod task_scenarios;
 struct Run {
     fc: ApSiyi,
     pod: SimPod,
-    records: Vec<Record>,
+    records: Vec<LogRecord>,
 }
 
 /// Runs the bridge tasks for `secs` of virtual time; `script` acts on the FC at given
@@ -34,7 +34,7 @@ fn run(secs: u64, mut script: impl FnMut(u64, &mut ApSiyi)) -> Run {
     let pod = RefCell::new(SimPod::new(PodSimConfig::default()));
     let records = RefCell::new(Vec::new());
     host::run(Clock::Virtual, || async {
-        let sink = |r: &Record| records.borrow_mut().push(*r);
+        let sink = |r: &LogRecord| records.borrow_mut().push(*r);
         let bridge = host::bridge(&shared, &links, PodPin::new(&pod), sink, || {});
         let peers = select(
             run_peer(&fc, &links.fc_tx, &links.fc_rx, config.fc_baud),
@@ -106,14 +106,14 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
     let highs = r
         .records
         .iter()
-        .filter(|x| x.what == What::Pin(Level::High))
+        .filter(|x| x.what == LogKind::Pin(Level::High))
         .count();
     assert_eq!(highs, syncs.len());
     let delays: Vec<u64> = r
         .records
         .iter()
         .filter_map(|x| match x.what {
-            What::EdgeToFrame { delay, len } => Some((delay.as_micros(), len)),
+            LogKind::EdgeToFrame { delay, len } => Some((delay.as_micros(), len)),
             _ => None,
         })
         .map(|(d, len)| {
@@ -126,11 +126,10 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
     assert_eq!(r.pod.photos().len(), 1);
     let reply = r.pod.gps_replies().last().expect("a GPS reply");
     assert_eq!(reply.reply.code.code(), protocol_core::k40t::AckCode::Ok);
-    assert!(
-        r.records
-            .iter()
-            .any(|x| matches!(x.what, What::Engine(Event::Geotag { answered: true, .. })))
-    );
+    assert!(r.records.iter().any(|x| matches!(
+        x.what,
+        LogKind::Engine(Event::Geotag { answered: true, .. })
+    )));
 }
 
 const BOUNDS: Bounds = Bounds {

@@ -142,10 +142,10 @@ pub(crate) fn serialize_code<S: serde::Serializer, C: serde::Serialize>(
     code: C,
 ) -> core::result::Result<S::Ok, S::Error> {
     use serde::ser::SerializeStruct as _;
-    let mut st = s.serialize_struct("Code", 2)?;
-    st.serialize_field("name", name)?;
-    st.serialize_field("code", &code)?;
-    st.end()
+    let mut out = s.serialize_struct("Code", 2)?;
+    out.serialize_field("name", name)?;
+    out.serialize_field("code", &code)?;
+    out.end()
 }
 
 /// Declares a fixed-layout struct: the fields in wire order, each a
@@ -306,10 +306,10 @@ macro_rules! bit_set {
                 use serde::ser::SerializeStruct as _;
                 // "raw" and one field per named bit.
                 let fields = [$( stringify!($get) ),*].len().saturating_add(1);
-                let mut st = s.serialize_struct(stringify!($name), fields)?;
-                st.serialize_field("raw", &self.0)?;
-                $( st.serialize_field(stringify!($get), &self.$get())?; )*
-                st.end()
+                let mut out = s.serialize_struct(stringify!($name), fields)?;
+                out.serialize_field("raw", &self.0)?;
+                $( out.serialize_field(stringify!($get), &self.$get())?; )*
+                out.end()
             }
         }
 

@@ -15,7 +15,7 @@
 //! // One minute of virtual time takes milliseconds: time jumps to the next alarm
 //! // whenever every task waits.
 //! host::run(Clock::Virtual, || select(
-//!     host::bridge(&shared, &links, rtc_io.clone(), |r: &bridge_fw::Record| println!("{r:?}"), || {}),
+//!     host::bridge(&shared, &links, rtc_io.clone(), |r: &bridge_fw::LogRecord| println!("{r:?}"), || {}),
 //!     Timer::after(Duration::from_secs(60)),
 //! ));
 //! assert!(rtc_io.edges().is_empty(), "no UTC, no RTC_IO pulse");

@@ -10,7 +10,7 @@ use core::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{Record, Timing};
+use bridge_fw::{LogRecord, Timing};
 use embassy_futures::select::{Either4, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
 use protocol_core::bridge::{Config, Duration, Engine};
@@ -327,7 +327,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             gpio,
             tcp: rtc_tcp,
         };
-        let sink = |r: &Record| {
+        let sink = |r: &LogRecord| {
             let (t, name, fields) = events::record_event(r);
             status.borrow_mut().note(name);
             out.emit_at(t, name, fields);

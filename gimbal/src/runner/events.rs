@@ -3,7 +3,7 @@
 //! event of the engine does not compile until it has a name here (and in the README's
 //! table).
 
-use bridge_fw::{Heartbeat, Level, Port, Record, What};
+use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
 use protocol_core::bridge::{Counters, Event};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
@@ -111,18 +111,18 @@ pub fn loops(h: Heartbeat) -> Vec<&'static str> {
 
 /// A record of the bridge's tasks: its time (µs), name and fields.
 #[must_use]
-pub fn record_event(r: &Record) -> (u64, &'static str, Value) {
+pub fn record_event(r: &LogRecord) -> (u64, &'static str, Value) {
     let (name, fields) = match r.what {
-        What::Engine(e) => engine_event(&e),
-        What::Pin(l) => ("rtc_io", json!({"level": level_name(l)})),
-        What::PinError(l) => ("rtc_io_error", json!({"level": level_name(l)})),
-        What::EdgeToFrame { delay, len } => (
+        LogKind::Engine(e) => engine_event(&e),
+        LogKind::Pin(l) => ("rtc_io", json!({"level": level_name(l)})),
+        LogKind::PinError(l) => ("rtc_io_error", json!({"level": level_name(l)})),
+        LogKind::EdgeToFrame { delay, len } => (
             "edge_to_frame",
             json!({"delay_us": delay.as_micros(), "len": len}),
         ),
-        What::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
-        What::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
-        What::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
+        LogKind::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
+        LogKind::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
+        LogKind::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
     };
     (r.at.as_micros(), name, fields)
 }
@@ -139,8 +139,8 @@ mod tests {
     use protocol_core::bridge::{Duration, Instant};
     use protocol_core::k40t::AckCode;
 
-    fn ev(what: What) -> (u64, &'static str, Value) {
-        record_event(&Record {
+    fn ev(what: LogKind) -> (u64, &'static str, Value) {
+        record_event(&LogRecord {
             at: Instant::from_micros(42),
             what,
         })
@@ -149,15 +149,15 @@ mod tests {
     #[test]
     fn the_required_events_have_their_fields() {
         assert_eq!(
-            ev(What::Pin(Level::High)),
+            ev(LogKind::Pin(Level::High)),
             (42, "rtc_io", json!({"level": "high"}))
         );
         assert_eq!(
-            ev(What::Pin(Level::Low)),
+            ev(LogKind::Pin(Level::Low)),
             (42, "rtc_io", json!({"level": "low"}))
         );
         assert_eq!(
-            ev(What::Engine(Event::TimeSync {
+            ev(LogKind::Engine(Event::TimeSync {
                 edge: Instant::from_micros(40),
                 utc_ms: 1_795_428_040_000,
                 error_bound_us: 1_250,
@@ -169,7 +169,7 @@ mod tests {
             )
         );
         assert_eq!(
-            ev(What::Engine(Event::UtcValid {
+            ev(LogKind::Engine(Event::UtcValid {
                 error_bound_us: 2_100,
                 converged: false,
             })),
@@ -180,7 +180,7 @@ mod tests {
             )
         );
         assert_eq!(
-            ev(What::Engine(Event::Geotag {
+            ev(LogKind::Engine(Event::Geotag {
                 time_of_day_ms: 36_000_000,
                 answered: true
             })),
@@ -198,14 +198,14 @@ mod tests {
             (Event::UtcLost, "utc_lost"),
             (Event::FcSilenceStop, "fc_silence_stop"),
         ] {
-            assert_eq!(ev(What::Engine(e)), (42, name, json!({})));
+            assert_eq!(ev(LogKind::Engine(e)), (42, name, json!({})));
         }
     }
 
     #[test]
     fn the_other_events() {
         assert_eq!(
-            ev(What::EdgeToFrame {
+            ev(LogKind::EdgeToFrame {
                 delay: Duration::from_micros(12),
                 len: 28
             })
@@ -213,22 +213,22 @@ mod tests {
             json!({"delay_us": 12, "len": 28})
         );
         assert_eq!(
-            ev(What::Stalled(Heartbeat(
+            ev(LogKind::Stalled(Heartbeat(
                 Heartbeat::ENGINE.0 | Heartbeat::POD_TX.0
             )))
             .2,
             json!({"loops": ["engine", "pod_tx"]})
         );
-        assert_eq!(ev(What::WriteError(Port::Pod)).2, json!({"port": "pod"}));
+        assert_eq!(ev(LogKind::WriteError(Port::Pod)).2, json!({"port": "pod"}));
         assert_eq!(
-            ev(What::Engine(Event::Translated {
+            ev(LogKind::Engine(Event::Translated {
                 fc_id: 7,
                 pod_base: 0x10
             }))
             .2,
             json!({"fc_id": 7, "pod_id": "0x000010"})
         );
-        let (_, name, f) = ev(What::Engine(Event::PodRefused {
+        let (_, name, f) = ev(LogKind::Engine(Event::PodRefused {
             base: 0x302,
             code: AckCode::Failure,
         }));
@@ -236,7 +236,7 @@ mod tests {
         assert_eq!(f["pod_id"], "0x000302");
         assert_eq!(f["code"]["name"], "Failure");
         assert_eq!(
-            ev(What::Engine(Event::PodAddresses {
+            ev(LogKind::Engine(Event::PodAddresses {
                 gimbal: Address::GIMBAL,
                 camera: Address::POD
             }))
@@ -244,7 +244,7 @@ mod tests {
             json!({"gimbal": "03:01", "camera": "04:01"})
         );
         assert_eq!(
-            ev(What::Engine(Event::Dropped {
+            ev(LogKind::Engine(Event::Dropped {
                 port: Port::Fc,
                 frames: 2
             })),

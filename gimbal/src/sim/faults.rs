@@ -305,10 +305,10 @@ mod tests {
             ..Faults::NONE
         };
         assert_eq!(f.stage().apply(&data), data);
-        let st = s.stats();
-        assert_eq!((st.bytes_in, st.bytes_out), (100_000, 100_000));
+        let stats = s.stats();
+        assert_eq!((stats.bytes_in, stats.bytes_out), (100_000, 100_000));
         assert_eq!(
-            (st.bits_flipped, st.bytes_dropped, st.garbage_bytes),
+            (stats.bits_flipped, stats.bytes_dropped, stats.garbage_bytes),
             (0, 0, 0)
         );
     }
@@ -324,24 +324,30 @@ mod tests {
         };
         let mut s = f.stage();
         let out = s.apply(&data);
-        let st = s.stats();
+        let stats = s.stats();
         // Each count within 4 standard deviations of its expectation (binomial).
         let close = |count: u64, n: u64, p: f64| {
             let mean = n as f64 * p;
             (count as f64 - mean).abs() < 4.0 * (mean * (1.0 - p)).sqrt()
         };
-        let bits = 8 * (st.bytes_in - st.bytes_dropped);
-        assert!(close(st.bits_flipped, bits, 1e-3), "{st:?}");
-        assert!(close(st.bytes_dropped, st.bytes_in, 5e-4), "{st:?}");
-        assert!(close(st.garbage_bytes, st.bytes_in, 2e-4), "{st:?}");
+        let bits = 8 * (stats.bytes_in - stats.bytes_dropped);
+        assert!(close(stats.bits_flipped, bits, 1e-3), "{stats:?}");
+        assert!(
+            close(stats.bytes_dropped, stats.bytes_in, 5e-4),
+            "{stats:?}"
+        );
+        assert!(
+            close(stats.garbage_bytes, stats.bytes_in, 2e-4),
+            "{stats:?}"
+        );
         // About 16 000 bit errors: within 4 % of the rate.
-        let ber = st.bits_flipped as f64 / bits as f64;
+        let ber = stats.bits_flipped as f64 / bits as f64;
         assert!((ber / 1e-3 - 1.0).abs() < 0.04, "ber {ber}");
         assert_eq!(
             out.len() as u64,
-            st.bytes_in - st.bytes_dropped + st.garbage_bytes
+            stats.bytes_in - stats.bytes_dropped + stats.garbage_bytes
         );
-        assert_eq!(out.len() as u64, st.bytes_out);
+        assert_eq!(out.len() as u64, stats.bytes_out);
 
         // The flipped bits are where the stream differs: with bit errors only, the
         // output aligns with the input.

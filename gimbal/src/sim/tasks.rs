@@ -23,7 +23,7 @@ use core::cell::RefCell;
 use core::convert::Infallible;
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{Record, Timing, What};
+use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either3, select, select3};
 use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
@@ -316,7 +316,7 @@ pub struct Bench<P: Pilot> {
     pub pod: RefCell<SimPod>,
     /// The four directions.
     pub wires: Wires,
-    records: RefCell<Vec<Record>>,
+    records: RefCell<Vec<LogRecord>>,
     shared: HostShared,
     links: HostLinks,
 }
@@ -330,7 +330,7 @@ pub struct Outcome<P> {
     /// The four directions (with their logs when recorded).
     pub wires: Wires<Wire>,
     /// Every record of the tasks' log task, in order.
-    pub records: Vec<Record>,
+    pub records: Vec<LogRecord>,
     /// Records the log task could not take in time (must be 0).
     pub records_dropped: u32,
     /// The engine at the end.
@@ -368,7 +368,7 @@ impl<P: Pilot> Bench<P> {
     }
 
     /// The records so far.
-    pub fn records(&self) -> core::cell::Ref<'_, Vec<Record>> {
+    pub fn records(&self) -> core::cell::Ref<'_, Vec<LogRecord>> {
         self.records.borrow()
     }
 
@@ -380,7 +380,7 @@ impl<P: Pilot> Bench<P> {
     pub fn run(self, end_us: u64, tick_us: u64, mut script: impl FnMut(&Self, u64)) -> Outcome<P> {
         let baud = (self.config.fc_baud, self.config.pod_baud);
         host::run(Clock::Virtual, || async {
-            let sink = |r: &Record| self.records.borrow_mut().push(*r);
+            let sink = |r: &LogRecord| self.records.borrow_mut().push(*r);
             let bridge = host::bridge(
                 &self.shared,
                 &self.links,
@@ -441,7 +441,7 @@ impl<P> Outcome<P> {
     /// The engine events, with the local instant the log task took them (µs).
     pub fn events(&self) -> impl Iterator<Item = (u64, Event)> + '_ {
         self.records.iter().filter_map(|r| match r.what {
-            What::Engine(e) => Some((r.at.as_micros(), e)),
+            LogKind::Engine(e) => Some((r.at.as_micros(), e)),
             _ => None,
         })
     }
@@ -451,7 +451,7 @@ impl<P> Outcome<P> {
     pub fn pin_changes(&self, level: Level) -> Vec<u64> {
         self.records
             .iter()
-            .filter(|r| r.what == What::Pin(level))
+            .filter(|r| r.what == LogKind::Pin(level))
             .map(|r| r.at.as_micros())
             .collect()
     }
@@ -462,7 +462,7 @@ impl<P> Outcome<P> {
         self.records
             .iter()
             .filter_map(|r| match r.what {
-                What::EdgeToFrame { delay, len } => {
+                LogKind::EdgeToFrame { delay, len } => {
                     Some((r.at.as_micros() - delay.as_micros(), delay.as_micros(), len))
                 }
                 _ => None,

@@ -7,7 +7,7 @@
 //! press, and the FC's mount is unhealthy only while the pod is away (plus the driver's
 //! own time-out).
 
-use bridge_fw::What;
+use bridge_fw::LogKind;
 use gimbal::sim::FcReboot;
 use gimbal::sim::faults::Faults;
 use gimbal::sim::pilot::Pilot;
@@ -46,7 +46,7 @@ pub fn invariants<P: Pilot>(
     let stalls: Vec<_> = o
         .records
         .iter()
-        .filter(|r| matches!(r.what, What::Stalled(_)))
+        .filter(|r| matches!(r.what, LogKind::Stalled(_)))
         .collect();
     assert!(stalls.is_empty(), "the bridge stalled: {stalls:?}");
     assert_eq!(o.records_dropped, 0);

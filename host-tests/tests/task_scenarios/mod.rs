@@ -8,7 +8,7 @@
 
 pub mod faults;
 
-use bridge_fw::What;
+use bridge_fw::LogKind;
 use gimbal::sim::pilot::{Pilot, describe_k40t};
 use gimbal::sim::pod::SyncOutcome;
 use gimbal::sim::tasks::{Bench, Outcome};
@@ -440,6 +440,6 @@ pub fn garbage_on_both_lines<P: Pilot>() {
     assert!(events(&o, |e| *e == Event::PodLinkDown).is_empty());
     assert!(o.records.iter().all(|r| !matches!(
         r.what,
-        What::ReadError(_) | What::WriteError(_) | What::Stalled(_)
+        LogKind::ReadError(_) | LogKind::WriteError(_) | LogKind::Stalled(_)
     )));
 }

@@ -170,7 +170,7 @@ pub(crate) struct Outputs {
     pub(crate) pod: FrameQueue<POD_QUEUE>,
     pub(crate) events: EventQueue,
     pub(crate) counters: Counters,
-    /// What changed since the last report ([`Core::report`]).
+    /// What changed since the last report ([`EngineState::report`]).
     pub(crate) changes: Changes,
 }
 
@@ -322,12 +322,12 @@ const POD_FRAME: usize = k40t::MAX_FRAME_LEN;
 pub struct Engine {
     /// Apart from the rest, so that each frame it yields is handled with all the rest.
     pod_deframer: Deframer<K40tFraming, POD_FRAME>,
-    core: Core,
+    core: EngineState,
 }
 
 /// Everything of the engine but the pod deframer.
 #[derive(Debug, Clone)]
-struct Core {
+struct EngineState {
     config: Config,
     fc: FcSide,
     pod: PodDriver,
@@ -353,7 +353,7 @@ impl Engine {
     pub fn new(config: Config) -> Self {
         Engine {
             pod_deframer: Deframer::new(K40tFraming::any()),
-            core: Core {
+            core: EngineState {
                 fc: FcSide::new(&config),
                 pod: PodDriver::new(config.pod),
                 time: TimeDiscipline::new(config.discipline),
@@ -573,7 +573,7 @@ impl Engine {
     }
 }
 
-impl Core {
+impl EngineState {
     /// What changed since the last report; starts collecting again.
     fn report(&mut self) -> Changes {
         core::mem::take(&mut self.out.changes)

@@ -374,13 +374,13 @@ impl HardwareId {
 impl serde::Serialize for HardwareId {
     fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let mut st = s.serialize_struct("HardwareId", 2)?;
+        let mut out = s.serialize_struct("HardwareId", 2)?;
         match self.as_str() {
-            Some(text) => st.serialize_field("text", text)?,
-            None => st.serialize_field("text", &self.raw)?,
+            Some(text) => out.serialize_field("text", text)?,
+            None => out.serialize_field("text", &self.raw)?,
         }
-        st.serialize_field("product", self.product().name())?;
-        st.end()
+        out.serialize_field("product", self.product().name())?;
+        out.end()
     }
 }
 

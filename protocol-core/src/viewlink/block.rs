@@ -327,11 +327,11 @@ impl Date {
 impl serde::Serialize for Date {
     fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let mut st = s.serialize_struct("Date", 3)?;
-        st.serialize_field("year", &self.year())?;
-        st.serialize_field("month", &self.month())?;
-        st.serialize_field("day", &self.day())?;
-        st.end()
+        let mut out = s.serialize_struct("Date", 3)?;
+        out.serialize_field("year", &self.year())?;
+        out.serialize_field("month", &self.month())?;
+        out.serialize_field("day", &self.day())?;
+        out.end()
     }
 }
 

@@ -294,13 +294,13 @@ impl AiTargets {
 impl serde::Serialize for AiTargets {
     fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let mut st = s.serialize_struct("AiTargets", 5)?;
-        st.serialize_field("total_targets", &self.total_targets)?;
-        st.serialize_field("total_packets", &self.total_packets)?;
-        st.serialize_field("packet_index", &self.packet_index)?;
-        st.serialize_field("reserved", &self.reserved)?;
-        st.serialize_field("targets", self.targets())?;
-        st.end()
+        let mut out = s.serialize_struct("AiTargets", 5)?;
+        out.serialize_field("total_targets", &self.total_targets)?;
+        out.serialize_field("total_packets", &self.total_packets)?;
+        out.serialize_field("packet_index", &self.packet_index)?;
+        out.serialize_field("reserved", &self.reserved)?;
+        out.serialize_field("targets", self.targets())?;
+        out.end()
     }
 }
 

@@ -188,24 +188,23 @@ impl FcHandler for GcuSide {
             PodNotice::TimedOut { base } => (base, true),
             _ => return,
         };
-        let st = self;
-        let Some(a) = st.awaiting.filter(|a| a.base == base) else {
+        let Some(a) = self.awaiting.filter(|a| a.base == base) else {
             return;
         };
-        st.awaiting = None;
+        self.awaiting = None;
         let state = if failed {
             Execution::failure(Order::from_value(a.order), a.cameras)
         } else {
             Execution::Success
         };
-        if st.last_feedback.0 == a.order {
-            st.last_feedback.1 = state;
+        if self.last_feedback.0 == a.order {
+            self.last_feedback.1 = state;
         }
         if failed {
-            st.report = Some((a.order, state));
-            if a.order == order::TRACK && st.tracking {
-                st.tracking = false;
-                st.mode = st.track_return;
+            self.report = Some((a.order, state));
+            if a.order == order::TRACK && self.tracking {
+                self.tracking = false;
+                self.mode = self.track_return;
             }
         }
     }

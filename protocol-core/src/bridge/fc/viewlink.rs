@@ -197,29 +197,28 @@ impl FcHandler for ViewlinkSide {
     }
 
     fn pod_notice(&mut self, _ctx: &mut Ctx<'_>, notice: PodNotice) {
-        let st = self;
         let (base, ok) = match notice {
             PodNotice::Acked { base, code } => (base, code == AckCode::Ok),
             PodNotice::TimedOut { base } => (base, false),
             PodNotice::LinkDown => {
-                st.tracker = TrackerState::Stop;
-                st.track_pending = false;
-                st.track_armed = None;
+                self.tracker = TrackerState::Stop;
+                self.track_pending = false;
+                self.track_armed = None;
                 return;
             }
             _ => return,
         };
         match base {
-            0x0324 if core::mem::take(&mut st.track_pending) => {
-                st.tracker = if ok && st.tracker == TrackerState::Search {
+            0x0324 if core::mem::take(&mut self.track_pending) => {
+                self.tracker = if ok && self.tracker == TrackerState::Search {
                     TrackerState::Tracking
                 } else {
                     TrackerState::Stop
                 };
             }
             0x0105 => {
-                if let Some(z) = st.ir_zoom_pending.take().filter(|_| ok) {
-                    st.ir_zoom = z;
+                if let Some(z) = self.ir_zoom_pending.take().filter(|_| ok) {
+                    self.ir_zoom = z;
                 }
             }
             _ => {}

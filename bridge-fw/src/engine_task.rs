@@ -7,7 +7,7 @@ use embedded_hal::digital::OutputPin;
 use protocol_core::bridge::{Changes, Instant, Level};
 
 use crate::engine::BridgeEngine;
-use crate::log::What;
+use crate::shared::LogKind;
 use crate::shared::{Heartbeat, Shared};
 use crate::{now, to_embassy};
 
@@ -93,7 +93,7 @@ fn fire<M: RawMutex, E: BridgeEngine, P: OutputPin>(shared: &Shared<M, E>, pin: 
     };
     shared.wake(changes);
     if !ok {
-        shared.record(at, What::PinError(level));
+        shared.record(at, LogKind::PinError(level));
     }
-    shared.record(at, What::Pin(level));
+    shared.record(at, LogKind::Pin(level));
 }
