@@ -122,7 +122,7 @@ pub struct Options {
 pub struct Check {
     /// What was checked.
     pub name: &'static str,
-    /// Passed.
+    /// Every check of the scenario passed.
     pub ok: bool,
     /// The figures or the reason.
     pub detail: String,

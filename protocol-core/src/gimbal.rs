@@ -31,7 +31,7 @@ wire_derive! {
         In,
         /// Zoom out / focus near.
         Out,
-        /// Stop.
+        /// No motion on this axis (rate zero).
         Stop,
     }
 }

@@ -194,9 +194,9 @@ pub fn port_baud(spec: &PortSpec, option: Option<u32>, what: &str) -> Result<Opt
 
 /// One connection: a TCP stream or a serial device.
 pub enum Conn {
-    /// TCP.
+    /// A TCP connection (client or accepted).
     Tcp(TcpStream),
-    /// Serial.
+    /// A serial device, opened raw at the configured baud rate.
     Serial(Box<serialport::TTYPort>),
 }
 
@@ -317,19 +317,19 @@ fn tcp_error(host: &str, port: u16, e: &io::Error) -> String {
 pub enum Connector {
     /// Open the device (again).
     Serial {
-        /// Path.
+        /// The device path (e.g. `/dev/ttyUSB0`).
         path: String,
-        /// Rate.
+        /// Its baud rate (8N1).
         baud: u32,
     },
-    /// Connect.
+    /// Connect to a TCP server (and reconnect when it closes).
     Tcp {
-        /// Host.
+        /// The server's host name or address.
         host: String,
-        /// Port.
+        /// The server's TCP port.
         port: u16,
     },
-    /// Accept.
+    /// Wait for one TCP client at a time on this listener.
     Listen(TcpListener),
 }
 
@@ -521,11 +521,11 @@ fn through(stage: Option<&SharedStage>, bytes: &[u8]) -> Vec<u8> {
 pub struct Pump {
     /// Its name in events: `fc`, `pod`, `rtc_io`.
     pub label: &'static str,
-    /// Where.
+    /// Where the port is (as given on the command line).
     pub spec: PortSpec,
     /// Line rate (serial devices).
     pub baud: u32,
-    /// Events.
+    /// Where the port's status events go.
     pub out: Output,
     /// Where arriving bytes go (`None`: dropped).
     pub incoming: Option<&'static HostPipe>,

@@ -178,7 +178,7 @@ pub struct Received {
 /// The simulated `AP_Mount_Siyi`.
 #[derive(Debug)]
 pub struct ApSiyi {
-    /// Settings.
+    /// The simulated driver's settings (rates, camera model, seed).
     pub config: ApSiyiConfig,
     /// The aircraft.
     pub aircraft: Aircraft,

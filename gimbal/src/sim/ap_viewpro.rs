@@ -131,7 +131,7 @@ pub struct GimbalReading {
 pub enum TrackingStatus {
     /// Not tracking.
     Stopped,
-    /// Searching.
+    /// Tracking requested; the gimbal has not reported a lock yet.
     Searching,
     /// Locked on a target.
     Tracking,
@@ -153,7 +153,7 @@ pub enum Tracking {
 /// The simulated `AP_Mount_Viewpro`.
 #[derive(Debug)]
 pub struct ApViewpro {
-    /// Settings.
+    /// The simulated driver's settings (rates, seed).
     pub config: ApViewproConfig,
     /// The aircraft.
     pub aircraft: Aircraft,
@@ -447,7 +447,7 @@ impl ApViewpro {
         self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 
-    /// Autofocus.
+    /// Sends an autofocus command, as the driver does for a focus request.
     pub fn autofocus(&mut self) {
         let s = self.image_sensor;
         self.camera_command(s, OperationCommand::AutoFocus, 0, LrfCommand::NoAction);

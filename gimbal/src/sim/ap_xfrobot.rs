@@ -114,7 +114,7 @@ pub enum MountTarget {
     /// Hold these angles (deg; roll and pitch earth frame, yaw body frame unless
     /// `yaw_is_ef`).
     Angle {
-        /// Roll.
+        /// Roll in degrees (the aircraft's, sent in the main frame).
         roll_deg: f64,
         /// Pitch, positive up.
         pitch_deg: f64,
@@ -256,7 +256,7 @@ enum ParseState {
 /// The simulated `AP_Mount_XFRobot`.
 #[derive(Debug)]
 pub struct ApXfRobot {
-    /// Settings.
+    /// The simulated driver's settings (rates, GPS, seed).
     pub config: ApXfRobotConfig,
     /// The aircraft.
     pub aircraft: Aircraft,

@@ -625,7 +625,7 @@ pub struct GimbalState {
 /// A recording in progress.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Recording {
-    /// Sensors.
+    /// Which sensors record (the request's sensor bits).
     pub sensors: RecordSensors,
     /// When it started.
     pub since_us: u64,
@@ -683,7 +683,7 @@ pub struct CameraState {
 /// A level change of RTC_IO.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RtcEdge {
-    /// When.
+    /// Simulated time of the event, µs.
     pub at_us: u64,
     /// The new level (true: rising edge).
     pub high: bool,
@@ -726,7 +726,7 @@ pub struct SyncRecord {
 /// One 0x000310 the pod sent.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GpsRequestRecord {
-    /// When.
+    /// Simulated time of the event, µs.
     pub at_us: u64,
     /// Its sequence number.
     pub seq: u8,
@@ -749,7 +749,7 @@ pub struct GpsRequestRecord {
 /// One 0x010310 the pod received.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GpsReplyRecord {
-    /// When.
+    /// Simulated time of the event, µs.
     pub at_us: u64,
     /// Its header.
     pub header: Header,
@@ -771,9 +771,9 @@ pub struct GpsReplyRecord {
 /// One photo taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PhotoRecord {
-    /// When.
+    /// Simulated time of the photo, µs.
     pub at_us: u64,
-    /// Sensors.
+    /// Which sensors took it (the request's sensor bits).
     pub sensors: PhotoSensors,
     /// The pod's clock, ms since the Unix epoch.
     pub pod_unix_ms: u64,

@@ -92,7 +92,7 @@ pub enum Level {
 pub struct PinAction {
     /// The level to set.
     pub level: Level,
-    /// When.
+    /// The local instant at which to apply it.
     pub at: Instant,
 }
 

@@ -457,7 +457,7 @@ code_enum! {
     pub enum IpMode: u8 {
         /// Static address.
         Static = 0,
-        /// DHCP.
+        /// Address from a DHCP server.
         Dynamic = 1,
     }
 }

@@ -338,7 +338,7 @@ pub(crate) enum FcSide {
     Disabled,
     /// K40T: forwarding.
     K40t(FcLink<k40t::K40tSide, { crate::k40t::MAX_FRAME_LEN }>),
-    /// SIYI.
+    /// SIYI: the bridge as a ZT30 towards ArduPilot's SIYI driver.
     #[cfg(feature = "siyi")]
     Siyi(FcLink<siyi::SiyiSide, { siyi::BUF }>),
     /// Viewlink (Viewpro).
