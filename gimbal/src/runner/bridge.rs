@@ -24,7 +24,7 @@ use super::port::{self, CableFaults, Pump, port_baud, stats_json};
 use super::simfc::{AnyFc, system_utc_us};
 use super::trace::{TapRead, TapWrite, tap};
 use super::watch::{FcWatcher, PodWatcher};
-use crate::cli::{BridgeArgs, ConfigArgs};
+use crate::runner::options::{BridgeArgs, ConfigArgs};
 use crate::sim::faults::Faults;
 use crate::sim::peer::{PodPin, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};

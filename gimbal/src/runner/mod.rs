@@ -4,6 +4,7 @@
 
 pub mod bridge;
 pub mod events;
+pub mod options;
 pub mod output;
 pub mod pin;
 pub mod port;

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use serde_json::{Map, Value};
 
-use crate::cli::EventFormat;
+use crate::runner::options::EventFormat;
 
 /// The local monotonic clock, µs: embassy-time's on this thread (real time outside a
 /// virtual-time run), the clock of the bridge's tasks and records.

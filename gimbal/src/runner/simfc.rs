@@ -4,7 +4,7 @@
 
 use serde_json::{Value, json};
 
-use crate::cli::Fc;
+use crate::runner::options::Fc;
 use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
 use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};

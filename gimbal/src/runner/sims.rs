@@ -15,7 +15,7 @@ use super::output::{Output, now_us};
 use super::port::{self, CableFaults, PortSpec, Pump, link_baud};
 use super::simfc::{AnyFc, system_utc_us};
 use super::watch::{FcWatcher, PodWatcher};
-use crate::cli::{SimFcArgs, SimPodArgs};
+use crate::runner::options::{SimFcArgs, SimPodArgs};
 use crate::sim::peer::{PeerError, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};
 
