@@ -38,11 +38,12 @@ fn fail(msg: &str) -> ! {
     std::process::exit(1);
 }
 
-const PROTOCOLS: [(&str, &str, &str); 4] = [
+const PROTOCOLS: [(&str, &str, &str); 5] = [
     ("siyi", "Siyi", "FC_SIYI"),
     ("viewlink", "Viewlink", "FC_VIEWLINK"),
     ("gcu", "Gcu", "FC_GCU"),
     ("k40t", "K40t", "FC_K40T"),
+    ("mavlink", "Mavlink", "FC_MAVLINK"),
 ];
 
 /// Reads a table's keys, refusing unknown ones.
@@ -169,14 +170,14 @@ fn generate(text: &str) -> Result<String, String> {
         .filter(|(_, _, feature)| std::env::var_os(format!("CARGO_FEATURE_{feature}")).is_some())
         .collect();
     if compiled.is_empty() {
-        return Err("no FC side compiled in: enable at least one of the features fc-siyi, fc-viewlink, fc-gcu, fc-k40t (or fc-all)".into());
+        return Err("no FC side compiled in: enable at least one of the features fc-siyi, fc-viewlink, fc-gcu, fc-k40t, fc-mavlink (or fc-all)".into());
     }
     let fc = match top.get("fc") {
         None => "auto".to_string(),
         Some(Value::String(s)) => s.clone(),
         Some(v) => {
             return Err(format!(
-                "fc = {v}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\" or \"k40t\""
+                "fc = {v}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\", \"k40t\" or \"mavlink\""
             ));
         }
     };
@@ -188,7 +189,7 @@ fn generate(text: &str) -> Result<String, String> {
     } else {
         let Some((name, variant, _)) = PROTOCOLS.iter().find(|(name, _, _)| *name == fc) else {
             return Err(format!(
-                "fc = {fc:?}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\" or \"k40t\""
+                "fc = {fc:?}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\", \"k40t\" or \"mavlink\""
             ));
         };
         if !compiled.iter().any(|(n, _, _)| n == name) {

@@ -146,6 +146,9 @@ pub enum Fc {
     Gcu,
     /// K40T itself: the bridge forwards and owns RTC_IO.
     K40t,
+    /// MAVLink 2 (ArduPilot MNT1_TYPE 6 + CAM1_TYPE 6, PX4 gimbal v2): the bridge is a
+    /// gimbal device and a camera.
+    Mavlink,
 }
 
 impl Fc {
@@ -157,6 +160,7 @@ impl Fc {
             Fc::Viewlink => FcProtocol::Viewlink,
             Fc::Gcu => FcProtocol::Gcu,
             Fc::K40t => FcProtocol::K40t,
+            Fc::Mavlink => FcProtocol::Mavlink,
         }
     }
 
@@ -168,6 +172,7 @@ impl Fc {
             Fc::Viewlink => "viewlink",
             Fc::Gcu => "gcu",
             Fc::K40t => "k40t",
+            Fc::Mavlink => "mavlink",
         }
     }
 }
