@@ -41,7 +41,7 @@ use crate::mavlink::dialect::{
     StorageStatus, StorageType, StorageUsageFlag,
 };
 
-use super::gimbal::{MODEL, VENDOR, boot_ms, name, version};
+use super::gimbal::{MODEL, PITCH_SHOWN, VENDOR, boot_ms, name, version};
 use super::{Cmd, Comp, MavlinkSide, cmd, id, math, result};
 
 /// Photos in flight at once (ACK and geotag pending).
@@ -518,9 +518,10 @@ impl MavlinkSide {
             return [f32::NAN; 4];
         };
         let yaw = math::wrap_cdeg(v.yaw.saturating_add(i32::from(a.yaw_joint_cdeg)));
+        let pitch = i32::from(a.pitch_cdeg).clamp(-PITCH_SHOWN, PITCH_SHOWN);
         math::quaternion([
             math::rad(i32::from(a.roll_cdeg)),
-            math::rad(i32::from(a.pitch_cdeg)),
+            math::rad(pitch),
             math::rad(yaw),
         ])
     }

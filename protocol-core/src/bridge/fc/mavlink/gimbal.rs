@@ -25,6 +25,8 @@
 //! while the aircraft's heading is known), as QGroundControl reads the frame from them.
 //! `delta_yaw` is the aircraft's heading and `delta_yaw_velocity` its yaw rate when known,
 //! else 0 (ArduPilot uses both once either is non-zero; NaN would count as non-zero).
+//! Pitch is shown at most 89.95° from the horizon: straight down a quaternion holds yaw
+//! and roll as one rotation, which ArduPilot reads as yaw 0.
 //! While the pod does not report its attitude: the last attitude (or none) with
 //! COMMS_ERROR, one of the failure flags that make ArduPilot call the mount unhealthy.
 //! AT_PITCH_LIMIT and AT_YAW_LIMIT are set at the pod's limits.
@@ -55,6 +57,10 @@ const PITCH_MAX: i32 = 3_000;
 const YAW_LIMIT: i32 = 18_000;
 /// Within this of a limit, the status says the gimbal is at it (0.01°).
 const AT_LIMIT: i32 = 50;
+/// The largest pitch the status shows (0.01°): straight down or up a quaternion holds
+/// yaw and roll as one rotation, and a reader (ArduPilot's `to_euler`) gets yaw 0; at
+/// 89.95° the yaw stays readable to 0.02° in an f32 quaternion.
+pub(super) const PITCH_SHOWN: i32 = 8_995;
 
 /// Vendor and model names in GIMBAL_DEVICE_INFORMATION and CAMERA_INFORMATION.
 pub(super) const VENDOR: &[u8] = b"K40T";
@@ -169,7 +175,11 @@ impl MavlinkSide {
                 }
                 let r = |v: i16| math::rad(i32::from(v));
                 (
-                    math::quaternion([r(a.roll_cdeg), r(a.pitch_cdeg), r(a.yaw_joint_cdeg)]),
+                    math::quaternion([
+                        r(a.roll_cdeg),
+                        math::rad(pitch.clamp(-PITCH_SHOWN, PITCH_SHOWN)),
+                        r(a.yaw_joint_cdeg),
+                    ]),
                     [
                         r(a.roll_rate_cdeg_s),
                         r(a.pitch_rate_cdeg_s),
