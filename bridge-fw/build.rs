@@ -44,11 +44,12 @@ fn fail(msg: &str) -> ! {
 }
 
 /// Each FC side and the cargo feature that compiles it in.
-const SIDES: [(FcProtocol, &str); 4] = [
+const SIDES: [(FcProtocol, &str); 5] = [
     (FcProtocol::Siyi, "fc-siyi"),
     (FcProtocol::Viewlink, "fc-viewlink"),
     (FcProtocol::Gcu, "fc-gcu"),
     (FcProtocol::K40t, "fc-k40t"),
+    (FcProtocol::Mavlink, "fc-mavlink"),
 ];
 
 fn compiled(feature: &str) -> bool {
@@ -64,7 +65,7 @@ fn generate(text: &str) -> Result<String, String> {
         .map(|(fc, _)| *fc)
         .collect();
     if compiled.is_empty() {
-        return Err("no FC side compiled in: enable at least one of the features fc-siyi, fc-viewlink, fc-gcu, fc-k40t (or fc-all)".into());
+        return Err("no FC side compiled in: enable at least one of the features fc-siyi, fc-viewlink, fc-gcu, fc-k40t, fc-mavlink (or fc-all)".into());
     }
     // `fc = "auto"` (or no `fc`): the FC side compiled in, or with several, the straps.
     // Any other value names one protocol (`FcProtocol`'s names), which must be compiled in.
@@ -74,7 +75,7 @@ fn generate(text: &str) -> Result<String, String> {
             Ok(fc) => Some((fc, v)),
             Err(_) => {
                 return Err(format!(
-                    "fc = {v}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\" or \"k40t\""
+                    "fc = {v}: expected \"auto\", \"siyi\", \"viewlink\", \"gcu\", \"k40t\" or \"mavlink\""
                 ));
             }
         },

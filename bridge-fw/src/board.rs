@@ -9,6 +9,7 @@
 //! | RTC_IO (push-pull out) | PD14 | Arduino D2 | 3.3 V | pod's RTC_IO |
 //! | FC strap A (in, pull-up) | PA3 | Arduino D4 | open / GND | (all-FC builds) |
 //! | FC strap B (in, pull-up) | PA4 | Arduino D7 | open / GND | (all-FC builds) |
+//! | FC strap C (in, pull-up) | PB2 | Arduino D8 | open / GND (MAVLink) | (all-FC builds) |
 //! | LED2 | PB14 | on board | | |
 //!
 //! USART1 (the ST-LINK virtual COM port) stays free; USART3 is wired to the on-board
@@ -81,19 +82,23 @@ fn clock_config() -> embassy_stm32::Config {
 }
 
 /// The emulated board's strap levels, from the semihosting command line: QEMU cannot drive
-/// a GPIO input from outside (an unconnected pin reads its pull, so both straps read open),
-/// so the `qemu` flavour takes `straps=AB`, A and B each `0` (grounded, reads low) or `1`
-/// (open), from QEMU's `-semihosting-config enable=on,arg=bridge-fw,arg=straps=AB`.
-/// `None` (pins as read) without such an argument or with a malformed one.
+/// a GPIO input from outside (an unconnected pin reads its pull, so the straps read open),
+/// so the `qemu` flavour takes `straps=AB` or `straps=ABC`, each `0` (grounded, reads low)
+/// or `1` (open; C open when absent), from QEMU's
+/// `-semihosting-config enable=on,arg=bridge-fw,arg=straps=ABC`. `None` (pins as read)
+/// without such an argument or with a malformed one.
 #[cfg(feature = "qemu")]
-fn qemu_straps() -> Option<(bool, bool)> {
+fn qemu_straps() -> Option<(bool, bool, bool)> {
     let mut buf = [core::mem::MaybeUninit::<u8>::uninit(); 128];
     let line = semihosting::sys::arm_compat::sys_get_cmdline_uninit(&mut buf).ok()?;
     let arg = line
         .split(|&c| c == b' ')
         .find_map(|word| word.strip_prefix(b"straps="))?;
     match arg {
-        [a @ (b'0' | b'1'), b @ (b'0' | b'1')] => Some((*a == b'0', *b == b'0')),
+        [a @ (b'0' | b'1'), b @ (b'0' | b'1')] => Some((*a == b'0', *b == b'0', false)),
+        [a @ (b'0' | b'1'), b @ (b'0' | b'1'), c @ (b'0' | b'1')] => {
+            Some((*a == b'0', *b == b'0', *c == b'0'))
+        }
         _ => None,
     }
 }
@@ -110,9 +115,10 @@ pub fn init() -> Board {
     let config = bridge_fw::config::resolve(|| {
         let a = Input::new(p.PA3, Pull::Up);
         let b = Input::new(p.PA4, Pull::Up);
+        let c = Input::new(p.PB2, Pull::Up);
         // Let the pull-ups charge the header pins (40 kΩ, some 10 pF: well under 1 µs).
         cortex_m::asm::delay(hclk / 100_000);
-        let levels = (a.is_low(), b.is_low());
+        let levels = (a.is_low(), b.is_low(), c.is_low());
         #[cfg(feature = "qemu")]
         let levels = qemu_straps().unwrap_or(levels);
         levels

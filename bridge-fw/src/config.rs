@@ -3,7 +3,7 @@
 //!
 //! The FC protocol is fixed at build time ([`FcChoice::Fixed`]) when `fc` names one or
 //! when a single `fc-*` feature is enabled; with several FC sides compiled in and
-//! `fc = "auto"` it is read from two strap pins at start-up ([`FcChoice::Straps`],
+//! `fc = "auto"` it is read from three strap pins at start-up ([`FcChoice::Straps`],
 //! [`from_straps`]).
 
 use protocol_core::bridge::{Config, FcProtocol};
@@ -30,25 +30,30 @@ pub const COMPILED: &[FcProtocol] = &[
     FcProtocol::Gcu,
     #[cfg(feature = "fc-k40t")]
     FcProtocol::K40t,
+    #[cfg(feature = "fc-mavlink")]
+    FcProtocol::Mavlink,
 ];
 
-/// The protocol two strap pins select, each pulled up and either open or tied to GND:
+/// The protocol three strap pins select, each pulled up and either open or tied to GND:
 ///
-/// | strap A | strap B | FC protocol |
-/// | --- | --- | --- |
-/// | open | open | SIYI |
-/// | GND | open | Viewlink |
-/// | open | GND | GCU |
-/// | GND | GND | K40T |
+/// | strap C | strap A | strap B | FC protocol |
+/// | --- | --- | --- | --- |
+/// | open | open | open | SIYI |
+/// | open | GND | open | Viewlink |
+/// | open | open | GND | GCU |
+/// | open | GND | GND | K40T |
+/// | GND | any | any | MAVLink |
 ///
-/// A protocol not compiled in gives the first one compiled in (`None` only when none is).
+/// (Strap C came with the fifth side: with it open, A and B select as before.) A
+/// protocol not compiled in gives the first one compiled in (`None` only when none is).
 #[must_use]
-pub fn from_straps(a_grounded: bool, b_grounded: bool) -> Option<FcProtocol> {
-    let wanted = match (a_grounded, b_grounded) {
-        (false, false) => FcProtocol::Siyi,
-        (true, false) => FcProtocol::Viewlink,
-        (false, true) => FcProtocol::Gcu,
-        (true, true) => FcProtocol::K40t,
+pub fn from_straps(a_grounded: bool, b_grounded: bool, c_grounded: bool) -> Option<FcProtocol> {
+    let wanted = match (c_grounded, a_grounded, b_grounded) {
+        (true, _, _) => FcProtocol::Mavlink,
+        (false, false, false) => FcProtocol::Siyi,
+        (false, true, false) => FcProtocol::Viewlink,
+        (false, false, true) => FcProtocol::Gcu,
+        (false, true, true) => FcProtocol::K40t,
     };
     if COMPILED.contains(&wanted) {
         Some(wanted)
@@ -58,14 +63,14 @@ pub fn from_straps(a_grounded: bool, b_grounded: bool) -> Option<FcProtocol> {
 }
 
 /// [`CONFIG`] with its FC protocol resolved: `straps` is called (once) only for
-/// [`FcChoice::Straps`] and returns (strap A grounded, strap B grounded).
-pub fn resolve(straps: impl FnOnce() -> (bool, bool)) -> Config {
+/// [`FcChoice::Straps`] and returns (strap A grounded, strap B grounded, strap C grounded).
+pub fn resolve(straps: impl FnOnce() -> (bool, bool, bool)) -> Config {
     let mut c = CONFIG;
     c.fc = match FC {
         FcChoice::Fixed(p) => p,
         FcChoice::Straps => {
-            let (a, b) = straps();
-            from_straps(a, b).unwrap_or(c.fc)
+            let (a, b, strap_c) = straps();
+            from_straps(a, b, strap_c).unwrap_or(c.fc)
         }
     };
     c

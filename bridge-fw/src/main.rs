@@ -140,6 +140,7 @@ fn defmt_fc(fc: protocol_core::bridge::FcProtocol) -> &'static str {
         FcProtocol::Viewlink => "viewlink",
         FcProtocol::Gcu => "gcu",
         FcProtocol::K40t => "k40t",
+        FcProtocol::Mavlink => "mavlink",
     }
 }
 

@@ -820,13 +820,32 @@ fn timing_straps_and_led_patterns() {
 
     use bridge_fw::config::{self, FcChoice};
     use protocol_core::bridge::FcProtocol;
-    assert_eq!(config::COMPILED.len(), 4);
-    assert_eq!(config::FC, FcChoice::Straps, "all four compiled, fc = auto");
-    assert_eq!(config::from_straps(false, false), Some(FcProtocol::Siyi));
-    assert_eq!(config::from_straps(true, false), Some(FcProtocol::Viewlink));
-    assert_eq!(config::from_straps(false, true), Some(FcProtocol::Gcu));
-    assert_eq!(config::from_straps(true, true), Some(FcProtocol::K40t));
-    assert_eq!(config::resolve(|| (true, true)).fc, FcProtocol::K40t);
+    assert_eq!(config::COMPILED.len(), 5);
+    assert_eq!(config::FC, FcChoice::Straps, "all five compiled, fc = auto");
+    assert_eq!(
+        config::from_straps(false, false, false),
+        Some(FcProtocol::Siyi)
+    );
+    assert_eq!(
+        config::from_straps(true, false, false),
+        Some(FcProtocol::Viewlink)
+    );
+    assert_eq!(
+        config::from_straps(false, true, false),
+        Some(FcProtocol::Gcu)
+    );
+    assert_eq!(
+        config::from_straps(true, true, false),
+        Some(FcProtocol::K40t)
+    );
+    for (a, b) in [(false, false), (true, false), (false, true), (true, true)] {
+        assert_eq!(config::from_straps(a, b, true), Some(FcProtocol::Mavlink));
+    }
+    assert_eq!(config::resolve(|| (true, true, false)).fc, FcProtocol::K40t);
+    assert_eq!(
+        config::resolve(|| (false, false, true)).fc,
+        FcProtocol::Mavlink
+    );
     assert_eq!(config::CONFIG.fc_baud, 115_200);
     assert_eq!(config::CONFIG.siyi.hardware_id, *b"7A0000000001");
 

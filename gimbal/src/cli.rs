@@ -94,6 +94,8 @@ pub enum Codec {
     Viewlink,
     /// XF Robot GCU.
     Gcu,
+    /// MAVLink 2 (the bridge's message set).
+    Mavlink,
 }
 
 impl Codec {
@@ -105,6 +107,7 @@ impl Codec {
             Codec::Siyi => "siyi",
             Codec::Viewlink => "viewlink",
             Codec::Gcu => "gcu",
+            Codec::Mavlink => "mavlink",
         }
     }
 }

@@ -196,6 +196,7 @@ pub fn run(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
         FcProtocol::Viewlink => run_with::<ApViewpro>(opts, out),
         FcProtocol::Gcu => run_with::<ApXfRobot>(opts, out),
         FcProtocol::K40t => run_with::<FcK40t>(opts, out),
+        FcProtocol::Mavlink => run_with::<crate::sim::ap_mavlink::ApMavlink>(opts, out),
     }
 }
 
@@ -207,6 +208,7 @@ pub const fn fc_name(fc: FcProtocol) -> &'static str {
         FcProtocol::Viewlink => "viewlink",
         FcProtocol::Gcu => "gcu",
         FcProtocol::K40t => "k40t",
+        FcProtocol::Mavlink => "mavlink",
     }
 }
 

@@ -158,7 +158,7 @@ fn bad_usage_is_an_error_with_status_2() {
         &[
             "bridge",
             "--fc",
-            "mavlink",
+            "px4",
             "--fc-port",
             "sim",
             "--pod-port",

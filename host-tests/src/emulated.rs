@@ -3,7 +3,7 @@
 //!
 //! One [`run`] starts `qemu-system-arm` with the `qemu` flavour of bridge-fw (built with every
 //! FC side), the FC side chosen through the strap levels on the semihosting command line
-//! (`straps=AB`, see `bridge-fw/src/board.rs`), UART4 (FC) and USART2 (pod) on Unix-socket
+//! (`straps=AB` or `straps=ABC`, see `bridge-fw/src/board.rs`), UART4 (FC) and USART2 (pod) on Unix-socket
 //! chardevs and QEMU's `stm32l4x5_gpio_write` trace in a file. Two threads per socket move
 //! the bytes between the socket and the host pipes of `bridge_fw::host`; one executor on
 //! real time runs the simulated FC driver and the simulated pod (`sim::peer::run_peer`)
@@ -45,6 +45,7 @@ use protocol_core::k40t::{
     YawMotion,
 };
 
+use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApMountTarget};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
@@ -68,11 +69,19 @@ pub enum Side {
     Gcu,
     /// K40T spoken by the FC itself.
     K40t,
+    /// MAVLink (ArduPilot `AP_Mount_MAVLink` + `AP_Camera_MAVLinkCamV2`).
+    Mavlink,
 }
 
 impl Side {
     /// Every side, in the order the scenarios run.
-    pub const ALL: [Side; 4] = [Side::Siyi, Side::Viewlink, Side::Gcu, Side::K40t];
+    pub const ALL: [Side; 5] = [
+        Side::Siyi,
+        Side::Viewlink,
+        Side::Gcu,
+        Side::K40t,
+        Side::Mavlink,
+    ];
 
     /// The name the firmware prints and `bridge.toml` uses.
     #[must_use]
@@ -82,6 +91,7 @@ impl Side {
             Side::Viewlink => "viewlink",
             Side::Gcu => "gcu",
             Side::K40t => "k40t",
+            Side::Mavlink => "mavlink",
         }
     }
 
@@ -91,8 +101,8 @@ impl Side {
         Side::ALL.into_iter().find(|s| s.name() == name)
     }
 
-    /// The strap levels that select this side (A then B; `0` grounded, `1` open: the
-    /// firmware's `config::from_straps`).
+    /// The strap levels that select this side (A, B, then C when grounded; `0` grounded,
+    /// `1` open: the firmware's `config::from_straps`).
     #[must_use]
     pub fn straps(self) -> &'static str {
         match self {
@@ -100,6 +110,7 @@ impl Side {
             Side::Viewlink => "01",
             Side::Gcu => "10",
             Side::K40t => "00",
+            Side::Mavlink => "110",
         }
     }
 }
@@ -624,6 +635,35 @@ impl FcUnderTest for ApXfRobot {
     }
 }
 
+impl FcUnderTest for ApMavlink {
+    fn make() -> Self {
+        ApMavlink::new(ApMavlinkConfig::default())
+    }
+    fn ready(&self) -> bool {
+        self.healthy()
+    }
+    fn command(&mut self) {
+        self.set_target(ApMountTarget::Rate {
+            pitch_dps: 0.0,
+            yaw_dps: 20.0,
+            yaw_is_ef: false,
+            from_mavlink: false,
+        });
+    }
+    fn command_reached(&self, pod: &SimPod, since_us: u64) -> Step {
+        control_step(pod, YawMotion::Right, since_us)
+    }
+    fn telemetry(&self, _pod: &SimPod) -> Step {
+        yaw_step(self.attitude.map(|(_, _, _, yaw, _)| yaw), 5.0)
+    }
+    fn utc_us(&self, t: u64) -> u64 {
+        self.fc_utc_us(t)
+    }
+    fn parse_errors(&self) -> u32 {
+        ApMavlink::parse_errors(self)
+    }
+}
+
 /// The zoom the K40T FC asks for (×10).
 const K40T_ZOOM_X10: u16 = 45;
 
@@ -683,6 +723,7 @@ pub fn run(side: Side, options: &Options) -> Outcome {
         Side::Viewlink => run_with::<ApViewpro>(side, options),
         Side::Gcu => run_with::<ApXfRobot>(side, options),
         Side::K40t => run_with::<FcK40t>(side, options),
+        Side::Mavlink => run_with::<ApMavlink>(side, options),
     }
 }
 
@@ -1174,15 +1215,17 @@ mod tests {
             FcProtocol::Viewlink,
             FcProtocol::Gcu,
             FcProtocol::K40t,
+            FcProtocol::Mavlink,
         ]) {
             let grounded: Vec<bool> = side.straps().chars().map(|c| c == '0').collect();
+            let c = grounded.get(2).copied().unwrap_or(false);
             assert_eq!(
-                bridge_fw::config::from_straps(grounded[0], grounded[1]),
+                bridge_fw::config::from_straps(grounded[0], grounded[1], c),
                 Some(protocol),
                 "{side:?}"
             );
             assert_eq!(Side::from_name(side.name()), Some(side));
         }
-        assert_eq!(Side::from_name("mavlink"), None);
+        assert_eq!(Side::from_name("px4"), None);
     }
 }

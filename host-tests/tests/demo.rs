@@ -115,6 +115,13 @@ fn k40t() {
 }
 
 #[test]
+fn mavlink() {
+    let s = check(FcProtocol::Mavlink, 5_000);
+    // SYSTEM_TIME, asked for by the bridge at 10 Hz, from the first second.
+    assert!(s.utc_valid_at_s.unwrap() < 2.0, "{s:?}");
+}
+
+#[test]
 fn a_short_run_has_no_sync_and_says_so() {
     let mut out = Vec::new();
     let s = demo::run(

@@ -117,6 +117,8 @@ wire_derive! {
         TakePhoto,
         /// Start (`true`) or stop (`false`) recording video.
         Record(bool),
+        /// The camera's capture mode: video (`true`) or photo (`false`).
+        VideoMode(bool),
         /// Zoom continuously in or out, or stop.
         Zoom(Motion),
         /// Zoom to a ratio (times ten: 45 = 4.5x).

@@ -33,6 +33,9 @@ pub enum Fc {
     Gcu,
     /// K40T itself: the bridge forwards and owns RTC_IO.
     K40t,
+    /// MAVLink 2 (ArduPilot MNT1_TYPE 6 + CAM1_TYPE 6, PX4 gimbal v2): the bridge is a
+    /// gimbal device and a camera.
+    Mavlink,
 }
 
 impl Fc {
@@ -44,6 +47,7 @@ impl Fc {
             Fc::Viewlink => FcProtocol::Viewlink,
             Fc::Gcu => FcProtocol::Gcu,
             Fc::K40t => FcProtocol::K40t,
+            Fc::Mavlink => FcProtocol::Mavlink,
         }
     }
 
@@ -55,6 +59,7 @@ impl Fc {
             Fc::Viewlink => "viewlink",
             Fc::Gcu => "gcu",
             Fc::K40t => "k40t",
+            Fc::Mavlink => "mavlink",
         }
     }
 }

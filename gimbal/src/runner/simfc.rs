@@ -1,10 +1,11 @@
 //! Any of the simulated flight controllers behind one type, for `--fc-port sim` and
-//! `gimbal sim-fc`: the ArduPilot SIYI, Viewpro and XF Robot drivers and the K40T FC, on
-//! the host's real UTC.
+//! `gimbal sim-fc`: the ArduPilot SIYI, Viewpro, XF Robot and MAVLink (mount and camera)
+//! drivers and the K40T FC, on the host's real UTC.
 
 use serde_json::{Value, json};
 
 use crate::runner::options::Fc;
+use crate::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApMountTarget};
 use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
 use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
@@ -25,6 +26,8 @@ pub enum AnyFc {
     Gcu(ApXfRobot),
     /// A flight controller speaking K40T.
     K40t(FcK40t),
+    /// ArduPilot `AP_Mount_MAVLink` + `AP_Camera_MAVLinkCamV2`.
+    Mavlink(ApMavlink),
 }
 
 /// The host's UTC now, µs since the Unix epoch.
@@ -59,6 +62,10 @@ impl AnyFc {
                 f.utc_at_zero_us = utc_at_zero_us;
                 AnyFc::K40t(f)
             }
+            Fc::Mavlink => AnyFc::Mavlink(ApMavlink::new(ApMavlinkConfig {
+                utc_at_zero_us,
+                ..ApMavlinkConfig::default()
+            })),
         }
     }
 
@@ -68,6 +75,7 @@ impl AnyFc {
             AnyFc::Viewlink(f) => f,
             AnyFc::Gcu(f) => f,
             AnyFc::K40t(f) => f,
+            AnyFc::Mavlink(f) => f,
         }
     }
 
@@ -77,6 +85,7 @@ impl AnyFc {
             AnyFc::Viewlink(f) => f,
             AnyFc::Gcu(f) => f,
             AnyFc::K40t(f) => f,
+            AnyFc::Mavlink(f) => f,
         }
     }
 
@@ -87,6 +96,7 @@ impl AnyFc {
             AnyFc::Siyi(f) => f.healthy(),
             AnyFc::Viewlink(f) => f.healthy(),
             AnyFc::Gcu(f) => f.healthy(),
+            AnyFc::Mavlink(f) => f.healthy(),
             AnyFc::K40t(f) => f
                 .received
                 .last()
@@ -107,6 +117,10 @@ impl AnyFc {
                 true
             }
             AnyFc::Gcu(f) => f.take_picture(),
+            AnyFc::Mavlink(f) => {
+                f.take_picture();
+                true
+            }
             AnyFc::K40t(_) => false,
         }
     }
@@ -129,6 +143,12 @@ impl AnyFc {
                     yaw_is_ef: false,
                 });
             }
+            AnyFc::Mavlink(f) => f.set_target(ApMountTarget::Rate {
+                pitch_dps,
+                yaw_dps,
+                yaw_is_ef: false,
+                from_mavlink: false,
+            }),
             AnyFc::K40t(_) => return false,
         }
         true
@@ -141,6 +161,7 @@ impl AnyFc {
             AnyFc::Siyi(f) => f.parse_errors,
             AnyFc::Viewlink(f) => f.parse_errors,
             AnyFc::Gcu(f) => f.parse_errors,
+            AnyFc::Mavlink(f) => f.parse_errors(),
             AnyFc::K40t(_) => 0,
         }
     }

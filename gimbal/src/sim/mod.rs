@@ -1,15 +1,19 @@
 //! Simulated peers of the bridge, sans-IO and in simulated time, for the host tests and
 //! the demo.
 
+pub mod ap_mavlink;
 pub mod ap_siyi;
 pub mod ap_viewpro;
 pub mod ap_xfrobot;
 pub mod faults;
 pub mod fc_k40t;
 pub mod line;
+pub mod mav;
 pub mod peer;
 pub mod pilot;
 pub mod pod;
+pub mod px4;
+pub mod qgc;
 pub mod scenario;
 pub mod tasks;
 

@@ -11,6 +11,7 @@ use serde_json::{Map, Value, json};
 
 pub mod gcu;
 pub mod k40t;
+pub mod mavlink;
 pub mod siyi;
 pub mod viewlink;
 
@@ -67,6 +68,7 @@ pub fn protocols() -> Vec<Box<dyn Protocol>> {
         Box::new(siyi::Siyi),
         Box::new(viewlink::Viewlink),
         Box::new(gcu::Gcu),
+        Box::new(mavlink::Mavlink),
     ]
 }
 

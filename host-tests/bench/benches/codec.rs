@@ -453,6 +453,16 @@ fn bridge_siyi_rate(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
     black_box((pod, fc))
 }
 
+// The bridge engine, per FC frame translated: a MAVLink GIMBAL_DEVICE_SET_ATTITUDE in
+// (deframe, check, decode, quaternion to angles, translate), a K40T angle command out.
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(codec_bench::bridge_mavlink_set_attitudes())))]
+fn bridge_mavlink_set_attitude(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+    let (pod, fc) = run.run();
+    assert!(pod >= codec_bench::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    black_box((pod, fc))
+}
+
 // The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
 // state updated).
 #[library_benchmark]
@@ -497,6 +507,7 @@ library_benchmark_group!(
         mavio_set_parse,
         mavio_set_encode,
         bridge_siyi_rate,
+        bridge_mavlink_set_attitude,
         bridge_pod_attitude
     ]
 );

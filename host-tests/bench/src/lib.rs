@@ -338,6 +338,83 @@ pub fn bridge_pod_attitudes() -> BridgeRun {
     run
 }
 
+/// A MAVLink engine with the pod and FC links up (an attitude report, the autopilot's
+/// HEARTBEAT: the device knows its system id), its queues empty.
+fn mavlink_engine() -> BridgeRun {
+    use protocol_core::bridge::{Config, Duration, Engine, FcProtocol, Instant};
+    use protocol_core::mavlink::dialect::{
+        HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+    };
+    let mut run = BridgeRun {
+        engine: Engine::new(Config {
+            fc: FcProtocol::Mavlink,
+            ..Config::DEFAULT
+        }),
+        frames: vec![pod_attitude(0, 0)],
+        from_fc: false,
+        now: Instant::from_millis(1000),
+        step: Duration::from_millis(150),
+    };
+    run.run();
+    let heartbeat = protocol_core::mavlink::MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype: MavType::MAV_TYPE_QUADROTOR,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_STANDBY,
+        mavlink_version: 3,
+    });
+    run.frames = vec![mavlink_frame(0, &heartbeat)];
+    run.from_fc = true;
+    run.run();
+    run
+}
+
+/// A MAVLink 2 frame from the autopilot (1/1).
+fn mavlink_frame(seq: u8, m: &protocol_core::mavlink::MavMessage) -> Vec<u8> {
+    use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN};
+    let header = Header {
+        sequence: seq,
+        system_id: 1,
+        component_id: 1,
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = mavlink::encode(m, &header, &mut buf).expect("encode");
+    buf[..n].to_vec()
+}
+
+/// GIMBAL_DEVICE_SET_ATTITUDE from ArduPilot (an angle: quaternion, rates NaN, yaw
+/// relative to the vehicle), the angle changing every frame: each one translated into a
+/// K40T angle command for the pod.
+#[must_use]
+pub fn bridge_mavlink_set_attitudes() -> BridgeRun {
+    use protocol_core::mavlink::MavMessage;
+    use protocol_core::mavlink::dialect::{GIMBAL_DEVICE_SET_ATTITUDE_DATA, GimbalDeviceFlags};
+    let mut run = mavlink_engine();
+    run.frames = (0..BRIDGE_FRAMES)
+        .map(|i| {
+            let (pitch, yaw) = if i % 2 == 0 {
+                (-20f32, 30f32)
+            } else {
+                (-40.0, -30.0)
+            };
+            let (sp, cp) = (pitch.to_radians() / 2.0).sin_cos();
+            let (sy, cy) = (yaw.to_radians() / 2.0).sin_cos();
+            let set = MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(GIMBAL_DEVICE_SET_ATTITUDE_DATA {
+                q: [cp * cy, -sp * sy, sp * cy, cp * sy],
+                angular_velocity_x: f32::NAN,
+                angular_velocity_y: f32::NAN,
+                angular_velocity_z: f32::NAN,
+                flags: GimbalDeviceFlags::empty(),
+                target_system: 1,
+                target_component: 154,
+            });
+            mavlink_frame(i as u8 + 1, &set)
+        })
+        .collect();
+    run
+}
+
 /// Frames each bridge benchmark gives the engine.
 pub const BRIDGE_RUN_FRAMES: usize = BRIDGE_FRAMES;
 

@@ -35,7 +35,7 @@ use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
 use protocol_core::viewlink::{self, SyncOrder};
 
-use crate::input::Input;
+pub use crate::input::Input;
 
 /// Events the engine keeps waiting (`bridge::event`'s queue: 16).
 pub const EVENTS: usize = 16;
@@ -148,6 +148,7 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
             FcProtocol::Viewlink => crate::viewlink::valid(f, SyncOrder::Standard.bytes()),
             FcProtocol::Gcu => crate::gcu::valid(f, GCU_SYNC),
             FcProtocol::K40t => crate::k40t::valid(f, None, k40t::MAX_FRAME_LEN),
+            FcProtocol::Mavlink => crate::mavlink::valid_v2(f),
         };
         assert_eq!(
             valid,
@@ -213,7 +214,12 @@ impl Seen {
 pub fn run(data: &[u8]) {
     let mut input = Input::new(data);
     let which = usize::from(input.byte()) % PROTOCOLS.len();
-    let protocol = PROTOCOLS[which];
+    run_with(PROTOCOLS[which], &frames().fc[which], input);
+}
+
+/// Runs the program in `input` with the FC side `protocol`, whose valid frames are
+/// `fc_frames` (the frame op picks from them).
+pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
     let config = Config {
         fc: protocol,
         ..Config::DEFAULT
@@ -257,8 +263,7 @@ pub fn run(data: &[u8]) {
             _ => {
                 let pick = usize::from(input.byte());
                 if op & 8 == 0 {
-                    let list = &frames.fc[which];
-                    engine.receive(now, Port::Fc, &list[pick % list.len()])
+                    engine.receive(now, Port::Fc, &fc_frames[pick % fc_frames.len()])
                 } else {
                     engine.receive(now, Port::Pod, &frames.pod[pick % frames.pod.len()])
                 }
@@ -316,6 +321,12 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
             0x77,
             CrcCoverage::ExcludeStx,
         )),
+        FcProtocol::Mavlink => {
+            // The autopilot is heard first (the device takes its system id).
+            engine.receive(now, Port::Fc, &crate::bridge_mavlink::autopilot_heartbeat());
+            drain(engine, protocol);
+            Some(crate::bridge_mavlink::probe_request())
+        }
     }
     .expect("the probe request encodes");
     engine.receive(now, Port::Fc, &request);
@@ -331,6 +342,7 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
         FcProtocol::K40t => pod
             .iter()
             .any(|f| k40t::Frame::new_checked(&f[..]).is_ok_and(|fr| fr.id() == K40T_FORWARDED)),
+        FcProtocol::Mavlink => fc.iter().any(|f| crate::bridge_mavlink::answers_probe(f)),
     };
     assert!(
         answered,
@@ -348,35 +360,46 @@ pub fn seeds() -> Vec<Vec<u8>> {
     let frames = frames();
     let mut out = Vec::new();
     for (p, fc) in frames.fc.iter().enumerate() {
-        let p = p as u8;
-        // Each FC frame as raw bytes, then idle, a pod report, a wait and a drain.
-        for (i, f) in fc.iter().enumerate().step_by(3) {
-            let mut s = vec![p, op::FC_BYTES, f.len() as u8];
-            s.extend_from_slice(f);
-            s.extend([op::FC_IDLE, op::FRAME | 8, i as u8, op::WAIT, 20, 0]);
-            s.extend([op::PIN, op::WAIT, 0, 4, op::PIN, op::DRAIN]);
-            out.push(s);
-        }
-        // Every frame of the catalogue through the frame op, between pod reports.
-        let mut s = vec![p];
-        for i in 0..fc.len().min(255) {
-            s.extend([op::FRAME, i as u8, op::FRAME | 8, i as u8, op::WAIT, 50, 0]);
-            if i % 8 == 7 {
-                s.extend([op::PIN, op::DRAIN]);
-            }
-        }
-        out.push(s);
-        // Pod bytes in pieces, with garbage.
-        let mut s = vec![p];
-        for f in frames.pod.iter().take(12) {
-            let (a, b) = f.split_at(f.len() / 2);
-            s.extend([op::POD_BYTES, a.len() as u8 + 1, 0xFD]);
-            s.extend_from_slice(a);
-            s.extend([op::POD_BYTES, b.len() as u8]);
-            s.extend_from_slice(b);
-            s.extend([op::POD_IDLE, op::WAIT, 0xE8, 0x03]);
-        }
+        out.extend(seeds_with(&[p as u8], fc));
+    }
+    out
+}
+
+/// Seeds of one FC side: `prefix` (the bytes that pick it), then its FC frames `fc` and
+/// the pod's reports, in raw bytes and as frame ops, with waits, idles, pin changes and
+/// drains.
+#[must_use]
+pub fn seeds_with(prefix: &[u8], fc: &[Vec<u8>]) -> Vec<Vec<u8>> {
+    let frames = frames();
+    let mut out = Vec::new();
+    // Each FC frame as raw bytes, then idle, a pod report, a wait and a drain.
+    for (i, f) in fc.iter().enumerate().step_by(3) {
+        let mut s = prefix.to_vec();
+        s.extend([op::FC_BYTES, f.len() as u8]);
+        s.extend_from_slice(f);
+        s.extend([op::FC_IDLE, op::FRAME | 8, i as u8, op::WAIT, 20, 0]);
+        s.extend([op::PIN, op::WAIT, 0, 4, op::PIN, op::DRAIN]);
         out.push(s);
     }
+    // Every frame of the catalogue through the frame op, between pod reports.
+    let mut s = prefix.to_vec();
+    for i in 0..fc.len().min(255) {
+        s.extend([op::FRAME, i as u8, op::FRAME | 8, i as u8, op::WAIT, 50, 0]);
+        if i % 8 == 7 {
+            s.extend([op::PIN, op::DRAIN]);
+        }
+    }
+    out.push(s);
+    // Pod bytes in pieces, with garbage.
+    let mut s = prefix.to_vec();
+    for f in frames.pod.iter().take(12) {
+        let (a, b) = f.split_at(f.len() / 2);
+        s.extend([op::POD_BYTES, a.len() as u8 + 1, 0xFD]);
+        s.extend_from_slice(a);
+        s.extend([op::POD_BYTES, b.len() as u8]);
+        s.extend_from_slice(b);
+        s.extend([op::POD_IDLE, op::WAIT, 0xE8, 0x03]);
+    }
+    out.push(s);
     out
 }

@@ -21,9 +21,11 @@
 //!
 //! - **bridge**: the bridge engine fed arbitrary FC and pod bytes and times, for each FC
 //!   protocol: no panic, the queues within their bounds, every output frame valid, a
-//!   valid FC request answered (see [`bridge`]).
+//!   valid FC request answered (see [`bridge`]); **bridge_mavlink** the same with the
+//!   MAVLink side (see [`bridge_mavlink`]).
 
 pub mod bridge;
+pub mod bridge_mavlink;
 pub mod deframe;
 pub mod gcu;
 pub mod input;
@@ -82,6 +84,10 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "bridge",
         run: bridge::run,
+    },
+    Target {
+        name: "bridge_mavlink",
+        run: bridge_mavlink::run,
     },
     Target {
         name: "gcu_deframe",

@@ -202,6 +202,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         }
         "resync" => crate::resync::seeds(),
         "bridge" => crate::bridge::seeds(),
+        "bridge_mavlink" => crate::bridge_mavlink::seeds(),
         _ => panic!("no target {name}"),
     }
 }

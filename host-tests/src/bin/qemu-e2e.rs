@@ -69,7 +69,13 @@ fn parse(args: &[String]) -> Result<Args, String> {
     }
     if sides.is_empty() {
         // The heaviest FC traffic first, next to the lightest (see `main`).
-        sides = vec![Side::Gcu, Side::K40t, Side::Siyi, Side::Viewlink];
+        sides = vec![
+            Side::Gcu,
+            Side::K40t,
+            Side::Mavlink,
+            Side::Siyi,
+            Side::Viewlink,
+        ];
     }
     let work = work.unwrap_or_else(|| {
         std::env::temp_dir().join(format!("bridge-qemu-e2e.{}", std::process::id()))

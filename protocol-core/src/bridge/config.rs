@@ -61,6 +61,10 @@ wire_derive! {
         Gcu,
         /// K40T itself: the bridge forwards, and owns RTC_IO.
         K40t,
+        /// MAVLink 2 (ArduPilot `MNT1_TYPE` 6 + `CAM1_TYPE` 6, PX4 gimbal v2): the bridge is
+        /// a gimbal device (component 154) and a camera (component 100). Needs the
+        /// `mavlink` feature.
+        Mavlink,
     }
 }
 

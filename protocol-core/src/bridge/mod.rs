@@ -62,8 +62,11 @@ use crate::k40t::{self, Frame, K40tFraming};
 use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 use event::EventQueue;
 
-/// Bytes of the queue of frames for the FC.
-pub const FC_QUEUE: usize = 256;
+/// Bytes of the queue of frames for the FC. With the `mavlink` feature 512: a MAVLink
+/// frame is up to 280 bytes; the largest the bridge sends, CAMERA_INFORMATION (250 bytes
+/// with its record header), its ACK and a poll's routine frames (attitude status,
+/// heartbeats) fit, and the line drains the queue in 45 ms at 115200 baud.
+pub const FC_QUEUE: usize = if cfg!(feature = "mavlink") { 512 } else { 256 };
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
 /// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never

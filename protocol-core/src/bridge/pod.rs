@@ -1107,6 +1107,14 @@ fn camera_request(cmd: Command, state: &PodState) -> Option<Request> {
             folder: empty,
             name: Text::default(),
         }),
+        Command::VideoMode(video) => Request::CaptureMode(k40t::CaptureModeSetting {
+            mode: if video {
+                k40t::CaptureMode::Video
+            } else {
+                k40t::CaptureMode::Photo
+            },
+            reserved: 0,
+        }),
         Command::Zoom(m) => Request::ContinuousZoom(ContinuousZoom {
             control: match m {
                 Motion::In => ZoomControl::In,

@@ -105,10 +105,17 @@ fn main() {
     row("receiver + decode", "mavio_set_parse", mav_frames);
     row("builder + serialize", "mavio_set_encode", mav_frames);
     let frames = codec_bench::BRIDGE_RUN_FRAMES;
-    println!("| **bridge engine** (SIYI FC side, {frames} frames, outputs taken) | | | | |");
+    println!(
+        "| **bridge engine** (SIYI and MAVLink FC sides, {frames} frames, outputs taken) | | | | |"
+    );
     row(
         "SIYI 0x07 rate in, K40T control out",
         "bridge_siyi_rate",
+        frames,
+    );
+    row(
+        "MAVLink SET_ATTITUDE in, K40T angle out",
+        "bridge_mavlink_set_attitude",
         frames,
     );
     row(

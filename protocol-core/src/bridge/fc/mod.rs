@@ -323,6 +323,8 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
 #[cfg(feature = "gcu")]
 mod gcu;
 mod k40t;
+#[cfg(feature = "mavlink")]
+mod mavlink;
 #[cfg(feature = "siyi")]
 mod siyi;
 #[cfg(feature = "viewlink")]
@@ -347,6 +349,9 @@ pub(crate) enum FcSide {
     /// XF Robot GCU.
     #[cfg(feature = "gcu")]
     Gcu(FcLink<gcu::GcuSide, { gcu::BUF }>),
+    /// MAVLink 2: gimbal device and camera.
+    #[cfg(feature = "mavlink")]
+    Mavlink(FcLink<mavlink::MavlinkSide, { mavlink::BUF }>),
 }
 
 /// Calls `$call` with `$link` bound to the side in use; `Disabled` gives `$default`.
@@ -361,6 +366,8 @@ macro_rules! fc_dispatch {
             FcSide::Viewlink($link) => $call,
             #[cfg(feature = "gcu")]
             FcSide::Gcu($link) => $call,
+            #[cfg(feature = "mavlink")]
+            FcSide::Mavlink($link) => $call,
         }
     };
 }
@@ -382,6 +389,11 @@ impl FcSide {
             super::FcProtocol::Gcu => FcSide::Gcu(FcLink::new(
                 crate::gcu::GcuFraming::host(),
                 gcu::GcuSide::new(),
+            )),
+            #[cfg(feature = "mavlink")]
+            super::FcProtocol::Mavlink => FcSide::Mavlink(FcLink::new(
+                crate::mavlink::MavlinkFraming::new(),
+                mavlink::MavlinkSide::new(),
             )),
             super::FcProtocol::K40t => FcSide::K40t(FcLink::new(
                 crate::k40t::K40tFraming::any(),

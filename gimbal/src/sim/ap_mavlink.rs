@@ -1,0 +1,1209 @@
+//! A simulated ArduPilot with a MAVLink gimbal (`MNT1_TYPE` 6, `AP_Mount_MAVLink`) and a
+//! MAVLink camera (`CAM1_TYPE` 6, `AP_Camera_MAVLinkCamV2`) on one serial port
+//! (`SERIALn_PROTOCOL` 2), written from `shared/MAVLINK-TRAFFIC.md` §1–§3, §6–§8:
+//!
+//! - **Loop.** A 50 Hz run (the mount update's rate) on the FC's own crystal, a few
+//!   hundred µs late; what one run writes leaves in one burst after a transport jitter.
+//!   HEARTBEAT (type QUADROTOR or FIXED_WING, autopilot ARDUPILOTMEGA) at 1 Hz.
+//! - **Streams.** Copter's defaults stream nothing to the port; Plane's 1 Hz
+//!   ([`ApVehicle`]). MAV_CMD_SET_MESSAGE_INTERVAL to this system and component 1 sets
+//!   the port's interval of a message (0 default, −1 stop), DENIED above 0.8 ×
+//!   `SCHED_LOOP_RATE` ([`ApMavlinkConfig::loop_rate_hz`]). SYSTEM_TIME's Unix time is 0
+//!   until the clock is set from GPS; GPS_RAW_INT's `time_usec` is the fix time since
+//!   boot; GLOBAL_POSITION_INT is sent with or without a fix.
+//! - **Mount.** Looks for a HEARTBEAT of type 26 from component 154 from 10 s of uptime
+//!   until uptime > 60 s and armed; then asks GIMBAL_DEVICE_INFORMATION from that
+//!   system/154 every second until it comes (ACKs not looked at); then enables
+//!   AUTOPILOT_STATE_FOR_GIMBAL_DEVICE at 20 000 µs on the port: refused (a 50 Hz
+//!   interval above 0.8 × the loop rate), the driver never initialises and no
+//!   GIMBAL_DEVICE_SET_ATTITUDE is ever sent (§8.1). Initialised: SET_ATTITUDE every run:
+//!   an angle as a quaternion (rates NaN) with flags 28 for an earth-frame yaw, 0 for a
+//!   vehicle-relative one; a rate with the quaternion NaN (same flag rule; a rate from a
+//!   MAVLink command zeroed after 3 s); retract as flags 1 with the quaternion NaN and
+//!   rates 0; neutral as the angle of `MNT1_NEUTRAL_*` (0, 0, 0). Health: information
+//!   received, an attitude status within 1 s, none of the failure flags 8..128. The
+//!   status's quaternion is read as roll and pitch against the horizon and yaw relative
+//!   to the vehicle whatever its flags; `delta_yaw`, once non-zero, gives the earth
+//!   yaw. [`ApMavlinkConfig::old_gremsy`]: the older driver, which takes a status only
+//!   when its `time_boot_ms` changed.
+//! - **Camera.** Looks for a HEARTBEAT of type 30 from component 100 in the same window;
+//!   REQUEST_MESSAGE(CAMERA_INFORMATION) to it every second until it comes; its flags
+//!   gate what the driver sends (photo CAPTURE_IMAGE, video CAPTURE_VIDEO, zoom
+//!   HAS_BASIC_ZOOM, focus HAS_BASIC_FOCUS: a missing flag refuses locally). Commands
+//!   to 0/0 (4.5/4.6) or to system/100 (newest), [`CameraTargets`]: one photo as
+//!   IMAGE_START_CAPTURE (0, 0, 1, counter + 1), video start/stop, zoom continuous or
+//!   range, focus continuous, range or auto. Camera ACKs are recorded, not consumed.
+//!   [`ApMavlinkConfig::capture_status_requests`] (newest source): CAMERA_CAPTURE_STATUS
+//!   asked at 1 Hz, every 10 s after three misses.
+//! - **TIMESYNC** request every 10 s (tc1 0, ts1 boot ns + sysid); replies with that ts1
+//!   are recorded.
+//! - **Routing.** A ground station ([`Qgc`]) can be attached: the device's messages
+//!   without a target, with target 0 or the ground station's system reach it; its
+//!   messages for the device (or broadcast) go onto the port as they came.
+//! - **Reboot** ([`ApMavlink::reboot`]): silent for the off time, then a new boot clock,
+//!   streams back to the defaults, the drivers searching again.
+
+use std::collections::BTreeMap;
+
+use protocol_core::mavlink::dialect::{
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, CAMERA_CAPTURE_STATUS_DATA,
+    CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA, COMMAND_ACK_DATA, CameraCapFlags,
+    EstimatorStatusFlags, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
+    GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
+    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
+    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
+};
+use protocol_core::mavlink::{Header, MavMessage};
+
+use super::ap_siyi::Aircraft;
+use super::mav::{self, AUTOPILOT, CAMERA, Endpoint, GIMBAL, Rx};
+use super::qgc::Qgc;
+use super::scenario::FcSim;
+use super::{FcBoot, FcClock, FcReboot, XorShift};
+
+/// The vehicle type: its default stream rates and loop rate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ApVehicle {
+    /// Copter/Heli: every stream 0 Hz on a new port; 400 Hz loop.
+    Copter,
+    /// Plane: SYSTEM_TIME, positions, attitude, GPS at 1 Hz; 50 Hz loop.
+    Plane,
+}
+
+/// Where the camera driver sends its commands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CameraTargets {
+    /// ArduPilot 4.5/4.6: target system and component 0 (the struct is zeroed).
+    Broadcast,
+    /// Newest source: the camera's system and component.
+    Addressed,
+}
+
+/// Settings of the simulated ArduPilot.
+#[derive(Debug, Clone)]
+pub struct ApMavlinkConfig {
+    /// Seed of the random jitter.
+    pub seed: u64,
+    /// FC crystal error, ppm.
+    pub ppm: f64,
+    /// Per-run transport jitter bound, µs.
+    pub jitter_us: u64,
+    /// Lateness of each run, µs.
+    pub loop_jitter_us: u64,
+    /// The FC's UTC at true time 0, µs since the Unix epoch.
+    pub utc_at_zero_us: u64,
+    /// The FC's uptime at true time 0, µs.
+    pub boot_us: u64,
+    /// When the FC's clock is set from GPS (true µs); SYSTEM_TIME carries 0 before.
+    pub utc_valid_at_us: u64,
+    /// The FC's system id.
+    pub sysid: u8,
+    /// Vehicle type.
+    pub vehicle: ApVehicle,
+    /// `SCHED_LOOP_RATE` (None: the vehicle's default).
+    pub loop_rate_hz: Option<u32>,
+    /// `MNT1_TYPE` 6.
+    pub mount: bool,
+    /// `CAM1_TYPE` 6.
+    pub camera: bool,
+    /// Where camera commands go.
+    pub camera_targets: CameraTargets,
+    /// Newest source: ask CAMERA_CAPTURE_STATUS at 1 Hz.
+    pub capture_status_requests: bool,
+    /// The older `AP_Mount_Gremsy`: a status counts only when its time_boot_ms changed.
+    pub old_gremsy: bool,
+    /// Armed from this true instant (the drivers stop searching after 60 s of uptime).
+    pub armed_at_us: Option<u64>,
+    /// The GPS has a 3D fix.
+    pub gps_fix: bool,
+    /// Home altitude (relative altitude's zero), m.
+    pub home_alt_m: f64,
+}
+
+impl Default for ApMavlinkConfig {
+    fn default() -> Self {
+        ApMavlinkConfig {
+            seed: 1,
+            ppm: 0.0,
+            jitter_us: 2_000,
+            loop_jitter_us: 500,
+            // 2026-11-23T10:00:00.123456Z
+            utc_at_zero_us: 1_795_428_000_123_456,
+            // Booted 12 s before the bridge: the drivers already search.
+            boot_us: 12_000_000,
+            utc_valid_at_us: 0,
+            sysid: 1,
+            vehicle: ApVehicle::Copter,
+            loop_rate_hz: None,
+            mount: true,
+            camera: true,
+            camera_targets: CameraTargets::Broadcast,
+            capture_status_requests: false,
+            old_gremsy: false,
+            armed_at_us: None,
+            gps_fix: true,
+            home_alt_m: 430.0,
+        }
+    }
+}
+
+/// What the mount is told to do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ApMountTarget {
+    /// Hold these angles (degrees): roll and pitch against the horizon, yaw from north
+    /// (`yaw_is_ef`) or from the nose.
+    Angle {
+        /// Roll.
+        roll_deg: f64,
+        /// Pitch, positive up.
+        pitch_deg: f64,
+        /// Yaw, positive right.
+        yaw_deg: f64,
+        /// Yaw from north.
+        yaw_is_ef: bool,
+    },
+    /// Turn at these rates (deg/s).
+    Rate {
+        /// Pitch rate.
+        pitch_dps: f64,
+        /// Yaw rate.
+        yaw_dps: f64,
+        /// Earth-frame yaw rate.
+        yaw_is_ef: bool,
+        /// Set by a MAVLink command (zeroed after 3 s without another), else RC.
+        from_mavlink: bool,
+    },
+    /// Retracted.
+    Retract,
+    /// Neutral (`MNT1_NEUTRAL_*`: 0, 0, 0).
+    Neutral,
+}
+
+/// A message from the device, with the true time it arrived.
+#[derive(Debug, Clone)]
+pub struct Heard<T> {
+    /// True time.
+    pub at_us: u64,
+    /// Who sent it.
+    pub header: Header,
+    /// The message.
+    pub data: T,
+}
+
+/// The simulated ArduPilot.
+#[derive(Debug)]
+pub struct ApMavlink {
+    /// Settings.
+    pub config: ApMavlinkConfig,
+    /// The aircraft.
+    pub aircraft: Aircraft,
+    /// A ground station attached to the FC's routing.
+    pub gcs: Option<Qgc>,
+    rng: XorShift,
+    now_us: u64,
+    clock: FcClock,
+    power_on_at: Option<u64>,
+    /// Bytes lost while the FC was off.
+    pub lost_while_off: u64,
+    next_run_fc_ms: u64,
+    out: Vec<(u64, Vec<u8>)>,
+    me: Endpoint,
+    rx: Rx,
+    /// Stream intervals of the device's port, µs.
+    pub intervals: BTreeMap<u32, u64>,
+    next_due: BTreeMap<u32, u64>,
+    last_heartbeat_ms: Option<u64>,
+    last_timesync_ms: Option<u64>,
+    /// TIMESYNC replies to this FC's requests: (true time, tc1).
+    pub timesync_replies: Vec<(u64, i64)>,
+    // Mount driver.
+    /// The gimbal found (its system id).
+    pub mount_found: Option<u8>,
+    /// When it was found (true µs).
+    pub mount_found_at_us: Option<u64>,
+    /// GIMBAL_DEVICE_INFORMATION received.
+    pub mount_info: Option<Heard<GIMBAL_DEVICE_INFORMATION_DATA>>,
+    last_info_req_ms: Option<u64>,
+    /// AUTOPILOT_STATE enabled: the driver is initialised.
+    pub mount_initialised: bool,
+    /// The AUTOPILOT_STATE interval was refused: never initialised.
+    pub mount_refused: bool,
+    /// The mount target.
+    pub target: Option<ApMountTarget>,
+    rate_set_ms: u64,
+    /// The last attitude status taken (old driver: only new time_boot_ms).
+    pub status: Option<Heard<GIMBAL_DEVICE_ATTITUDE_STATUS_DATA>>,
+    /// Every attitude status received.
+    pub statuses: u32,
+    /// The mount's attitude as the driver reads it: (true time, roll, pitch, yaw from the
+    /// nose, earth yaw when delta_yaw is non-zero), degrees.
+    pub attitude: Option<(u64, f64, f64, f64, Option<f64>)>,
+    /// GIMBAL_DEVICE_SET_ATTITUDE sent: (true time, message).
+    pub set_attitudes: Vec<(u64, GIMBAL_DEVICE_SET_ATTITUDE_DATA)>,
+    // Camera driver.
+    /// The camera found (its system id).
+    pub camera_found: Option<u8>,
+    /// CAMERA_INFORMATION received.
+    pub camera_info: Option<Heard<CAMERA_INFORMATION_DATA>>,
+    last_cam_req_ms: Option<u64>,
+    image_counter: u32,
+    capture_req: (Option<u64>, u8),
+    /// Camera actions refused locally (no information, or a capability flag missing).
+    pub refused_locally: u32,
+    /// Every COMMAND_ACK received, with its sender.
+    pub acks: Vec<Heard<COMMAND_ACK_DATA>>,
+    /// CAMERA_IMAGE_CAPTURED received.
+    pub images: Vec<Heard<CAMERA_IMAGE_CAPTURED_DATA>>,
+    /// CAMERA_CAPTURE_STATUS received.
+    pub capture_statuses: Vec<Heard<CAMERA_CAPTURE_STATUS_DATA>>,
+    /// Every frame received: (true time, header, message id).
+    pub received: Vec<(u64, Header, u32)>,
+    /// Every frame sent: (true time it was written, message id, the message).
+    pub sent: Vec<(u64, MavMessage)>,
+    /// True times at which `healthy()` changed, with the new value.
+    pub health_log: Vec<(u64, bool)>,
+    healthy: bool,
+}
+
+impl ApMavlink {
+    /// An FC that starts at true time 0.
+    #[must_use]
+    pub fn new(config: ApMavlinkConfig) -> Self {
+        let clock = FcClock::new(
+            config.ppm,
+            config.boot_us,
+            config.utc_at_zero_us,
+            config.utc_valid_at_us,
+        );
+        let mut ap = ApMavlink {
+            rng: XorShift::new(config.seed),
+            aircraft: Aircraft::default(),
+            gcs: None,
+            now_us: 0,
+            clock,
+            power_on_at: None,
+            lost_while_off: 0,
+            next_run_fc_ms: config.boot_us.div_ceil(20_000) * 20,
+            out: Vec::new(),
+            me: Endpoint::new(config.sysid, AUTOPILOT),
+            rx: Rx::default(),
+            intervals: BTreeMap::new(),
+            next_due: BTreeMap::new(),
+            last_heartbeat_ms: None,
+            last_timesync_ms: None,
+            timesync_replies: Vec::new(),
+            mount_found: None,
+            mount_found_at_us: None,
+            mount_info: None,
+            last_info_req_ms: None,
+            mount_initialised: false,
+            mount_refused: false,
+            target: None,
+            rate_set_ms: 0,
+            status: None,
+            statuses: 0,
+            attitude: None,
+            set_attitudes: Vec::new(),
+            camera_found: None,
+            camera_info: None,
+            last_cam_req_ms: None,
+            image_counter: 0,
+            capture_req: (None, 0),
+            refused_locally: 0,
+            acks: Vec::new(),
+            images: Vec::new(),
+            capture_statuses: Vec::new(),
+            received: Vec::new(),
+            sent: Vec::new(),
+            health_log: Vec::new(),
+            healthy: false,
+            config,
+        };
+        ap.default_streams();
+        ap
+    }
+
+    /// The loop rate, Hz.
+    #[must_use]
+    pub fn loop_rate_hz(&self) -> u32 {
+        self.config
+            .loop_rate_hz
+            .unwrap_or(match self.config.vehicle {
+                ApVehicle::Copter => 400,
+                ApVehicle::Plane => 50,
+            })
+    }
+
+    fn default_streams(&mut self) {
+        self.intervals.clear();
+        self.next_due.clear();
+        if self.config.vehicle == ApVehicle::Plane {
+            for id in [
+                SYSTEM_TIME_DATA::ID,
+                GLOBAL_POSITION_INT_DATA::ID,
+                ATTITUDE_DATA::ID,
+                GPS_RAW_INT_DATA::ID,
+            ] {
+                self.intervals.insert(id, 1_000_000);
+            }
+        }
+    }
+
+    /// The FC's uptime clock (µs) at true time `t_us`.
+    #[must_use]
+    pub fn fc_us(&self, t_us: u64) -> u64 {
+        self.clock.clock_us(t_us)
+    }
+
+    /// The FC's UTC (µs) at true time `t_us`.
+    #[must_use]
+    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
+        self.clock.utc_us(t_us)
+    }
+
+    /// Every boot of the FC.
+    #[must_use]
+    pub fn boots(&self) -> &[FcBoot] {
+        self.clock.boots()
+    }
+
+    /// True time of the first SYSTEM_TIME with a set clock.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent.iter().find_map(|(t, m)| match m {
+            MavMessage::SYSTEM_TIME(s) if s.time_unix_usec != 0 => Some(*t),
+            _ => None,
+        })
+    }
+
+    /// The mount driver calls the gimbal healthy.
+    #[must_use]
+    pub fn healthy(&self) -> bool {
+        self.healthy
+    }
+
+    /// Frames dropped by the FC's parser.
+    #[must_use]
+    pub fn parse_errors(&self) -> u32 {
+        self.rx.errors()
+    }
+
+    fn fc_ms(&self) -> u64 {
+        self.fc_us(self.now_us) / 1000
+    }
+
+    /// Messages of type `M` sent to the device, with their true time.
+    pub fn sent_of(&self, id: u32) -> impl Iterator<Item = &(u64, MavMessage)> {
+        self.sent.iter().filter(move |(_, m)| mav::id_of(m) == id)
+    }
+
+    fn send(&mut self, msg: &MavMessage) {
+        if self.power_on_at.is_some() {
+            return;
+        }
+        let frame = self.me.frame(msg);
+        self.sent.push((self.now_us, msg.clone()));
+        self.push_bytes(frame);
+    }
+
+    /// Bytes into this run's burst.
+    fn push_bytes(&mut self, frame: Vec<u8>) {
+        match self.out.last_mut() {
+            Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
+            _ => {
+                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
+                self.out.push((at, frame));
+            }
+        }
+    }
+
+    fn in_search_window(&self) -> bool {
+        let uptime_ms = self.fc_ms();
+        let armed = self.config.armed_at_us.is_some_and(|a| self.now_us >= a);
+        uptime_ms >= 10_000 && !(uptime_ms > 60_000 && armed)
+    }
+
+    // Actions.
+
+    /// Take one picture (through the camera driver).
+    pub fn take_picture(&mut self) {
+        if !self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_CAPTURE_IMAGE) {
+            return;
+        }
+        self.image_counter += 1;
+        let n = self.image_counter as f32;
+        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
+    }
+
+    /// Start or stop recording.
+    pub fn record_video(&mut self, on: bool) {
+        if !self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_CAPTURE_VIDEO) {
+            return;
+        }
+        let cmd = if on {
+            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
+        } else {
+            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
+        };
+        self.camera_command(cmd, [0.0; 4]);
+    }
+
+    /// Continuous zoom: -1 out, 0 stop, 1 in.
+    pub fn zoom_rate(&mut self, rate: i8) {
+        if self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_ZOOM) {
+            let r = f32::from(rate.signum());
+            self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
+        }
+    }
+
+    /// Zoom to a percentage of the range.
+    pub fn zoom_pct(&mut self, pct: f32) {
+        if self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_ZOOM) {
+            self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [2.0, pct, 0.0, 0.0]);
+        }
+    }
+
+    /// Focus: `kind` 1 continuous (`value` -1/0/1), 2 range (%), 4 auto.
+    pub fn focus(&mut self, kind: u8, value: f32) {
+        if self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_FOCUS) {
+            let k = f32::from(kind);
+            self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [k, value, 0.0, 0.0]);
+        }
+    }
+
+    fn camera_can(&mut self, flag: CameraCapFlags) -> bool {
+        let ok = self
+            .camera_info
+            .as_ref()
+            .is_some_and(|i| i.data.flags.contains(flag));
+        if !ok {
+            self.refused_locally += 1;
+        }
+        ok
+    }
+
+    fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
+        let target = match self.config.camera_targets {
+            CameraTargets::Broadcast => (0, 0),
+            CameraTargets::Addressed => (self.camera_found.unwrap_or(0), CAMERA),
+        };
+        let msg = mav::command_long(cmd, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0);
+        self.send(&msg);
+    }
+
+    // The run.
+
+    fn update(&mut self) {
+        let ms = self.fc_ms();
+        if self.last_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
+            self.last_heartbeat_ms = Some(ms);
+            let mavtype = match self.config.vehicle {
+                ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
+                ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
+            };
+            self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+                custom_mode: 0,
+                mavtype,
+                autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+                base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+                system_status: MavState::MAV_STATE_STANDBY,
+                mavlink_version: 3,
+            }));
+        }
+        if self.last_timesync_ms.is_none_or(|l| ms - l >= 10_000) {
+            self.last_timesync_ms = Some(ms);
+            let ts1 = (self.fc_us(self.now_us) * 1000 + u64::from(self.config.sysid)) as i64;
+            self.send(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+                tc1: 0,
+                ts1,
+                target_system: 0,
+                target_component: 0,
+            }));
+        }
+        self.streams();
+        if self.config.mount {
+            self.mount_update();
+        }
+        if self.config.camera {
+            self.camera_update();
+        }
+        if let Some(mut gcs) = self.gcs.take() {
+            gcs.poll(self.now_us);
+            for frame in gcs.transmit() {
+                self.route_from_gcs(frame);
+            }
+            self.gcs = Some(gcs);
+        }
+    }
+
+    fn streams(&mut self) {
+        let fc_us = self.fc_us(self.now_us);
+        let due: Vec<u32> = self
+            .intervals
+            .iter()
+            .filter(|(id, _)| self.next_due.get(id).is_none_or(|&d| fc_us >= d))
+            .map(|(id, _)| *id)
+            .collect();
+        for id in due {
+            let interval = self.intervals[&id];
+            let next = self.next_due.get(&id).copied().unwrap_or(fc_us) + interval;
+            self.next_due.insert(
+                id,
+                if next <= fc_us {
+                    fc_us + interval
+                } else {
+                    next
+                },
+            );
+            if let Some(msg) = self.stream_message(id) {
+                self.send(&msg);
+            }
+        }
+    }
+
+    /// The stream message `id` now.
+    fn stream_message(&self, id: u32) -> Option<MavMessage> {
+        let t = self.now_us;
+        let fc_us = self.fc_us(t);
+        let boot_ms = (fc_us / 1000) as u32;
+        let (lat, lon) = self.aircraft.position_e7(t);
+        let alt_mm = (self.aircraft.alt_msl_m * 1000.0) as i32;
+        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
+        let (vn, ve) = self.velocity_m_s();
+        Some(match id {
+            SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+                time_unix_usec: if self.clock.utc_valid(t) {
+                    self.fc_utc_us(t)
+                } else {
+                    0
+                },
+                time_boot_ms: boot_ms,
+            }),
+            GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+                // The last fix's time since boot (5 Hz GPS), not UTC.
+                time_usec: fc_us / 200_000 * 200_000,
+                lat,
+                lon,
+                alt: alt_mm,
+                eph: 90,
+                epv: 140,
+                vel: (self.aircraft.speed_m_s * 100.0) as u16,
+                cog: (self.aircraft.heading_deg * 100.0) as u16,
+                fix_type: if self.config.gps_fix {
+                    GpsFixType::GPS_FIX_TYPE_3D_FIX
+                } else {
+                    GpsFixType::GPS_FIX_TYPE_NO_FIX
+                },
+                satellites_visible: 14,
+                alt_ellipsoid: alt_mm + 48_000,
+                h_acc: 700,
+                v_acc: 1200,
+                vel_acc: 150,
+                hdg_acc: 0,
+                yaw: 0,
+            }),
+            GLOBAL_POSITION_INT_DATA::ID => {
+                MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+                    time_boot_ms: boot_ms,
+                    lat,
+                    lon,
+                    alt: alt_mm,
+                    relative_alt: ((self.aircraft.alt_msl_m - self.config.home_alt_m) * 1000.0)
+                        as i32,
+                    vx: (vn * 100.0) as i16,
+                    vy: (ve * 100.0) as i16,
+                    vz: 0,
+                    hdg: (yaw.rem_euclid(360.0) * 100.0) as u16,
+                })
+            }
+            ATTITUDE_DATA::ID => MavMessage::ATTITUDE(ATTITUDE_DATA {
+                time_boot_ms: boot_ms,
+                roll: roll.to_radians() as f32,
+                pitch: pitch.to_radians() as f32,
+                yaw: yaw.to_radians() as f32,
+                rollspeed: 0.0,
+                pitchspeed: 0.0,
+                yawspeed: 0.0,
+            }),
+            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => {
+                MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
+                    AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
+                        // AP_HAL::micros(): 32 bits.
+                        time_boot_us: u64::from(fc_us as u32),
+                        q: mav::quat_deg(roll, pitch, yaw),
+                        q_estimated_delay_us: 0,
+                        vx: vn as f32,
+                        vy: ve as f32,
+                        vz: 0.0,
+                        v_estimated_delay_us: 0,
+                        feed_forward_angular_velocity_z: 0.0,
+                        estimator_status: EstimatorStatusFlags::from_bits_retain(0x01A7),
+                        target_system: self.config.sysid,
+                        target_component: 0,
+                        landed_state: MavLandedState::MAV_LANDED_STATE_UNDEFINED,
+                        angular_velocity_z: 0.0,
+                    },
+                )
+            }
+            _ => return None,
+        })
+    }
+
+    /// North and east velocity, m/s.
+    fn velocity_m_s(&self) -> (f64, f64) {
+        let h = self.aircraft.heading_deg.to_radians();
+        (
+            self.aircraft.speed_m_s * h.cos(),
+            self.aircraft.speed_m_s * h.sin(),
+        )
+    }
+
+    /// `set_message_interval` on this port: the result.
+    fn set_interval(&mut self, id: u32, interval_us: f32) -> MavResult {
+        let known = [
+            SYSTEM_TIME_DATA::ID,
+            GPS_RAW_INT_DATA::ID,
+            ATTITUDE_DATA::ID,
+            GLOBAL_POSITION_INT_DATA::ID,
+            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID,
+        ];
+        if !known.contains(&id) {
+            return MavResult::MAV_RESULT_UNSUPPORTED;
+        }
+        if interval_us < -0.5 {
+            self.intervals.remove(&id);
+        } else if interval_us < 0.5 {
+            let plane = self.config.vehicle == ApVehicle::Plane
+                && id != AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID;
+            if plane {
+                self.intervals.insert(id, 1_000_000);
+            } else {
+                self.intervals.remove(&id);
+            }
+        } else {
+            let hz = 1e6 / f64::from(interval_us);
+            if hz > 0.8 * f64::from(self.loop_rate_hz()) {
+                return MavResult::MAV_RESULT_DENIED;
+            }
+            self.intervals.insert(id, interval_us as u64);
+            self.next_due.remove(&id);
+        }
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    fn mount_update(&mut self) {
+        let ms = self.fc_ms();
+        let Some(sysid) = self.mount_found else {
+            return;
+        };
+        if self.mount_info.is_none() {
+            if self.last_info_req_ms.is_none_or(|l| ms - l >= 1000) {
+                self.last_info_req_ms = Some(ms);
+                self.send(&mav::command_long(
+                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                    [
+                        GIMBAL_DEVICE_INFORMATION_DATA::ID as f32,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                    ],
+                    (sysid, GIMBAL),
+                    0,
+                ));
+            }
+            return;
+        }
+        if !self.mount_initialised {
+            return;
+        }
+        let Some(target) = self.target else {
+            return;
+        };
+        let nan = [f32::NAN; 4];
+        let ef_flags = |ef: bool| {
+            if ef {
+                GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_ROLL_LOCK
+                    | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_PITCH_LOCK
+                    | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_YAW_LOCK
+            } else {
+                GimbalDeviceFlags::empty()
+            }
+        };
+        let (q, rates, flags) = match target {
+            ApMountTarget::Angle {
+                roll_deg,
+                pitch_deg,
+                yaw_deg,
+                yaw_is_ef,
+            } => (
+                mav::quat_deg(roll_deg, pitch_deg, yaw_deg),
+                [f32::NAN; 3],
+                ef_flags(yaw_is_ef),
+            ),
+            ApMountTarget::Rate {
+                pitch_dps,
+                yaw_dps,
+                yaw_is_ef,
+                from_mavlink,
+            } => {
+                let stale = from_mavlink && ms.saturating_sub(self.rate_set_ms) > 3_000;
+                let r = |dps: f64| if stale { 0.0 } else { dps.to_radians() as f32 };
+                (nan, [0.0, r(pitch_dps), r(yaw_dps)], ef_flags(yaw_is_ef))
+            }
+            ApMountTarget::Retract => (
+                nan,
+                [0.0; 3],
+                GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_RETRACT,
+            ),
+            ApMountTarget::Neutral => (
+                mav::quat_deg(0.0, 0.0, 0.0),
+                [f32::NAN; 3],
+                GimbalDeviceFlags::empty(),
+            ),
+        };
+        let set = GIMBAL_DEVICE_SET_ATTITUDE_DATA {
+            q,
+            angular_velocity_x: rates[0],
+            angular_velocity_y: rates[1],
+            angular_velocity_z: rates[2],
+            flags,
+            target_system: sysid,
+            target_component: GIMBAL,
+        };
+        self.set_attitudes.push((self.now_us, set.clone()));
+        self.send(&MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(set));
+    }
+
+    /// Sets the mount target; a MAVLink rate command restarts its 3 s.
+    pub fn set_target(&mut self, target: ApMountTarget) {
+        if matches!(
+            target,
+            ApMountTarget::Rate {
+                from_mavlink: true,
+                ..
+            }
+        ) {
+            self.rate_set_ms = self.fc_ms();
+        }
+        self.target = Some(target);
+    }
+
+    fn camera_update(&mut self) {
+        let ms = self.fc_ms();
+        let Some(sysid) = self.camera_found else {
+            return;
+        };
+        if self.camera_info.is_none() {
+            if self.last_cam_req_ms.is_none_or(|l| ms - l >= 1000) {
+                self.last_cam_req_ms = Some(ms);
+                self.send(&mav::command_long(
+                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                    [
+                        CAMERA_INFORMATION_DATA::ID as f32,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                    ],
+                    (sysid, CAMERA),
+                    0,
+                ));
+            }
+            return;
+        }
+        if self.config.capture_status_requests {
+            let (last, misses) = self.capture_req;
+            let wait = if misses >= 3 { 10_000 } else { 1_000 };
+            if last.is_none_or(|l| ms - l >= wait) {
+                self.capture_req = (Some(ms), misses.saturating_add(1));
+                self.send(&mav::command_long(
+                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                    [
+                        CAMERA_CAPTURE_STATUS_DATA::ID as f32,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.0,
+                    ],
+                    (sysid, CAMERA),
+                    0,
+                ));
+            }
+        }
+    }
+
+    /// A frame from the device.
+    fn process(&mut self, now_us: u64, r: mav::Received) {
+        let h = r.header;
+        let id = mav::id_of(&r.message);
+        self.received.push((now_us, h, id));
+        self.route_to_gcs(now_us, &r);
+        match r.message {
+            MavMessage::HEARTBEAT(hb) => {
+                let window = self.in_search_window();
+                if window
+                    && self.config.mount
+                    && self.mount_found.is_none()
+                    && hb.mavtype == MavType::MAV_TYPE_GIMBAL
+                    && h.component_id == GIMBAL
+                {
+                    self.mount_found = Some(h.system_id);
+                    self.mount_found_at_us = Some(now_us);
+                }
+                if window
+                    && self.config.camera
+                    && self.camera_found.is_none()
+                    && hb.mavtype == MavType::MAV_TYPE_CAMERA
+                    && h.component_id == CAMERA
+                {
+                    self.camera_found = Some(h.system_id);
+                }
+            }
+            MavMessage::GIMBAL_DEVICE_INFORMATION(info)
+                if self.mount_found == Some(h.system_id)
+                    && h.component_id == GIMBAL
+                    && self.mount_info.is_none() =>
+            {
+                self.mount_info = Some(Heard {
+                    at_us: now_us,
+                    header: h,
+                    data: info,
+                });
+                // Enable AUTOPILOT_STATE_FOR_GIMBAL_DEVICE at 50 Hz on this port.
+                let r = self.set_interval(AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID, 20_000.0);
+                self.mount_initialised = r == MavResult::MAV_RESULT_ACCEPTED;
+                self.mount_refused = !self.mount_initialised;
+            }
+            MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s)
+                if self.mount_found == Some(h.system_id) && h.component_id == GIMBAL =>
+            {
+                self.statuses += 1;
+                let repeated = self.config.old_gremsy
+                    && self
+                        .status
+                        .as_ref()
+                        .is_some_and(|p| p.data.time_boot_ms == s.time_boot_ms);
+                if !repeated {
+                    if let Some((roll, pitch, yaw)) = mav::euler_deg(s.q) {
+                        let earth = (s.delta_yaw != 0.0 || s.delta_yaw_velocity != 0.0)
+                            .then(|| yaw + f64::from(s.delta_yaw).to_degrees());
+                        self.attitude = Some((now_us, roll, pitch, yaw, earth));
+                    }
+                    self.status = Some(Heard {
+                        at_us: now_us,
+                        header: h,
+                        data: s,
+                    });
+                }
+            }
+            MavMessage::CAMERA_INFORMATION(info)
+                if self.camera_found == Some(h.system_id)
+                    && h.component_id == CAMERA
+                    && self.camera_info.is_none() =>
+            {
+                self.camera_info = Some(Heard {
+                    at_us: now_us,
+                    header: h,
+                    data: info,
+                });
+            }
+            MavMessage::CAMERA_CAPTURE_STATUS(s) => {
+                self.capture_req.1 = 0;
+                self.capture_statuses.push(Heard {
+                    at_us: now_us,
+                    header: h,
+                    data: s,
+                });
+            }
+            MavMessage::CAMERA_IMAGE_CAPTURED(c) => self.images.push(Heard {
+                at_us: now_us,
+                header: h,
+                data: c,
+            }),
+            MavMessage::COMMAND_ACK(a) => self.acks.push(Heard {
+                at_us: now_us,
+                header: h,
+                data: a,
+            }),
+            MavMessage::COMMAND_LONG(c)
+                if c.command == MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
+                    && c.target_system == self.config.sysid
+                    && c.target_component == AUTOPILOT =>
+            {
+                let result = self.set_interval(c.param1 as u32, c.param2);
+                self.send(&MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+                    command: c.command,
+                    result,
+                    progress: 0,
+                    result_param2: 0,
+                    target_system: h.system_id,
+                    target_component: h.component_id,
+                }));
+            }
+            MavMessage::TIMESYNC(t) if t.tc1 != 0 => {
+                let mine = self
+                    .sent
+                    .iter()
+                    .any(|(_, m)| matches!(m, MavMessage::TIMESYNC(s) if s.ts1 == t.ts1));
+                if mine {
+                    self.timesync_replies.push((now_us, t.tc1));
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// ArduPilot's routing towards the ground station: messages without a target, with
+    /// target system 0 or the ground station's system.
+    fn route_to_gcs(&mut self, now_us: u64, r: &mav::Received) {
+        let Some(gcs) = self.gcs.as_mut() else {
+            return;
+        };
+        let to_gcs = match mav::target_of(&r.message) {
+            None => true,
+            Some((sys, _)) => sys == 0 || sys == gcs.config.sysid,
+        };
+        if to_gcs {
+            gcs.receive(now_us, r.header, &r.message);
+        }
+    }
+
+    /// The ground station's frame onto the device's port when it is for the device (its
+    /// system, or broadcast), as it came.
+    fn route_from_gcs(&mut self, frame: Vec<u8>) {
+        let mut rx = Rx::default();
+        let Some(r) = rx.push(&frame).pop() else {
+            return;
+        };
+        let for_device = match mav::target_of(&r.message) {
+            None => true,
+            Some((sys, comp)) => sys == 0 || (sys == self.config.sysid && comp != AUTOPILOT),
+        };
+        if for_device && self.power_on_at.is_none() {
+            self.push_bytes(frame);
+        }
+    }
+
+    fn update_health(&mut self) {
+        let fresh = self
+            .status
+            .as_ref()
+            .is_some_and(|s| self.now_us.saturating_sub(s.at_us) < 1_000_000);
+        let critical = self
+            .status
+            .as_ref()
+            .is_some_and(|s| s.data.failure_flags.bits() & (8 | 16 | 32 | 64 | 128) != 0);
+        let healthy = self.mount_info.is_some() && fresh && !critical && !self.is_off();
+        if healthy != self.healthy {
+            self.healthy = healthy;
+            self.health_log.push((self.now_us, healthy));
+        }
+    }
+
+    /// The FC is without power.
+    #[must_use]
+    pub fn is_off(&self) -> bool {
+        self.power_on_at.is_some()
+    }
+
+    /// The FC loses power at `now_us` and boots as `reboot` says.
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = self.clock.reboot(self.now_us, reboot);
+        self.power_on_at = Some(on);
+        let now = self.now_us;
+        self.out.retain(|(at, _)| *at <= now);
+        self.update_health();
+    }
+
+    fn power_on(&mut self) {
+        self.power_on_at = None;
+        self.next_run_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
+        self.me = Endpoint::new(self.config.sysid, AUTOPILOT);
+        self.rx = Rx::default();
+        self.default_streams();
+        self.last_heartbeat_ms = None;
+        self.last_timesync_ms = None;
+        self.mount_found = None;
+        self.mount_found_at_us = None;
+        self.mount_info = None;
+        self.last_info_req_ms = None;
+        self.mount_initialised = false;
+        self.mount_refused = false;
+        self.target = None;
+        self.status = None;
+        self.attitude = None;
+        self.camera_found = None;
+        self.camera_info = None;
+        self.last_cam_req_ms = None;
+        self.capture_req = (None, 0);
+    }
+
+    fn next_run_us(&self) -> u64 {
+        self.clock.true_of_clock(self.next_run_fc_ms * 1000)
+    }
+}
+
+impl FcSim for ApMavlink {
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => {
+                self.lost_while_off += bytes.len() as u64;
+                return;
+            }
+            Some(_) => self.power_on(),
+            None => {}
+        }
+        for r in self.rx.push(bytes) {
+            self.process(now_us, r);
+        }
+        self.update_health();
+    }
+
+    fn poll(&mut self, now_us: u64) {
+        self.now_us = self.now_us.max(now_us);
+        match self.power_on_at {
+            Some(on) if now_us < on => {
+                self.update_health();
+                return;
+            }
+            Some(_) => self.power_on(),
+            None => {}
+        }
+        while self.next_run_us() <= now_us {
+            let fc_ms = self.next_run_fc_ms;
+            let late = self.rng.uniform(self.config.loop_jitter_us);
+            self.now_us = self.clock.true_of_clock(fc_ms * 1000) + late;
+            self.update();
+            self.next_run_fc_ms = fc_ms + 20;
+        }
+        self.now_us = now_us;
+        self.update_health();
+    }
+
+    fn next_wakeup(&self) -> u64 {
+        // An attached ground station is polled in the runs (its pace is 20 ms at best).
+        self.power_on_at.unwrap_or_else(|| self.next_run_us())
+    }
+
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        std::mem::take(&mut self.out)
+    }
+}
+
+/// MAVLink periodic traffic: heartbeats, streams, time and state from the FC; from the
+/// device everything but its ACKs and captured images.
+#[must_use]
+pub fn mavlink_routine(id: u32, from_fc: bool) -> bool {
+    if from_fc {
+        matches!(id, 0 | 2 | 24 | 30 | 33 | 111 | 286)
+    } else {
+        !matches!(id, 77 | 263)
+    }
+}
+
+/// The name of the FC id of the engine's `Translated` event on the MAVLink side: a
+/// MAV_CMD number, or 284 for GIMBAL_DEVICE_SET_ATTITUDE.
+#[must_use]
+pub fn mavlink_command_name(fc_id: u16) -> String {
+    let name = match fc_id {
+        284 => "GIMBAL_DEVICE_SET_ATTITUDE",
+        530 => "MAV_CMD_SET_CAMERA_MODE",
+        531 => "MAV_CMD_SET_CAMERA_ZOOM",
+        532 => "MAV_CMD_SET_CAMERA_FOCUS",
+        2000 => "MAV_CMD_IMAGE_START_CAPTURE",
+        2001 => "MAV_CMD_IMAGE_STOP_CAPTURE",
+        2500 => "MAV_CMD_VIDEO_START_CAPTURE",
+        2501 => "MAV_CMD_VIDEO_STOP_CAPTURE",
+        _ => "?",
+    };
+    format!("MAVLink {fc_id} {name}")
+}
+
+impl super::pilot::Pilot for ApMavlink {
+    const PROTOCOL: protocol_core::bridge::FcProtocol = protocol_core::bridge::FcProtocol::Mavlink;
+    const DRIVER: &'static str = "ArduPilot AP_Mount_MAVLink + AP_Camera_MAVLinkCamV2 (simulated)";
+    type Framing = protocol_core::mavlink::MavlinkFraming;
+
+    fn with_seed(seed: u64) -> Self {
+        ApMavlink::new(ApMavlinkConfig {
+            seed,
+            ..ApMavlinkConfig::default()
+        })
+    }
+
+    fn framing(_from_fc: bool) -> Self::Framing {
+        protocol_core::mavlink::MavlinkFraming::new()
+    }
+
+    fn describe(frame: &[u8], _from_fc: bool) -> Option<super::pilot::Described> {
+        mav::describe(frame)
+    }
+
+    fn routine(id: u32, from_fc: bool) -> bool {
+        mavlink_routine(id, from_fc)
+    }
+
+    fn command_name(fc_id: u16) -> String {
+        mavlink_command_name(fc_id)
+    }
+
+    fn healthy(&self) -> bool {
+        ApMavlink::healthy(self)
+    }
+    fn health_log(&self) -> &[(u64, bool)] {
+        &self.health_log
+    }
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.fc_utc_us(t_us)
+    }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        ApMavlink::first_utc_sent_us(self)
+    }
+    fn aircraft(&self) -> &Aircraft {
+        &self.aircraft
+    }
+    fn parse_errors(&self) -> u32 {
+        ApMavlink::parse_errors(self)
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        self.attitude.map(|(_, _, pitch, yaw, _)| (yaw, pitch))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.set_target(ApMountTarget::Angle {
+            roll_deg: 0.0,
+            pitch_deg,
+            yaw_deg,
+            yaw_is_ef: false,
+        });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.set_target(ApMountTarget::Rate {
+            pitch_dps,
+            yaw_dps,
+            yaw_is_ef: false,
+            from_mavlink: false,
+        });
+    }
+    fn zoom(&mut self, rate: i8) {
+        self.zoom_rate(rate);
+    }
+    fn take_picture(&mut self) {
+        ApMavlink::take_picture(self);
+    }
+    fn record(&mut self, on: bool) {
+        self.record_video(on);
+    }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        ApMavlink::reboot(self, now_us, reboot);
+    }
+}

@@ -1,0 +1,676 @@
+//! A simulated PX4 with the gimbal v2 output (`MNT_MODE_OUT` 2) on a MAVLink port in mode
+//! Gimbal (10) or Normal (0), written from `shared/MAVLINK-TRAFFIC.md` §1, §4, §5, §7:
+//!
+//! - HEARTBEAT (QUADROTOR, autopilot PX4) at 1 Hz.
+//! - **Discovery**: COMMAND_LONG REQUEST_MESSAGE(GIMBAL_DEVICE_INFORMATION) to 0/0 every
+//!   second until any information arrives; the gimbal's component id is the source of
+//!   that message; pitch and yaw limits are copied from it (roll is not).
+//! - **GIMBAL_DEVICE_SET_ATTITUDE**, 20 Hz in mode Gimbal, 5 Hz in Normal, re-sending
+//!   the last setpoint: target = this system and the discovered component (before
+//!   discovery: [`Px4Config::initial_target_component`], the code's initial value being
+//!   unconfirmed); the quaternion of the angle setpoint, always finite (a rate input is
+//!   integrated into it, within the copied limits) with the rate as angular velocity
+//!   (NaN when pointing); ROLL_LOCK and PITCH_LOCK (absolute), YAW_LOCK for an
+//!   absolute (earth-frame) yaw; YAW_IN_EARTH_FRAME is never set.
+//! - **AUTOPILOT_STATE_FOR_GIMBAL_DEVICE** at 20 Hz in mode Gimbal only (targets 0,
+//!   64-bit µs, landed state IN_AIR).
+//! - **Streams of mode Normal**: GLOBAL_POSITION_INT and GPS_RAW_INT 5 Hz, ATTITUDE 15 Hz;
+//!   mode Gimbal streams no position or time. SYSTEM_TIME is in neither. A
+//!   MAV_CMD_SET_MESSAGE_INTERVAL is honoured when [`Px4Config::honours_interval`] (PX4's
+//!   receiver supports it; not verified in mode Gimbal: the other reading answers
+//!   UNSUPPORTED and streams nothing more).
+//! - **Camera** (`TRIG_INTERFACE` 3): camera commands re-emitted as COMMAND_LONG to the
+//!   camera ([`Px4Config::camera_target_component`]).
+//! - **Forwarding** (`MAV_1_FORWARD` 1) to an attached ground station ([`Qgc`]).
+//! - **Health** (this simulator's own rule; PX4 has none found): the information came and
+//!   an attitude status within the last second.
+
+use std::collections::BTreeMap;
+
+use protocol_core::mavlink::dialect::{
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, EstimatorStatusFlags,
+    GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
+    GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
+    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
+    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA,
+};
+use protocol_core::mavlink::{Header, MavMessage};
+
+use super::ap_siyi::Aircraft;
+use super::mav::{self, AUTOPILOT, Endpoint, Rx};
+use super::qgc::Qgc;
+use super::scenario::FcSim;
+use super::{FcClock, FcReboot, XorShift};
+
+/// The port's mode (`MAV_n_MODE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Px4Mode {
+    /// 10: Gimbal.
+    Gimbal,
+    /// 0: Normal.
+    Normal,
+}
+
+/// Settings of the simulated PX4.
+#[derive(Debug, Clone)]
+pub struct Px4Config {
+    /// Seed of the random jitter.
+    pub seed: u64,
+    /// Per-message transport jitter bound, µs.
+    pub jitter_us: u64,
+    /// Crystal error, ppm.
+    pub ppm: f64,
+    /// UTC at true time 0, µs.
+    pub utc_at_zero_us: u64,
+    /// Uptime at true time 0, µs.
+    pub boot_us: u64,
+    /// `MAV_SYS_ID`.
+    pub sysid: u8,
+    /// The port's mode.
+    pub mode: Px4Mode,
+    /// SET_MESSAGE_INTERVAL honoured on this port.
+    pub honours_interval: bool,
+    /// GIMBAL_DEVICE_SET_ATTITUDE's target component before discovery.
+    pub initial_target_component: u8,
+    /// Where re-emitted camera commands go (component).
+    pub camera_target_component: u8,
+}
+
+impl Default for Px4Config {
+    fn default() -> Self {
+        Px4Config {
+            seed: 1,
+            jitter_us: 2_000,
+            ppm: 0.0,
+            utc_at_zero_us: 1_795_428_000_123_456,
+            boot_us: 5_000_000,
+            sysid: 1,
+            mode: Px4Mode::Gimbal,
+            honours_interval: true,
+            initial_target_component: 0,
+            camera_target_component: 100,
+        }
+    }
+}
+
+/// What the gimbal is told to do (PX4's gimbal input).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Px4Target {
+    /// Angles, degrees; yaw absolute (from north) or relative.
+    Angle {
+        /// Pitch, positive up.
+        pitch_deg: f64,
+        /// Yaw.
+        yaw_deg: f64,
+        /// Yaw from north.
+        yaw_absolute: bool,
+    },
+    /// Rates, deg/s (integrated into the angle setpoint).
+    Rate {
+        /// Pitch rate.
+        pitch_dps: f64,
+        /// Yaw rate.
+        yaw_dps: f64,
+    },
+}
+
+/// The simulated PX4.
+#[derive(Debug)]
+pub struct Px4 {
+    /// Settings.
+    pub config: Px4Config,
+    /// The aircraft.
+    pub aircraft: Aircraft,
+    /// A ground station the port forwards to.
+    pub gcs: Option<Qgc>,
+    rng: XorShift,
+    now_us: u64,
+    clock: FcClock,
+    power_on_at: Option<u64>,
+    me: Endpoint,
+    rx: Rx,
+    out: Vec<(u64, Vec<u8>)>,
+    /// Stream intervals (µs) by message id.
+    pub intervals: BTreeMap<u32, u64>,
+    next_due: BTreeMap<u32, u64>,
+    next_tick_us: u64,
+    last_heartbeat_us: Option<u64>,
+    last_info_req_us: Option<u64>,
+    /// The gimbal's component id (the source of GIMBAL_DEVICE_INFORMATION).
+    pub gimbal_compid: Option<u8>,
+    /// GIMBAL_DEVICE_INFORMATION.
+    pub info: Option<GIMBAL_DEVICE_INFORMATION_DATA>,
+    /// Pitch and yaw limits copied from it (degrees): pitch min, max, yaw min, max.
+    pub limits: Option<[f64; 4]>,
+    /// The gimbal input.
+    pub target: Option<Px4Target>,
+    /// The angle setpoint (pitch, yaw; degrees).
+    setpoint: (f64, f64),
+    last_integrate_us: u64,
+    image_seq: u32,
+    /// Every attitude status (forwarded to the ground station).
+    pub statuses: Vec<(u64, Header, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA)>,
+    /// Every COMMAND_ACK received.
+    pub acks: Vec<(u64, Header, COMMAND_ACK_DATA)>,
+    /// GIMBAL_DEVICE_SET_ATTITUDE sent.
+    pub set_attitudes: Vec<(u64, GIMBAL_DEVICE_SET_ATTITUDE_DATA)>,
+    /// Every frame sent: (true µs, message).
+    pub sent: Vec<(u64, MavMessage)>,
+    /// Every frame received: (true µs, header, id).
+    pub received: Vec<(u64, Header, u32)>,
+    /// Health changes.
+    pub health_log: Vec<(u64, bool)>,
+    healthy: bool,
+}
+
+impl Px4 {
+    /// A PX4 that starts at true time 0.
+    #[must_use]
+    pub fn new(config: Px4Config) -> Self {
+        let mut p = Px4 {
+            rng: XorShift::new(config.seed),
+            aircraft: Aircraft::default(),
+            gcs: None,
+            now_us: 0,
+            clock: FcClock::new(config.ppm, config.boot_us, config.utc_at_zero_us, 0),
+            power_on_at: None,
+            me: Endpoint::new(config.sysid, AUTOPILOT),
+            rx: Rx::default(),
+            out: Vec::new(),
+            intervals: BTreeMap::new(),
+            next_due: BTreeMap::new(),
+            next_tick_us: 0,
+            last_heartbeat_us: None,
+            last_info_req_us: None,
+            gimbal_compid: None,
+            info: None,
+            limits: None,
+            target: None,
+            setpoint: (0.0, 0.0),
+            last_integrate_us: 0,
+            image_seq: 0,
+            statuses: Vec::new(),
+            acks: Vec::new(),
+            set_attitudes: Vec::new(),
+            sent: Vec::new(),
+            received: Vec::new(),
+            health_log: Vec::new(),
+            healthy: false,
+            config,
+        };
+        p.mode_streams();
+        p
+    }
+
+    fn mode_streams(&mut self) {
+        self.intervals.clear();
+        self.next_due.clear();
+        let set_attitude = GIMBAL_DEVICE_SET_ATTITUDE_DATA::ID;
+        match self.config.mode {
+            Px4Mode::Gimbal => {
+                self.intervals.insert(set_attitude, 50_000);
+                self.intervals
+                    .insert(AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID, 50_000);
+            }
+            Px4Mode::Normal => {
+                self.intervals.insert(set_attitude, 200_000);
+                self.intervals.insert(GLOBAL_POSITION_INT_DATA::ID, 200_000);
+                self.intervals.insert(GPS_RAW_INT_DATA::ID, 200_000);
+                self.intervals.insert(ATTITUDE_DATA::ID, 66_667);
+            }
+        }
+    }
+
+    /// The FC's UTC at true time `t_us`.
+    #[must_use]
+    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
+        self.clock.utc_us(t_us)
+    }
+
+    /// True time of the first SYSTEM_TIME sent.
+    #[must_use]
+    pub fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent.iter().find_map(|(t, m)| match m {
+            MavMessage::SYSTEM_TIME(_) => Some(*t),
+            _ => None,
+        })
+    }
+
+    /// This simulator's health rule (see the module documentation).
+    #[must_use]
+    pub fn healthy(&self) -> bool {
+        self.healthy
+    }
+
+    /// Frames dropped by the parser.
+    #[must_use]
+    pub fn parse_errors(&self) -> u32 {
+        self.rx.errors()
+    }
+
+    /// The gimbal's attitude as forwarded (roll, pitch, yaw from the nose), degrees.
+    #[must_use]
+    pub fn mount_angles(&self) -> Option<(f64, f64, f64)> {
+        let (_, _, s) = self.statuses.last()?;
+        mav::euler_deg(s.q)
+    }
+
+    /// Takes one picture (a re-emitted camera command).
+    pub fn take_picture(&mut self) {
+        self.image_seq += 1;
+        let n = self.image_seq as f32;
+        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
+    }
+
+    /// Starts or stops recording.
+    pub fn record_video(&mut self, on: bool) {
+        let cmd = if on {
+            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
+        } else {
+            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
+        };
+        self.camera_command(cmd, [0.0; 4]);
+    }
+
+    /// Continuous zoom.
+    pub fn zoom_rate(&mut self, rate: i8) {
+        let r = f32::from(rate.signum());
+        self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
+    }
+
+    fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
+        let target = (self.config.sysid, self.config.camera_target_component);
+        let msg = mav::command_long(cmd, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0);
+        self.send(&msg);
+    }
+
+    fn send(&mut self, msg: &MavMessage) {
+        if self.power_on_at.is_some() {
+            return;
+        }
+        let f = self.me.frame(msg);
+        self.sent.push((self.now_us, msg.clone()));
+        let at = self.now_us + self.rng.uniform(self.config.jitter_us);
+        self.out.push((at, f));
+    }
+
+    /// Integrates a rate input into the angle setpoint, within the limits.
+    fn integrate(&mut self) {
+        let dt = (self.now_us - self.last_integrate_us) as f64 / 1e6;
+        self.last_integrate_us = self.now_us;
+        match self.target {
+            Some(Px4Target::Rate { pitch_dps, yaw_dps }) => {
+                let [pmin, pmax, ymin, ymax] = self.limits.unwrap_or([-90.0, 90.0, -180.0, 180.0]);
+                self.setpoint.0 = (self.setpoint.0 + pitch_dps * dt).clamp(pmin, pmax);
+                self.setpoint.1 = (self.setpoint.1 + yaw_dps * dt).clamp(ymin, ymax);
+            }
+            Some(Px4Target::Angle {
+                pitch_deg, yaw_deg, ..
+            }) => self.setpoint = (pitch_deg, yaw_deg),
+            None => {}
+        }
+    }
+
+    fn set_attitude(&self) -> Option<GIMBAL_DEVICE_SET_ATTITUDE_DATA> {
+        let target = self.target?;
+        let (pitch, yaw) = self.setpoint;
+        let (rates, absolute) = match target {
+            Px4Target::Rate { pitch_dps, yaw_dps } => (
+                [
+                    0.0,
+                    pitch_dps.to_radians() as f32,
+                    yaw_dps.to_radians() as f32,
+                ],
+                false,
+            ),
+            Px4Target::Angle { yaw_absolute, .. } => ([f32::NAN; 3], yaw_absolute),
+        };
+        let mut flags = GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_ROLL_LOCK
+            | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_PITCH_LOCK;
+        if absolute {
+            flags |= GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_YAW_LOCK;
+        }
+        Some(GIMBAL_DEVICE_SET_ATTITUDE_DATA {
+            q: mav::quat_deg(0.0, pitch, yaw),
+            angular_velocity_x: rates[0],
+            angular_velocity_y: rates[1],
+            angular_velocity_z: rates[2],
+            flags,
+            target_system: self.config.sysid,
+            target_component: self
+                .gimbal_compid
+                .unwrap_or(self.config.initial_target_component),
+        })
+    }
+
+    fn stream_message(&self, id: u32) -> Option<MavMessage> {
+        let t = self.now_us;
+        let us = self.clock.clock_us(t);
+        let boot_ms = (us / 1000) as u32;
+        let (lat, lon) = self.aircraft.position_e7(t);
+        let alt = (self.aircraft.alt_msl_m * 1000.0) as i32;
+        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
+        let h = self.aircraft.heading_deg.to_radians();
+        let (vn, ve) = (
+            self.aircraft.speed_m_s * h.cos(),
+            self.aircraft.speed_m_s * h.sin(),
+        );
+        Some(match id {
+            GIMBAL_DEVICE_SET_ATTITUDE_DATA::ID => {
+                MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(self.set_attitude()?)
+            }
+            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => {
+                MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
+                    AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
+                        time_boot_us: us,
+                        q: mav::quat_deg(roll, pitch, yaw),
+                        q_estimated_delay_us: 0,
+                        vx: vn as f32,
+                        vy: ve as f32,
+                        vz: 0.0,
+                        v_estimated_delay_us: 0,
+                        feed_forward_angular_velocity_z: 0.0,
+                        estimator_status: EstimatorStatusFlags::from_bits_retain(0x3F),
+                        target_system: 0,
+                        target_component: 0,
+                        landed_state: MavLandedState::MAV_LANDED_STATE_IN_AIR,
+                        angular_velocity_z: 0.0,
+                    },
+                )
+            }
+            SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+                time_unix_usec: self.fc_utc_us(t),
+                time_boot_ms: boot_ms,
+            }),
+            GLOBAL_POSITION_INT_DATA::ID => {
+                MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+                    time_boot_ms: boot_ms,
+                    lat,
+                    lon,
+                    alt,
+                    relative_alt: 58_000,
+                    vx: (vn * 100.0) as i16,
+                    vy: (ve * 100.0) as i16,
+                    vz: 0,
+                    hdg: (yaw.rem_euclid(360.0) * 100.0) as u16,
+                })
+            }
+            GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+                time_usec: self.fc_utc_us(t),
+                lat,
+                lon,
+                alt,
+                fix_type: GpsFixType::GPS_FIX_TYPE_3D_FIX,
+                satellites_visible: 12,
+                ..GPS_RAW_INT_DATA::default()
+            }),
+            ATTITUDE_DATA::ID => MavMessage::ATTITUDE(ATTITUDE_DATA {
+                time_boot_ms: boot_ms,
+                roll: roll.to_radians() as f32,
+                pitch: pitch.to_radians() as f32,
+                yaw: yaw.to_radians() as f32,
+                ..ATTITUDE_DATA::default()
+            }),
+            _ => return None,
+        })
+    }
+
+    /// One 5 ms tick of the MAVLink threads.
+    fn tick(&mut self) {
+        let now = self.now_us;
+        if self.last_heartbeat_us.is_none_or(|l| now - l >= 1_000_000) {
+            self.last_heartbeat_us = Some(now);
+            self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+                custom_mode: 0,
+                mavtype: MavType::MAV_TYPE_QUADROTOR,
+                autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
+                base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+                system_status: MavState::MAV_STATE_STANDBY,
+                mavlink_version: 3,
+            }));
+        }
+        if self.info.is_none() && self.last_info_req_us.is_none_or(|l| now - l >= 1_000_000) {
+            self.last_info_req_us = Some(now);
+            self.send(&mav::command_long(
+                MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                [
+                    GIMBAL_DEVICE_INFORMATION_DATA::ID as f32,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                ],
+                (0, 0),
+                0,
+            ));
+        }
+        self.integrate();
+        let ids: Vec<(u32, u64)> = self.intervals.iter().map(|(k, v)| (*k, *v)).collect();
+        for (id, interval) in ids {
+            let due = self.next_due.get(&id).copied().unwrap_or(now);
+            if now >= due {
+                self.next_due.insert(id, (due + interval).max(now));
+                if let Some(m) = self.stream_message(id) {
+                    if let MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) = &m {
+                        self.set_attitudes.push((now, s.clone()));
+                    }
+                    self.send(&m);
+                }
+            }
+        }
+        if let Some(mut gcs) = self.gcs.take() {
+            gcs.poll(now);
+            for f in gcs.transmit() {
+                let at = now;
+                self.out.push((at, f));
+            }
+            self.gcs = Some(gcs);
+        }
+    }
+
+    fn process(&mut self, now: u64, r: mav::Received) {
+        let h = r.header;
+        self.received.push((now, h, mav::id_of(&r.message)));
+        if let Some(gcs) = self.gcs.as_mut() {
+            let to_gcs = mav::target_of(&r.message)
+                .is_none_or(|(sys, _)| sys == 0 || sys == gcs.config.sysid);
+            if to_gcs {
+                gcs.receive(now, h, &r.message);
+            }
+        }
+        match r.message {
+            MavMessage::GIMBAL_DEVICE_INFORMATION(i) if self.info.is_none() => {
+                self.gimbal_compid = Some(h.component_id);
+                self.limits = Some([
+                    f64::from(i.pitch_min).to_degrees(),
+                    f64::from(i.pitch_max).to_degrees(),
+                    f64::from(i.yaw_min).to_degrees(),
+                    f64::from(i.yaw_max).to_degrees(),
+                ]);
+                self.info = Some(i);
+            }
+            MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s) => self.statuses.push((now, h, s)),
+            MavMessage::COMMAND_ACK(a) => self.acks.push((now, h, a)),
+            MavMessage::COMMAND_LONG(c)
+                if c.command == MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
+                    && c.target_system == self.config.sysid
+                    && (c.target_component == AUTOPILOT || c.target_component == 0) =>
+            {
+                let result = if !self.config.honours_interval {
+                    MavResult::MAV_RESULT_UNSUPPORTED
+                } else if c.param2 > 0.0 {
+                    self.intervals.insert(c.param1 as u32, c.param2 as u64);
+                    self.next_due.remove(&(c.param1 as u32));
+                    MavResult::MAV_RESULT_ACCEPTED
+                } else {
+                    self.intervals.remove(&(c.param1 as u32));
+                    MavResult::MAV_RESULT_ACCEPTED
+                };
+                self.send(&MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+                    command: c.command,
+                    result,
+                    progress: 0,
+                    result_param2: 0,
+                    target_system: h.system_id,
+                    target_component: h.component_id,
+                }));
+            }
+            _ => {}
+        }
+    }
+
+    fn update_health(&mut self) {
+        let fresh = self
+            .statuses
+            .last()
+            .is_some_and(|(t, ..)| self.now_us.saturating_sub(*t) < 1_000_000);
+        let healthy = self.info.is_some() && fresh && self.power_on_at.is_none();
+        if healthy != self.healthy {
+            self.healthy = healthy;
+            self.health_log.push((self.now_us, healthy));
+        }
+    }
+
+    /// Power cut at `now_us`, boot as `reboot` says.
+    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        self.poll(now_us);
+        let on = self.clock.reboot(self.now_us, reboot);
+        self.power_on_at = Some(on);
+        let now = self.now_us;
+        self.out.retain(|(at, _)| *at <= now);
+        self.update_health();
+    }
+
+    fn power_on(&mut self) {
+        self.power_on_at = None;
+        self.me = Endpoint::new(self.config.sysid, AUTOPILOT);
+        self.rx = Rx::default();
+        self.mode_streams();
+        self.last_heartbeat_us = None;
+        self.last_info_req_us = None;
+        self.gimbal_compid = None;
+        self.info = None;
+        self.limits = None;
+        self.target = None;
+    }
+}
+
+impl FcSim for Px4 {
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        self.now_us = self.now_us.max(now_us);
+        if let Some(on) = self.power_on_at {
+            if now_us < on {
+                return;
+            }
+            self.power_on();
+        }
+        for r in self.rx.push(bytes) {
+            self.process(now_us, r);
+        }
+        self.update_health();
+    }
+
+    fn poll(&mut self, now_us: u64) {
+        self.now_us = self.now_us.max(now_us);
+        if let Some(on) = self.power_on_at {
+            if now_us < on {
+                self.update_health();
+                return;
+            }
+            self.power_on();
+        }
+        while self.next_tick_us <= now_us {
+            self.now_us = self.next_tick_us;
+            self.tick();
+            self.next_tick_us += 5_000;
+        }
+        self.now_us = now_us;
+        self.update_health();
+    }
+
+    fn next_wakeup(&self) -> u64 {
+        self.power_on_at.unwrap_or(self.next_tick_us)
+    }
+
+    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        let mut out = std::mem::take(&mut self.out);
+        out.sort_by_key(|(at, _)| *at);
+        out
+    }
+}
+
+impl super::pilot::Pilot for Px4 {
+    const PROTOCOL: protocol_core::bridge::FcProtocol = protocol_core::bridge::FcProtocol::Mavlink;
+    const DRIVER: &'static str = "PX4 gimbal v2 output (simulated)";
+    type Framing = protocol_core::mavlink::MavlinkFraming;
+
+    fn with_seed(seed: u64) -> Self {
+        Px4::new(Px4Config {
+            seed,
+            ..Px4Config::default()
+        })
+    }
+
+    fn framing(_from_fc: bool) -> Self::Framing {
+        protocol_core::mavlink::MavlinkFraming::new()
+    }
+
+    fn describe(frame: &[u8], _from_fc: bool) -> Option<super::pilot::Described> {
+        mav::describe(frame)
+    }
+
+    fn routine(id: u32, from_fc: bool) -> bool {
+        super::ap_mavlink::mavlink_routine(id, from_fc)
+    }
+
+    fn command_name(fc_id: u16) -> String {
+        super::ap_mavlink::mavlink_command_name(fc_id)
+    }
+
+    fn healthy(&self) -> bool {
+        Px4::healthy(self)
+    }
+    fn health_log(&self) -> &[(u64, bool)] {
+        &self.health_log
+    }
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.fc_utc_us(t_us)
+    }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        Px4::first_utc_sent_us(self)
+    }
+    fn aircraft(&self) -> &Aircraft {
+        &self.aircraft
+    }
+    fn parse_errors(&self) -> u32 {
+        Px4::parse_errors(self)
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        Px4::mount_angles(self).map(|(_, pitch, yaw)| (yaw, pitch))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.target = Some(Px4Target::Angle {
+            pitch_deg,
+            yaw_deg,
+            yaw_absolute: false,
+        });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.target = Some(Px4Target::Rate { pitch_dps, yaw_dps });
+    }
+    fn zoom(&mut self, rate: i8) {
+        self.zoom_rate(rate);
+    }
+    fn take_picture(&mut self) {
+        Px4::take_picture(self);
+    }
+    fn record(&mut self, on: bool) {
+        self.record_video(on);
+    }
+    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
+        Px4::reboot(self, now_us, reboot);
+    }
+}

@@ -1,0 +1,320 @@
+//! Target `bridge_mavlink`: the bridge engine with its MAVLink FC side (gimbal device and
+//! camera) driven by the fuzzer, with the properties of [`crate::bridge`]: no panic, the
+//! queues within their bounds, every frame for the FC a valid MAVLink 2 frame (the
+//! reference scan of [`crate::mavlink`], written from the spec), every frame for the pod a
+//! valid K40T frame, and, whatever came before, a MAV_CMD_REQUEST_MESSAGE(HEARTBEAT) to the
+//! gimbal after the autopilot's HEARTBEAT answered with its COMMAND_ACK.
+//!
+//! The frame op picks from what ArduPilot, PX4 and QGroundControl send a gimbal device and
+//! camera (`shared/MAVLINK-TRAFFIC.md`): the autopilot's heartbeat and streams, every form
+//! of GIMBAL_DEVICE_SET_ATTITUDE, the requests (new and deprecated, servable or not), the
+//! camera commands, a MAV_CMD the dialect does not list, TIMESYNC, and the catalogue's
+//! frames with arbitrary contents.
+
+use std::sync::OnceLock;
+
+use protocol_core::bridge::FcProtocol;
+use protocol_core::mavlink::dialect::{
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
+    GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
+    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavFrame, MavModeFlag, MavState, MavType,
+    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+};
+use protocol_core::mavlink::{Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, encode};
+
+use crate::bridge::{Input, run_with, seeds_with};
+
+fn frame(sys: u8, comp: u8, seq: u8, msg: &MavMessage) -> Vec<u8> {
+    let header = Header {
+        sequence: seq,
+        system_id: sys,
+        component_id: comp,
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = encode(msg, &header, &mut buf).expect("encode");
+    buf[..n].to_vec()
+}
+
+fn long(cmd: MavCmd, p: [f32; 7], target: (u8, u8)) -> MavMessage {
+    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: p[0],
+        param2: p[1],
+        param3: p[2],
+        param4: p[3],
+        param5: p[4],
+        param6: p[5],
+        param7: p[6],
+        command: cmd,
+        target_system: target.0,
+        target_component: target.1,
+        confirmation: 0,
+    })
+}
+
+/// The autopilot's HEARTBEAT (system 1, ArduPilot, quadrotor).
+#[must_use]
+pub fn autopilot_heartbeat() -> Vec<u8> {
+    frame(
+        1,
+        1,
+        0,
+        &MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_QUADROTOR,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_STANDBY,
+            mavlink_version: 3,
+        }),
+    )
+}
+
+/// The probe: REQUEST_MESSAGE(HEARTBEAT) from QGroundControl to 1/154.
+#[must_use]
+pub fn probe_request() -> Vec<u8> {
+    let p = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    frame(
+        255,
+        190,
+        9,
+        &long(MavCmd::MAV_CMD_REQUEST_MESSAGE, p, (1, 154)),
+    )
+}
+
+/// `f` is the gimbal's COMMAND_ACK of the probe.
+#[must_use]
+pub fn answers_probe(f: &[u8]) -> bool {
+    matches!(
+        Packet::decode(f),
+        Ok(Packet { header, message: Message::Known(MavMessage::COMMAND_ACK(a)), .. })
+            if header.component_id == 154
+                && a.command == MavCmd::MAV_CMD_REQUEST_MESSAGE
+                && a.target_system == 255
+    )
+}
+
+/// A COMMAND_LONG whose MAV_CMD the dialect does not list, to 1/100.
+fn unknown_command() -> Vec<u8> {
+    let mut payload = vec![0u8; 33];
+    payload[..4].copy_from_slice(&1.0f32.to_le_bytes());
+    payload[28..30].copy_from_slice(&42_006u16.to_le_bytes());
+    payload[30] = 1;
+    payload[31] = 100;
+    let p = Packet::new(
+        Header {
+            sequence: 3,
+            system_id: 255,
+            component_id: 190,
+        },
+        Message::Raw(Raw {
+            id: 76,
+            payload: &payload,
+        }),
+    );
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = p.emit(&mut buf).expect("emit");
+    buf[..n].to_vec()
+}
+
+/// The FC frames the frame op picks from.
+#[must_use]
+pub fn fc_frames() -> &'static [Vec<u8>] {
+    static FRAMES: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    FRAMES.get_or_init(|| {
+        let mut out = vec![autopilot_heartbeat()];
+        let ap = |msg: MavMessage| frame(1, 1, 5, &msg);
+        out.push(ap(MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+            time_unix_usec: 1_795_428_000_123_456,
+            time_boot_ms: 60_000,
+        })));
+        out.push(ap(MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+            time_unix_usec: 0,
+            time_boot_ms: 61_000,
+        })));
+        for fix in [
+            GpsFixType::GPS_FIX_TYPE_3D_FIX,
+            GpsFixType::GPS_FIX_TYPE_NO_FIX,
+        ] {
+            out.push(ap(MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+                fix_type: fix,
+                lat: 473_977_420,
+                lon: 85_455_940,
+                ..GPS_RAW_INT_DATA::default()
+            })));
+        }
+        out.push(ap(MavMessage::GLOBAL_POSITION_INT(
+            GLOBAL_POSITION_INT_DATA {
+                time_boot_ms: 60_100,
+                lat: 473_977_420,
+                lon: 85_455_940,
+                alt: 488_000,
+                relative_alt: 58_000,
+                vx: 565,
+                vy: 565,
+                vz: 0,
+                hdg: 4500,
+            },
+        )));
+        out.push(ap(MavMessage::ATTITUDE(ATTITUDE_DATA {
+            time_boot_ms: 60_100,
+            roll: 0.1,
+            pitch: -0.05,
+            yaw: 0.785,
+            rollspeed: 0.0,
+            pitchspeed: 0.0,
+            yawspeed: 0.2,
+        })));
+        out.push(ap(MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
+            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
+                q: [0.92, 0.0, 0.0, 0.38],
+                angular_velocity_z: f32::NAN,
+                ..AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::default()
+            },
+        )));
+        let nan = f32::NAN;
+        let lock = GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_ROLL_LOCK
+            | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_PITCH_LOCK
+            | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_YAW_LOCK;
+        let forms = [
+            (
+                [0.7072, 0.0, -0.7072, 0.0],
+                [nan; 3],
+                GimbalDeviceFlags::empty(),
+            ),
+            ([0.92, 0.0, -0.1, 0.38], [nan; 3], lock),
+            ([nan; 4], [0.0, 0.1, -0.3], GimbalDeviceFlags::empty()),
+            ([nan; 4], [0.0, nan, 0.3], lock),
+            (
+                [nan; 4],
+                [0.0; 3],
+                GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_RETRACT,
+            ),
+            (
+                [1.0, 0.0, 0.0, 0.0],
+                [nan; 3],
+                GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_NEUTRAL,
+            ),
+            ([nan; 4], [nan; 3], GimbalDeviceFlags::empty()),
+            (
+                [0.92, 0.0, 0.0, 0.38],
+                [0.0, 0.0, 0.1],
+                GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_YAW_IN_EARTH_FRAME,
+            ),
+        ];
+        for (q, w, flags) in forms {
+            out.push(ap(MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(
+                GIMBAL_DEVICE_SET_ATTITUDE_DATA {
+                    q,
+                    angular_velocity_x: w[0],
+                    angular_velocity_y: w[1],
+                    angular_velocity_z: w[2],
+                    flags,
+                    target_system: 1,
+                    target_component: 154,
+                },
+            )));
+        }
+        let gcs = |msg: MavMessage| frame(255, 190, 7, &msg);
+        for id in [
+            0.0, 283.0, 285.0, 259.0, 260.0, 261.0, 262.0, 263.0, 269.0, 280.0,
+        ] {
+            for comp in [154, 100, 0] {
+                let p = [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+                out.push(gcs(long(MavCmd::MAV_CMD_REQUEST_MESSAGE, p, (1, comp))));
+            }
+        }
+        #[allow(deprecated)]
+        let old = [
+            MavCmd::MAV_CMD_REQUEST_CAMERA_INFORMATION,
+            MavCmd::MAV_CMD_REQUEST_CAMERA_SETTINGS,
+            MavCmd::MAV_CMD_REQUEST_STORAGE_INFORMATION,
+            MavCmd::MAV_CMD_REQUEST_CAMERA_CAPTURE_STATUS,
+            MavCmd::MAV_CMD_REQUEST_CAMERA_IMAGE_CAPTURE,
+            MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION,
+            MavCmd::MAV_CMD_STORAGE_FORMAT,
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+        ];
+        for cmd in old {
+            out.push(gcs(long(
+                cmd,
+                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                (1, 100),
+            )));
+        }
+        let camera = [
+            (MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 7.0]),
+            (MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 2.0, 3.0, 0.0]),
+            (MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.2, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_IMAGE_STOP_CAPTURE, [0.0; 4]),
+            (MavCmd::MAV_CMD_VIDEO_START_CAPTURE, [0.0; 4]),
+            (MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE, [0.0; 4]),
+            (MavCmd::MAV_CMD_SET_CAMERA_MODE, [0.0, 1.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_MODE, [0.0, 0.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [0.0, 1.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, -1.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [2.0, 50.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [3.0, 24.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [0.0, -1.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [1.0, 1.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [2.0, 30.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [4.0, 0.0, 0.0, 0.0]),
+        ];
+        for (cmd, p) in camera {
+            let p = [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0];
+            out.push(ap(long(cmd, p, (0, 0))));
+            out.push(gcs(long(cmd, p, (1, 100))));
+        }
+        out.push(gcs(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
+            command: MavCmd::MAV_CMD_DO_SET_ROI_LOCATION,
+            target_system: 1,
+            target_component: 154,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            x: 473_977_420,
+            y: 85_455_940,
+            ..COMMAND_INT_DATA::default()
+        })));
+        out.push(unknown_command());
+        out.push(ap(MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1: 60_000_000_001,
+            target_system: 0,
+            target_component: 0,
+        })));
+        out.push(gcs(MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            mavtype: MavType::MAV_TYPE_GCS,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            ..HEARTBEAT_DATA::default()
+        })));
+        let fill: Vec<u8> = (0..=255u8).map(|i| i.wrapping_mul(151) ^ 0x5A).collect();
+        out.extend(
+            crate::mavlink::catalogue_frames(&fill)
+                .into_iter()
+                .filter(|f| f.len() <= 255),
+        );
+        out
+    })
+}
+
+/// Runs one program; panics when a property fails.
+pub fn run(data: &[u8]) {
+    run_with(FcProtocol::Mavlink, fc_frames(), Input::new(data));
+}
+
+/// Seeds: the frames in raw bytes and as frame ops, between pod reports, waits and drains.
+#[must_use]
+pub fn seeds() -> Vec<Vec<u8>> {
+    let mut out = seeds_with(&[], fc_frames());
+    // The autopilot first, then everything: the device answers once it knows its system.
+    let mut s = vec![crate::bridge::op::FRAME, 0];
+    for i in 0..fc_frames().len().min(255) {
+        s.extend([
+            crate::bridge::op::FRAME,
+            i as u8,
+            crate::bridge::op::FRAME | 8,
+            i as u8,
+        ]);
+        s.extend([crate::bridge::op::WAIT, 30, 0, crate::bridge::op::DRAIN]);
+    }
+    out.push(s);
+    out
+}
