@@ -440,7 +440,7 @@ proptest! {
 
     /// A stream of valid frames mixed with garbage, bit-flipped copies, MAVLink 1 frames,
     /// signed frames and cut frames, pushed in random chunks: every valid frame comes
-    /// out, in order, and nothing else.
+    /// out, in order, and nothing else (but a chance checksum collision, checked apart).
     #[test]
     fn noisy_streams_lose_no_valid_frame(
         items in proptest::collection::vec(
@@ -497,6 +497,15 @@ proptest! {
             d.push(piece, |e| if let Event::Frame(f) = e { got.push(f.to_vec()) });
         }
         d.flush(|e| if let Event::Frame(f) = e { got.push(f.to_vec()) });
+        // A cut frame's header with the bytes after it passes the 16-bit checksum once in
+        // 65,536 candidates: a chance frame, which a checksum cannot rule out (it then
+        // covers the frames it overlaps). Each frame out that was not sent must be such a
+        // frame, checked by the test's own validator; a case with one says nothing more.
+        let chance: Vec<&Vec<u8>> = got.iter().filter(|f| !want.contains(f)).collect();
+        for f in &chance {
+            prop_assert_eq!(valid_v2(f), Some(f.len()), "a frame out that was not sent");
+        }
+        prop_assume!(chance.is_empty());
         prop_assert_eq!(got, want);
     }
 }

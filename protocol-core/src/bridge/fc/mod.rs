@@ -229,6 +229,13 @@ pub(crate) trait FcHandler {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum TimedFrom {
     /// The first byte of the frame's burst.
+    #[cfg_attr(
+        not(any(feature = "siyi", feature = "viewlink")),
+        allow(
+            dead_code,
+            reason = "only the SIYI and Viewlink sides time from the burst"
+        )
+    )]
     Burst,
     /// The frame's own first byte. Never early: a frame queued behind others (an FC loop
     /// overrun, a USB-serial adapter or a host that froze, then the backlog back to back)
