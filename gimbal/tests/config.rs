@@ -269,7 +269,7 @@ fn errors_name_the_key() {
             "fc_link_timeout_ms = -1",
             "expected a time in ms in `fc_link_timeout_ms`",
         ),
-        ("fc = \"mavlink\"", "unknown variant `mavlink`"),
+        ("fc = \"mavlink1\"", "unknown variant `mavlink1`"),
         (
             "[siyi]\nhardware_id = \"7A\"",
             "expected 12 ASCII characters",
