@@ -108,13 +108,13 @@ impl Bridge {
         for port in [Port::Fc, Port::Pod] {
             let (ready, line) = match port {
                 Port::Fc => (fc_rx.read_ready()?, &mut self.fc),
-                Port::Pod => (pod_rx.read_ready()?, &mut self.pod),
+                Port::Pod | Port::Telemetry => (pod_rx.read_ready()?, &mut self.pod),
             };
             let now = clock.now();
             if ready {
                 let n = match port {
                     Port::Fc => fc_rx.read(&mut buf)?,
-                    Port::Pod => pod_rx.read(&mut buf)?,
+                    Port::Pod | Port::Telemetry => pod_rx.read(&mut buf)?,
                 };
                 self.engine.receive(now, port, buf.get(..n).unwrap_or(&[]));
                 line.last = Some(now);

@@ -61,6 +61,8 @@ pub struct Timing {
     pub fc_baud: u32,
     /// Pod link baud rate.
     pub pod_baud: u32,
+    /// The telemetry link's baud rate.
+    pub telemetry_baud: u32,
     /// A line is idle after this many byte times without a byte...
     pub idle_bytes: u32,
     /// ... and never sooner than this (the embassy-time alarm's granularity, the
@@ -84,6 +86,7 @@ impl Timing {
         Timing {
             fc_baud: config.fc_baud,
             pod_baud: config.pod_baud,
+            telemetry_baud: config.telemetry_baud,
             idle_bytes: 20,
             idle_min: Duration::from_millis(5),
             heartbeat: Duration::from_millis(100),
@@ -96,6 +99,7 @@ impl Timing {
         match port {
             Port::Fc => self.fc_baud,
             Port::Pod => self.pod_baud,
+            Port::Telemetry => self.telemetry_baud,
         }
     }
 
@@ -137,7 +141,11 @@ impl Heartbeat {
     pub const POD_RX: Self = Self(8);
     /// The pod writer.
     pub const POD_TX: Self = Self(16);
-    /// Every loop.
+    /// The telemetry reader (supervised only where a telemetry link runs).
+    pub const TEL_RX: Self = Self(32);
+    /// The telemetry writer.
+    pub const TEL_TX: Self = Self(64);
+    /// Every loop of the FC and pod links and the engine.
     pub const ALL: Self = Self(31);
 
     /// The reader's bit of `port`.
@@ -146,6 +154,7 @@ impl Heartbeat {
         match port {
             Port::Fc => Self::FC_RX,
             Port::Pod => Self::POD_RX,
+            Port::Telemetry => Self::TEL_RX,
         }
     }
 
@@ -155,6 +164,7 @@ impl Heartbeat {
         match port {
             Port::Fc => Self::FC_TX,
             Port::Pod => Self::POD_TX,
+            Port::Telemetry => Self::TEL_TX,
         }
     }
 }
@@ -176,6 +186,7 @@ pub struct Shared<M: RawMutex, E> {
     timing: Timing,
     pub(crate) wake_engine: Signal<M, ()>,
     pub(crate) wake_fc_tx: Signal<M, ()>,
+    pub(crate) wake_tel_tx: Signal<M, ()>,
     pub(crate) wake_pod_tx: Signal<M, ()>,
     pub(crate) wake_log: Signal<M, ()>,
     pub(crate) records: Channel<M, LogRecord, RECORDS>,
@@ -195,6 +206,7 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
             timing,
             wake_engine: Signal::new(),
             wake_fc_tx: Signal::new(),
+            wake_tel_tx: Signal::new(),
             wake_pod_tx: Signal::new(),
             wake_log: Signal::new(),
             records: Channel::new(),
@@ -245,6 +257,9 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         if changes.contains(Changes::FC_FRAME) {
             self.wake_fc_tx.signal(());
         }
+        if changes.contains(Changes::TELEMETRY_FRAME) {
+            self.wake_tel_tx.signal(());
+        }
         if changes.intersects(Changes::POD_FRAME | Changes::PIN) {
             self.wake_pod_tx.signal(());
         }
@@ -258,6 +273,7 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         match port {
             Port::Fc => &self.wake_fc_tx,
             Port::Pod => &self.wake_pod_tx,
+            Port::Telemetry => &self.wake_tel_tx,
         }
     }
 

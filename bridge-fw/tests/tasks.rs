@@ -463,13 +463,13 @@ impl BridgeEngine for Scripted {
     fn pending(&self, port: Port) -> Option<usize> {
         match port {
             Port::Pod => self.pod.front().map(Vec::len),
-            Port::Fc => None,
+            Port::Fc | Port::Telemetry => None,
         }
     }
     fn transmit(&mut self, port: Port, buf: &mut [u8]) -> Option<usize> {
         let f = match port {
             Port::Pod => self.pod.pop_front()?,
-            Port::Fc => return None,
+            Port::Fc | Port::Telemetry => return None,
         };
         buf[..f.len()].copy_from_slice(&f);
         Some(f.len())

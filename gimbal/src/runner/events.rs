@@ -14,6 +14,7 @@ pub const fn port_name(p: Port) -> &'static str {
     match p {
         Port::Fc => "fc",
         Port::Pod => "pod",
+        Port::Telemetry => "telemetry",
     }
 }
 
@@ -46,6 +47,10 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             json!({"error_bound_us": error_bound_us, "converged": converged}),
         ),
         Event::UtcLost => ("utc_lost", json!({})),
+        Event::TimeSource { telemetry } => (
+            "time_source",
+            json!({"source": if telemetry { "telemetry" } else { "fc" }}),
+        ),
         Event::TimeSync {
             edge,
             utc_ms,

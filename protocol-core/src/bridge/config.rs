@@ -17,7 +17,7 @@
 //! | key | field | allowed |
 //! | --- | --- | --- |
 //! | `fc` | [`Config::fc`] | `"siyi"`, `"viewlink"`, `"gcu"`, `"k40t"` |
-//! | `fc_baud`, `pod_baud` | [`Config::fc_baud`], [`Config::pod_baud`] | [`Limit::FC_BAUD`], [`Limit::POD_BAUD`] |
+//! | `fc_baud`, `pod_baud`, `telemetry_baud` | [`Config::fc_baud`], [`Config::pod_baud`], [`Config::telemetry_baud`] | [`Limit::FC_BAUD`], [`Limit::POD_BAUD`], [`Limit::TELEMETRY_BAUD`] |
 //! | `leap_seconds` | [`Config::leap_seconds`] | 0..=255 |
 //! | `tz_minuteswest` | [`Config::tz_minuteswest`] | [`Limit::TZ_MINUTESWEST`] |
 //! | `fc_link_timeout_ms` | [`Config::fc_link_timeout`] | [`Limit::FC_LINK_TIMEOUT_MS`] |
@@ -368,6 +368,10 @@ pub struct Config {
     /// Baud rate of the pod link (default 115200).
     #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
     pub pod_baud: u32,
+    /// Baud rate of the optional MAVLink telemetry link (default 115200; used to time
+    /// its frames). The link needs no switch: it is used once an autopilot speaks on it.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+    pub telemetry_baud: u32,
     /// SIYI identity.
     pub siyi: SiyiIdentity,
     /// Viewlink identity.
@@ -421,6 +425,7 @@ impl Config {
         fc: FcProtocol::Siyi,
         fc_baud: 115_200,
         pod_baud: 115_200,
+        telemetry_baud: 115_200,
         siyi: SiyiIdentity::DEFAULT,
         viewlink: ViewlinkIdentity::DEFAULT,
         gcu: GcuIdentity::DEFAULT,
@@ -452,6 +457,7 @@ impl Config {
     pub fn validate(&self) -> Result<(), ConfigError> {
         Limit::FC_BAUD.check(self.fc_baud.into())?;
         Limit::POD_BAUD.check(self.pod_baud.into())?;
+        Limit::TELEMETRY_BAUD.check(self.telemetry_baud.into())?;
         Limit::TZ_MINUTESWEST.check(self.tz_minuteswest.into())?;
         Limit::FC_LINK_TIMEOUT_MS.check_ms(self.fc_link_timeout)?;
         Limit::FC_SILENCE_STOP_MS.check_ms(self.fc_silence_stop)?;
@@ -503,6 +509,8 @@ impl Limit {
     pub const FC_BAUD: Self = Self::new("fc_baud", 1200, 4_000_000);
     /// `pod_baud`: 1200..=4000000.
     pub const POD_BAUD: Self = Self::new("pod_baud", 1200, 4_000_000);
+    /// `telemetry_baud`: 1200..=4000000.
+    pub const TELEMETRY_BAUD: Self = Self::new("telemetry_baud", 1200, 4_000_000);
     /// `tz_minuteswest`: -1440..=1440 (a day either way).
     pub const TZ_MINUTESWEST: Self = Self::new("tz_minuteswest", -1440, 1440);
     /// `fc_link_timeout_ms`: 100..=60000.
@@ -819,6 +827,7 @@ mod tests {
         let cases = [
             ("fc_baud", spoilt(|c| c.fc_baud = 1199)),
             ("pod_baud", spoilt(|c| c.pod_baud = 4_000_001)),
+            ("telemetry_baud", spoilt(|c| c.telemetry_baud = 1199)),
             ("tz_minuteswest", spoilt(|c| c.tz_minuteswest = -1441)),
             ("fc_link_timeout_ms", spoilt(|c| c.fc_link_timeout = ms(99))),
             (

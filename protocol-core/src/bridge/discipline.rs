@@ -850,6 +850,105 @@ struct FcLink {
     /// Pairs: `utc − fc_ms·1000`.
     pairs: [i64; MAX_UTC_VIA_FC],
     pairs_len: u8,
+    /// `C` from MAVLink SYSTEM_TIME (when it feeds the link: then the only source).
+    shift: Shift,
+}
+
+/// Bins of [`Shift`].
+const SHIFT_BINS: usize = 4;
+/// Local time of one [`Shift`] bin, µs.
+const SHIFT_BIN_US: i64 = 4_000_000;
+/// Samples above the shift's band in a row that make it a step.
+const SHIFT_STEP_CONFIRM: u8 = 3;
+
+/// `C` = UTC − FC clock from samples `d = utc − fc_ms·1000` read from one clock in one
+/// call (MAVLink SYSTEM_TIME): `d ∈ [C, C + 1000)` µs, the excess being the FC clock's
+/// sub-millisecond phase when it was read, so the least `d` is `C`. The least `d` of
+/// each [`SHIFT_BIN_US`] bin, over the last [`SHIFT_BINS`] bins (16 s: a shift the FC
+/// slews slowly is followed). A `d` below the least by more than the tolerance, or
+/// [`SHIFT_STEP_CONFIRM`] in a row above its band, are a step of the FC's UTC: the
+/// shift restarts from them; the first contradicting sample makes it suspect (no UTC)
+/// until the step is confirmed or a consistent sample comes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Shift {
+    /// (bin index, least `d`) per bin, newest last.
+    bins: [Option<(i64, i64)>; SHIFT_BINS],
+    /// Consecutive samples above the band, and the least of them.
+    above: u8,
+    above_min: i64,
+    suspect: bool,
+}
+
+impl Shift {
+    const fn new() -> Self {
+        Shift {
+            bins: [None; SHIFT_BINS],
+            above: 0,
+            above_min: i64::MAX,
+            suspect: false,
+        }
+    }
+
+    /// The shift: the least `d` of the window.
+    fn value(&self) -> Option<i64> {
+        self.bins.iter().flatten().map(|(_, d)| *d).min()
+    }
+
+    fn put(&mut self, x: i64, d: i64) {
+        let bin = x.div_euclid(SHIFT_BIN_US);
+        let newest = self.bins.iter().flatten().map(|(b, _)| *b).max();
+        match newest {
+            Some(b) if b == bin => {
+                for (b, m) in self.bins.iter_mut().flatten() {
+                    if *b == bin {
+                        *m = (*m).min(d);
+                    }
+                }
+            }
+            Some(b) if bin < b => {}
+            _ => {
+                self.bins.rotate_left(1);
+                if let Some(last) = self.bins.last_mut() {
+                    *last = Some((bin, d));
+                }
+                // Bins older than the window go.
+                let oldest = bin.saturating_sub(i64::try_from(SHIFT_BINS).unwrap_or(0));
+                for slot in &mut self.bins {
+                    if slot.is_some_and(|(b, _)| b <= oldest) {
+                        *slot = None;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Takes `d` at local `x`; returns whether the shift restarted (a step).
+    fn push(&mut self, x: i64, d: i64, tolerance: i64) -> Fed {
+        let Some(c) = self.value() else {
+            self.put(x, d);
+            return Fed::Accepted;
+        };
+        let band_top = c.saturating_add(1_000).saturating_add(tolerance);
+        if d < c.saturating_sub(tolerance) || d > band_top {
+            self.suspect = true;
+            if d > band_top {
+                self.above = self.above.saturating_add(1);
+                self.above_min = self.above_min.min(d);
+            }
+            if d < c.saturating_sub(tolerance) || self.above >= SHIFT_STEP_CONFIRM {
+                let start = if d > band_top { self.above_min } else { d };
+                *self = Shift::new();
+                self.put(x, start);
+                return Fed::Step;
+            }
+            return Fed::Outlier;
+        }
+        self.above = 0;
+        self.above_min = i64::MAX;
+        self.suspect = false;
+        self.put(x, d);
+        Fed::Accepted
+    }
 }
 
 impl FcLink {
@@ -859,6 +958,7 @@ impl FcLink {
             unpaired_len: 0,
             pairs: [0; MAX_UTC_VIA_FC],
             pairs_len: 0,
+            shift: Shift::new(),
         }
     }
 
@@ -896,9 +996,12 @@ impl FcLink {
             .max()
     }
 
-    /// `C`: the least pair consistent with the unpaired bound (`true`), else the bound
-    /// (`false`).
+    /// `C`: the SYSTEM_TIME shift when there is one; else the least pair consistent
+    /// with the unpaired bound (`true`), else the bound (`false`).
     fn offset(&self, fc: Option<&Line>, tolerance: i64) -> Option<(i64, bool)> {
+        if let Some(c) = self.shift.value() {
+            return Some((c, true));
+        }
         let bound = fc.and_then(|l| self.lower_bound(l));
         let floor = bound.map(|b| b.saturating_sub(tolerance));
         let best_pair = self
@@ -1122,6 +1225,51 @@ impl TimeDiscipline {
         Verdict::Accepted
     }
 
+    /// A MAVLink SYSTEM_TIME received at `local`: `utc_us` (`time_unix_usec`) and
+    /// `fc_ms` (`time_boot_ms`) read from one clock in one call, so `C` is the least
+    /// `utc − fc_ms·1000` (see `Shift`); the FC clock comes from
+    /// [`fc_clock_sample`](Self::fc_clock_sample) (TIMESYNC). `utc_us` 0 or before
+    /// [`DisciplineConfig::min_utc`] is rejected; a step of the FC's UTC makes UTC
+    /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
+    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u32) -> Verdict {
+        self.advance(local);
+        if utc_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::ViaFc) {
+            return Verdict::Rejected;
+        }
+        let Some(d) = i64::try_from(utc_us)
+            .ok()
+            .and_then(|u| u.checked_sub(i64::from(fc_ms).checked_mul(1000)?))
+        else {
+            return Verdict::Rejected;
+        };
+        let Ok(x) = i64::try_from(local.as_micros()) else {
+            return Verdict::Rejected;
+        };
+        let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
+        let verdict = match self.link.shift.push(x, d, tol) {
+            Fed::Outlier => Verdict::Outlier,
+            Fed::Step => Verdict::Step,
+            Fed::Accepted => Verdict::Accepted,
+        };
+        if verdict != Verdict::Outlier {
+            self.refresh_via_fc(local);
+        }
+        self.advance(local);
+        verdict
+    }
+
+    /// The source of time changes (the engine takes UTC from another link): the clock
+    /// estimator and `C` start again, for whichever path the new source takes; the
+    /// current mapping stays usable in holdover until the new one replaces it (reported
+    /// as replaced when they disagree).
+    pub fn switch_source(&mut self) {
+        self.clock.reset();
+        self.path = None;
+        self.link = FcLink::new();
+        // No path is fresh now: the next mapping, from either path, takes over.
+        self.source = None;
+    }
+
     /// Updates the output from the FC path when it gives one. A new mapping that
     /// disagrees with the current one by more than the jump tolerance replaces it (the
     /// FC's UTC jumped, e.g. after a reboot) and is reported as such.
@@ -1228,7 +1376,9 @@ impl TimeDiscipline {
         let state = match (self.output, self.last_fresh) {
             (Some(_), Some(fresh)) => {
                 let age = now.saturating_duration_since(fresh);
-                if self.source == Some(Path::Direct) && self.clock.suspect {
+                if (self.source == Some(Path::Direct) && self.clock.suspect)
+                    || (self.source == Some(Path::ViaFc) && self.link.shift.suspect)
+                {
                     Some(DisciplineState::Suspect)
                 } else if age <= self.config.sample_timeout {
                     Some(DisciplineState::Valid)

@@ -12,6 +12,11 @@ wire_derive! {
         Fc,
         /// The pod's.
         Pod,
+        /// The optional MAVLink telemetry link to the autopilot (an ArduPilot
+        /// `SERIALn_PROTOCOL` 2 or PX4 `MAV_n_CONFIG` port) beside a SIYI, Viewlink, GCU or
+        /// K40T FC link: the source of UTC, fixes and the aircraft's attitude while it
+        /// gives them. Needs the `mavlink` feature (without it its bytes are ignored).
+        Telemetry,
     }
 }
 
@@ -93,6 +98,14 @@ wire_derive! {
         },
         /// The CRC coverage the pod uses.
         PodCoverage(CrcCoverage),
+        /// Where UTC and fixes come from changed: the telemetry link (`true`: the
+        /// autopilot's TIMESYNC, SYSTEM_TIME and position streams) or the FC link
+        /// (`false`: the telemetry link stopped giving time). The UTC mapping starts again
+        /// from the new source (the old one is kept in holdover meanwhile).
+        TimeSource {
+            /// The telemetry link is the source.
+            telemetry: bool,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -125,6 +138,10 @@ wire_derive! {
         pub pod_garbage_bytes: u32,
         /// Frames queued for the pod.
         pub pod_sent: u32,
+        /// Valid frames from the telemetry link.
+        pub telemetry_frames: u32,
+        /// Frames queued for the telemetry link.
+        pub telemetry_sent: u32,
         /// Commands sent again after a time-out.
         pub pod_retries: u32,
         /// Output frames dropped (queue full).

@@ -69,6 +69,9 @@ use event::EventQueue;
 pub const FC_QUEUE: usize = if cfg!(feature = "mavlink") { 512 } else { 256 };
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
+/// Bytes of the queue of frames for the telemetry link (heartbeats, TIMESYNC, stream
+/// requests: a few frames of under 60 bytes). Zero without the `mavlink` feature.
+pub const TELEMETRY_QUEUE: usize = if cfg!(feature = "mavlink") { 192 } else { 0 };
 /// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never
 /// exceeds its queue).
 pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
@@ -123,13 +126,17 @@ impl Changes {
     pub const PIN: Self = Self(1 << 2);
     /// New events wait ([`Engine::next_event`]).
     pub const EVENTS: Self = Self(1 << 3);
+    /// The telemetry queue got a frame ([`Engine::transmit`] for [`Port::Telemetry`]).
+    pub const TELEMETRY_FRAME: Self = Self(1 << 4);
 
-    /// The queue of `port` got a frame: [`Changes::FC_FRAME`] or [`Changes::POD_FRAME`].
+    /// The queue of `port` got a frame: [`Changes::FC_FRAME`], [`Changes::POD_FRAME`] or
+    /// [`Changes::TELEMETRY_FRAME`].
     #[must_use]
     pub const fn frame(port: Port) -> Self {
         match port {
             Port::Fc => Self::FC_FRAME,
             Port::Pod => Self::POD_FRAME,
+            Port::Telemetry => Self::TELEMETRY_FRAME,
         }
     }
 
@@ -171,6 +178,7 @@ impl core::ops::BitOrAssign for Changes {
 pub(crate) struct Outputs {
     pub(crate) fc: FrameQueue<FC_QUEUE>,
     pub(crate) pod: FrameQueue<POD_QUEUE>,
+    pub(crate) tel: FrameQueue<TELEMETRY_QUEUE>,
     pub(crate) events: EventQueue,
     pub(crate) counters: Counters,
     /// What changed since the last report ([`EngineState::report`]).
@@ -183,6 +191,7 @@ impl Outputs {
         Outputs {
             fc: FrameQueue::new(),
             pod: FrameQueue::new(),
+            tel: FrameQueue::new(),
             events: EventQueue::new(),
             counters: Counters::default(),
             changes: Changes::NONE,
@@ -210,6 +219,7 @@ impl Outputs {
             let sent = match port {
                 Port::Fc => &mut self.counters.fc_sent,
                 Port::Pod => &mut self.counters.pod_sent,
+                Port::Telemetry => &mut self.counters.telemetry_sent,
             };
             *sent = sent.saturating_add(1);
         }
@@ -224,6 +234,18 @@ impl Outputs {
     pub(crate) fn queue_fc(&mut self, frame: &[u8], critical: bool) -> bool {
         let p = self.fc.push_back(frame, critical);
         self.pushed(Port::Fc, p)
+    }
+
+    /// Queues a frame for `port` (the FC or the telemetry link).
+    #[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+    pub(crate) fn queue_to(&mut self, port: Port, frame: &[u8]) -> bool {
+        match port {
+            Port::Telemetry => {
+                let p = self.tel.push_back(frame, false);
+                self.pushed(Port::Telemetry, p)
+            }
+            Port::Fc | Port::Pod => self.queue_fc(frame, false),
+        }
     }
 
     /// Queues a frame for the pod (at the head with `front`).
@@ -348,6 +370,11 @@ struct EngineState {
     out: Outputs,
     fc_last: Option<Instant>,
     fc_link: bool,
+    /// The MAVLink telemetry link (any FC side but MAVLink, whose own link is one).
+    #[cfg(feature = "mavlink")]
+    tel: Option<fc::TelemetryLink>,
+    /// The telemetry link is the source of UTC and fixes.
+    tel_source: bool,
 }
 
 impl Engine {
@@ -369,6 +396,9 @@ impl Engine {
                 out: Outputs::new(),
                 fc_last: None,
                 fc_link: false,
+                #[cfg(feature = "mavlink")]
+                tel: fc::TelemetryLink::for_config(&config),
+                tel_source: false,
                 config,
             },
         }
@@ -435,6 +465,7 @@ impl Engine {
         match port {
             Port::Fc => self.core.out.fc.pop_into(buf),
             Port::Pod => self.core.out.pod.pop_into(buf),
+            Port::Telemetry => self.core.out.tel.pop_into(buf),
         }
     }
 
@@ -446,6 +477,7 @@ impl Engine {
         match port {
             Port::Fc => self.core.out.fc.front(),
             Port::Pod => self.core.out.pod.front(),
+            Port::Telemetry => self.core.out.tel.front(),
         }
         .map(<[u8]>::len)
     }
@@ -457,6 +489,7 @@ impl Engine {
         match port {
             Port::Fc => self.fc_bytes(now, bytes),
             Port::Pod => self.pod_bytes(now, bytes),
+            Port::Telemetry => self.telemetry_input(now, Some(bytes)),
         }
     }
 
@@ -470,6 +503,7 @@ impl Engine {
         match port {
             Port::Fc => self.fc_line_idle(now),
             Port::Pod => self.pod_line_idle(now),
+            Port::Telemetry => self.telemetry_input(now, None),
         }
     }
 
@@ -490,6 +524,25 @@ impl Engine {
         fc.idle(&mut ctx);
         let seen = ctx.fc_seen;
         core.fc_frame_seen(now, seen);
+        core.after_input(now)
+    }
+
+    /// [`Engine::receive`] (`Some`) and [`Engine::idle`] (`None`) for the telemetry link.
+    fn telemetry_input(&mut self, now: Instant, bytes: Option<&[u8]>) -> Changes {
+        let core = &mut self.core;
+        #[cfg(feature = "mavlink")]
+        {
+            let (tel, mut ctx) = core.telemetry_ctx(now);
+            if let Some(tel) = tel {
+                match bytes {
+                    Some(b) => tel.receive(&mut ctx, b),
+                    None => tel.idle(&mut ctx),
+                }
+            }
+            core.time_source(now);
+        }
+        #[cfg(not(feature = "mavlink"))]
+        let _ = bytes;
         core.after_input(now)
     }
 
@@ -562,6 +615,7 @@ impl Engine {
         [
             c.pod.poll_at(c.config.fc_silence_stop),
             c.fc.poll_at(),
+            c.telemetry_poll_at(),
             c.time.poll_at(),
             c.geotag.poll_at(),
             fc_down,
@@ -577,6 +631,17 @@ impl Engine {
 }
 
 impl EngineState {
+    /// When the telemetry link has work.
+    fn telemetry_poll_at(&self) -> Option<Instant> {
+        #[cfg(feature = "mavlink")]
+        {
+            use fc::FcHandler as _;
+            self.tel.as_ref().and_then(|t| t.handler.poll_at())
+        }
+        #[cfg(not(feature = "mavlink"))]
+        None
+    }
+
     /// What changed since the last report; starts collecting again.
     fn report(&mut self) -> Changes {
         core::mem::take(&mut self.out.changes)
@@ -595,8 +660,46 @@ impl EngineState {
                 out: &mut self.out,
                 fc_seen: false,
                 transit: Duration::ZERO,
+                baud: self.config.fc_baud,
+                to: Port::Fc,
+                feeds: !self.tel_source,
             },
         )
+    }
+
+    /// The telemetry link (when there is one) and its context.
+    #[cfg(feature = "mavlink")]
+    fn telemetry_ctx(&mut self, now: Instant) -> (Option<&mut fc::TelemetryLink>, Ctx<'_>) {
+        (
+            self.tel.as_mut(),
+            Ctx {
+                now,
+                config: &self.config,
+                pod: &mut self.pod,
+                time: &mut self.time,
+                fixes: &mut self.fixes,
+                geotag: &mut self.geotag,
+                out: &mut self.out,
+                fc_seen: false,
+                transit: Duration::ZERO,
+                baud: self.config.telemetry_baud,
+                to: Port::Telemetry,
+                feeds: self.tel_source,
+            },
+        )
+    }
+
+    /// Makes the telemetry link the source of UTC and fixes while it gives time, the FC
+    /// link otherwise. On a change the UTC discipline starts again from the new source,
+    /// keeping its mapping in holdover until the new one is known.
+    #[cfg(feature = "mavlink")]
+    fn time_source(&mut self, now: Instant) {
+        let tel = self.tel.as_ref().is_some_and(|t| t.handler.gives_time(now));
+        if tel != self.tel_source {
+            self.tel_source = tel;
+            self.time.switch_source();
+            self.out.event(Event::TimeSource { telemetry: tel });
+        }
     }
 
     fn fc_frame_seen(&mut self, now: Instant, seen: bool) {
@@ -704,6 +807,15 @@ impl EngineState {
         {
             let (fc, mut ctx) = self.ctx(now);
             fc.poll(&mut ctx);
+        }
+        #[cfg(feature = "mavlink")]
+        {
+            use fc::FcHandler as _;
+            let (tel, mut ctx) = self.telemetry_ctx(now);
+            if let Some(tel) = tel {
+                tel.handler.poll(&mut ctx);
+            }
+            self.time_source(now);
         }
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
@@ -856,10 +968,12 @@ mod size_tests {
     use super::*;
 
     /// The engine's size is fixed at compile time; with every FC side compiled in it
-    /// stays under 9 KiB on the 64-bit host (7.9 KB before ACK matching kept superseded
-    /// requests and their send instants, and the discipline its error bound).
+    /// stays under 10.5 KiB on the 64-bit host (7.9 KB before ACK matching kept
+    /// superseded requests and their send instants, and the discipline its error bound;
+    /// 9.1 KB before the MAVLink telemetry link: its 280-byte deframer, 192-byte queue
+    /// and autopilot state).
     #[test]
-    fn the_engine_fits_in_9_kib() {
+    fn the_engine_fits_in_10_5_kib() {
         let size = core::mem::size_of::<Engine>();
         println!(
             "engine {size} B: pod driver {}, discipline {}, fixes {}, outputs {}, FC side {}",
@@ -869,6 +983,6 @@ mod size_tests {
             core::mem::size_of::<Outputs>(),
             core::mem::size_of::<FcSide>(),
         );
-        assert!(size <= 9 * 1024, "{size} bytes");
+        assert!(size <= 10 * 1024 + 512, "{size} bytes");
     }
 }

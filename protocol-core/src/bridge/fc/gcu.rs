@@ -279,7 +279,8 @@ impl GcuSide {
         // The FC read these values before it wrote the package's first byte.
         let transit = ctx.transit;
         let week = u16::from_ne_bytes(sub.gps_week.to_ne_bytes());
-        if let Some(utc) = UtcTime::from_gps(week, sub.gps_tow_ms, ctx.config.leap_seconds) {
+        let utc = UtcTime::from_gps(week, sub.gps_tow_ms, ctx.config.leap_seconds);
+        if let Some(utc) = utc.filter(|_| ctx.feeds) {
             let s = Sample::new(ctx.now, utc.as_unix_micros(), GPS_HOLD_US)
                 .held()
                 .with_transit(transit);
@@ -288,7 +289,7 @@ impl GcuSide {
         self.positioned = sub.lat_e7 != 0 || sub.lon_e7 != 0;
         if self.positioned {
             let dm = |mm: i32| clamp_i16(mm / 100);
-            ctx.fixes.push(Fix {
+            ctx.push_fix(Fix {
                 at: ctx.now.saturating_sub(transit),
                 lat_e7: sub.lat_e7,
                 lon_e7: sub.lon_e7,

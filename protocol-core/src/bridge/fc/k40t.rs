@@ -239,7 +239,9 @@ impl K40tSide {
         let s = Sample::new(ctx.now, t.unix_ms.saturating_mul(1000), 1000)
             .with_transit(ctx.transit)
             .prompt();
-        ctx.time.utc_sample(s);
+        if ctx.feeds {
+            ctx.time.utc_sample(s);
+        }
         let ack = k40t::TimeSyncAck {
             code: ResponseCode::OK,
         };
@@ -273,7 +275,7 @@ impl K40tSide {
             .and_then(|tod| ctx.time.utc(ctx.now)?.nearest_with_time_of_day(tod))
             .and_then(|utc| ctx.time.local_of(utc));
         if let Some(at) = at {
-            ctx.fixes.push(Fix {
+            ctx.push_fix(Fix {
                 at,
                 lat_e7: reply.lat_e7,
                 lon_e7: reply.lon_e7,

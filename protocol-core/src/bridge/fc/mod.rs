@@ -35,17 +35,33 @@ pub(crate) struct Ctx<'a> {
     /// values (its burst's or its own, [`FcHandler::TIMED_FROM`]) to `now`, set by
     /// [`FcLink`] for each frame: the least transit of a time value in it.
     pub(crate) transit: Duration,
+    /// The link's baud rate (frames' serial times).
+    pub(crate) baud: u32,
+    /// The link this side answers on ([`Ctx::reply`]): the FC's, or the telemetry link.
+    pub(crate) to: super::Port,
+    /// This link is the source of UTC and fixes: feed [`Ctx::time`] and [`Ctx::fixes`]
+    /// only when set (a SIYI, Viewlink, GCU or K40T side stops while a telemetry link
+    /// gives them; the telemetry link feeds only while it does).
+    pub(crate) feeds: bool,
 }
 
 impl Ctx<'_> {
     /// A valid frame came from the FC.
     pub(crate) fn seen(&mut self) {
+        if self.to == super::Port::Telemetry {
+            let n = &mut self.out.counters.telemetry_frames;
+            *n = n.saturating_add(1);
+            return;
+        }
         self.fc_seen = true;
         self.out.counters.fc_frames = self.out.counters.fc_frames.saturating_add(1);
     }
 
     /// A valid FC frame the side could not use.
     pub(crate) fn ignored(&mut self) {
+        if self.to == super::Port::Telemetry {
+            return;
+        }
         self.out.counters.fc_ignored = self.out.counters.fc_ignored.saturating_add(1);
     }
 
@@ -67,9 +83,16 @@ impl Ctx<'_> {
         );
     }
 
-    /// Queues a frame for the FC.
+    /// Puts `fix` in the history when this link feeds it ([`Ctx::feeds`]).
+    pub(crate) fn push_fix(&mut self, fix: Fix) {
+        if self.feeds {
+            self.fixes.push(fix);
+        }
+    }
+
+    /// Queues a frame for the link this side serves ([`Ctx::to`]).
     pub(crate) fn reply(&mut self, frame: &[u8]) -> bool {
-        self.out.queue_fc(frame, false)
+        self.out.queue_to(self.to, frame)
     }
 
     /// The pod's state.
@@ -258,7 +281,7 @@ pub(crate) struct FcLink<H: FcHandler, const N: usize> {
     last_rx: Option<Instant>,
     /// Bytes received since the current burst began.
     burst_bytes: u32,
-    handler: H,
+    pub(crate) handler: H,
 }
 
 impl<H: FcHandler, const N: usize> FcLink<H, N> {
@@ -275,9 +298,9 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
     /// when the line was idle before them: the caller said so, or (when its idle signal
     /// did not come: a late thread, a busy host, a UART without idle detection) the line
     /// was quiet for over [`BURST_GAP`] before their first byte.
-    fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
+    pub(crate) fn receive(&mut self, ctx: &mut Ctx<'_>, bytes: &[u8]) {
         let n = u32::try_from(bytes.len()).unwrap_or(u32::MAX);
-        let first_byte = ctx.now.saturating_sub(serial_time(n, ctx.config.fc_baud));
+        let first_byte = ctx.now.saturating_sub(serial_time(n, ctx.baud));
         if self.last_rx.is_none_or(|last| {
             last.checked_add(BURST_GAP)
                 .is_some_and(|quiet_until| first_byte > quiet_until)
@@ -300,7 +323,7 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
                         u32::try_from(f.len().saturating_add(after)).unwrap_or(u32::MAX)
                     }
                 };
-                ctx.transit = serial_time(bytes, ctx.config.fc_baud);
+                ctx.transit = serial_time(bytes, ctx.baud);
                 handler.frame(ctx, f);
             }
         });
@@ -308,7 +331,7 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
 
     /// The FC line has gone idle: frames are complete, the burst is over (the next bytes
     /// start one, [`FcLink::receive`]).
-    fn idle(&mut self, ctx: &mut Ctx<'_>) {
+    pub(crate) fn idle(&mut self, ctx: &mut Ctx<'_>) {
         let burst_bytes = self.burst_bytes;
         let handler = &mut self.handler;
         self.deframer.flush(|ev| {
@@ -319,7 +342,7 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
                     TimedFrom::Burst => burst_bytes,
                     TimedFrom::Frame => u32::try_from(f.len()).unwrap_or(u32::MAX),
                 };
-                ctx.transit = serial_time(bytes, ctx.config.fc_baud);
+                ctx.transit = serial_time(bytes, ctx.baud);
                 handler.frame(ctx, f);
             }
         });
@@ -336,6 +359,23 @@ mod mavlink;
 mod siyi;
 #[cfg(feature = "viewlink")]
 mod viewlink;
+
+/// The MAVLink telemetry link beside another FC side.
+#[cfg(feature = "mavlink")]
+pub(crate) type TelemetryLink = FcLink<mavlink::TelemetrySide, { mavlink::BUF }>;
+
+#[cfg(feature = "mavlink")]
+impl TelemetryLink {
+    /// The link for `config`: none when the FC side is MAVLink itself.
+    pub(crate) fn for_config(config: &Config) -> Option<Self> {
+        (config.fc != super::FcProtocol::Mavlink).then(|| {
+            FcLink::new(
+                crate::mavlink::MavlinkFraming::new(),
+                mavlink::TelemetrySide::new(),
+            )
+        })
+    }
+}
 
 /// The FC side in use.
 // One side is in use, fixed at start-up; without an allocator to box it, the enum is as

@@ -208,9 +208,13 @@ impl SiyiSide {
     }
 
     fn fc_clock(&mut self, ctx: &mut Ctx<'_>, time_boot_ms: u32) {
+        let utc = self.burst_utc_us.take();
+        if !ctx.feeds {
+            return;
+        }
         let s = Self::sample(ctx, u64::from(time_boot_ms).saturating_mul(1000), 1000);
         ctx.time.fc_clock_sample(s);
-        if let Some(utc) = self.burst_utc_us.take() {
+        if let Some(utc) = utc {
             ctx.time.utc_fc_pair(utc, time_boot_ms);
         }
     }
@@ -443,11 +447,13 @@ impl SiyiSide {
                     self.aircraft.unwrap_or_default(),
                     velocity,
                 );
-                ctx.fixes.push(fix);
+                ctx.push_fix(fix);
             }
             Request::SetUtcTime(t) => {
-                let s = Self::sample(ctx, t.unix_us, 1);
-                ctx.time.utc_via_fc_sample(s);
+                if ctx.feeds {
+                    let s = Self::sample(ctx, t.unix_us, 1);
+                    ctx.time.utc_via_fc_sample(s);
+                }
                 self.burst_utc_us = Some(t.unix_us);
                 send(ctx, &TimeAck { result: 1 }, seq);
             }

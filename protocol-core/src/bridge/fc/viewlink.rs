@@ -546,8 +546,10 @@ impl ViewlinkSide {
         let utc = TimeOfDay::from_millis_of_day(g.time.0.saturating_mul(10)).and_then(|tod| {
             UtcTime::from_date_time(g.date.year(), g.date.month(), g.date.day(), tod)
         });
-        if let Some(utc) = utc {
+        if utc.is_some() {
             self.date = g.date;
+        }
+        if let Some(utc) = utc.filter(|_| ctx.feeds) {
             ctx.time.utc_sample(
                 Sample::new(ctx.now, utc.as_unix_micros(), 10_000).with_transit(transit),
             );
@@ -574,7 +576,7 @@ impl ViewlinkSide {
             attitude,
             velocity,
         );
-        ctx.fixes.push(fix);
+        ctx.push_fix(fix);
     }
 
     // ------------------------------------------------------------------ A1

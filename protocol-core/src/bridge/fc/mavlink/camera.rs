@@ -563,7 +563,7 @@ impl MavlinkSide {
     /// Sends CAMERA_CAPTURE_STATUS when the image or video status changed.
     fn capture_status_changed(&mut self, ctx: &mut Ctx<'_>) {
         let state = self.capture_state(ctx);
-        if self.camera.reported != Some(state) && self.sysid.is_some() {
+        if self.camera.reported != Some(state) && self.ap.sysid.is_some() {
             self.capture_status(ctx);
         }
     }

@@ -25,55 +25,42 @@
 //! - **Camera** ([`camera`]): photos (single and interval), video, zoom, focus and mode
 //!   reach the pod; their ACK waits for the pod's; CAMERA_IMAGE_CAPTURED follows each
 //!   photo with the position the pod was given for its geotag.
-//! - **Time and position.** Copter streams nothing to a new port, PX4's gimbal mode no
-//!   position or time: the gimbal asks the autopilot with MAV_CMD_SET_MESSAGE_INTERVAL
-//!   for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE (10 Hz) and GPS_RAW_INT (2 Hz), again
-//!   whenever one stops (an autopilot reboot forgets them), once a second for the first
-//!   tries, then every 10 s. SYSTEM_TIME's Unix time is a UTC sample (ArduPilot sends 0
-//!   until its clock is set: rejected), GLOBAL_POSITION_INT a fix while GPS_RAW_INT
-//!   reports a 3D fix (ArduPilot sends positions without one), with the aircraft's
-//!   attitude from ATTITUDE or AUTOPILOT_STATE_FOR_GIMBAL_DEVICE, whose yaw also turns
-//!   earth-frame gimbal yaw into the pod's vehicle-relative yaw.
-//! - **TIMESYNC** requests (tc1 = 0, ArduPilot's every 10 s) are answered with the
-//!   bridge's clock in ns, so that the autopilot's round-trip log works.
+//! - **Time and position** ([`autopilot`], shared with the telemetry link). Copter
+//!   streams nothing to a new port, PX4's gimbal mode no position or time: the gimbal
+//!   asks the autopilot with MAV_CMD_SET_MESSAGE_INTERVAL for SYSTEM_TIME,
+//!   GLOBAL_POSITION_INT, ATTITUDE (10 Hz) and GPS_RAW_INT (2 Hz), again whenever one
+//!   stops (an autopilot reboot forgets them), once a second for the first tries, then
+//!   every 10 s. UTC comes from TIMESYNC (the bridge asks, 3 to 7 times a second) and
+//!   SYSTEM_TIME (ArduPilot sends 0 until its clock is set: no time);
+//!   GLOBAL_POSITION_INT is a fix while GPS_RAW_INT reports a 3D fix (ArduPilot sends
+//!   positions without one), with the aircraft's attitude from ATTITUDE or
+//!   AUTOPILOT_STATE_FOR_GIMBAL_DEVICE, whose yaw also turns earth-frame gimbal yaw into
+//!   the pod's vehicle-relative yaw. TIMESYNC requests (ArduPilot's every 10 s) are
+//!   answered with the bridge's clock in ns.
 
+mod autopilot;
 mod camera;
 mod gimbal;
 mod math;
+mod telemetry;
 
-use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::{Fix, Velocity};
+pub(crate) use telemetry::TelemetrySide;
+
 use crate::bridge::pod::PodNotice;
 use crate::bridge::time::{Duration, Instant};
 use crate::k40t::{GpsRequest, Header as PodHeader};
-use crate::mavlink::dialect::{
-    GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
-    TIMESYNC_DATA,
-};
-use crate::mavlink::{
-    self, Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet, Raw,
-};
+use crate::mavlink::dialect::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
+use crate::mavlink::{Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet};
 
-use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
+use autopilot::{Autopilot, Took, Vehicle};
+
+use super::{Ctx, FcHandler, TimedFrom};
 
 /// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload).
 pub(crate) const BUF: usize = MAX_FRAME_LEN;
 
-/// The autopilot's component id.
-const AUTOPILOT: u8 = 1;
 /// HEARTBEAT period of each component.
 const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
-/// A stream not received for this long is asked for again.
-const STREAM_STALE: Duration = Duration::from_secs(3);
-/// Tries of SET_MESSAGE_INTERVAL a second apart before slowing to one every
-/// [`STREAM_BACKOFF`].
-const STREAM_QUICK_TRIES: u8 = 5;
-/// Retry period after the quick tries.
-const STREAM_BACKOFF: Duration = Duration::from_secs(10);
-/// The aircraft's attitude older than this is not used.
-const VEHICLE_FRESH: Duration = Duration::from_secs(1);
-/// A GPS_RAW_INT 3D fix older than this does not make positions fixes.
-const GPS_FRESH: Duration = Duration::from_secs(3);
 
 /// MAV_RESULT values.
 mod result {
@@ -86,7 +73,6 @@ mod result {
 
 /// MAV_CMD values the device reads.
 mod cmd {
-    pub(super) const SET_MESSAGE_INTERVAL: u16 = 511;
     pub(super) const REQUEST_MESSAGE: u16 = 512;
     pub(super) const REQUEST_CAMERA_INFORMATION: u16 = 521;
     pub(super) const REQUEST_CAMERA_SETTINGS: u16 = 522;
@@ -115,14 +101,6 @@ mod id {
     pub(super) const GIMBAL_DEVICE_ATTITUDE_STATUS: u32 = 285;
 }
 
-/// The streams the device asks the autopilot for (message ids).
-mod stream {
-    pub(super) const SYSTEM_TIME: u8 = 2;
-    pub(super) const GPS_RAW_INT: u8 = 24;
-    pub(super) const ATTITUDE: u8 = 30;
-    pub(super) const GLOBAL_POSITION_INT: u8 = 33;
-}
-
 /// One of the device's two components.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Comp {
@@ -145,43 +123,6 @@ impl Comp {
             .into_iter()
             .find(|c| c.id() == compid)
     }
-}
-
-/// A stream the device asks the autopilot for.
-#[derive(Debug, Clone, Copy)]
-struct Stream {
-    /// The message id (all below 256).
-    id: u8,
-    interval_us: u32,
-    /// The last one received.
-    last: Option<Instant>,
-    /// Requests since it was last received.
-    tries: u8,
-    /// When it may be asked for again.
-    next_try: Instant,
-}
-
-impl Stream {
-    const fn new(id: u8, interval_us: u32) -> Self {
-        Stream {
-            id,
-            interval_us,
-            last: None,
-            tries: 0,
-            next_try: Instant::ZERO,
-        }
-    }
-}
-
-/// The aircraft's attitude, 0.01° (yaw from north) and 0.01°/s.
-#[derive(Debug, Clone, Copy)]
-struct Vehicle {
-    roll: i32,
-    pitch: i32,
-    yaw: i32,
-    /// Earth-frame yaw rate, when known.
-    yaw_rate: Option<i32>,
-    at: Instant,
 }
 
 /// A command, from COMMAND_LONG or COMMAND_INT (any MAV_CMD value, known or not).
@@ -244,16 +185,10 @@ impl Cmd {
 /// The MAVLink side (its link, deframer and bursts, is [`FcLink`](super::FcLink)).
 #[derive(Debug, Clone)]
 pub(crate) struct MavlinkSide {
-    /// The autopilot's system id, the device's own (from the autopilot's HEARTBEAT).
-    sysid: Option<u8>,
-    /// Next sequence number of the gimbal's and the camera's frames.
-    seq: [u8; 2],
+    /// The autopilot (the gimbal component talks to it).
+    ap: Autopilot,
     next_heartbeat: Instant,
     next_status: Instant,
-    streams: [Stream; 4],
-    vehicle: Option<Vehicle>,
-    /// The last GPS_RAW_INT with a 3D fix.
-    gps_fix_at: Option<Instant>,
     /// The pod's reports came back at this instant (versions are asked then).
     pod_up_since: Option<Instant>,
     gimbal: gimbal::Gimbal,
@@ -263,18 +198,9 @@ pub(crate) struct MavlinkSide {
 impl MavlinkSide {
     pub(crate) fn new() -> Self {
         MavlinkSide {
-            sysid: None,
-            seq: [0; 2],
+            ap: Autopilot::new(Comp::Gimbal.id()),
             next_heartbeat: Instant::ZERO,
             next_status: Instant::ZERO,
-            streams: [
-                Stream::new(stream::SYSTEM_TIME, 100_000),
-                Stream::new(stream::GLOBAL_POSITION_INT, 100_000),
-                Stream::new(stream::ATTITUDE, 100_000),
-                Stream::new(stream::GPS_RAW_INT, 500_000),
-            ],
-            vehicle: None,
-            gps_fix_at: None,
             pod_up_since: None,
             gimbal: gimbal::Gimbal::default(),
             camera: camera::Camera::default(),
@@ -312,7 +238,7 @@ impl FcHandler for MavlinkSide {
     }
 
     fn poll(&mut self, ctx: &mut Ctx<'_>) {
-        if self.sysid.is_some() {
+        if self.ap.sysid.is_some() {
             if ctx.now >= self.next_heartbeat {
                 self.next_heartbeat = ctx.now.saturating_add(HEARTBEAT_PERIOD);
                 self.heartbeat(ctx, Comp::Gimbal);
@@ -322,20 +248,20 @@ impl FcHandler for MavlinkSide {
                 self.next_status = ctx.now.saturating_add(gimbal::STATUS_PERIOD);
                 self.attitude_status(ctx);
             }
-            self.request_streams(ctx);
+            self.ap.poll(ctx);
         }
         self.camera_poll(ctx);
     }
 
     fn poll_at(&self) -> Option<Instant> {
-        let device = self.sysid.map(|_| {
-            let streams = self.streams.iter().map(Self::stream_due);
-            streams
-                .chain([self.next_heartbeat, self.next_status])
-                .min()
-                .unwrap_or(self.next_status)
-        });
-        [device, self.camera.poll_at()].into_iter().flatten().min()
+        let device = self
+            .ap
+            .sysid
+            .map(|_| self.next_heartbeat.min(self.next_status));
+        [device, self.ap.poll_at(), self.camera.poll_at()]
+            .into_iter()
+            .flatten()
+            .min()
     }
 
     fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
@@ -360,51 +286,22 @@ impl FcHandler for MavlinkSide {
 }
 
 impl MavlinkSide {
-    /// The device's frame header for `comp` (its next sequence number).
-    fn header(&mut self, comp: Comp) -> Option<Header> {
-        let system_id = self.sysid?;
-        let slot = self.seq.get_mut(usize::from(comp == Comp::Camera))?;
-        let sequence = *slot;
-        *slot = slot.wrapping_add(1);
-        Some(Header {
-            sequence,
-            system_id,
-            component_id: comp.id(),
-        })
+    /// COMMAND_ACK from `comp` to the sender of `c` (built from its bytes, so that a
+    /// MAV_CMD value the dialect does not list is answered too).
+    fn ack(&mut self, ctx: &mut Ctx<'_>, comp: Comp, command: u16, result: u8, to: Header) {
+        let [c0, c1] = command.to_le_bytes();
+        let payload = [c0, c1, result, 0, 0, 0, 0, 0, to.system_id, to.component_id];
+        self.ap.send_raw(ctx, comp.id(), id::COMMAND_ACK, &payload);
     }
 
     /// Encodes `msg` from `comp` and queues it for the FC.
     fn send(&mut self, ctx: &mut Ctx<'_>, comp: Comp, msg: &MavMessage) {
-        let Some(header) = self.header(comp) else {
-            return;
-        };
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = mavlink::encode(msg, &header, &mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
-        }
+        self.ap.send(ctx, comp.id(), msg);
     }
 
-    /// COMMAND_ACK from `comp` to the sender of `c` (built from its bytes, so that a
-    /// MAV_CMD value the dialect does not list is answered too).
-    fn ack(&mut self, ctx: &mut Ctx<'_>, comp: Comp, command: u16, result: u8, to: Header) {
-        let Some(header) = self.header(comp) else {
-            return;
-        };
-        let [c0, c1] = command.to_le_bytes();
-        let payload = [c0, c1, result, 0, 0, 0, 0, 0, to.system_id, to.component_id];
-        // MAVLink 2 drops trailing zero bytes (one byte stays).
-        let n = payload
-            .iter()
-            .rposition(|b| *b != 0)
-            .map_or(1, |i| i.saturating_add(1));
-        let message = Message::Raw(Raw {
-            id: id::COMMAND_ACK,
-            payload: payload.get(..n).unwrap_or_default(),
-        });
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = Packet::new(header, message).emit(&mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
-        }
+    /// The aircraft's attitude now, when fresh.
+    fn vehicle(&self, now: Instant) -> Option<Vehicle> {
+        self.ap.vehicle(now)
     }
 
     fn heartbeat(&mut self, ctx: &mut Ctx<'_>, comp: Comp) {
@@ -423,248 +320,38 @@ impl MavlinkSide {
         self.send(ctx, comp, &hb);
     }
 
-    /// The sender is the autopilot.
-    fn is_autopilot(&self, h: Header) -> bool {
-        h.component_id == AUTOPILOT && self.sysid == Some(h.system_id)
-    }
-
     /// A message addressed to `comp` of this device, or broadcast.
     fn addressed(&self, target_system: u8, target_component: u8, comp: Comp) -> bool {
-        (target_system == 0 || self.sysid == Some(target_system))
-            && (target_component == 0 || target_component == comp.id())
+        self.ap
+            .addressed(target_system, target_component, comp.id())
     }
 
     fn message(&mut self, ctx: &mut Ctx<'_>, h: Header, m: MavMessage) {
-        let autopilot = self.is_autopilot(h);
         match m {
-            MavMessage::HEARTBEAT(hb) => self.autopilot_heartbeat(ctx, h, &hb),
-            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => self.set_attitude(ctx, &s),
-            MavMessage::TIMESYNC(t) => self.timesync(ctx, h, &t),
-            MavMessage::SYSTEM_TIME(t) if autopilot => {
-                self.stream_seen(ctx, stream::SYSTEM_TIME);
-                let s = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(ctx.transit);
-                ctx.time.utc_sample(s);
-            }
-            MavMessage::GPS_RAW_INT(g) if autopilot => {
-                self.stream_seen(ctx, stream::GPS_RAW_INT);
-                self.gps_raw(ctx, &g);
-            }
-            MavMessage::GLOBAL_POSITION_INT(p) if autopilot => {
-                self.stream_seen(ctx, stream::GLOBAL_POSITION_INT);
-                self.position(ctx, &p);
-            }
-            MavMessage::ATTITUDE(a) if autopilot => {
-                self.stream_seen(ctx, stream::ATTITUDE);
-                let c = |r: f32| math::cdeg(r).unwrap_or(0);
-                let yaw_rate = math::cdeg(a.yawspeed);
-                self.vehicle_attitude(ctx, [c(a.roll), c(a.pitch), c(a.yaw)], yaw_rate);
-            }
-            MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(s) if autopilot => {
-                if let Some(e) = math::euler(s.q) {
-                    let e = e.map(|r| math::cdeg(r).unwrap_or(0));
-                    let rate = math::cdeg(s.angular_velocity_z);
-                    self.vehicle_attitude(ctx, e, rate);
+            MavMessage::HEARTBEAT(hb) => match self.ap.heartbeat(ctx, h, &hb) {
+                // Introduce both components now.
+                Some(true) => {
+                    self.next_heartbeat = ctx.now;
+                    self.next_status = ctx.now;
                 }
-            }
-            _ => ctx.ignored(),
+                Some(false) => {}
+                None => ctx.ignored(),
+            },
+            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => self.set_attitude(ctx, &s),
+            m => match self.ap.message(ctx, h, &m) {
+                Took::No => ctx.ignored(),
+                Took::Yes => {}
+                // A photo waiting for the fix after its instant has it now.
+                Took::Fix => self.finish_shots(ctx),
+            },
         }
-    }
-
-    /// The autopilot's HEARTBEAT gives the device its system id. GCS, gimbal and camera
-    /// heartbeats (routed onto this link) do not.
-    fn autopilot_heartbeat(&mut self, ctx: &mut Ctx<'_>, h: Header, hb: &HEARTBEAT_DATA) {
-        let autopilot = h.component_id == AUTOPILOT
-            && hb.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
-            && !matches!(
-                hb.mavtype,
-                MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_GIMBAL | MavType::MAV_TYPE_CAMERA
-            );
-        if !autopilot {
-            ctx.ignored();
-            return;
-        }
-        if self.sysid != Some(h.system_id) {
-            self.sysid = Some(h.system_id);
-            // Introduce both components now, and ask for the streams.
-            self.next_heartbeat = ctx.now;
-            self.next_status = ctx.now;
-            for s in &mut self.streams {
-                s.tries = 0;
-                s.next_try = ctx.now;
-            }
-        }
-    }
-
-    fn stream_seen(&mut self, ctx: &Ctx<'_>, id: u8) {
-        if let Some(s) = self.streams.iter_mut().find(|s| s.id == id) {
-            s.last = Some(ctx.now);
-            s.tries = 0;
-        }
-    }
-
-    /// When `s` is next asked for (stale: at its retry instant).
-    fn stream_due(s: &Stream) -> Instant {
-        match s.last {
-            Some(last) => s.next_try.max(last.saturating_add(STREAM_STALE)),
-            None => s.next_try,
-        }
-    }
-
-    /// MAV_CMD_SET_MESSAGE_INTERVAL to the autopilot for every stream that is not coming.
-    fn request_streams(&mut self, ctx: &mut Ctx<'_>) {
-        for i in 0..self.streams.len() {
-            let Some(s) = self.streams.get(i).copied() else {
-                continue;
-            };
-            if ctx.now < Self::stream_due(&s) {
-                continue;
-            }
-            let wait = if s.tries < STREAM_QUICK_TRIES {
-                Duration::from_secs(1)
-            } else {
-                STREAM_BACKOFF
-            };
-            if let Some(slot) = self.streams.get_mut(i) {
-                slot.tries = slot.tries.saturating_add(1);
-                slot.next_try = ctx.now.saturating_add(wait);
-            }
-            self.command_autopilot(
-                ctx,
-                cmd::SET_MESSAGE_INTERVAL,
-                [id_f32(u32::from(s.id)), id_f32(s.interval_us)],
-                s.tries,
-            );
-        }
-    }
-
-    /// A COMMAND_LONG from the gimbal component to the autopilot.
-    fn command_autopilot(&mut self, ctx: &mut Ctx<'_>, command: u16, p: [f32; 2], tries: u8) {
-        let Some(sysid) = self.sysid else {
-            return;
-        };
-        let Some(header) = self.header(Comp::Gimbal) else {
-            return;
-        };
-        // COMMAND_LONG: param1..7, command, target system and component, confirmation.
-        let mut payload = [0u8; 33];
-        for (d, s) in payload
-            .iter_mut()
-            .zip(p[0].to_le_bytes().into_iter().chain(p[1].to_le_bytes()))
-        {
-            *d = s;
-        }
-        let [c0, c1] = command.to_le_bytes();
-        for (d, s) in payload
-            .iter_mut()
-            .skip(28)
-            .zip([c0, c1, sysid, AUTOPILOT, tries])
-        {
-            *d = s;
-        }
-        let n = payload
-            .iter()
-            .rposition(|b| *b != 0)
-            .map_or(1, |i| i.saturating_add(1));
-        let message = Message::Raw(Raw {
-            id: 76,
-            payload: payload.get(..n).unwrap_or_default(),
-        });
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = Packet::new(header, message).emit(&mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
-        }
-    }
-
-    fn gps_raw(&mut self, ctx: &Ctx<'_>, g: &GPS_RAW_INT_DATA) {
-        let fixed = matches!(
-            g.fix_type,
-            GpsFixType::GPS_FIX_TYPE_3D_FIX
-                | GpsFixType::GPS_FIX_TYPE_DGPS
-                | GpsFixType::GPS_FIX_TYPE_RTK_FLOAT
-                | GpsFixType::GPS_FIX_TYPE_RTK_FIXED
-                | GpsFixType::GPS_FIX_TYPE_STATIC
-                | GpsFixType::GPS_FIX_TYPE_PPP
-        );
-        self.gps_fix_at = if fixed { Some(ctx.now) } else { None };
-    }
-
-    /// The aircraft's attitude now, when fresh.
-    fn vehicle(&self, now: Instant) -> Option<Vehicle> {
-        self.vehicle
-            .filter(|v| now.saturating_duration_since(v.at) <= VEHICLE_FRESH)
-    }
-
-    fn vehicle_attitude(&mut self, ctx: &Ctx<'_>, [roll, pitch, yaw]: [i32; 3], rate: Option<i32>) {
-        self.vehicle = Some(Vehicle {
-            roll,
-            pitch,
-            yaw: math::wrap_cdeg(yaw),
-            yaw_rate: rate,
-            at: ctx.now.saturating_sub(ctx.transit),
-        });
-    }
-
-    /// A GLOBAL_POSITION_INT becomes a fix while the GPS has a 3D fix.
-    fn position(&mut self, ctx: &mut Ctx<'_>, p: &mavlink::dialect::GLOBAL_POSITION_INT_DATA) {
-        let fixed = self
-            .gps_fix_at
-            .is_some_and(|t| ctx.now.saturating_duration_since(t) <= GPS_FRESH);
-        if !fixed {
-            return;
-        }
-        let attitude = self.vehicle(ctx.now).map(|v| [v.roll, v.pitch, v.yaw]);
-        let [roll, pitch, yaw] = attitude.unwrap_or_else(|| {
-            // The heading only (UINT16_MAX: unknown).
-            let hdg = if p.hdg == u16::MAX {
-                0
-            } else {
-                math::wrap_cdeg(i32::from(p.hdg))
-            };
-            [0, 0, hdg]
-        });
-        let dm = |mm: i32| clamp_i16(mm / 100);
-        ctx.fixes.push(Fix {
-            at: ctx.now.saturating_sub(ctx.transit),
-            lat_e7: p.lat,
-            lon_e7: p.lon,
-            alt_msl_dm: dm(p.alt),
-            rel_alt_dm: dm(p.relative_alt),
-            yaw_cdeg: clamp_i16(yaw),
-            roll_cdeg: clamp_i16(roll),
-            pitch_cdeg: clamp_i16(pitch),
-            velocity: Some(Velocity::from_cm_s(
-                i32::from(p.vx),
-                i32::from(p.vy),
-                i32::from(p.vz),
-            )),
-        });
-        // A photo waiting for the fix after its instant has it now.
-        self.finish_shots(ctx);
-    }
-
-    /// Answers a TIMESYNC request (tc1 = 0) with the bridge's clock in ns.
-    fn timesync(&mut self, ctx: &mut Ctx<'_>, h: Header, t: &TIMESYNC_DATA) {
-        if t.tc1 != 0 || !self.addressed(t.target_system, t.target_component, Comp::Gimbal) {
-            ctx.ignored();
-            return;
-        }
-        let now_ns = i64::try_from(ctx.now.as_micros())
-            .unwrap_or(i64::MAX)
-            .saturating_mul(1000);
-        let reply = MavMessage::TIMESYNC(TIMESYNC_DATA {
-            tc1: now_ns.max(1),
-            ts1: t.ts1,
-            target_system: h.system_id,
-            target_component: h.component_id,
-        });
-        self.send(ctx, Comp::Gimbal, &reply);
     }
 
     /// A command from COMMAND_LONG or COMMAND_INT (see the module documentation).
     fn command(&mut self, ctx: &mut Ctx<'_>, c: &Cmd) {
-        let system = c.target_system == 0 || self.sysid == Some(c.target_system);
+        let system = c.target_system == 0 || self.ap.sysid == Some(c.target_system);
         let to = Comp::of(c.target_component);
-        if !system || (to.is_none() && c.target_component != 0) || self.sysid.is_none() {
+        if !system || (to.is_none() && c.target_component != 0) || self.ap.sysid.is_none() {
             // Someone else's.
             ctx.ignored();
             return;
@@ -745,12 +432,6 @@ impl MavlinkSide {
                     ctx.now.saturating_duration_since(t) >= Duration::from_secs(1)
                 }))
     }
-}
-
-/// A message id or interval as a command parameter.
-#[allow(clippy::cast_precision_loss)] // ids and intervals below 2^24 are exact
-fn id_f32(v: u32) -> f32 {
-    v as f32
 }
 
 /// A message id from a command parameter (a whole, non-negative number).

@@ -1,0 +1,622 @@
+//! What a MAVLink device learns from the autopilot on its link, shared by the MAVLink FC
+//! side and the telemetry link: the autopilot's identity, the streams asked of it, the
+//! aircraft's attitude and position, and time (`shared/MAVLINK-TRAFFIC.md` §6, §7).
+//!
+//! # Time: TIMESYNC and SYSTEM_TIME
+//! The bridge learns the autopilot's boot clock against its own with TIMESYNC, and UTC
+//! against the boot clock from SYSTEM_TIME; UTC = local → boot → UTC.
+//!
+//! - **Requests.** Once the autopilot is known, a TIMESYNC request (tc1 = 0, ts1 = the
+//!   bridge's clock in ns, the autopilot as target) goes out every 150..350 ms (dithered,
+//!   so that its arrival does not lock to the autopilot's loop). One is outstanding at a
+//!   time; a reply is matched on its ts1 (ArduPilot forwards other systems' TIMESYNC
+//!   onto the link, §8.10) and taken within [`TIMESYNC_MAX_RTT`].
+//! - **Where the autopilot read tc1.** ArduPilot stamps tc1 with its UART's estimate of
+//!   when the request *started* arriving (`receive_time_constraint_us(len)`: never
+//!   before the start); PX4 when its receive thread parses it, after its end. Either way
+//!   `tc1 + (ArduPilot: the request's serial time)` was read no later than the reply's
+//!   first byte left, so the reply is an ordinary FC clock sample: the boot clock at the
+//!   reply's first byte is at least that value, late by the autopilot's loop latency
+//!   (ArduPilot answers in its next loop, 2.5 ms at 400 Hz). The discipline's
+//!   minimum-delay filter keeps the least-delayed replies: the low-round-trip samples are
+//!   the ones that count. An autopilot other than ArduPilot is taken as stamping after
+//!   the end (the safe reading: a value read at the start only looks later).
+//! - **SYSTEM_TIME.** Both fields are read from one clock in one call: `d =
+//!   time_unix_usec − 1000·time_boot_ms` is the UTC − boot shift plus the sub-millisecond
+//!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift
+//!   (the discipline's `system_time`); the transport delay cancels. `time_unix_usec` 0
+//!   (ArduPilot before its clock is set) is no time; a `d` that steps makes UTC invalid
+//!   until the new shift is confirmed.
+//! - **No TIMESYNC.** If the autopilot answers none within [`TIMESYNC_GRACE`] of its
+//!   first SYSTEM_TIME, SYSTEM_TIME is used alone as a direct UTC sample, timed from the
+//!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
+//!   TIMESYNC path.
+
+use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::fixes::{Fix, Velocity};
+use crate::bridge::time::{Duration, Instant};
+use crate::mavlink::dialect::{
+    GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavType,
+    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+};
+use crate::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
+
+use super::super::{Ctx, clamp_i16};
+use super::math;
+
+/// The autopilot's component id.
+pub(super) const AUTOPILOT: u8 = 1;
+/// A stream not received for this long is asked for again.
+const STREAM_STALE: Duration = Duration::from_secs(3);
+/// Tries of SET_MESSAGE_INTERVAL a second apart before slowing to one every
+/// [`STREAM_BACKOFF`].
+const STREAM_QUICK_TRIES: u8 = 5;
+/// Retry period after the quick tries.
+const STREAM_BACKOFF: Duration = Duration::from_secs(10);
+/// The aircraft's attitude older than this is not used.
+const VEHICLE_FRESH: Duration = Duration::from_secs(1);
+/// A GPS_RAW_INT 3D fix older than this does not make positions fixes.
+const GPS_FRESH: Duration = Duration::from_secs(3);
+/// The autopilot is gone after this long without its HEARTBEAT (1 Hz).
+const AUTOPILOT_GONE: Duration = Duration::from_secs(3);
+/// A TIMESYNC reply later than this after its request is not used.
+pub(crate) const TIMESYNC_MAX_RTT: Duration = Duration::from_millis(200);
+/// Least and greatest time between TIMESYNC requests (dithered between them).
+const TIMESYNC_MIN_PERIOD_MS: u32 = 150;
+const TIMESYNC_SPREAD_MS: u32 = 200;
+/// SYSTEM_TIME is used alone when no TIMESYNC reply came this long after the first.
+pub(crate) const TIMESYNC_GRACE: Duration = Duration::from_secs(5);
+
+/// MAV_CMD_SET_MESSAGE_INTERVAL.
+pub(super) const SET_MESSAGE_INTERVAL: u16 = 511;
+
+/// The streams the device asks the autopilot for (message ids).
+pub(super) mod stream {
+    pub(in super::super) const SYSTEM_TIME: u8 = 2;
+    pub(in super::super) const GPS_RAW_INT: u8 = 24;
+    pub(in super::super) const ATTITUDE: u8 = 30;
+    pub(in super::super) const GLOBAL_POSITION_INT: u8 = 33;
+}
+
+/// A stream the device asks the autopilot for.
+#[derive(Debug, Clone, Copy)]
+struct Stream {
+    /// The message id (all below 256).
+    id: u8,
+    interval_us: u32,
+    /// The last one received.
+    last: Option<Instant>,
+    /// Requests since it was last received.
+    tries: u8,
+    /// When it may be asked for again.
+    next_try: Instant,
+}
+
+impl Stream {
+    const fn new(id: u8, interval_us: u32) -> Self {
+        Stream {
+            id,
+            interval_us,
+            last: None,
+            tries: 0,
+            next_try: Instant::ZERO,
+        }
+    }
+
+    /// When it is next asked for (stale: at its retry instant).
+    fn due(&self) -> Instant {
+        match self.last {
+            Some(last) => self.next_try.max(last.saturating_add(STREAM_STALE)),
+            None => self.next_try,
+        }
+    }
+}
+
+/// The aircraft's attitude, 0.01° (yaw from north) and 0.01°/s.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Vehicle {
+    pub(super) roll: i32,
+    pub(super) pitch: i32,
+    pub(super) yaw: i32,
+    /// Earth-frame yaw rate, when known.
+    pub(super) yaw_rate: Option<i32>,
+    pub(super) at: Instant,
+}
+
+/// The outstanding TIMESYNC request.
+#[derive(Debug, Clone, Copy)]
+struct Request {
+    ts1: i64,
+    sent: Instant,
+    /// Its length on the wire, bytes.
+    len: u32,
+}
+
+/// The TIMESYNC requester.
+#[derive(Debug, Clone, Copy)]
+struct Timesync {
+    next: Instant,
+    outstanding: Option<Request>,
+    /// A reply was matched since the autopilot was learnt.
+    answered: bool,
+    /// Dither state (xorshift32).
+    rng: u32,
+}
+
+/// What [`Autopilot::message`] did with a message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Took {
+    /// Not one of the autopilot's messages the link reads.
+    No,
+    /// Read.
+    Yes,
+    /// Read, and a fix went into the history.
+    Fix,
+}
+
+/// The autopilot on a MAVLink link, as a device (component `own`) sees it.
+#[derive(Debug, Clone)]
+pub(super) struct Autopilot {
+    /// The autopilot's system id, the device's own (from the autopilot's HEARTBEAT).
+    pub(super) sysid: Option<u8>,
+    /// The autopilot is ArduPilot (its TIMESYNC tc1 marks a request's start).
+    ardupilot: bool,
+    /// The device's component that talks to the autopilot.
+    own: u8,
+    /// Next sequence number of frames from `own` and from a second component (camera).
+    seq: [u8; 2],
+    heard: Option<Instant>,
+    streams: [Stream; 4],
+    vehicle: Option<Vehicle>,
+    /// The last GPS_RAW_INT with a 3D fix.
+    gps_fix_at: Option<Instant>,
+    /// The first SYSTEM_TIME with a set clock since the autopilot was learnt.
+    first_time: Option<Instant>,
+    sync: Timesync,
+}
+
+impl Autopilot {
+    pub(super) const fn new(own: u8) -> Self {
+        Autopilot {
+            sysid: None,
+            ardupilot: false,
+            own,
+            seq: [0; 2],
+            heard: None,
+            streams: [
+                Stream::new(stream::SYSTEM_TIME, 100_000),
+                Stream::new(stream::GLOBAL_POSITION_INT, 100_000),
+                Stream::new(stream::ATTITUDE, 100_000),
+                Stream::new(stream::GPS_RAW_INT, 500_000),
+            ],
+            vehicle: None,
+            gps_fix_at: None,
+            first_time: None,
+            sync: Timesync {
+                next: Instant::ZERO,
+                outstanding: None,
+                answered: false,
+                rng: 0x9E37_79B9,
+            },
+        }
+    }
+
+    /// The device's frame header for component `comp` (its next sequence number).
+    pub(super) fn header(&mut self, comp: u8) -> Option<Header> {
+        let system_id = self.sysid?;
+        let slot = self.seq.get_mut(usize::from(comp != self.own))?;
+        let sequence = *slot;
+        *slot = slot.wrapping_add(1);
+        Some(Header {
+            sequence,
+            system_id,
+            component_id: comp,
+        })
+    }
+
+    /// Encodes `msg` from component `comp` and queues it on the link.
+    pub(super) fn send(&mut self, ctx: &mut Ctx<'_>, comp: u8, msg: &MavMessage) {
+        let Some(header) = self.header(comp) else {
+            return;
+        };
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        if let Ok(n) = mavlink::encode(msg, &header, &mut buf) {
+            ctx.reply(buf.get(..n).unwrap_or_default());
+        }
+    }
+
+    /// Queues a message from component `comp` given as its id and payload (trailing
+    /// zeros are trimmed, as MAVLink 2 sends them).
+    pub(super) fn send_raw(&mut self, ctx: &mut Ctx<'_>, comp: u8, id: u32, payload: &[u8]) {
+        let Some(header) = self.header(comp) else {
+            return;
+        };
+        let n = payload
+            .iter()
+            .rposition(|b| *b != 0)
+            .map_or(1, |i| i.saturating_add(1));
+        let message = Message::Raw(Raw {
+            id,
+            payload: payload.get(..n).unwrap_or_default(),
+        });
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        if let Ok(n) = Packet::new(header, message).emit(&mut buf) {
+            ctx.reply(buf.get(..n).unwrap_or_default());
+        }
+    }
+
+    /// The sender is the autopilot.
+    pub(super) fn is_autopilot(&self, h: Header) -> bool {
+        h.component_id == AUTOPILOT && self.sysid == Some(h.system_id)
+    }
+
+    /// A message addressed to component `comp` of this device, or broadcast.
+    pub(super) fn addressed(&self, target_system: u8, target_component: u8, comp: u8) -> bool {
+        (target_system == 0 || self.sysid == Some(target_system))
+            && (target_component == 0 || target_component == comp)
+    }
+
+    /// The autopilot is heard (its HEARTBEAT within the last 3 s).
+    pub(super) fn is_heard(&self, now: Instant) -> bool {
+        self.heard
+            .is_some_and(|t| now.saturating_duration_since(t) <= AUTOPILOT_GONE)
+    }
+
+    /// The autopilot gives time: heard, with its SYSTEM_TIME stream coming.
+    pub(super) fn gives_time(&self, now: Instant) -> bool {
+        self.is_heard(now)
+            && self
+                .streams
+                .first()
+                .and_then(|s| s.last)
+                .is_some_and(|t| now.saturating_duration_since(t) <= STREAM_STALE)
+    }
+
+    /// A HEARTBEAT: from an autopilot, it gives the device its system id (GCS, gimbal
+    /// and camera heartbeats, routed onto the link, do not). Returns `Some(true)` when
+    /// the autopilot is new (the device introduces itself), `None` when it is not an
+    /// autopilot's.
+    pub(super) fn heartbeat(
+        &mut self,
+        ctx: &Ctx<'_>,
+        h: Header,
+        hb: &HEARTBEAT_DATA,
+    ) -> Option<bool> {
+        let autopilot = h.component_id == AUTOPILOT
+            && hb.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
+            && !matches!(
+                hb.mavtype,
+                MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_GIMBAL | MavType::MAV_TYPE_CAMERA
+            );
+        if !autopilot {
+            return None;
+        }
+        self.heard = Some(ctx.now);
+        self.ardupilot = hb.autopilot == MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
+        if self.sysid == Some(h.system_id) {
+            return Some(false);
+        }
+        self.sysid = Some(h.system_id);
+        // Ask for the streams and start TIMESYNC now.
+        for s in &mut self.streams {
+            s.tries = 0;
+            s.next_try = ctx.now;
+        }
+        self.first_time = None;
+        self.sync.next = ctx.now;
+        self.sync.outstanding = None;
+        self.sync.answered = false;
+        Some(true)
+    }
+
+    /// One of the autopilot's messages the link reads (time, position, attitude,
+    /// TIMESYNC); see [`Took`].
+    pub(super) fn message(&mut self, ctx: &mut Ctx<'_>, h: Header, m: &MavMessage) -> Took {
+        let autopilot = self.is_autopilot(h);
+        match m {
+            MavMessage::TIMESYNC(t) => self.timesync(ctx, h, t),
+            MavMessage::SYSTEM_TIME(t) if autopilot => {
+                self.stream_seen(ctx, stream::SYSTEM_TIME);
+                self.system_time(ctx, t);
+                Took::Yes
+            }
+            MavMessage::GPS_RAW_INT(g) if autopilot => {
+                self.stream_seen(ctx, stream::GPS_RAW_INT);
+                self.gps_raw(ctx, g);
+                Took::Yes
+            }
+            MavMessage::GLOBAL_POSITION_INT(p) if autopilot => {
+                self.stream_seen(ctx, stream::GLOBAL_POSITION_INT);
+                if self.position(ctx, p) {
+                    Took::Fix
+                } else {
+                    Took::Yes
+                }
+            }
+            MavMessage::ATTITUDE(a) if autopilot => {
+                self.stream_seen(ctx, stream::ATTITUDE);
+                let c = |r: f32| math::cdeg(r).unwrap_or(0);
+                let yaw_rate = math::cdeg(a.yawspeed);
+                self.vehicle_attitude(ctx, [c(a.roll), c(a.pitch), c(a.yaw)], yaw_rate);
+                Took::Yes
+            }
+            MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(s) if autopilot => {
+                if let Some(e) = math::euler(s.q) {
+                    let e = e.map(|r| math::cdeg(r).unwrap_or(0));
+                    let rate = math::cdeg(s.angular_velocity_z);
+                    self.vehicle_attitude(ctx, e, rate);
+                }
+                Took::Yes
+            }
+            _ => Took::No,
+        }
+    }
+
+    /// Periodic work: stream requests, TIMESYNC requests.
+    pub(super) fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if self.sysid.is_none() {
+            return;
+        }
+        self.request_streams(ctx);
+        if ctx.now >= self.sync.next {
+            self.request_timesync(ctx);
+        }
+    }
+
+    /// When [`Autopilot::poll`] has work.
+    pub(super) fn poll_at(&self) -> Option<Instant> {
+        self.sysid?;
+        let streams = self.streams.iter().map(Stream::due);
+        let heard = self.heard.map(|t| t.saturating_add(AUTOPILOT_GONE));
+        streams.chain([self.sync.next]).chain(heard).min()
+    }
+
+    /// The aircraft's attitude now, when fresh.
+    pub(super) fn vehicle(&self, now: Instant) -> Option<Vehicle> {
+        self.vehicle
+            .filter(|v| now.saturating_duration_since(v.at) <= VEHICLE_FRESH)
+    }
+
+    fn stream_seen(&mut self, ctx: &Ctx<'_>, id: u8) {
+        if let Some(s) = self.streams.iter_mut().find(|s| s.id == id) {
+            s.last = Some(ctx.now);
+            s.tries = 0;
+        }
+    }
+
+    /// MAV_CMD_SET_MESSAGE_INTERVAL to the autopilot for every stream that is not
+    /// coming: once a second for the first tries, then every 10 s.
+    fn request_streams(&mut self, ctx: &mut Ctx<'_>) {
+        for i in 0..self.streams.len() {
+            let Some(s) = self.streams.get(i).copied() else {
+                continue;
+            };
+            if ctx.now < s.due() {
+                continue;
+            }
+            let wait = if s.tries < STREAM_QUICK_TRIES {
+                Duration::from_secs(1)
+            } else {
+                STREAM_BACKOFF
+            };
+            if let Some(slot) = self.streams.get_mut(i) {
+                slot.tries = slot.tries.saturating_add(1);
+                slot.next_try = ctx.now.saturating_add(wait);
+            }
+            self.command_autopilot(
+                ctx,
+                SET_MESSAGE_INTERVAL,
+                [id_f32(u32::from(s.id)), id_f32(s.interval_us)],
+                s.tries,
+            );
+        }
+    }
+
+    /// A COMMAND_LONG from the device's component to the autopilot.
+    fn command_autopilot(&mut self, ctx: &mut Ctx<'_>, command: u16, p: [f32; 2], tries: u8) {
+        let Some(sysid) = self.sysid else {
+            return;
+        };
+        // COMMAND_LONG: param1..7, command, target system and component, confirmation.
+        let mut payload = [0u8; 33];
+        for (d, s) in payload
+            .iter_mut()
+            .zip(p[0].to_le_bytes().into_iter().chain(p[1].to_le_bytes()))
+        {
+            *d = s;
+        }
+        let [c0, c1] = command.to_le_bytes();
+        for (d, s) in payload
+            .iter_mut()
+            .skip(28)
+            .zip([c0, c1, sysid, AUTOPILOT, tries])
+        {
+            *d = s;
+        }
+        let own = self.own;
+        self.send_raw(ctx, own, 76, &payload);
+    }
+
+    /// The bridge's clock in ns (TIMESYNC).
+    fn now_ns(now: Instant) -> i64 {
+        i64::try_from(now.as_micros())
+            .unwrap_or(i64::MAX)
+            .saturating_mul(1000)
+    }
+
+    /// Sends the next TIMESYNC request and plans the one after (dithered).
+    fn request_timesync(&mut self, ctx: &mut Ctx<'_>) {
+        let Some(sysid) = self.sysid else {
+            return;
+        };
+        let mut r = self.sync.rng;
+        r ^= r << 13;
+        r ^= r >> 17;
+        r ^= r << 5;
+        self.sync.rng = r;
+        let wait = TIMESYNC_MIN_PERIOD_MS.saturating_add(r % TIMESYNC_SPREAD_MS);
+        self.sync.next = ctx
+            .now
+            .saturating_add(Duration::from_millis(u64::from(wait)));
+        let ts1 = Self::now_ns(ctx.now).max(1);
+        let msg = MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1,
+            target_system: sysid,
+            target_component: AUTOPILOT,
+        });
+        let Some(header) = self.header(self.own) else {
+            return;
+        };
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        if let Ok(n) = mavlink::encode(&msg, &header, &mut buf)
+            && ctx.reply(buf.get(..n).unwrap_or_default())
+        {
+            self.sync.outstanding = Some(Request {
+                ts1,
+                sent: ctx.now,
+                len: u32::try_from(n).unwrap_or(u32::MAX),
+            });
+        }
+    }
+
+    /// A TIMESYNC: a request (tc1 = 0: the autopilot's every 10 s, or another
+    /// system's routed here) is answered with the bridge's clock in ns; the reply to the
+    /// outstanding request is an FC clock sample (see the module documentation).
+    fn timesync(&mut self, ctx: &mut Ctx<'_>, h: Header, t: &TIMESYNC_DATA) -> Took {
+        if t.tc1 == 0 {
+            if !self.addressed(t.target_system, t.target_component, self.own) {
+                return Took::No;
+            }
+            let reply = MavMessage::TIMESYNC(TIMESYNC_DATA {
+                tc1: Self::now_ns(ctx.now).max(1),
+                ts1: t.ts1,
+                target_system: h.system_id,
+                target_component: h.component_id,
+            });
+            let own = self.own;
+            self.send(ctx, own, &reply);
+            return Took::Yes;
+        }
+        let Some(req) = self.sync.outstanding.filter(|r| r.ts1 == t.ts1) else {
+            return Took::No;
+        };
+        if !self.is_autopilot(h) {
+            return Took::No;
+        }
+        self.sync.outstanding = None;
+        if ctx.now.saturating_duration_since(req.sent) > TIMESYNC_MAX_RTT {
+            return Took::Yes;
+        }
+        let Ok(tc1_us) = u64::try_from(t.tc1 / 1000) else {
+            return Took::Yes;
+        };
+        // ArduPilot's tc1 is the request's start: its end was read that much later.
+        let read = if self.ardupilot {
+            serial_time(req.len, ctx.baud).as_micros()
+        } else {
+            0
+        };
+        if !self.sync.answered {
+            self.sync.answered = true;
+            if self
+                .first_time
+                .is_some_and(|t0| ctx.now.saturating_duration_since(t0) > TIMESYNC_GRACE)
+                && ctx.feeds
+            {
+                // SYSTEM_TIME was used alone: the TIMESYNC path replaces it.
+                ctx.time.switch_source();
+            }
+        }
+        if ctx.feeds {
+            let s = Sample::new(ctx.now, tc1_us.saturating_add(read), 1).with_transit(ctx.transit);
+            ctx.time.fc_clock_sample(s);
+        }
+        Took::Yes
+    }
+
+    /// SYSTEM_TIME: the boot clock against UTC (or, without TIMESYNC, a UTC sample).
+    fn system_time(&mut self, ctx: &mut Ctx<'_>, t: &SYSTEM_TIME_DATA) {
+        if t.time_unix_usec == 0 {
+            return;
+        }
+        let first = *self.first_time.get_or_insert(ctx.now);
+        if !ctx.feeds {
+            return;
+        }
+        if self.sync.answered {
+            ctx.time
+                .system_time(ctx.now, t.time_unix_usec, t.time_boot_ms);
+        } else if ctx.now.saturating_duration_since(first) > TIMESYNC_GRACE {
+            let s = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(ctx.transit);
+            ctx.time.utc_sample(s);
+        }
+    }
+
+    fn gps_raw(&mut self, ctx: &Ctx<'_>, g: &GPS_RAW_INT_DATA) {
+        let fixed = matches!(
+            g.fix_type,
+            GpsFixType::GPS_FIX_TYPE_3D_FIX
+                | GpsFixType::GPS_FIX_TYPE_DGPS
+                | GpsFixType::GPS_FIX_TYPE_RTK_FLOAT
+                | GpsFixType::GPS_FIX_TYPE_RTK_FIXED
+                | GpsFixType::GPS_FIX_TYPE_STATIC
+                | GpsFixType::GPS_FIX_TYPE_PPP
+        );
+        self.gps_fix_at = if fixed { Some(ctx.now) } else { None };
+    }
+
+    fn vehicle_attitude(&mut self, ctx: &Ctx<'_>, [roll, pitch, yaw]: [i32; 3], rate: Option<i32>) {
+        self.vehicle = Some(Vehicle {
+            roll,
+            pitch,
+            yaw: math::wrap_cdeg(yaw),
+            yaw_rate: rate,
+            at: ctx.now.saturating_sub(ctx.transit),
+        });
+    }
+
+    /// A GLOBAL_POSITION_INT becomes a fix while the GPS has a 3D fix (ArduPilot sends
+    /// positions without one) and this link feeds the history. Returns true when it did.
+    fn position(&mut self, ctx: &mut Ctx<'_>, p: &GLOBAL_POSITION_INT_DATA) -> bool {
+        let fixed = self
+            .gps_fix_at
+            .is_some_and(|t| ctx.now.saturating_duration_since(t) <= GPS_FRESH);
+        if !fixed || !ctx.feeds {
+            return false;
+        }
+        let attitude = self.vehicle(ctx.now).map(|v| [v.roll, v.pitch, v.yaw]);
+        let [roll, pitch, yaw] = attitude.unwrap_or_else(|| {
+            // The heading only (UINT16_MAX: unknown).
+            let hdg = if p.hdg == u16::MAX {
+                0
+            } else {
+                math::wrap_cdeg(i32::from(p.hdg))
+            };
+            [0, 0, hdg]
+        });
+        let dm = |mm: i32| clamp_i16(mm / 100);
+        ctx.fixes.push(Fix {
+            at: ctx.now.saturating_sub(ctx.transit),
+            lat_e7: p.lat,
+            lon_e7: p.lon,
+            alt_msl_dm: dm(p.alt),
+            rel_alt_dm: dm(p.relative_alt),
+            yaw_cdeg: clamp_i16(yaw),
+            roll_cdeg: clamp_i16(roll),
+            pitch_cdeg: clamp_i16(pitch),
+            velocity: Some(Velocity::from_cm_s(
+                i32::from(p.vx),
+                i32::from(p.vy),
+                i32::from(p.vz),
+            )),
+        });
+        true
+    }
+}
+
+/// A message id or interval as a command parameter.
+#[allow(clippy::cast_precision_loss)] // ids and intervals below 2^24 are exact
+pub(super) fn id_f32(v: u32) -> f32 {
+    v as f32
+}

@@ -1,0 +1,104 @@
+//! The telemetry link: a MAVLink 2 port of the autopilot (ArduPilot `SERIALn_PROTOCOL`
+//! 2, PX4 `MAV_n_CONFIG`) beside a SIYI, Viewlink, GCU or K40T FC link.
+//!
+//! The bridge is a peripheral there (component 158, MAV_COMP_ID_PERIPHERAL; HEARTBEAT
+//! type GENERIC, autopilot INVALID, at 1 Hz once the autopilot is heard, with its system
+//! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
+//! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
+//! It serves no commands: commands for it are left alone (they are not its business; a
+//! ground station's broadcast reaches every component).
+//!
+//! While the autopilot gives time on it ([`TelemetrySide::gives_time`]: heard within
+//! 3 s, its SYSTEM_TIME stream coming), the engine takes UTC and fixes from this link
+//! and not from the FC link's protocol (`Ctx::feeds`).
+
+use crate::bridge::time::{Duration, Instant};
+use crate::mavlink::dialect::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
+use crate::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message, Packet};
+
+use super::super::{Ctx, FcHandler, TimedFrom};
+use super::autopilot::{Autopilot, Took};
+
+/// MAV_COMP_ID_PERIPHERAL: the bridge's component on the telemetry link.
+pub(crate) const TELEMETRY_COMPONENT: u8 = 158;
+/// HEARTBEAT period.
+const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
+
+/// The telemetry link's decisions (its deframer and timing are the `FcLink`'s).
+#[derive(Debug, Clone)]
+pub(crate) struct TelemetrySide {
+    ap: Autopilot,
+    next_heartbeat: Instant,
+}
+
+impl TelemetrySide {
+    pub(crate) const fn new() -> Self {
+        TelemetrySide {
+            ap: Autopilot::new(TELEMETRY_COMPONENT),
+            next_heartbeat: Instant::ZERO,
+        }
+    }
+
+    /// The autopilot gives time on this link: it is the source of UTC and fixes.
+    pub(crate) fn gives_time(&self, now: Instant) -> bool {
+        self.ap.gives_time(now)
+    }
+
+    fn heartbeat(&mut self, ctx: &mut Ctx<'_>) {
+        let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_GENERIC,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        });
+        self.ap.send(ctx, TELEMETRY_COMPONENT, &hb);
+    }
+}
+
+impl FcHandler for TelemetrySide {
+    type Framing = MavlinkFraming;
+    // An autopilot composes each message when it writes it.
+    const TIMED_FROM: TimedFrom = TimedFrom::Frame;
+
+    fn frame(&mut self, ctx: &mut Ctx<'_>, f: &[u8]) {
+        ctx.seen();
+        let Ok(frame) = Frame::new_checked(f) else {
+            return;
+        };
+        let h = Header {
+            sequence: frame.sequence(),
+            system_id: frame.system_id(),
+            component_id: frame.component_id(),
+        };
+        let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
+            return;
+        };
+        if let MavMessage::HEARTBEAT(hb) = &m {
+            if self.ap.heartbeat(ctx, h, hb) == Some(true) {
+                self.next_heartbeat = ctx.now;
+            }
+            return;
+        }
+        if self.ap.message(ctx, h, &m) == Took::No {
+            ctx.ignored();
+        }
+    }
+
+    fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        if self.ap.sysid.is_none() {
+            return;
+        }
+        if ctx.now >= self.next_heartbeat {
+            self.next_heartbeat = ctx.now.saturating_add(HEARTBEAT_PERIOD);
+            self.heartbeat(ctx);
+        }
+        self.ap.poll(ctx);
+    }
+
+    fn poll_at(&self) -> Option<Instant> {
+        let hb = self.ap.sysid.map(|_| self.next_heartbeat);
+        [hb, self.ap.poll_at()].into_iter().flatten().min()
+    }
+}
