@@ -632,6 +632,7 @@ impl Engine {
 
 impl EngineState {
     /// When the telemetry link has work.
+    #[cfg_attr(not(feature = "mavlink"), allow(clippy::unused_self))]
     fn telemetry_poll_at(&self) -> Option<Instant> {
         #[cfg(feature = "mavlink")]
         {

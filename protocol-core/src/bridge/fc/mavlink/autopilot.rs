@@ -61,9 +61,12 @@ const GPS_FRESH: Duration = Duration::from_secs(3);
 const AUTOPILOT_GONE: Duration = Duration::from_secs(3);
 /// A TIMESYNC reply later than this after its request is not used.
 pub(crate) const TIMESYNC_MAX_RTT: Duration = Duration::from_millis(200);
-/// Least and greatest time between TIMESYNC requests (dithered between them).
-const TIMESYNC_MIN_PERIOD_MS: u32 = 150;
-const TIMESYNC_SPREAD_MS: u32 = 200;
+/// Least time between TIMESYNC requests, µs; a dither of up to [`TIMESYNC_SPREAD_US`]
+/// (in microseconds, so that the requests' phase against the autopilot's loop takes
+/// every value: whole milliseconds would leave a 2.5 ms loop only a few phases, and its
+/// least reply latency up to half a millisecond).
+const TIMESYNC_MIN_PERIOD_US: u32 = 150_000;
+const TIMESYNC_SPREAD_US: u32 = 200_000;
 /// SYSTEM_TIME is used alone when no TIMESYNC reply came this long after the first.
 pub(crate) const TIMESYNC_GRACE: Duration = Duration::from_secs(5);
 
@@ -454,10 +457,10 @@ impl Autopilot {
         r ^= r >> 17;
         r ^= r << 5;
         self.sync.rng = r;
-        let wait = TIMESYNC_MIN_PERIOD_MS.saturating_add(r % TIMESYNC_SPREAD_MS);
+        let wait = TIMESYNC_MIN_PERIOD_US.saturating_add(r % TIMESYNC_SPREAD_US);
         self.sync.next = ctx
             .now
-            .saturating_add(Duration::from_millis(u64::from(wait)));
+            .saturating_add(Duration::from_micros(u64::from(wait)));
         let ts1 = Self::now_ns(ctx.now).max(1);
         let msg = MavMessage::TIMESYNC(TIMESYNC_DATA {
             tc1: 0,
