@@ -2,9 +2,17 @@
 //! MAVLink camera (`CAM1_TYPE` 6, `AP_Camera_MAVLinkCamV2`) on one serial port
 //! (`SERIALn_PROTOCOL` 2), written from `shared/MAVLINK-TRAFFIC.md` §1–§3, §6–§8:
 //!
-//! - **Loop.** A 50 Hz run (the mount update's rate) on the FC's own crystal, a few
-//!   hundred µs late; what one run writes leaves in one burst after a transport jitter.
-//!   HEARTBEAT (type QUADROTOR or FIXED_WING, autopilot ARDUPILOTMEGA) at 1 Hz.
+//! - **Loop.** The main loop runs at `SCHED_LOOP_RATE` ([`ApMavlink::loop_rate_hz`]:
+//!   Copter 400 Hz, Plane 50 Hz), paced by the IMU, whose oscillator is not the FC
+//!   crystal: loop `k` of a boot runs at true time `power-on + k·period/(1 + imu_ppm)`
+//!   ([`ApMavlinkConfig::imu_ppm`]) plus a per-loop lateness uniform in
+//!   `0..loop_jitter_us`, so its phase against the FC's millisecond grid is not locked.
+//!   Each loop: the GCS receive processing handles the bytes the UART delivered so far
+//!   (a frame that arrives is acted on in the next loop, never at arrival), the mount
+//!   and camera updates run every (loop rate / 50)-th loop (50 Hz), and the GCS send
+//!   processing sends what is due (HEARTBEAT, type QUADROTOR or FIXED_WING, autopilot
+//!   ARDUPILOTMEGA, at 1 Hz; the streams). What one loop writes leaves in one burst
+//!   after a transport jitter (`jitter_us`).
 //! - **Streams.** Copter's defaults stream nothing to the port; Plane's 1 Hz
 //!   ([`ApVehicle`]). MAV_CMD_SET_MESSAGE_INTERVAL to this system and component 1 sets
 //!   the port's interval of a message (0 default, −1 stop), DENIED above 0.8 ×
@@ -16,16 +24,16 @@
 //!   system/154 every second until it comes (ACKs not looked at); then enables
 //!   AUTOPILOT_STATE_FOR_GIMBAL_DEVICE at 20 000 µs on the port: refused (a 50 Hz
 //!   interval above 0.8 × the loop rate), the driver never initialises and no
-//!   GIMBAL_DEVICE_SET_ATTITUDE is ever sent (§8.1). Initialised: SET_ATTITUDE every run:
-//!   an angle as a quaternion (rates NaN) with flags 28 for an earth-frame yaw, 0 for a
-//!   vehicle-relative one; a rate with the quaternion NaN (same flag rule; a rate from a
-//!   MAVLink command zeroed after 3 s); retract as flags 1 with the quaternion NaN and
-//!   rates 0; neutral as the angle of `MNT1_NEUTRAL_*` (0, 0, 0). Health: information
-//!   received, an attitude status within 1 s, none of the failure flags 8..128. The
-//!   status's quaternion is read as roll and pitch against the horizon and yaw relative
-//!   to the vehicle whatever its flags; `delta_yaw`, once non-zero, gives the earth
-//!   yaw. [`ApMavlinkConfig::old_gremsy`]: the older driver, which takes a status only
-//!   when its `time_boot_ms` changed.
+//!   GIMBAL_DEVICE_SET_ATTITUDE is ever sent (§8.1). Initialised: SET_ATTITUDE every
+//!   mount update: an angle as a quaternion (rates NaN) with flags 28 for an earth-frame
+//!   yaw, 0 for a vehicle-relative one; a rate with the quaternion NaN (same flag rule;
+//!   a rate from a MAVLink command zeroed after 3 s); retract as flags 1 with the
+//!   quaternion NaN and rates 0; neutral as the angle of `MNT1_NEUTRAL_*` (0, 0, 0).
+//!   Health: information received, an attitude status within 1 s, none of the failure
+//!   flags 8..128. The status's quaternion is read as roll and pitch against the
+//!   horizon and yaw relative to the vehicle whatever its flags; `delta_yaw`, once
+//!   non-zero, gives the earth yaw. [`ApMavlinkConfig::old_gremsy`]: the older driver,
+//!   which takes a status only when its `time_boot_ms` changed.
 //! - **Camera.** Looks for a HEARTBEAT of type 30 from component 100 in the same window;
 //!   REQUEST_MESSAGE(CAMERA_INFORMATION) to it every second until it comes; its flags
 //!   gate what the driver sends (photo CAPTURE_IMAGE, video CAPTURE_VIDEO, zoom
@@ -36,7 +44,20 @@
 //!   [`ApMavlinkConfig::capture_status_requests`] (newest source): CAMERA_CAPTURE_STATUS
 //!   asked at 1 Hz, every 10 s after three misses.
 //! - **TIMESYNC** request every 10 s (tc1 0, ts1 boot ns + sysid); replies with that ts1
-//!   are recorded.
+//!   are recorded. A request from the device (tc1 0, target 0 or this system and 0 or
+//!   component 1) is answered in the loop that reads it, in that loop's burst, on this
+//!   port: ts1 echoed, no target fields, tc1 = boot µs × 1000 of the UART's estimate of
+//!   the request's start (ChibiOS `receive_time_constraint_us(len)`): the FC-clock
+//!   timestamp of the last chunk the UART delivered, minus (len + the bytes still
+//!   unread behind the request) × the byte time at [`ApMavlinkConfig::baud`] (10 bits,
+//!   integer µs as ChibiOS computes it). `len` is the frame's length or GCS_Common's
+//!   `PAYLOAD_SIZE(TIMESYNC)` ([`TimesyncLen`]). Every answer is recorded
+//!   ([`ApMavlink::timesync_answers`]).
+//! - **SYSTEM_TIME**: `time_unix_usec` (the FC's UTC, 0 until set) and `time_boot_ms`
+//!   (boot µs / 1000, truncated) from one reading of the FC clock at composition.
+//! - **Telemetry port** ([`ApMavlink::telemetry`]): an ArduPilot port without a MAVLink
+//!   mount or camera that shares the FC clock and the aircraft of another simulated
+//!   driver on the same board (e.g. [`super::ap_siyi::ApSiyi::clock`]).
 //! - **Routing.** A ground station ([`Qgc`]) can be attached: the device's messages
 //!   without a target, with target 0 or the ground station's system reach it; its
 //!   messages for the device (or broadcast) go onto the port as they came.
@@ -56,7 +77,7 @@ use protocol_core::mavlink::dialect::{
 use protocol_core::mavlink::{Header, MavMessage};
 
 use super::ap_siyi::Aircraft;
-use super::mav::{self, AUTOPILOT, CAMERA, Endpoint, GIMBAL, Rx};
+use super::mav::{self, AUTOPILOT, CAMERA, Endpoint, GIMBAL, Rx, TimesyncAnswer};
 use super::qgc::Qgc;
 use super::scenario::FcSim;
 use super::{FcBoot, FcClock, FcReboot, XorShift};
@@ -69,6 +90,20 @@ pub enum ApVehicle {
     /// Plane: SYSTEM_TIME, positions, attitude, GPS at 1 Hz; 50 Hz loop.
     Plane,
 }
+
+/// The `len` ArduPilot hands `receive_time_constraint_us` for a TIMESYNC request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimesyncLen {
+    /// The request frame's own length (as received: MAVLink 2 trims trailing zeros).
+    Frame,
+    /// `PAYLOAD_SIZE(chan, TIMESYNC)` as `GCS_Common.cpp` passes it: the MAVLink 2
+    /// overhead (12) plus the full TIMESYNC payload (18), whatever the frame's length.
+    PayloadSize,
+}
+
+/// MAVLink 2 overhead without signing (10 header + 2 checksum) plus TIMESYNC's full
+/// payload (16 + the two target bytes).
+pub const TIMESYNC_PAYLOAD_SIZE: usize = 12 + 18;
 
 /// Where the camera driver sends its commands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,10 +121,16 @@ pub struct ApMavlinkConfig {
     pub seed: u64,
     /// FC crystal error, ppm.
     pub ppm: f64,
-    /// Per-run transport jitter bound, µs.
+    /// Per-burst transport jitter bound, µs (uniform).
     pub jitter_us: u64,
-    /// Lateness of each run, µs.
+    /// Lateness of each loop, µs (uniform).
     pub loop_jitter_us: u64,
+    /// Rate error of the IMU oscillator that paces the loop, ppm (fast when positive).
+    pub imu_ppm: f64,
+    /// The port's baud rate (`SERIALn_BAUD`), for the UART's receive-time estimate.
+    pub baud: u32,
+    /// The `len` of the TIMESYNC receive-time estimate.
+    pub timesync_len: TimesyncLen,
     /// The FC's UTC at true time 0, µs since the Unix epoch.
     pub utc_at_zero_us: u64,
     /// The FC's uptime at true time 0, µs.
@@ -127,6 +168,9 @@ impl Default for ApMavlinkConfig {
             ppm: 0.0,
             jitter_us: 2_000,
             loop_jitter_us: 500,
+            imu_ppm: 37.0,
+            baud: 115_200,
+            timesync_len: TimesyncLen::Frame,
             // 2026-11-23T10:00:00.123456Z
             utc_at_zero_us: 1_795_428_000_123_456,
             // Booted 12 s before the bridge: the drivers already search.
@@ -179,7 +223,7 @@ pub enum ApMountTarget {
     Neutral,
 }
 
-/// A message from the device, with the true time it arrived.
+/// A message from the device, with the true time of the loop that read it.
 #[derive(Debug, Clone)]
 pub struct Heard<T> {
     /// True time.
@@ -205,8 +249,17 @@ pub struct ApMavlink {
     power_on_at: Option<u64>,
     /// Bytes lost while the FC was off.
     pub lost_while_off: u64,
-    next_run_fc_ms: u64,
+    /// True time of loop 0 of this boot.
+    loop_epoch_us: u64,
+    /// Index of the next loop in this boot.
+    loop_index: u64,
+    /// True time of the next loop (lateness included).
+    next_loop_at_us: u64,
+    /// Chunks the UART delivered since the last loop: (true time, bytes).
+    uart: Vec<(u64, Vec<u8>)>,
     out: Vec<(u64, Vec<u8>)>,
+    /// The `now_us` at which the last burst of `out` was opened.
+    burst_opened_at: Option<u64>,
     me: Endpoint,
     rx: Rx,
     /// Stream intervals of the device's port, µs.
@@ -216,6 +269,8 @@ pub struct ApMavlink {
     last_timesync_ms: Option<u64>,
     /// TIMESYNC replies to this FC's requests: (true time, tc1).
     pub timesync_replies: Vec<(u64, i64)>,
+    /// The device's TIMESYNC requests this FC answered.
+    pub timesync_answers: Vec<TimesyncAnswer>,
     // Mount driver.
     /// The gimbal found (its system id).
     pub mount_found: Option<u8>,
@@ -256,7 +311,7 @@ pub struct ApMavlink {
     pub images: Vec<Heard<CAMERA_IMAGE_CAPTURED_DATA>>,
     /// CAMERA_CAPTURE_STATUS received.
     pub capture_statuses: Vec<Heard<CAMERA_CAPTURE_STATUS_DATA>>,
-    /// Every frame received: (true time, header, message id).
+    /// Every frame received: (true time of the loop that read it, header, message id).
     pub received: Vec<(u64, Header, u32)>,
     /// Every frame sent: (true time it was written, message id, the message).
     pub sent: Vec<(u64, MavMessage)>,
@@ -275,16 +330,53 @@ impl ApMavlink {
             config.utc_at_zero_us,
             config.utc_valid_at_us,
         );
+        Self::with_clock(config, clock, Aircraft::default())
+    }
+
+    /// The MAVLink telemetry port (`SERIALn_PROTOCOL` 2, no MAVLink mount or camera:
+    /// `MNT1_TYPE` and `CAM1_TYPE` are another driver's) of the autopilot that also runs
+    /// another simulated driver, e.g. [`super::ap_siyi::ApSiyi`]: pass that driver's
+    /// [`super::ap_siyi::ApSiyi::clock`] and aircraft, so that both ports agree on time
+    /// and position. The clock is a copy: when the other driver reboots, reboot this
+    /// one too at the same instant with the same [`FcReboot`] (the clocks then stay
+    /// equal, [`FcClock::reboot`] being deterministic). Other settings are the
+    /// defaults of [`ApMavlinkConfig`] (Copter).
+    #[must_use]
+    pub fn telemetry(clock: FcClock, aircraft: Aircraft, seed: u64, sysid: u8) -> Self {
+        let first = clock.boots()[0];
+        let config = ApMavlinkConfig {
+            seed,
+            sysid,
+            mount: false,
+            camera: false,
+            ppm: clock.ppm(),
+            boot_us: first.clock_us,
+            utc_at_zero_us: first.utc_us,
+            utc_valid_at_us: first.utc_valid_at_us,
+            ..ApMavlinkConfig::default()
+        };
+        Self::with_clock(config, clock, aircraft)
+    }
+
+    /// An FC on a given clock and aircraft (`config`'s clock settings unused). Its
+    /// loop starts at the clock's latest power-on.
+    #[must_use]
+    pub fn with_clock(config: ApMavlinkConfig, clock: FcClock, aircraft: Aircraft) -> Self {
+        let epoch = clock.current().at_us;
         let mut ap = ApMavlink {
             rng: XorShift::new(config.seed),
-            aircraft: Aircraft::default(),
+            aircraft,
             gcs: None,
             now_us: 0,
+            power_on_at: (epoch > 0).then_some(epoch),
             clock,
-            power_on_at: None,
             lost_while_off: 0,
-            next_run_fc_ms: config.boot_us.div_ceil(20_000) * 20,
+            loop_epoch_us: epoch,
+            loop_index: 0,
+            next_loop_at_us: epoch,
+            uart: Vec::new(),
             out: Vec::new(),
+            burst_opened_at: None,
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
             intervals: BTreeMap::new(),
@@ -292,6 +384,7 @@ impl ApMavlink {
             last_heartbeat_ms: None,
             last_timesync_ms: None,
             timesync_replies: Vec::new(),
+            timesync_answers: Vec::new(),
             mount_found: None,
             mount_found_at_us: None,
             mount_info: None,
@@ -320,7 +413,40 @@ impl ApMavlink {
             config,
         };
         ap.default_streams();
+        ap.schedule_loop();
         ap
+    }
+
+    /// The FC's clock (boot clock, crystal, UTC, reboots).
+    #[must_use]
+    pub fn clock(&self) -> &FcClock {
+        &self.clock
+    }
+
+    /// The loop period in true µs of a perfect oscillator.
+    fn loop_period_us(&self) -> f64 {
+        1e6 / f64::from(self.loop_rate_hz().max(1))
+    }
+
+    /// Sets the instant of loop `loop_index`: its IMU-paced nominal instant plus a
+    /// lateness.
+    fn schedule_loop(&mut self) {
+        let k = self.loop_index as f64;
+        let nominal = self.loop_epoch_us
+            + (k * self.loop_period_us() / (1.0 + self.config.imu_ppm * 1e-6)).round() as u64;
+        let at = nominal + self.rng.uniform(self.config.loop_jitter_us);
+        // Never before the previous loop.
+        self.next_loop_at_us = if self.loop_index == 0 {
+            at
+        } else {
+            at.max(self.next_loop_at_us + 1)
+        };
+    }
+
+    /// True time of the next loop.
+    #[must_use]
+    pub fn next_loop_at_us(&self) -> u64 {
+        self.next_loop_at_us
     }
 
     /// The loop rate, Hz.
@@ -406,13 +532,16 @@ impl ApMavlink {
         self.push_bytes(frame);
     }
 
-    /// Bytes into this run's burst.
+    /// Bytes into the burst of this instant (one loop's writes leave together).
     fn push_bytes(&mut self, frame: Vec<u8>) {
         match self.out.last_mut() {
-            Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
+            Some((_, bytes)) if self.burst_opened_at == Some(self.now_us) => {
+                bytes.extend_from_slice(&frame);
+            }
             _ => {
                 let at = self.now_us + self.rng.uniform(self.config.jitter_us);
                 self.out.push((at, frame));
+                self.burst_opened_at = Some(self.now_us);
             }
         }
     }
@@ -491,9 +620,57 @@ impl ApMavlink {
         self.send(&msg);
     }
 
-    // The run.
+    // The loop.
 
-    fn update(&mut self) {
+    /// One main loop at its instant: GCS receive, mount and camera (50 Hz), GCS send.
+    fn run_loop(&mut self) {
+        self.now_us = self.next_loop_at_us;
+        self.gcs_receive();
+        if let Some(mut gcs) = self.gcs.take() {
+            gcs.poll(self.now_us);
+            for frame in gcs.transmit() {
+                self.route_from_gcs(frame);
+            }
+            self.gcs = Some(gcs);
+        }
+        let every = u64::from((self.loop_rate_hz() / 50).max(1));
+        if self.loop_index.is_multiple_of(every) {
+            if self.config.mount {
+                self.mount_update();
+            }
+            if self.config.camera {
+                self.camera_update();
+            }
+        }
+        self.update_send();
+        self.loop_index += 1;
+        self.schedule_loop();
+    }
+
+    /// The GCS receive processing: every byte the UART delivered so far.
+    fn gcs_receive(&mut self) {
+        let chunks = std::mem::take(&mut self.uart);
+        let Some(&(last_at, _)) = chunks.last() else {
+            return;
+        };
+        // The UART's timestamp of the last chunk it delivered, on the FC clock.
+        let stamp_us = self.fc_us(last_at);
+        let bytes: Vec<u8> = chunks.into_iter().flat_map(|(_, b)| b).collect();
+        for (r, after) in self.rx.push_counting(&bytes) {
+            self.process(r, stamp_us, after);
+        }
+    }
+
+    /// ChibiOS `receive_time_constraint_us(len)`: the UART's estimate (FC µs) of when a
+    /// `len`-byte packet began, `after` bytes being still unread behind it.
+    fn receive_time_constraint_us(&self, stamp_us: u64, len: usize, after: usize) -> u64 {
+        // 10 bits a byte, in whole µs as the driver computes it.
+        let byte_us = 10_000_000 / u64::from(self.config.baud.max(1));
+        stamp_us.saturating_sub(byte_us * (len + after) as u64)
+    }
+
+    /// The GCS send processing: heartbeat, own TIMESYNC request, due streams.
+    fn update_send(&mut self) {
         let ms = self.fc_ms();
         if self.last_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
             self.last_heartbeat_ms = Some(ms);
@@ -521,19 +698,6 @@ impl ApMavlink {
             }));
         }
         self.streams();
-        if self.config.mount {
-            self.mount_update();
-        }
-        if self.config.camera {
-            self.camera_update();
-        }
-        if let Some(mut gcs) = self.gcs.take() {
-            gcs.poll(self.now_us);
-            for frame in gcs.transmit() {
-                self.route_from_gcs(frame);
-            }
-            self.gcs = Some(gcs);
-        }
     }
 
     fn streams(&mut self) {
@@ -839,8 +1003,10 @@ impl ApMavlink {
         }
     }
 
-    /// A frame from the device.
-    fn process(&mut self, now_us: u64, r: mav::Received) {
+    /// A frame from the device, read in the loop at `self.now_us`; `stamp_us` is the
+    /// UART's timestamp of the last chunk, `after` the bytes unread behind the frame.
+    fn process(&mut self, r: mav::Received, stamp_us: u64, after: usize) {
+        let now_us = self.now_us;
         let h = r.header;
         let id = mav::id_of(&r.message);
         self.received.push((now_us, h, id));
@@ -947,6 +1113,34 @@ impl ApMavlink {
                     target_component: h.component_id,
                 }));
             }
+            MavMessage::TIMESYNC(t)
+                if t.tc1 == 0
+                    && (t.target_system == 0 || t.target_system == self.config.sysid)
+                    && (t.target_component == 0 || t.target_component == AUTOPILOT) =>
+            {
+                let len = match self.config.timesync_len {
+                    TimesyncLen::Frame => r.bytes.len(),
+                    TimesyncLen::PayloadSize => TIMESYNC_PAYLOAD_SIZE,
+                };
+                let rx_us = self.receive_time_constraint_us(stamp_us, len, after);
+                let tc1 = (rx_us * 1000) as i64;
+                self.send(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+                    tc1,
+                    ts1: t.ts1,
+                    target_system: 0,
+                    target_component: 0,
+                }));
+                if let Some(&(sent_at_us, _)) = self.out.last() {
+                    self.timesync_answers.push(TimesyncAnswer {
+                        from: h,
+                        handled_at_us: now_us,
+                        sent_at_us,
+                        ts1: t.ts1,
+                        tc1,
+                        target: (0, 0),
+                    });
+                }
+            }
             MavMessage::TIMESYNC(t) if t.tc1 != 0 => {
                 let mine = self
                     .sent
@@ -1020,12 +1214,16 @@ impl ApMavlink {
         self.power_on_at = Some(on);
         let now = self.now_us;
         self.out.retain(|(at, _)| *at <= now);
+        self.uart.clear();
         self.update_health();
     }
 
     fn power_on(&mut self) {
         self.power_on_at = None;
-        self.next_run_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
+        self.loop_epoch_us = self.clock.current().at_us;
+        self.loop_index = 0;
+        self.schedule_loop();
+        self.uart.clear();
         self.me = Endpoint::new(self.config.sysid, AUTOPILOT);
         self.rx = Rx::default();
         self.default_streams();
@@ -1046,52 +1244,51 @@ impl ApMavlink {
         self.capture_req = (None, 0);
     }
 
-    fn next_run_us(&self) -> u64 {
-        self.clock.true_of_clock(self.next_run_fc_ms * 1000)
+    /// Runs the loops due before `now_us` (`inclusive`: at it too).
+    fn run_loops(&mut self, now_us: u64, inclusive: bool) {
+        while self.next_loop_at_us < now_us || (inclusive && self.next_loop_at_us == now_us) {
+            self.run_loop();
+        }
     }
 }
 
 impl FcSim for ApMavlink {
+    /// The UART delivers `bytes` (a chunk) at `now_us`; the next loop reads them.
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.now_us = self.now_us.max(now_us);
         match self.power_on_at {
             Some(on) if now_us < on => {
+                self.now_us = self.now_us.max(now_us);
                 self.lost_while_off += bytes.len() as u64;
                 return;
             }
             Some(_) => self.power_on(),
             None => {}
         }
-        for r in self.rx.push(bytes) {
-            self.process(now_us, r);
-        }
+        // Loops due before this chunk came read what was there then.
+        self.run_loops(now_us, false);
+        self.now_us = self.now_us.max(now_us);
+        self.uart.push((now_us, bytes.to_vec()));
         self.update_health();
     }
 
     fn poll(&mut self, now_us: u64) {
-        self.now_us = self.now_us.max(now_us);
         match self.power_on_at {
             Some(on) if now_us < on => {
+                self.now_us = self.now_us.max(now_us);
                 self.update_health();
                 return;
             }
             Some(_) => self.power_on(),
             None => {}
         }
-        while self.next_run_us() <= now_us {
-            let fc_ms = self.next_run_fc_ms;
-            let late = self.rng.uniform(self.config.loop_jitter_us);
-            self.now_us = self.clock.true_of_clock(fc_ms * 1000) + late;
-            self.update();
-            self.next_run_fc_ms = fc_ms + 20;
-        }
-        self.now_us = now_us;
+        self.run_loops(now_us, true);
+        self.now_us = self.now_us.max(now_us);
         self.update_health();
     }
 
     fn next_wakeup(&self) -> u64 {
-        // An attached ground station is polled in the runs (its pace is 20 ms at best).
-        self.power_on_at.unwrap_or_else(|| self.next_run_us())
+        // An attached ground station is polled in the loops.
+        self.power_on_at.unwrap_or(self.next_loop_at_us)
     }
 
     fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
@@ -1205,5 +1402,365 @@ impl super::pilot::Pilot for ApMavlink {
     }
     fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
         ApMavlink::reboot(self, now_us, reboot);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
+    use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+    use protocol_core::mavlink::dialect::GIMBAL_DEVICE_INFORMATION_DATA;
+
+    /// The device: the FC's system, the gimbal's component.
+    fn device() -> Endpoint {
+        Endpoint::new(1, GIMBAL)
+    }
+
+    fn request(ts1: i64, target: (u8, u8)) -> MavMessage {
+        MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1,
+            target_system: target.0,
+            target_component: target.1,
+        })
+    }
+
+    fn heartbeat(mavtype: MavType) -> MavMessage {
+        MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        })
+    }
+
+    fn set_interval(id: u32, interval_us: f32) -> MavMessage {
+        mav::command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+            (1, AUTOPILOT),
+            0,
+        )
+    }
+
+    /// One request on the wire from true `t0`, optionally followed at once by a
+    /// HEARTBEAT; checks the answer against the UART model and the true start, returns
+    /// the answer's error against the FC clock at the request's true start, µs.
+    fn timesync_trial(
+        ap: &mut ApMavlink,
+        d: &mut Driver,
+        t0: u64,
+        msg: &MavMessage,
+        trailing: bool,
+    ) -> f64 {
+        let mut dev = device();
+        let req = dev.frame(msg);
+        let mut wire = req.clone();
+        if trailing {
+            wire.extend(dev.frame(&heartbeat(MavType::MAV_TYPE_GIMBAL)));
+        }
+        let baud = ap.config.baud;
+        let chunks = uart_chunks(t0, baud, &wire);
+        let req_end = chunks
+            .iter()
+            .scan(0, |n, (at, c)| {
+                *n += c.len();
+                Some((*n, *at))
+            })
+            .find(|(n, _)| *n >= req.len())
+            .map(|(_, at)| at)
+            .unwrap();
+        let answers = ap.timesync_answers.len();
+        d.deliver(ap, &chunks);
+        d.run_until(ap, t0 + 30_000);
+        assert_eq!(ap.timesync_answers.len(), answers + 1);
+        let a = ap.timesync_answers.last().unwrap().clone();
+        let MavMessage::TIMESYNC(t) = msg else {
+            unreachable!()
+        };
+        assert_eq!((a.ts1, a.target), (t.ts1, (0, 0)));
+        // Read by the first loop after the chunk that completed it, not at arrival.
+        let first_loop = *d.wakeups.iter().find(|&&w| w >= req_end).unwrap();
+        assert_eq!(a.handled_at_us, first_loop);
+        // The UART model: the last chunk delivered by then, the bytes after the request.
+        let delivered: Vec<_> = chunks.iter().filter(|(at, _)| *at <= first_loop).collect();
+        let stamp = ap.fc_us(delivered.last().unwrap().0);
+        let total: usize = delivered.iter().map(|(_, c)| c.len()).sum();
+        let after = total - req.len();
+        let len = match ap.config.timesync_len {
+            TimesyncLen::Frame => req.len(),
+            TimesyncLen::PayloadSize => TIMESYNC_PAYLOAD_SIZE,
+        };
+        let expected = stamp - 86 * (len + after) as u64;
+        assert_eq!(a.tc1, (expected * 1000) as i64, "the UART estimate");
+        // On the wire: in the burst of that loop (no transport jitter here), ts1 echoed.
+        let on_wire: Vec<_> = d
+            .frames()
+            .into_iter()
+            .filter(|(_, r)| matches!(&r.message, MavMessage::TIMESYNC(s) if s.ts1 == t.ts1))
+            .collect();
+        assert_eq!(on_wire.len(), 1);
+        assert_eq!(on_wire[0].0, a.handled_at_us);
+        assert_eq!(a.sent_at_us, a.handled_at_us);
+        assert!(
+            d.wakeups.contains(&on_wire[0].0),
+            "leaves at a loop instant"
+        );
+        let MavMessage::TIMESYNC(reply) = &on_wire[0].1.message else {
+            unreachable!()
+        };
+        assert_eq!(
+            (reply.tc1, reply.target_system, reply.target_component),
+            (a.tc1, 0, 0)
+        );
+        a.tc1 as f64 / 1000.0 - ap.fc_us(t0) as f64
+    }
+
+    #[test]
+    fn ardupilot_answers_timesync_with_the_uart_receive_estimate_of_the_request_start() {
+        let mut ap = ApMavlink::new(ApMavlinkConfig {
+            ppm: 23.0,
+            jitter_us: 0,
+            ..ApMavlinkConfig::default()
+        });
+        assert_eq!(ap.loop_rate_hz(), 400);
+        let mut d = Driver::new();
+        let byte = byte_us(115_200);
+        for i in 0..40u64 {
+            let t0 = 1_000_000 + i * 123_457;
+            // Targeted at the autopilot: a full 30-byte frame.
+            let msg = request(7_000_000_000_000 + i as i64, (1, AUTOPILOT));
+            let err = timesync_trial(&mut ap, &mut d, t0, &msg, i % 2 == 1);
+            // Late by the whole-µs byte time's 0.8 µs a byte, at most one byte time
+            // plus the chunk stamp's rounding; never early.
+            assert!((-1.0..=byte + 1.0).contains(&err), "trial {i}: {err} µs");
+        }
+        // A broadcast request is answered too; one for another component is not.
+        let t0 = 7_000_000;
+        let err = timesync_trial(&mut ap, &mut d, t0, &request(5, (0, 0)), false);
+        assert!((-1.0..=byte + 1.0).contains(&err));
+        let n = ap.timesync_answers.len();
+        let mut dev = device();
+        d.deliver(
+            &mut ap,
+            &uart_chunks(8_000_000, 115_200, &dev.frame(&request(6, (1, CAMERA)))),
+        );
+        d.run_until(&mut ap, 8_100_000);
+        assert_eq!(ap.timesync_answers.len(), n);
+    }
+
+    #[test]
+    fn ardupilot_timesync_estimate_with_payload_size_reading() {
+        let mut ap = ApMavlink::new(ApMavlinkConfig {
+            jitter_us: 0,
+            timesync_len: TimesyncLen::PayloadSize,
+            ..ApMavlinkConfig::default()
+        });
+        let mut d = Driver::new();
+        let byte = byte_us(115_200);
+        // No targets and a small ts1: MAVLink 2 trims the frame to 24 bytes; the driver
+        // still counts 30, so the estimate is 6 bytes early.
+        for i in 0..10u64 {
+            let msg = request(3_000_000_000 + i as i64, (0, 0));
+            assert_eq!(device().frame(&msg).len(), 24);
+            let err = timesync_trial(&mut ap, &mut d, 2_000_000 + i * 77_777, &msg, i % 2 == 0);
+            let early = -6.0 * 86.0;
+            assert!(
+                (early - 1.0..=early + byte + 1.0).contains(&err),
+                "trial {i}: {err} µs"
+            );
+        }
+        // The frame reading on the same request is within a byte.
+        let mut ap = ApMavlink::new(ApMavlinkConfig {
+            jitter_us: 0,
+            ..ApMavlinkConfig::default()
+        });
+        let mut d = Driver::new();
+        let msg = request(3_000_000_000, (0, 0));
+        let err = timesync_trial(&mut ap, &mut d, 2_000_000, &msg, true);
+        assert!((-1.0..=byte + 1.0).contains(&err), "{err} µs");
+    }
+
+    #[test]
+    fn ardupilot_loop_phase_sweeps_the_ms_grid_and_system_time_gives_the_utc_shift() {
+        let mut ap = ApMavlink::new(ApMavlinkConfig {
+            ppm: 11.0,
+            utc_valid_at_us: 1_000_000,
+            ..ApMavlinkConfig::default()
+        });
+        let mut d = Driver::new();
+        let mut dev = device();
+        d.deliver(
+            &mut ap,
+            &uart_chunks(
+                10_000,
+                115_200,
+                &dev.frame(&set_interval(SYSTEM_TIME_DATA::ID, 100_000.0)),
+            ),
+        );
+        d.run_until(&mut ap, 31_000_000);
+        assert!(ap.acks.is_empty());
+        let frames = d.frames();
+        assert!(frames.iter().any(|(_, r)| matches!(&r.message,
+            MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)));
+
+        // Loops: 400 Hz on the IMU, their phase against the FC's ms grid not locked.
+        let first_3s: Vec<u64> = d
+            .wakeups
+            .iter()
+            .copied()
+            .filter(|&w| w < 3_000_000)
+            .collect();
+        assert!(
+            (1195..=1205).contains(&first_3s.len()),
+            "{}",
+            first_3s.len()
+        );
+        let mut bins = [0u32; 10];
+        for &w in &first_3s {
+            bins[(ap.fc_us(w) % 1000 / 100) as usize] += 1;
+        }
+        assert!(bins.iter().all(|&b| b > 0), "{bins:?}");
+
+        // SYSTEM_TIME at 10 Hz; the Unix time 0 until set; both fields from one reading.
+        let times: Vec<SYSTEM_TIME_DATA> = frames
+            .iter()
+            .filter_map(|(_, r)| match &r.message {
+                MavMessage::SYSTEM_TIME(s) => Some(s.clone()),
+                _ => None,
+            })
+            .collect();
+        assert!((305..=312).contains(&times.len()), "{}", times.len());
+        // Due every 100 ms of the FC clock, sent by the first loop after (a 2.5 ms
+        // loop, up to 0.5 ms late), the ms truncated.
+        for w in times.windows(2) {
+            let dt = w[1].time_boot_ms - w[0].time_boot_ms;
+            assert!((97..=103).contains(&dt), "{dt}");
+        }
+        let shift = ap.fc_utc_us(5_000_000) as i64 - ap.fc_us(5_000_000) as i64;
+        let set: Vec<i64> = times
+            .iter()
+            .filter(|s| s.time_unix_usec != 0)
+            .map(|s| s.time_unix_usec as i64 - 1000 * i64::from(s.time_boot_ms) - shift)
+            .collect();
+        assert!(set.len() >= 295 && set.len() < times.len(), "{}", set.len());
+        assert!(set.iter().all(|d| (0..1000).contains(d)));
+        let min = *set.iter().min().unwrap();
+        assert!((0..=50).contains(&min), "min d - shift = {min} µs");
+        // No Unix time before the clock was set.
+        let first_set = ap.first_utc_sent_us().unwrap();
+        assert!((1_000_000..1_110_000).contains(&first_set));
+    }
+
+    #[test]
+    fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
+        let mut ap = ApMavlink::new(ApMavlinkConfig {
+            camera: false,
+            ..ApMavlinkConfig::default()
+        });
+        let mut d = Driver::new();
+        let mut dev = device();
+        d.deliver(
+            &mut ap,
+            &uart_chunks(
+                50_000,
+                115_200,
+                &dev.frame(&heartbeat(MavType::MAV_TYPE_GIMBAL)),
+            ),
+        );
+        d.run_until(&mut ap, 100_000);
+        assert_eq!(ap.mount_found, Some(1));
+        let info = MavMessage::GIMBAL_DEVICE_INFORMATION(GIMBAL_DEVICE_INFORMATION_DATA {
+            pitch_min: -1.5,
+            pitch_max: 0.5,
+            yaw_min: -3.0,
+            yaw_max: 3.0,
+            ..GIMBAL_DEVICE_INFORMATION_DATA::default()
+        });
+        d.deliver(&mut ap, &uart_chunks(150_000, 115_200, &dev.frame(&info)));
+        d.run_until(&mut ap, 200_000);
+        assert!(ap.mount_initialised);
+        ap.set_target(ApMountTarget::Angle {
+            roll_deg: 0.0,
+            pitch_deg: -30.0,
+            yaw_deg: 10.0,
+            yaw_is_ef: false,
+        });
+        d.run_until(&mut ap, 2_200_000);
+        let times: Vec<u64> = ap.set_attitudes.iter().map(|(t, _)| *t).collect();
+        assert!((99..=101).contains(&times.len()), "{}", times.len());
+        for w in times.windows(2) {
+            // Eight loops of 2 500 µs, each up to 500 µs late.
+            let dt = w[1] - w[0];
+            assert!((19_499..=20_501).contains(&dt), "{dt}");
+        }
+        assert!(times.iter().all(|t| d.wakeups.contains(t)));
+        // AUTOPILOT_STATE at the enabled 50 Hz, from the loop's stream sender.
+        let states = ap
+            .sent_of(AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID)
+            .count();
+        assert!((98..=103).contains(&states), "{states}");
+
+        // Plane's 50 Hz loop refuses the 50 Hz AUTOPILOT_STATE: never initialised.
+        let mut plane = ApMavlink::new(ApMavlinkConfig {
+            vehicle: ApVehicle::Plane,
+            camera: false,
+            ..ApMavlinkConfig::default()
+        });
+        let mut d = Driver::new();
+        let mut dev = device();
+        let hb = dev.frame(&heartbeat(MavType::MAV_TYPE_GIMBAL));
+        d.deliver(&mut plane, &uart_chunks(50_000, 115_200, &hb));
+        d.deliver(
+            &mut plane,
+            &uart_chunks(150_000, 115_200, &dev.frame(&info)),
+        );
+        d.run_until(&mut plane, 1_000_000);
+        assert!(plane.mount_refused && !plane.mount_initialised);
+        let loops = d.wakeups.iter().filter(|&&w| w < 1_000_000).count();
+        assert!((49..=51).contains(&loops), "{loops}");
+    }
+
+    #[test]
+    fn telemetry_port_shares_the_clock_and_aircraft_of_the_board() {
+        let mut siyi = ApSiyi::new(ApSiyiConfig {
+            ppm: 17.0,
+            ..ApSiyiConfig::default()
+        });
+        let mut tel = ApMavlink::telemetry(siyi.clock().clone(), siyi.aircraft, 9, 1);
+        assert!(!tel.config.mount && !tel.config.camera);
+        for t in [0, 1_234_567, 20_000_000] {
+            assert_eq!(tel.fc_us(t), siyi.fc_us(t));
+            assert_eq!(tel.fc_utc_us(t), siyi.fc_utc_us(t));
+            assert_eq!(tel.aircraft.position_e7(t), siyi.aircraft.position_e7(t));
+        }
+        // Both ports reboot together: the clocks stay equal.
+        let r = FcReboot {
+            boot_clock_us: 1_500,
+            utc_shift_us: 40_000,
+            ..FcReboot::default()
+        };
+        siyi.reboot(5_000_000, r);
+        tel.reboot(5_000_000, r);
+        assert_eq!(tel.clock(), siyi.clock());
+        let on = tel.boots()[1].at_us;
+        let mut d = Driver::new();
+        d.run_until(&mut tel, on + 2_000_000);
+        assert!(d.wakeups.iter().all(|&w| w < 5_000_000 || w >= on));
+        assert_eq!(tel.fc_us(on + 1_000_000), siyi.fc_us(on + 1_000_000));
+        assert_eq!(
+            tel.fc_utc_us(on + 1_000_000),
+            siyi.fc_utc_us(on + 1_000_000)
+        );
+        // The telemetry port streams on request; no mount or camera traffic.
+        assert!(tel.set_attitudes.is_empty());
+        assert!(
+            tel.sent
+                .iter()
+                .all(|(_, m)| matches!(m, MavMessage::HEARTBEAT(_) | MavMessage::TIMESYNC(_)))
+        );
     }
 }

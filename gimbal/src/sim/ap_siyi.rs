@@ -301,6 +301,14 @@ impl ApSiyi {
         }
     }
 
+    /// The FC's clock (boot clock, crystal, UTC, reboots), e.g. for a MAVLink
+    /// telemetry port of the same autopilot ([`super::ap_mavlink::ApMavlink::telemetry`],
+    /// with its `aircraft`).
+    #[must_use]
+    pub fn clock(&self) -> &FcClock {
+        &self.clock
+    }
+
     /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {

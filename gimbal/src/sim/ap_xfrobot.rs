@@ -351,6 +351,16 @@ impl ApXfRobot {
         }
     }
 
+    /// The FC's clock (boot clock, crystal, UTC, reboots), e.g. for a MAVLink
+    /// telemetry port of the same autopilot ([`super::ap_mavlink::ApMavlink::telemetry`],
+    /// with its `aircraft`). Its UTC is the boot clock plus a shift per boot; this
+    /// driver's own time reference ([`Self::gps_utc_us`]) is the GPS's, which differs
+    /// from it by the crystal's error.
+    #[must_use]
+    pub fn clock(&self) -> &FcClock {
+        &self.clock
+    }
+
     /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {

@@ -107,12 +107,59 @@ impl Rx {
         out
     }
 
+    /// The frames completed by `bytes`, each with the number of bytes that came after
+    /// it up to the end of `bytes` (those the parser had not consumed yet when the
+    /// frame completed: what a UART driver would still count as available).
+    pub fn push_counting(&mut self, bytes: &[u8]) -> Vec<(Received, usize)> {
+        let mut out = Vec::new();
+        let mut bad = 0;
+        self.deframer.push_counting_after(bytes, |ev, after| {
+            if let Event::Frame(f) = ev {
+                match Packet::decode(f) {
+                    Ok(Packet {
+                        header,
+                        message: Message::Known(message),
+                        ..
+                    }) => out.push((
+                        Received {
+                            header,
+                            message,
+                            bytes: f.to_vec(),
+                        },
+                        after,
+                    )),
+                    _ => bad += 1,
+                }
+            }
+        });
+        self.undecodable += bad;
+        out
+    }
+
     /// Frames dropped for a bad checksum or length (the parser's errors).
     #[must_use]
     pub fn errors(&self) -> u32 {
         let s = self.deframer.stats();
         s.checksum_errors.saturating_add(s.length_errors)
     }
+}
+
+/// A TIMESYNC request a simulated autopilot answered.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TimesyncAnswer {
+    /// The requester.
+    pub from: Header,
+    /// True time the autopilot handled the request (ArduPilot: the loop that read it;
+    /// PX4: the receive thread's parse).
+    pub handled_at_us: u64,
+    /// True time the reply's burst starts on the wire.
+    pub sent_at_us: u64,
+    /// The request's `ts1`, echoed.
+    pub ts1: i64,
+    /// The reply's `tc1`: the autopilot's boot clock in ns.
+    pub tc1: i64,
+    /// The reply's target system and component.
+    pub target: (u8, u8),
 }
 
 /// A COMMAND_LONG.
@@ -218,3 +265,75 @@ pub fn is<M: protocol_core::mavlink::MessageData>(id: u32) -> bool {
 
 /// `COMMAND_LONG_DATA::ID`, for routing checks.
 pub const COMMAND_LONG_ID: u32 = COMMAND_LONG_DATA::ID;
+
+/// Test helpers: bytes as a UART hands them over, a driver that records every loop.
+#[cfg(test)]
+pub(crate) mod testing {
+    use super::super::scenario::FcSim;
+
+    /// µs of one byte (10 bits) at `baud`.
+    pub(crate) fn byte_us(baud: u32) -> f64 {
+        1e7 / f64::from(baud)
+    }
+
+    /// `bytes` whose first start bit is at true `t0_us`, as a UART hands them over:
+    /// chunks of up to 16 bytes, each at the arrival of its last stop bit (rounded up).
+    pub(crate) fn uart_chunks(t0_us: u64, baud: u32, bytes: &[u8]) -> Vec<(u64, Vec<u8>)> {
+        bytes
+            .chunks(16)
+            .scan(0usize, |sent, c| {
+                *sent += c.len();
+                let at = t0_us + (*sent as f64 * byte_us(baud)).ceil() as u64;
+                Some((at, c.to_vec()))
+            })
+            .collect()
+    }
+
+    /// Drives a simulated FC in true time as the scenario does: each wakeup polled at
+    /// its instant, each chunk received at its instant (after the wakeups before it).
+    pub(crate) struct Driver {
+        /// Instants the FC was polled at.
+        pub wakeups: Vec<u64>,
+        /// Its bursts: (start, bytes).
+        pub bursts: Vec<(u64, Vec<u8>)>,
+    }
+
+    impl Driver {
+        pub(crate) fn new() -> Self {
+            Driver {
+                wakeups: Vec::new(),
+                bursts: Vec::new(),
+            }
+        }
+
+        /// Polls every wakeup up to `t_us` included.
+        pub(crate) fn run_until(&mut self, fc: &mut impl FcSim, t_us: u64) {
+            while fc.next_wakeup() <= t_us {
+                let w = fc.next_wakeup();
+                self.wakeups.push(w);
+                fc.poll(w);
+                self.bursts.extend(fc.transmit());
+            }
+        }
+
+        /// Hands `chunks` over, each at its instant.
+        pub(crate) fn deliver(&mut self, fc: &mut impl FcSim, chunks: &[(u64, Vec<u8>)]) {
+            for (at, c) in chunks {
+                self.run_until(fc, at - 1);
+                fc.receive(*at, c);
+                self.bursts.extend(fc.transmit());
+            }
+        }
+
+        /// Every frame sent, with the start of its burst.
+        pub(crate) fn frames(&self) -> Vec<(u64, super::Received)> {
+            let mut rx = super::Rx::default();
+            let mut bursts = self.bursts.clone();
+            bursts.sort_by_key(|(at, _)| *at);
+            bursts
+                .iter()
+                .flat_map(|(at, b)| rx.push(b).into_iter().map(move |r| (*at, r)))
+                .collect()
+        }
+    }
+}

@@ -140,6 +140,12 @@ impl FcClock {
         }
     }
 
+    /// The crystal's error, ppm.
+    #[must_use]
+    pub fn ppm(&self) -> f64 {
+        self.ppm
+    }
+
     /// Every boot, the first at true time 0.
     #[must_use]
     pub fn boots(&self) -> &[FcBoot] {

@@ -1,5 +1,6 @@
 //! A simulated PX4 with the gimbal v2 output (`MNT_MODE_OUT` 2) on a MAVLink port in mode
-//! Gimbal (10) or Normal (0), written from `shared/MAVLINK-TRAFFIC.md` §1, §4, §5, §7:
+//! Gimbal (10), Normal (0) or Onboard (2), written from `shared/MAVLINK-TRAFFIC.md` §1,
+//! §4–§7:
 //!
 //! - HEARTBEAT (QUADROTOR, autopilot PX4) at 1 Hz.
 //! - **Discovery**: COMMAND_LONG REQUEST_MESSAGE(GIMBAL_DEVICE_INFORMATION) to 0/0 every
@@ -19,6 +20,18 @@
 //!   MAV_CMD_SET_MESSAGE_INTERVAL is honoured when [`Px4Config::honours_interval`] (PX4's
 //!   receiver supports it; not verified in mode Gimbal: the other reading answers
 //!   UNSUPPORTED and streams nothing more).
+//! - **Streams of mode Onboard**: TIMESYNC requests 10 Hz (tc1 0, ts1 boot ns),
+//!   SYSTEM_TIME 1 Hz, GLOBAL_POSITION_INT 50 Hz, GPS_RAW_INT "unlimited" (here 10 Hz),
+//!   ATTITUDE 100 Hz, GIMBAL_DEVICE_SET_ATTITUDE 5 Hz, no AUTOPILOT_STATE.
+//! - **SYSTEM_TIME** is never sent while the clock is invalid
+//!   ([`Px4Config::utc_valid_at_us`]); `time_unix_usec` and `time_boot_ms` (hrt / 1000)
+//!   come from one reading.
+//! - **TIMESYNC**: a request (tc1 0, target 0 or this system) is answered at once, in
+//!   its own burst: tc1 = `hrt_absolute_time()` × 1000 read when the receive thread
+//!   parses the frame, the frame's end arrival plus a latency uniform in
+//!   `0..parse_latency_us`; ts1 echoed; target = the requester's system and component
+//!   (PR #25949). Every answer is recorded ([`Px4::timesync_answers`]); replies to this
+//!   PX4's own requests are recorded too ([`Px4::timesync_replies`]).
 //! - **Camera** (`TRIG_INTERFACE` 3): camera commands re-emitted as COMMAND_LONG to the
 //!   camera ([`Px4Config::camera_target_component`]).
 //! - **Forwarding** (`MAV_1_FORWARD` 1) to an attached ground station ([`Qgc`]).
@@ -32,12 +45,12 @@ use protocol_core::mavlink::dialect::{
     GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
     GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
-    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA,
+    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
 use super::ap_siyi::Aircraft;
-use super::mav::{self, AUTOPILOT, Endpoint, Rx};
+use super::mav::{self, AUTOPILOT, Endpoint, Rx, TimesyncAnswer};
 use super::qgc::Qgc;
 use super::scenario::FcSim;
 use super::{FcClock, FcReboot, XorShift};
@@ -49,6 +62,8 @@ pub enum Px4Mode {
     Gimbal,
     /// 0: Normal.
     Normal,
+    /// 2: Onboard.
+    Onboard,
 }
 
 /// Settings of the simulated PX4.
@@ -74,6 +89,13 @@ pub struct Px4Config {
     pub initial_target_component: u8,
     /// Where re-emitted camera commands go (component).
     pub camera_target_component: u8,
+    /// The clock (CLOCK_REALTIME) is valid from this true instant; no SYSTEM_TIME before.
+    pub utc_valid_at_us: u64,
+    /// Latency of the receive thread, from a frame's last byte to its parse: uniform in
+    /// `0..parse_latency_us`.
+    pub parse_latency_us: u64,
+    /// The port's baud rate (places a frame's end inside a chunk the UART delivered).
+    pub baud: u32,
 }
 
 impl Default for Px4Config {
@@ -89,6 +111,9 @@ impl Default for Px4Config {
             honours_interval: true,
             initial_target_component: 0,
             camera_target_component: 100,
+            utc_valid_at_us: 0,
+            parse_latency_us: 300,
+            baud: 115_200,
         }
     }
 }
@@ -161,6 +186,12 @@ pub struct Px4 {
     /// Health changes.
     pub health_log: Vec<(u64, bool)>,
     healthy: bool,
+    /// The TIMESYNC requests answered.
+    pub timesync_answers: Vec<TimesyncAnswer>,
+    /// Replies to this PX4's own TIMESYNC requests: (true time, tc1).
+    pub timesync_replies: Vec<(u64, i64)>,
+    /// ts1 of this PX4's latest own TIMESYNC requests.
+    own_ts1: std::collections::VecDeque<i64>,
 }
 
 impl Px4 {
@@ -172,7 +203,12 @@ impl Px4 {
             aircraft: Aircraft::default(),
             gcs: None,
             now_us: 0,
-            clock: FcClock::new(config.ppm, config.boot_us, config.utc_at_zero_us, 0),
+            clock: FcClock::new(
+                config.ppm,
+                config.boot_us,
+                config.utc_at_zero_us,
+                config.utc_valid_at_us,
+            ),
             power_on_at: None,
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
@@ -196,6 +232,9 @@ impl Px4 {
             received: Vec::new(),
             health_log: Vec::new(),
             healthy: false,
+            timesync_answers: Vec::new(),
+            timesync_replies: Vec::new(),
+            own_ts1: std::collections::VecDeque::new(),
             config,
         };
         p.mode_streams();
@@ -218,7 +257,27 @@ impl Px4 {
                 self.intervals.insert(GPS_RAW_INT_DATA::ID, 200_000);
                 self.intervals.insert(ATTITUDE_DATA::ID, 66_667);
             }
+            Px4Mode::Onboard => {
+                self.intervals.insert(set_attitude, 200_000);
+                self.intervals.insert(TIMESYNC_DATA::ID, 100_000);
+                self.intervals.insert(SYSTEM_TIME_DATA::ID, 1_000_000);
+                self.intervals.insert(GLOBAL_POSITION_INT_DATA::ID, 20_000);
+                self.intervals.insert(GPS_RAW_INT_DATA::ID, 100_000);
+                self.intervals.insert(ATTITUDE_DATA::ID, 10_000);
+            }
         }
+    }
+
+    /// The FC's boot clock (hrt, µs) at true time `t_us`.
+    #[must_use]
+    pub fn fc_us(&self, t_us: u64) -> u64 {
+        self.clock.clock_us(t_us)
+    }
+
+    /// The FC's clock.
+    #[must_use]
+    pub fn clock(&self) -> &FcClock {
+        &self.clock
     }
 
     /// The FC's UTC at true time `t_us`.
@@ -285,13 +344,28 @@ impl Px4 {
     }
 
     fn send(&mut self, msg: &MavMessage) {
+        self.send_at(self.now_us, msg);
+    }
+
+    /// Sends `msg` written at true time `t` (its own burst, after the transport
+    /// jitter); returns the burst's start.
+    fn send_at(&mut self, t: u64, msg: &MavMessage) -> u64 {
         if self.power_on_at.is_some() {
-            return;
+            return t;
+        }
+        if let MavMessage::TIMESYNC(s) = msg
+            && s.tc1 == 0
+        {
+            if self.own_ts1.len() >= 32 {
+                self.own_ts1.pop_front();
+            }
+            self.own_ts1.push_back(s.ts1);
         }
         let f = self.me.frame(msg);
-        self.sent.push((self.now_us, msg.clone()));
-        let at = self.now_us + self.rng.uniform(self.config.jitter_us);
+        self.sent.push((t, msg.clone()));
+        let at = t + self.rng.uniform(self.config.jitter_us);
         self.out.push((at, f));
+        at
     }
 
     /// Integrates a rate input into the angle setpoint, within the limits.
@@ -378,9 +452,17 @@ impl Px4 {
                     },
                 )
             }
+            // Not sent at all while the clock is invalid.
+            SYSTEM_TIME_DATA::ID if !self.clock.utc_valid(t) => return None,
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
                 time_unix_usec: self.fc_utc_us(t),
                 time_boot_ms: boot_ms,
+            }),
+            TIMESYNC_DATA::ID => MavMessage::TIMESYNC(TIMESYNC_DATA {
+                tc1: 0,
+                ts1: (us * 1000) as i64,
+                target_system: 0,
+                target_component: 0,
             }),
             GLOBAL_POSITION_INT_DATA::ID => {
                 MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
@@ -470,7 +552,8 @@ impl Px4 {
         }
     }
 
-    fn process(&mut self, now: u64, r: mav::Received) {
+    /// A frame delivered at `now` whose last byte arrived at `end`.
+    fn process(&mut self, now: u64, end: u64, r: mav::Received) {
         let h = r.header;
         self.received.push((now, h, mav::id_of(&r.message)));
         if let Some(gcs) = self.gcs.as_mut() {
@@ -493,6 +576,33 @@ impl Px4 {
             }
             MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s) => self.statuses.push((now, h, s)),
             MavMessage::COMMAND_ACK(a) => self.acks.push((now, h, a)),
+            MavMessage::TIMESYNC(t)
+                if t.tc1 == 0 && (t.target_system == 0 || t.target_system == self.config.sysid) =>
+            {
+                // The receive thread parses it, reads hrt and answers at once.
+                let parse = end + self.rng.uniform(self.config.parse_latency_us);
+                let tc1 = (self.clock.clock_us(parse) * 1000) as i64;
+                let target = (h.system_id, h.component_id);
+                let at = parse.max(now);
+                let msg = MavMessage::TIMESYNC(TIMESYNC_DATA {
+                    tc1,
+                    ts1: t.ts1,
+                    target_system: target.0,
+                    target_component: target.1,
+                });
+                let sent_at_us = self.send_at(at, &msg);
+                self.timesync_answers.push(TimesyncAnswer {
+                    from: h,
+                    handled_at_us: parse,
+                    sent_at_us,
+                    ts1: t.ts1,
+                    tc1,
+                    target,
+                });
+            }
+            MavMessage::TIMESYNC(t) if t.tc1 != 0 && self.own_ts1.contains(&t.ts1) => {
+                self.timesync_replies.push((now, t.tc1));
+            }
             MavMessage::COMMAND_LONG(c)
                 if c.command == MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
                     && c.target_system == self.config.sysid
@@ -566,8 +676,11 @@ impl FcSim for Px4 {
             }
             self.power_on();
         }
-        for r in self.rx.push(bytes) {
-            self.process(now_us, r);
+        let byte_us = 1e7 / f64::from(self.config.baud.max(1));
+        for (r, after) in self.rx.push_counting(bytes) {
+            // The frame's last byte came `after` bytes before the chunk's last.
+            let end = now_us.saturating_sub((after as f64 * byte_us).round() as u64);
+            self.process(now_us, end, r);
         }
         self.update_health();
     }
@@ -672,5 +785,197 @@ impl super::pilot::Pilot for Px4 {
     }
     fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
         Px4::reboot(self, now_us, reboot);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+    use protocol_core::mavlink::dialect::TIMESYNC_DATA;
+
+    fn request(ts1: i64, target: (u8, u8)) -> MavMessage {
+        MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1,
+            target_system: target.0,
+            target_component: target.1,
+        })
+    }
+
+    fn set_interval(id: u32, interval_us: f32) -> MavMessage {
+        mav::command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+            (1, AUTOPILOT),
+            0,
+        )
+    }
+
+    fn system_times(d: &Driver) -> Vec<(u64, SYSTEM_TIME_DATA)> {
+        d.frames()
+            .into_iter()
+            .filter_map(|(at, r)| match r.message {
+                MavMessage::SYSTEM_TIME(s) => Some((at, s)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn px4_answers_timesync_at_parse_time_with_the_requesters_target() {
+        let mut px4 = Px4::new(Px4Config {
+            ppm: 9.0,
+            jitter_us: 0,
+            ..Px4Config::default()
+        });
+        let mut d = Driver::new();
+        let mut dev = Endpoint::new(1, mav::CAMERA);
+        let byte = byte_us(115_200);
+        let mut latencies = Vec::new();
+        for i in 0..40u64 {
+            let t0 = 1_000_000 + i * 98_765;
+            let ts1 = 9_000_000_000 + i as i64;
+            let req = dev.frame(&request(ts1, (if i % 3 == 0 { 0 } else { 1 }, 1)));
+            let mut wire = req.clone();
+            if i % 2 == 1 {
+                // Bytes behind it in the same chunks.
+                wire.extend(dev.frame(&MavMessage::HEARTBEAT(HEARTBEAT_DATA::default())));
+            }
+            let chunks = uart_chunks(t0, 115_200, &wire);
+            d.deliver(&mut px4, &chunks);
+            d.run_until(&mut px4, t0 + 20_000);
+            let a = px4.timesync_answers.last().unwrap().clone();
+            assert_eq!(px4.timesync_answers.len() as u64, i + 1);
+            assert_eq!((a.ts1, a.target, a.from.component_id), (ts1, (1, 100), 100));
+            // tc1: hrt at the parse, the frame's end plus the receive thread's latency.
+            let end = t0 as f64 + req.len() as f64 * byte;
+            let latency = a.handled_at_us as f64 - end;
+            assert!((-1.0..=301.0).contains(&latency), "trial {i}: {latency}");
+            latencies.push(latency);
+            assert_eq!(a.tc1, (px4.fc_us(a.handled_at_us) * 1000) as i64);
+            // Sent at once: its own burst, not before the chunk was handed over.
+            let handed = chunks
+                .iter()
+                .scan(0, |n, (at, c)| {
+                    *n += c.len();
+                    Some((*n, *at))
+                })
+                .find(|(n, _)| *n >= req.len())
+                .unwrap()
+                .1;
+            assert_eq!(a.sent_at_us, a.handled_at_us.max(handed));
+            let on_wire: Vec<_> = d
+                .frames()
+                .into_iter()
+                .filter_map(|(at, r)| match r.message {
+                    MavMessage::TIMESYNC(t) if t.ts1 == ts1 => Some((at, t)),
+                    _ => None,
+                })
+                .collect();
+            assert_eq!(on_wire.len(), 1);
+            let (at, t) = &on_wire[0];
+            assert_eq!(*at, a.sent_at_us);
+            assert_eq!(
+                (t.tc1, t.target_system, t.target_component),
+                (a.tc1, 1, 100)
+            );
+        }
+        // The latency spreads over its range.
+        let max = latencies.iter().copied().fold(0.0, f64::max);
+        let min = latencies.iter().copied().fold(1e9, f64::min);
+        assert!(min < 60.0 && max > 240.0, "{min}..{max}");
+        // A request for another system is not answered.
+        let n = px4.timesync_answers.len();
+        let req = dev.frame(&request(1, (7, 1)));
+        d.deliver(&mut px4, &uart_chunks(6_000_000, 115_200, &req));
+        d.run_until(&mut px4, 6_100_000);
+        assert_eq!(px4.timesync_answers.len(), n);
+    }
+
+    #[test]
+    fn px4_system_time_only_on_request_in_gimbal_and_normal_modes() {
+        for (mode, honours) in [
+            (Px4Mode::Gimbal, true),
+            (Px4Mode::Normal, true),
+            (Px4Mode::Gimbal, false),
+        ] {
+            let mut px4 = Px4::new(Px4Config {
+                mode,
+                honours_interval: honours,
+                ppm: -14.0,
+                ..Px4Config::default()
+            });
+            let mut d = Driver::new();
+            d.run_until(&mut px4, 3_000_000);
+            assert!(system_times(&d).is_empty(), "{mode:?}");
+            let mut dev = Endpoint::new(1, mav::GIMBAL);
+            let cmd = dev.frame(&set_interval(SYSTEM_TIME_DATA::ID, 100_000.0));
+            d.deliver(&mut px4, &uart_chunks(3_000_000, 115_200, &cmd));
+            d.run_until(&mut px4, 6_000_000);
+            let expected = if honours {
+                MavResult::MAV_RESULT_ACCEPTED
+            } else {
+                MavResult::MAV_RESULT_UNSUPPORTED
+            };
+            assert_eq!(px4.acks.len(), 0);
+            assert!(d.frames().iter().any(|(_, r)| matches!(&r.message,
+                MavMessage::COMMAND_ACK(a) if a.result == expected)));
+            let times = system_times(&d);
+            if !honours {
+                assert!(times.is_empty());
+                continue;
+            }
+            assert!((29..=31).contains(&times.len()), "{}", times.len());
+            // One reading: the Unix time minus the boot ms is the UTC shift plus the
+            // truncated sub-ms.
+            let shift = px4.fc_utc_us(4_000_000) as i64 - px4.fc_us(4_000_000) as i64;
+            for (_, s) in &times {
+                let d = s.time_unix_usec as i64 - 1000 * i64::from(s.time_boot_ms) - shift;
+                assert!((0..1000).contains(&d), "{d}");
+            }
+        }
+    }
+
+    #[test]
+    fn px4_onboard_streams_time_and_position_and_withholds_an_invalid_clock() {
+        let mut px4 = Px4::new(Px4Config {
+            mode: Px4Mode::Onboard,
+            utc_valid_at_us: 2_500_000,
+            ..Px4Config::default()
+        });
+        let mut d = Driver::new();
+        d.run_until(&mut px4, 10_000_000);
+        let times = system_times(&d);
+        // 1 Hz, none while the clock is invalid.
+        assert!((7..=8).contains(&times.len()), "{}", times.len());
+        assert!(times.iter().all(|(at, _)| *at >= 2_500_000));
+        let count = |id: u32| px4.sent.iter().filter(|(_, m)| mav::id_of(m) == id).count();
+        assert!((99..=101).contains(&count(TIMESYNC_DATA::ID)));
+        assert!((499..=501).contains(&count(GLOBAL_POSITION_INT_DATA::ID)));
+        assert!((99..=101).contains(&count(GPS_RAW_INT_DATA::ID)));
+        assert!((999..=1001).contains(&count(ATTITUDE_DATA::ID)));
+        assert_eq!(count(AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID), 0);
+        // Its own requests carry boot ns; a reply to one is recorded.
+        let (sent_at, ts1) = px4
+            .sent
+            .iter()
+            .rev()
+            .find_map(|(t, m)| match m {
+                MavMessage::TIMESYNC(s) => Some((*t, s.ts1)),
+                _ => None,
+            })
+            .unwrap();
+        assert_eq!(ts1, (px4.fc_us(sent_at) * 1000) as i64);
+        let mut dev = Endpoint::new(1, mav::GIMBAL);
+        let reply = dev.frame(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 42,
+            ts1,
+            target_system: 1,
+            target_component: 1,
+        }));
+        d.deliver(&mut px4, &uart_chunks(10_000_000, 115_200, &reply));
+        assert_eq!(px4.timesync_replies.len(), 1);
+        assert_eq!(px4.timesync_replies[0].1, 42);
     }
 }
