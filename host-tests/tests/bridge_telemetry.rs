@@ -160,6 +160,10 @@ impl Autopilot {
     }
 }
 
+/// UTC errors (µs, one per second), events with their true instants, the component ids
+/// of the bridge's telemetry frames, and the autopilot.
+type Flight = (Vec<i64>, Vec<(u64, Event)>, Vec<u8>, Autopilot);
+
 /// A flight of `seconds` with the bridge's clock `bridge_ppm` fast: the engine's UTC
 /// error at each second after `from_s` (µs), the events, and the telemetry frames the
 /// bridge sent (component ids).
@@ -168,7 +172,7 @@ fn fly(
     bridge_ppm: i64,
     seconds: u64,
     from_s: u64,
-) -> (Vec<i64>, Vec<(u64, Event)>, Vec<u8>, Autopilot) {
+) -> Flight {
     fly_with(Autopilot::new(stamp), bridge_ppm, seconds, from_s)
 }
 
@@ -177,7 +181,7 @@ fn fly_with(
     bridge_ppm: i64,
     seconds: u64,
     from_s: u64,
-) -> (Vec<i64>, Vec<(u64, Event)>, Vec<u8>, Autopilot) {
+) -> Flight {
     let mut e = Engine::new(Config::for_fc(FcProtocol::Siyi));
     let local = |t: u64| {
         let drift = i64::try_from(t).unwrap() * bridge_ppm / 1_000_000;
