@@ -167,21 +167,11 @@ type Flight = (Vec<i64>, Vec<(u64, Event)>, Vec<u8>, Autopilot);
 /// A flight of `seconds` with the bridge's clock `bridge_ppm` fast: the engine's UTC
 /// error at each second after `from_s` (µs), the events, and the telemetry frames the
 /// bridge sent (component ids).
-fn fly(
-    stamp: Stamp,
-    bridge_ppm: i64,
-    seconds: u64,
-    from_s: u64,
-) -> Flight {
+fn fly(stamp: Stamp, bridge_ppm: i64, seconds: u64, from_s: u64) -> Flight {
     fly_with(Autopilot::new(stamp), bridge_ppm, seconds, from_s)
 }
 
-fn fly_with(
-    mut ap: Autopilot,
-    bridge_ppm: i64,
-    seconds: u64,
-    from_s: u64,
-) -> Flight {
+fn fly_with(mut ap: Autopilot, bridge_ppm: i64, seconds: u64, from_s: u64) -> Flight {
     let mut e = Engine::new(Config::for_fc(FcProtocol::Siyi));
     let local = |t: u64| {
         let drift = i64::try_from(t).unwrap() * bridge_ppm / 1_000_000;
@@ -259,11 +249,12 @@ fn ardupilot_telemetry_gives_utc_to_the_tens_of_microseconds_through_timesync() 
         let worst = errors.iter().map(|e| e.abs()).max().unwrap();
         println!("ppm {ppm}: worst {worst} µs");
         // The first mapping assumes equal rates until the fit converges (32 s of
-        // samples): up to 45 ppm apart here; then the least reply latency and this
-        // test's 100 µs step remain.
-        assert!(worst < 400, "ppm {ppm}: errors {errors:?}");
+        // samples): the clocks are up to 45 ppm apart here; then only ArduPilot's
+        // estimate of the request's start and this test's 100 µs step remain.
+        assert!(worst < 2_000, "ppm {ppm}: errors {errors:?}");
         let late = errors.iter().skip(25).map(|e| e.abs()).max().unwrap();
-        assert!(late < 300, "ppm {ppm}: converged errors {errors:?}");
+        println!("ppm {ppm}: converged worst {late} µs");
+        assert!(late < 150, "ppm {ppm}: converged errors {errors:?}");
     }
 }
 
@@ -295,13 +286,15 @@ fn a_step_of_the_autopilots_utc_makes_utc_invalid_then_valid_at_the_new_time() {
         .expect("valid again");
     assert!(valid_again - lost[0] < 1_000_000, "{valid_again}");
     // Every second of UTC it gave was right, before and after the step (40 s itself:
-    // 100 ms of the new time may be unknown yet).
+    // the step is not known yet; until 35 s the first mapping assumes equal rates).
     for (i, e) in errors.iter().enumerate() {
         let second = 20 + i;
-        if second == 40 {
-            continue;
-        }
-        assert!(e.abs() < 400, "at {second} s: {errors:?}");
+        let bound = match second {
+            40 => continue,
+            ..35 => 2_000,
+            _ => 150,
+        };
+        assert!(e.abs() < bound, "at {second} s: {errors:?}");
     }
 }
 

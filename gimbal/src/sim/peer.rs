@@ -79,7 +79,9 @@ impl Peer for SimPod {
 }
 
 /// Runs `peer` against the bridge: what the bridge writes arrives through `from_bridge`,
-/// what the peer sends goes out through `to_bridge`, paced at `baud`. Never returns
+/// what the peer sends goes out through `to_bridge`, both paced at `baud` (each write of
+/// the bridge reaches the peer when its last byte would have, after what was already on
+/// the line, as a UART receiver delivers it). Never returns
 /// (select it against the end of a run); a read or write error ends it with that error.
 ///
 /// # Errors
@@ -99,11 +101,22 @@ where
     let mut out: VecDeque<(u64, Vec<u8>)> = VecDeque::new();
     // The chunk on the wire, and when its last byte reaches the bridge.
     let mut on_wire: Option<(u64, Vec<u8>)> = None;
+    // What the bridge wrote, each write with the instant its last byte reaches the peer
+    // (the line carries it at `baud` after what is already on it), and when the line
+    // from the bridge is free.
+    let mut incoming: VecDeque<(u64, Vec<u8>)> = VecDeque::new();
+    let mut in_free = 0u64;
     let mut buf = [0u8; 256];
     loop {
         let now = now_us();
         {
             let mut p = peer.borrow_mut();
+            while let Some((due, bytes)) = incoming.front()
+                && *due <= now
+            {
+                p.peer_receive(*due, bytes);
+                incoming.pop_front();
+            }
             if p.peer_next_wakeup() <= now {
                 p.peer_poll(now);
             }
@@ -139,7 +152,8 @@ where
             Some((due, _)) => Some(*due),
             None => out.front().map(|(at, _)| *at),
         };
-        let next = [Some(peer.borrow().peer_next_wakeup()), next_out]
+        let next_in = incoming.front().map(|(due, _)| *due);
+        let next = [Some(peer.borrow().peer_next_wakeup()), next_out, next_in]
             .into_iter()
             .flatten()
             .min()
@@ -152,8 +166,9 @@ where
         match select(from_bridge.read(&mut buf), timer).await {
             Either::First(Ok(0)) => return Err(PeerError::Closed),
             Either::First(Ok(n)) => {
-                peer.borrow_mut()
-                    .peer_receive(now_us(), buf.get(..n).unwrap_or_default());
+                let start = now_us().max(in_free);
+                in_free = start.saturating_add(byte_us.saturating_mul(n as u64));
+                incoming.push_back((in_free, buf.get(..n).unwrap_or_default().to_vec()));
             }
             Either::First(Err(_)) => return Err(PeerError::Read),
             Either::Second(()) => {}

@@ -157,6 +157,12 @@ pub struct Sample {
     /// (the K40T FC's 0x00030E follows its own RTC_IO edge): a single such sample is
     /// enough for a first mapping.
     pub prompt: bool,
+    /// The remote clock read `value_us` at or *after* `local` (here the instant the
+    /// bridge started sending a request the remote stamped on arrival: ArduPilot's
+    /// TIMESYNC tc1, its UART's estimate of the request's start, never earlier), not
+    /// before it: the point lies on or under the offset line, and the least-advanced
+    /// samples are the tight ones. An estimator takes one kind (the first sample's).
+    pub lower: bool,
 }
 
 impl Sample {
@@ -170,7 +176,15 @@ impl Sample {
             held: false,
             transit: Duration::ZERO,
             prompt: false,
+            lower: false,
         }
+    }
+
+    /// The same sample, read by the remote at or after `local` ([`Sample::lower`]).
+    #[must_use]
+    pub const fn lower_bound(mut self) -> Self {
+        self.lower = true;
+        self
     }
 
     /// The same sample, marked as sent at once after the instant it carries
@@ -476,6 +490,16 @@ impl Line {
         i64::try_from(i128::from(self.x0).checked_add(q)?).ok()
     }
 
+    /// The line with its offsets negated (for an estimator that keeps its points
+    /// negated).
+    fn negated(&self) -> Option<Self> {
+        Some(Self {
+            y0: self.y0.checked_neg()?,
+            dy: self.dy.checked_neg()?,
+            ..*self
+        })
+    }
+
     /// The same line shifted down by `c` (offset − c).
     fn shifted(&self, c: i64) -> Option<Self> {
         Some(Self {
@@ -539,6 +563,9 @@ struct ClockEstimator {
     suspect: bool,
     /// Largest truncation step of the accepted samples, µs.
     resolution: u32,
+    /// The samples are lower bounds ([`Sample::lower`]): points are kept negated (so that
+    /// the least-advanced are the minima) and the line is negated back when given.
+    negated: bool,
 }
 
 /// A mapping an estimator can give, and what is believed of its error.
@@ -577,11 +604,14 @@ impl ClockEstimator {
             prompt: false,
             suspect: false,
             resolution: 0,
+            negated: false,
         }
     }
 
     fn reset(&mut self) {
+        let negated = self.negated;
         *self = Self::new();
+        self.negated = negated;
     }
 
     fn is_empty(&self) -> bool {
@@ -640,6 +670,7 @@ impl ClockEstimator {
             .spread(&line, cfg.anchor_bins.max(1))
             .saturating_sub(u64::from(half))
             .max(cfg.delay_margin.as_micros());
+        let line = if self.negated { line.negated()? } else { line };
         Some(Fit {
             line,
             converged,
@@ -663,6 +694,14 @@ impl ClockEstimator {
 
     /// Feeds the point `(x, y)` of a sample with truncation step `resolution_us`.
     fn feed(&mut self, p: Point, resolution_us: u32, prompt: bool, cfg: &DisciplineConfig) -> Fed {
+        let p = if self.negated {
+            Point {
+                x: p.x,
+                y: p.y.saturating_neg(),
+            }
+        } else {
+            p
+        };
         if let Some(line) = self.line {
             let tol = i64::try_from(
                 cfg.jump_tolerance
@@ -1097,7 +1136,10 @@ impl TimeDiscipline {
     }
 
     fn utc_sample_inner(&mut self, s: Sample) -> Verdict {
-        if s.value_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::Direct) {
+        if s.lower
+            || s.value_us < self.config.min_utc.as_unix_micros()
+            || !self.take_path(Path::Direct)
+        {
             return Verdict::Rejected;
         }
         if s.held {
@@ -1151,6 +1193,13 @@ impl TimeDiscipline {
 
     fn fc_clock_sample_inner(&mut self, s: Sample) -> Verdict {
         if !self.take_path(Path::ViaFc) {
+            return Verdict::Rejected;
+        }
+        // The first sample sets the kind of the estimator's points.
+        if self.clock.is_empty() && self.clock.accepted == 0 {
+            self.clock.negated = s.lower;
+        }
+        if s.lower != self.clock.negated {
             return Verdict::Rejected;
         }
         if s.held {

@@ -83,6 +83,15 @@ impl Ctx<'_> {
         );
     }
 
+    /// Nothing is queued for this side's link: a frame queued now goes out at once.
+    #[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+    pub(crate) fn link_idle(&self) -> bool {
+        match self.to {
+            super::Port::Telemetry => self.out.tel.front().is_none(),
+            super::Port::Fc | super::Port::Pod => self.out.fc.front().is_none(),
+        }
+    }
+
     /// Puts `fix` in the history when this link feeds it ([`Ctx::feeds`]).
     pub(crate) fn push_fix(&mut self, fix: Fix) {
         if self.feeds {

@@ -7,20 +7,22 @@
 //! against the boot clock from SYSTEM_TIME; UTC = local → boot → UTC.
 //!
 //! - **Requests.** Once the autopilot is known, a TIMESYNC request (tc1 = 0, ts1 = the
-//!   bridge's clock in ns, the autopilot as target) goes out every 150..350 ms (dithered,
-//!   so that its arrival does not lock to the autopilot's loop). One is outstanding at a
+//!   bridge's clock in ns, the autopilot as target) goes out every 50..100 ms twelve
+//!   times, then every 150..350 ms (dithered to the microsecond, so that its arrival
+//!   does not lock to the autopilot's loop), when nothing else waits to be sent. One is outstanding at a
 //!   time; a reply is matched on its ts1 (ArduPilot forwards other systems' TIMESYNC
 //!   onto the link, §8.10) and taken within [`TIMESYNC_MAX_RTT`].
 //! - **Where the autopilot read tc1.** ArduPilot stamps tc1 with its UART's estimate of
-//!   when the request *started* arriving (`receive_time_constraint_us(len)`: never
-//!   before the start); PX4 when its receive thread parses it, after its end. Either way
-//!   `tc1 + (ArduPilot: the request's serial time)` was read no later than the reply's
-//!   first byte left, so the reply is an ordinary FC clock sample: the boot clock at the
-//!   reply's first byte is at least that value, late by the autopilot's loop latency
-//!   (ArduPilot answers in its next loop, 2.5 ms at 400 Hz). The discipline's
-//!   minimum-delay filter keeps the least-delayed replies: the low-round-trip samples are
-//!   the ones that count. An autopilot other than ArduPilot is taken as stamping after
-//!   the end (the safe reading: a value read at the start only looks later).
+//!   when the request *started* arriving (`receive_time_constraint_us`, never earlier
+//!   than the start): the boot clock was at most tc1 when the bridge queued the request,
+//!   a *lower bound* of the offset, tight to the UART's estimate whatever ArduPilot's
+//!   loop and output delays (up to 10 ms of transport jitter on its replies). PX4 reads
+//!   tc1 when its receive thread parses the request, after its end, and answers at once:
+//!   the boot clock at the reply's first byte was at least tc1, an ordinary *upper*
+//!   bound, late by PX4's latency. An autopilot other than ArduPilot is read as PX4 (a
+//!   value read at the start only looks later to that reading: safe). The discipline
+//!   keeps the tightest samples of the one kind (its minimum filter): the low-round-trip
+//!   samples are the ones that count.
 //! - **SYSTEM_TIME.** Both fields are read from one clock in one call: `d =
 //!   time_unix_usec − 1000·time_boot_ms` is the UTC − boot shift plus the sub-millisecond
 //!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift
@@ -32,7 +34,7 @@
 //!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
 //!   TIMESYNC path.
 
-use crate::bridge::discipline::{Sample, serial_time};
+use crate::bridge::discipline::Sample;
 use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::time::{Duration, Instant};
 use crate::mavlink::dialect::{
@@ -67,6 +69,13 @@ pub(crate) const TIMESYNC_MAX_RTT: Duration = Duration::from_millis(200);
 /// least reply latency up to half a millisecond).
 const TIMESYNC_MIN_PERIOD_US: u32 = 150_000;
 const TIMESYNC_SPREAD_US: u32 = 200_000;
+/// The first [`TIMESYNC_QUICK`] requests after the autopilot is learnt go out every
+/// 50..100 ms, for a first mapping within a second.
+const TIMESYNC_QUICK: u8 = 12;
+const TIMESYNC_QUICK_MIN_US: u32 = 50_000;
+const TIMESYNC_QUICK_SPREAD_US: u32 = 50_000;
+/// A TIMESYNC request due while frames wait in the queue is tried again this much later.
+const TIMESYNC_QUEUE_WAIT: Duration = Duration::from_millis(3);
 /// SYSTEM_TIME is used alone when no TIMESYNC reply came this long after the first.
 pub(crate) const TIMESYNC_GRACE: Duration = Duration::from_secs(5);
 
@@ -130,9 +139,8 @@ pub(super) struct Vehicle {
 #[derive(Debug, Clone, Copy)]
 struct Request {
     ts1: i64,
+    /// When it was queued: no later than it started on the wire.
     sent: Instant,
-    /// Its length on the wire, bytes.
-    len: u32,
 }
 
 /// The TIMESYNC requester.
@@ -142,6 +150,8 @@ struct Timesync {
     outstanding: Option<Request>,
     /// A reply was matched since the autopilot was learnt.
     answered: bool,
+    /// Requests sent since the autopilot was learnt (saturating).
+    sent: u8,
     /// Dither state (xorshift32).
     rng: u32,
 }
@@ -199,6 +209,7 @@ impl Autopilot {
                 next: Instant::ZERO,
                 outstanding: None,
                 answered: false,
+                sent: 0,
                 rng: 0x9E37_79B9,
             },
         }
@@ -309,6 +320,7 @@ impl Autopilot {
         self.sync.next = ctx.now;
         self.sync.outstanding = None;
         self.sync.answered = false;
+        self.sync.sent = 0;
         Some(true)
     }
 
@@ -447,17 +459,29 @@ impl Autopilot {
             .saturating_mul(1000)
     }
 
-    /// Sends the next TIMESYNC request and plans the one after (dithered).
+    /// Sends the next TIMESYNC request and plans the one after (dithered). A request
+    /// waits for an empty queue (then it starts on the wire when queued, or after the
+    /// one frame being written): its queue instant is its start, or a little before.
     fn request_timesync(&mut self, ctx: &mut Ctx<'_>) {
         let Some(sysid) = self.sysid else {
             return;
         };
+        if !ctx.link_idle() {
+            self.sync.next = ctx.now.saturating_add(TIMESYNC_QUEUE_WAIT);
+            return;
+        }
         let mut r = self.sync.rng;
         r ^= r << 13;
         r ^= r >> 17;
         r ^= r << 5;
         self.sync.rng = r;
-        let wait = TIMESYNC_MIN_PERIOD_US.saturating_add(r % TIMESYNC_SPREAD_US);
+        let (least, spread) = if self.sync.sent < TIMESYNC_QUICK {
+            (TIMESYNC_QUICK_MIN_US, TIMESYNC_QUICK_SPREAD_US)
+        } else {
+            (TIMESYNC_MIN_PERIOD_US, TIMESYNC_SPREAD_US)
+        };
+        self.sync.sent = self.sync.sent.saturating_add(1);
+        let wait = least.saturating_add(r % spread);
         self.sync.next = ctx
             .now
             .saturating_add(Duration::from_micros(u64::from(wait)));
@@ -475,11 +499,7 @@ impl Autopilot {
         if let Ok(n) = mavlink::encode(&msg, &header, &mut buf)
             && ctx.reply(buf.get(..n).unwrap_or_default())
         {
-            self.sync.outstanding = Some(Request {
-                ts1,
-                sent: ctx.now,
-                len: u32::try_from(n).unwrap_or(u32::MAX),
-            });
+            self.sync.outstanding = Some(Request { ts1, sent: ctx.now });
         }
     }
 
@@ -514,12 +534,6 @@ impl Autopilot {
         let Ok(tc1_us) = u64::try_from(t.tc1 / 1000) else {
             return Took::Yes;
         };
-        // ArduPilot's tc1 is the request's start: its end was read that much later.
-        let read = if self.ardupilot {
-            serial_time(req.len, ctx.baud).as_micros()
-        } else {
-            0
-        };
         if !self.sync.answered {
             self.sync.answered = true;
             if self
@@ -532,7 +546,15 @@ impl Autopilot {
             }
         }
         if ctx.feeds {
-            let s = Sample::new(ctx.now, tc1_us.saturating_add(read), 1).with_transit(ctx.transit);
+            let s = if self.ardupilot {
+                // tc1 is the request's start by ArduPilot's UART, never earlier than
+                // it: the boot clock at the instant the bridge started sending it was at
+                // most tc1.
+                Sample::new(req.sent, tc1_us, 1).lower_bound()
+            } else {
+                // Read when the request was parsed, before the reply's first byte.
+                Sample::new(ctx.now, tc1_us, 1).with_transit(ctx.transit)
+            };
             ctx.time.fc_clock_sample(s);
         }
         Took::Yes
