@@ -481,7 +481,7 @@ impl Autopilot {
             (TIMESYNC_MIN_PERIOD_US, TIMESYNC_SPREAD_US)
         };
         self.sync.sent = self.sync.sent.saturating_add(1);
-        let wait = least.saturating_add(r % spread);
+        let wait = least.saturating_add(r.checked_rem(spread).unwrap_or(0));
         self.sync.next = ctx
             .now
             .saturating_add(Duration::from_micros(u64::from(wait)));
