@@ -52,7 +52,9 @@ use embassy_time::Duration;
 use embedded_hal::digital::{ErrorType, OutputPin};
 use protocol_core::bridge::{Engine, Instant, Level, Port};
 
-use crate::{BridgeEngine, EventSink, Shared, engine_task, link, log_task, watchdog_task};
+use crate::{
+    BridgeEngine, EventSink, Heartbeat, Shared, engine_task, link, log_task, watchdog_task,
+};
 
 /// Which time the executor loop runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,7 +128,7 @@ where
         link(shared, Port::Pod, &links.pod_rx, &links.pod_tx),
         engine_task(shared, rtc_io),
         log_task(shared, sink),
-        watchdog_task(shared, WATCHDOG_PERIOD, feed),
+        watchdog_task(shared, WATCHDOG_PERIOD, Heartbeat::ALL, feed),
     )
     .await;
     never
