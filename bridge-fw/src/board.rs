@@ -6,11 +6,18 @@
 //! | FC RX (UART4, AF8) | PA1 | Arduino D0 | 3.3 V (5 V tolerant) | FC's TX |
 //! | pod TX (USART2, AF7) | PD5 | PMOD pin 2 (PMOD_UART2_TX) | 3.3 V | pod's RX |
 //! | pod RX (USART2, AF7) | PD6 | PMOD pin 3 (PMOD_UART2_RX) | 3.3 V (5 V tolerant) | pod's TX |
+//! | telemetry TX (LPUART1, AF8) | PC1 | Arduino A4 | 3.3 V | autopilot's telemetry RX |
+//! | telemetry RX (LPUART1, AF8) | PC0 | Arduino A5 | 3.3 V (5 V tolerant) | autopilot's telemetry TX |
 //! | RTC_IO (push-pull out) | PD14 | Arduino D2 | 3.3 V | pod's RTC_IO |
 //! | FC strap A (in, pull-up) | PA3 | Arduino D4 | open / GND | (all-FC builds) |
 //! | FC strap B (in, pull-up) | PA4 | Arduino D7 | open / GND | (all-FC builds) |
 //! | FC strap C (in, pull-up) | PB2 | Arduino D8 | open / GND (MAVLink) | (all-FC builds) |
 //! | LED2 | PB14 | on board | | |
+//!
+//! The telemetry rows are wired only in builds with the `telemetry` feature (a MAVLink 2
+//! serial port of the autopilot: ArduPilot `SERIALn_PROTOCOL 2`, PX4 `MAV_n_CONFIG`); the
+//! Arduino analog header's A4/A5 carry LPUART1 (AF8) and nothing else on this board, so
+//! the FC and telemetry links are both on the Arduino connector.
 //!
 //! USART1 (the ST-LINK virtual COM port) stays free; USART3 is wired to the on-board
 //! modules, not to a header.
@@ -26,6 +33,8 @@ use static_cell::StaticCell;
 bind_interrupts!(struct Irqs {
     UART4 => usart::BufferedInterruptHandler<peripherals::UART4>;
     USART2 => usart::BufferedInterruptHandler<peripherals::USART2>;
+    #[cfg(feature = "telemetry")]
+    LPUART1 => usart::BufferedInterruptHandler<peripherals::LPUART1>;
 });
 
 /// Bytes of each UART ring buffer (22 ms at 115200: far more than any task's latency).
@@ -41,6 +50,9 @@ pub struct Board {
     pub fc: BufferedUart<'static>,
     /// The pod link.
     pub pod: BufferedUart<'static>,
+    /// The MAVLink telemetry link (LPUART1).
+    #[cfg(feature = "telemetry")]
+    pub telemetry: BufferedUart<'static>,
     /// RTC_IO, low.
     pub rtc_io: Output<'static>,
     /// LED2, off.
@@ -60,6 +72,14 @@ fn clock_config() -> embassy_stm32::Config {
     use embassy_stm32::rcc::Sysclk;
     let mut config = embassy_stm32::Config::default();
     config.rcc.hsi = true;
+    // LPUART1 (the telemetry link) on HSI16 rather than PCLK1: its BRR (256 × clock / baud,
+    // 0x300..0xFFFFF, no prescaler on the L4) then takes 3 907 to 5 333 333 baud (4800 to
+    // 4M, every MAVLink telemetry rate); on the 80 MHz PCLK1, 19200 baud would not fit. The
+    // PLL runs from the same HSI16, so the rate is as accurate as the other UARTs'.
+    #[cfg(feature = "telemetry")]
+    {
+        config.rcc.mux.lpuart1sel = embassy_stm32::rcc::mux::Lpuart1sel::HSI;
+    }
     #[cfg(not(feature = "qemu"))]
     {
         use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource};
@@ -159,10 +179,28 @@ pub fn init() -> Board {
         uart(config.pod_baud),
     )
     .expect("pod UART configuration");
+    // LPUART1 on HSI16 (`clock_config`).
+    #[cfg(feature = "telemetry")]
+    let telemetry = {
+        static TEL_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+        static TEL_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+        BufferedUart::new(
+            p.LPUART1,
+            p.PC0,
+            p.PC1,
+            TEL_TX.init([0; UART_BUF]),
+            TEL_RX.init([0; UART_BUF]),
+            Irqs,
+            uart(config.telemetry_baud),
+        )
+        .expect("telemetry UART configuration")
+    };
 
     Board {
         fc,
         pod,
+        #[cfg(feature = "telemetry")]
+        telemetry,
         rtc_io: Output::new(p.PD14, Level::Low, Speed::VeryHigh),
         led: Output::new(p.PB14, Level::Low, Speed::Low),
         watchdog,

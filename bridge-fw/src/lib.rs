@@ -10,9 +10,9 @@
 //! | --- | --- |
 //! | [`link_reader`] | UART → [`Engine::receive`]; a silence of [`Timing::idle`] after bytes → [`Engine::idle`] (an input: what it means is the engine's decision) |
 //! | [`link_writer`] | engine → UART, one whole frame at a time ([`Engine::transmit`]); on the pod link it holds a frame that would still be on the wire at a planned RTC_IO edge |
-//! | [`link`] | both of the above for one port |
+//! | [`link`] | both of the above for one port (FC, pod, and the optional MAVLink telemetry link) |
 //! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names (a timer alarm): pin, clock, [`pin_done`](Engine::pin_done) in one critical section, then the pod writer is woken |
-//! | [`watchdog_task`] | feeds the watchdog only while the engine task and all four link loops make progress |
+//! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //!

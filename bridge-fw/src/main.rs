@@ -29,7 +29,7 @@ mod stack;
 #[allow(unsafe_code)]
 mod systick_driver;
 
-use bridge_fw::{Engine, LogKind, LogRecord, Port, Shared, Timing};
+use bridge_fw::{Engine, Heartbeat, LogKind, LogRecord, Port, Shared, Timing};
 use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_stm32::gpio::Output;
@@ -94,6 +94,11 @@ fn start(spawner: Spawner) {
     let (pod_tx, pod_rx) = b.pod.split();
     spawner.spawn(fc_link(shared, fc_rx, fc_tx).expect("task fc_link"));
     spawner.spawn(pod_link(shared, pod_rx, pod_tx).expect("task pod_link"));
+    #[cfg(feature = "telemetry")]
+    {
+        let (tel_tx, tel_rx) = b.telemetry.split();
+        spawner.spawn(telemetry_link(shared, tel_rx, tel_tx).expect("task telemetry_link"));
+    }
     spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
     spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
     spawner.spawn(led(shared, b.led).expect("task led"));
@@ -162,6 +167,17 @@ async fn pod_link(
     bridge_fw::link(shared, Port::Pod, rx, tx).await
 }
 
+/// The MAVLink telemetry link (LPUART1): the engine ignores it with the MAVLink FC side.
+#[cfg(feature = "telemetry")]
+#[embassy_executor::task]
+async fn telemetry_link(
+    shared: &'static BoardShared,
+    rx: BufferedUartRx<'static>,
+    tx: BufferedUartTx<'static>,
+) -> ! {
+    bridge_fw::link(shared, Port::Telemetry, rx, tx).await
+}
+
 #[embassy_executor::task]
 async fn engine(shared: &'static BoardShared, rtc_io: Output<'static>) -> ! {
     bridge_fw::engine_task(shared, rtc_io).await
@@ -169,7 +185,9 @@ async fn engine(shared: &'static BoardShared, rtc_io: Output<'static>) -> ! {
 
 #[embassy_executor::task]
 async fn watchdog(shared: &'static BoardShared, mut wd: IndependentWatchdog<'static, IWDG>) -> ! {
-    bridge_fw::watchdog_task(shared, WATCHDOG_PERIOD, || wd.pet()).await
+    // The telemetry link's loops run (and are supervised) whenever it is built in.
+    let supervised = Heartbeat::supervised(cfg!(feature = "telemetry"));
+    bridge_fw::watchdog_task(shared, WATCHDOG_PERIOD, supervised, || wd.pet()).await
 }
 
 #[embassy_executor::task]

@@ -147,6 +147,26 @@ impl Heartbeat {
     pub const TEL_TX: Self = Self(64);
     /// Every loop of the FC and pod links and the engine.
     pub const ALL: Self = Self(31);
+    /// Both loops of the telemetry link.
+    pub const TELEMETRY: Self = Self(Self::TEL_RX.0 | Self::TEL_TX.0);
+
+    /// The loops the watchdog supervises: [`Heartbeat::ALL`], and the telemetry link's
+    /// two when one runs (the firmware built with `telemetry`, a host bench with a
+    /// telemetry peer).
+    #[must_use]
+    pub const fn supervised(telemetry: bool) -> Self {
+        if telemetry {
+            Self(Self::ALL.0 | Self::TELEMETRY.0)
+        } else {
+            Self::ALL
+        }
+    }
+
+    /// Whether every loop of `other` is in `self`.
+    #[must_use]
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
 
     /// The reader's bit of `port`.
     #[must_use]

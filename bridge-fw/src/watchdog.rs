@@ -8,9 +8,11 @@ use crate::now;
 use crate::shared::LogKind;
 use crate::shared::{Heartbeat, Shared};
 
-/// Every `period`, feeds the watchdog (`feed`) if the engine task and the four link
-/// loops (FC and pod, reader and writer) have each marked their heartbeat since the
-/// last check; else logs which did not ([`LogKind::Stalled`]) and does not feed.
+/// Every `period`, feeds the watchdog (`feed`) if every loop of `supervised` (the
+/// engine task and the four link loops, FC and pod, reader and writer: [`Heartbeat::ALL`];
+/// with a telemetry link also its two: [`Heartbeat::supervised`]) has marked its
+/// heartbeat since the last check; else logs which did not ([`LogKind::Stalled`]) and
+/// does not feed.
 ///
 /// Each loop marks its heartbeat at least every [`Timing::heartbeat`](crate::Timing::heartbeat)
 /// (100 ms) while healthy, so `period` must be longer than that (the firmware uses
@@ -19,19 +21,17 @@ use crate::shared::{Heartbeat, Shared};
 pub async fn watchdog_task<M: RawMutex, E: BridgeEngine, F: FnMut()>(
     shared: &Shared<M, E>,
     period: Duration,
+    supervised: Heartbeat,
     mut feed: F,
 ) -> ! {
     let mut ticker = Ticker::every(period);
     loop {
         ticker.next().await;
         let alive = shared.take_alive();
-        if alive.0 & Heartbeat::ALL.0 == Heartbeat::ALL.0 {
+        if alive.contains(supervised) {
             feed();
         } else {
-            shared.record(
-                now(),
-                LogKind::Stalled(Heartbeat(Heartbeat::ALL.0 & !alive.0)),
-            );
+            shared.record(now(), LogKind::Stalled(Heartbeat(supervised.0 & !alive.0)));
         }
     }
 }

@@ -410,3 +410,150 @@ fn a_lost_flight_controller_is_retried_with_backoff_and_reconnected() {
     let ups = seen.iter().filter(|e| e["event"] == "fc_link_up").count();
     assert_eq!(ups, 2);
 }
+
+/// Frames of a MAVLink 2 byte stream: (header, message id).
+fn mavlink_frames(bytes: &[u8]) -> Vec<(protocol_core::mavlink::Header, u32)> {
+    use protocol_core::mavlink::{MavlinkFraming, Packet};
+    use protocol_core::wire::{Deframer, Event};
+    let mut d = Deframer::<_, 512>::new(MavlinkFraming::new());
+    let mut out = Vec::new();
+    d.push(bytes, |ev| {
+        if let Event::Frame(f) = ev
+            && let Ok(p) = Packet::decode(f)
+        {
+            out.push((p.header, p.message.id()));
+        }
+    });
+    out
+}
+
+/// An autopilot's HEARTBEAT (system 1, component 1, a quadrotor running ArduPilot).
+fn autopilot_heartbeat(sequence: u8) -> Vec<u8> {
+    use protocol_core::mavlink::dialect::{
+        HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+    };
+    use protocol_core::mavlink::{Header, MavMessage, encode};
+    let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype: MavType::MAV_TYPE_QUADROTOR,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_STANDBY,
+        mavlink_version: 3,
+    });
+    let header = Header {
+        sequence,
+        system_id: 1,
+        component_id: 1,
+    };
+    let mut buf = [0u8; 64];
+    let n = encode(&hb, &header, &mut buf).expect("encode HEARTBEAT");
+    buf[..n].to_vec()
+}
+
+/// `--telemetry-port`: the bridge listens for the autopilot's MAVLink port beside its FC
+/// and pod links (both simulated here); this test is the autopilot, one that sends its
+/// HEARTBEAT and nothing else. The bridge says nothing there until it hears it, then
+/// sends its own HEARTBEAT (component 158, MAV_COMP_ID_PERIPHERAL, with the autopilot's
+/// system id), TIMESYNC requests and SET_MESSAGE_INTERVAL for the streams it wants.
+///
+/// Seen here: while the bridge asks for the streams once a second (its first five tries),
+/// its HEARTBEAT is the oldest frame of a burst that overflows the 192-byte telemetry
+/// queue (HEARTBEAT + four COMMAND_LONG + TIMESYNC) and is dropped; it gets out once the
+/// requests back off. So the test sends for 8 s and asks for two HEARTBEATs at least.
+#[test]
+fn the_telemetry_port_carries_the_bridges_heartbeat_after_the_autopilots() {
+    use std::io::{Read, Write};
+    let _one = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut bridge = gimbal(&[
+        "bridge",
+        "--fc",
+        "siyi",
+        "--fc-port",
+        "sim",
+        "--pod-port",
+        "sim",
+        "--telemetry-port",
+        "tcp-listen:127.0.0.1:0",
+        "--telemetry-baud",
+        "57600",
+        "--events",
+        "json",
+        "--seconds",
+        "12",
+    ]);
+    let rx = lines(&mut bridge);
+    let mut seen = Vec::new();
+    let started = wait_for(&rx, &mut seen, "bridge_started", |e| {
+        e["event"] == "bridge_started"
+    });
+    assert_eq!(
+        started["telemetry_port"], "tcp-listen:127.0.0.1:0",
+        "{started}"
+    );
+    assert_eq!(started["telemetry_baud"], 57_600, "{started}");
+    let listening = wait_for(&rx, &mut seen, "port_listening", |e| {
+        e["event"] == "port_listening" && e["port"] == "telemetry"
+    });
+    let address = listening["address"].as_str().expect("address");
+    let mut ap = std::net::TcpStream::connect(address).expect("connect to the telemetry port");
+    ap.set_read_timeout(Some(Duration::from_millis(100)))
+        .unwrap();
+    let mut writer = ap.try_clone().unwrap();
+    let mut read_for = |d: Duration, got: &mut Vec<u8>| {
+        let end = Instant::now() + d;
+        let mut buf = [0u8; 1024];
+        while Instant::now() < end {
+            match ap.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => got.extend_from_slice(&buf[..n]),
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    ) => {}
+                Err(e) => panic!("telemetry read: {e}"),
+            }
+        }
+    };
+    // Silence until the autopilot is heard.
+    let mut before = Vec::new();
+    read_for(Duration::from_millis(1500), &mut before);
+    assert!(before.is_empty(), "the bridge spoke first: {before:02x?}");
+    // The autopilot's HEARTBEAT at 1 Hz for 8 s.
+    let mut after = Vec::new();
+    for seq in 0..8u8 {
+        writer.write_all(&autopilot_heartbeat(seq)).unwrap();
+        read_for(Duration::from_secs(1), &mut after);
+    }
+    let frames = mavlink_frames(&after);
+    let heartbeats: Vec<_> = frames
+        .iter()
+        .filter(|(h, id)| *id == 0 && h.component_id == 158)
+        .collect();
+    assert!(heartbeats.len() >= 3, "{frames:?}");
+    assert!(
+        heartbeats.iter().all(|(h, _)| h.system_id == 1),
+        "{frames:?}"
+    );
+    drop(writer);
+
+    let (rest, code, err) = finish(bridge, &rx, Duration::from_secs(20));
+    assert_eq!(code, 0, "bridge: {err}");
+    seen.extend(rest);
+    assert!(
+        seen.iter()
+            .any(|e| e["event"] == "port_connected" && e["port"] == "telemetry"),
+        "{seen:?}"
+    );
+    let counters = named(&seen, "counters");
+    let c = counters.last().expect("counters");
+    assert!(c["telemetry_frames"].as_u64().unwrap() >= 8, "{c}");
+    assert!(c["telemetry_sent"].as_u64().unwrap() >= 8, "{c}");
+    println!("telemetry: counters {c}");
+    // The SIYI side ran as without the telemetry port.
+    assert_eq!(named(&seen, "fc_link_up").len(), 1);
+    assert_eq!(named(&seen, "pod_link_up").len(), 1);
+}

@@ -45,14 +45,16 @@ use std::sync::{Arc, Mutex};
 use std::task::{Context, Poll, Wake, Waker};
 use std::thread::Thread;
 
-use embassy_futures::join::join5;
+use embassy_futures::join::{join, join5};
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::pipe::Pipe;
 use embassy_time::Duration;
 use embedded_hal::digital::{ErrorType, OutputPin};
 use protocol_core::bridge::{Engine, Instant, Level, Port};
 
-use crate::{BridgeEngine, EventSink, Shared, engine_task, link, log_task, watchdog_task};
+use crate::{
+    BridgeEngine, EventSink, Heartbeat, Shared, engine_task, link, log_task, watchdog_task,
+};
 
 /// Which time the executor loop runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,7 +74,33 @@ pub type HostPipe = Pipe<CriticalSectionRawMutex, PIPE_BYTES>;
 /// The shared state of the tasks on the host.
 pub type HostShared<E = Engine> = Shared<CriticalSectionRawMutex, E>;
 
-/// The bridge's two serial links as four pipes, named from the bridge's side.
+/// One serial link as two pipes, named from the bridge's side.
+pub struct HostLink {
+    /// Peer → bridge: the peer writes here.
+    pub rx: HostPipe,
+    /// Bridge → peer: the peer reads here.
+    pub tx: HostPipe,
+}
+
+impl HostLink {
+    /// Two empty pipes.
+    #[must_use]
+    pub const fn new() -> Self {
+        HostLink {
+            rx: Pipe::new(),
+            tx: Pipe::new(),
+        }
+    }
+}
+
+impl Default for HostLink {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The bridge's serial links as pipes, named from the bridge's side: the FC and pod links,
+/// and the optional MAVLink telemetry link ([`Port::Telemetry`]).
 pub struct HostLinks {
     /// FC → bridge: the FC (or whatever stands for it) writes here.
     pub fc_rx: HostPipe,
@@ -82,10 +110,13 @@ pub struct HostLinks {
     pub pod_rx: HostPipe,
     /// Bridge → pod.
     pub pod_tx: HostPipe,
+    /// The telemetry link, when there is one: [`bridge`] then runs its reader and writer
+    /// and the watchdog supervises them.
+    pub telemetry: Option<HostLink>,
 }
 
 impl HostLinks {
-    /// Four empty pipes.
+    /// Four empty pipes, no telemetry link.
     #[must_use]
     pub const fn new() -> Self {
         HostLinks {
@@ -93,6 +124,19 @@ impl HostLinks {
             fc_tx: Pipe::new(),
             pod_rx: Pipe::new(),
             pod_tx: Pipe::new(),
+            telemetry: None,
+        }
+    }
+
+    /// Four empty pipes and the telemetry link's two.
+    #[must_use]
+    pub const fn with_telemetry() -> Self {
+        HostLinks {
+            fc_rx: Pipe::new(),
+            fc_tx: Pipe::new(),
+            pod_rx: Pipe::new(),
+            pod_tx: Pipe::new(),
+            telemetry: Some(HostLink::new()),
         }
     }
 }
@@ -106,8 +150,10 @@ impl Default for HostLinks {
 /// The watchdog check period of [`bridge`] (as on the MCU).
 pub const WATCHDOG_PERIOD: Duration = Duration::from_millis(250);
 
-/// Every task of the firmware but the LED, on `links`: both links, the engine task with
-/// `rtc_io`, the log task into `sink`, and the watchdog task calling `feed`.
+/// Every task of the firmware but the LED, on `links`: the FC and pod links (and the
+/// telemetry link when `links` has one), the engine task with `rtc_io`, the log task into
+/// `sink`, and the watchdog task calling `feed` (supervising the telemetry link's loops
+/// too when it runs, as the firmware built with `telemetry` does).
 pub async fn bridge<E, P, S, F>(
     shared: &HostShared<E>,
     links: &HostLinks,
@@ -121,12 +167,22 @@ where
     S: EventSink,
     F: FnMut(),
 {
-    let (never, _, _, _, _) = join5(
-        link(shared, Port::Fc, &links.fc_rx, &links.fc_tx),
-        link(shared, Port::Pod, &links.pod_rx, &links.pod_tx),
-        engine_task(shared, rtc_io),
-        log_task(shared, sink),
-        watchdog_task(shared, WATCHDOG_PERIOD, feed),
+    let supervised = Heartbeat::supervised(links.telemetry.is_some());
+    let telemetry = async {
+        match &links.telemetry {
+            Some(t) => link(shared, Port::Telemetry, &t.rx, &t.tx).await,
+            None => core::future::pending::<()>().await,
+        }
+    };
+    let ((never, _, _, _, _), ()) = join(
+        join5(
+            link(shared, Port::Fc, &links.fc_rx, &links.fc_tx),
+            link(shared, Port::Pod, &links.pod_rx, &links.pod_tx),
+            engine_task(shared, rtc_io),
+            log_task(shared, sink),
+            watchdog_task(shared, WATCHDOG_PERIOD, supervised, feed),
+        ),
+        telemetry,
     )
     .await;
     never

@@ -63,9 +63,16 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
         set(&mut keys, &key, value);
     }
     let a: &ConfigArgs = &args.config;
+    let no_port = port::PortSpec::Sim;
     for (key, port, option, what) in [
         ("fc_baud", &args.fc_port, a.fc_baud, "--fc-port"),
         ("pod_baud", &args.pod_port, a.pod_baud, "--pod-port"),
+        (
+            "telemetry_baud",
+            args.telemetry_port.as_ref().unwrap_or(&no_port),
+            a.telemetry_baud,
+            "--telemetry-port",
+        ),
     ] {
         if let Some(baud) = port_baud(port, option, what)? {
             set(&mut keys, key, toml::Value::Integer(baud.into()));
@@ -208,12 +215,20 @@ fn secs_to_us(s: f64) -> u64 {
 #[allow(clippy::too_many_lines)]
 pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, String> {
     let (config, timing) = config_of(args)?;
-    let links: &'static HostLinks = Box::leak(Box::new(HostLinks::new()));
+    let links: &'static HostLinks = Box::leak(Box::new(if args.telemetry_port.is_some() {
+        HostLinks::with_telemetry()
+    } else {
+        HostLinks::new()
+    }));
     let shared = HostShared::new(Engine::new(config), timing);
     let fc_codec = args.fc.name();
     let trace = |port: &'static str, dir: &'static str| {
-        args.trace
-            .then(|| tap(out, if port == "fc" { fc_codec } else { "k40t" }, port, dir))
+        let codec = match port {
+            "fc" => fc_codec,
+            "telemetry" => "mavlink",
+            _ => "k40t",
+        };
+        args.trace.then(|| tap(out, codec, port, dir))
     };
 
     out.emit(
@@ -221,7 +236,9 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
         json!({
             "fc": fc_codec, "fc_port": args.fc_port.to_string(),
             "pod_port": args.pod_port.to_string(), "rtc_io": args.rtc_io.to_string(),
+            "telemetry_port": args.telemetry_port.as_ref().map(ToString::to_string),
             "fc_baud": config.fc_baud, "pod_baud": config.pod_baud,
+            "telemetry_baud": args.telemetry_port.as_ref().map(|_| config.telemetry_baud),
             "sync_period_ms": config.sync.period.as_millis(),
             "sync_width_ms": config.sync.width.as_millis(),
             "fc_faults": args.fc_faults.map(|f| f.to_string()),
@@ -305,6 +322,21 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 faults: cable.clone(),
             })?;
         }
+    }
+
+    // The telemetry link: a real port only (its threads feed the pipes).
+    if let (Some(spec), Some(link)) = (&args.telemetry_port, &links.telemetry) {
+        port::start(Pump {
+            label: "telemetry",
+            spec: spec.clone(),
+            baud: config.telemetry_baud,
+            out: out.clone(),
+            incoming: Some(&link.rx),
+            outgoing: Some(&link.tx),
+            tap_in: trace("telemetry", "rx"),
+            tap_out: trace("telemetry", "tx"),
+            faults: None,
+        })?;
     }
 
     let fc_sim = RefCell::new(AnyFc::new(args.fc, now_us(), system_utc_us()));

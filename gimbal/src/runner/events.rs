@@ -107,6 +107,8 @@ pub fn loops(h: Heartbeat) -> Vec<&'static str> {
         (Heartbeat::FC_TX, "fc_tx"),
         (Heartbeat::POD_RX, "pod_rx"),
         (Heartbeat::POD_TX, "pod_tx"),
+        (Heartbeat::TEL_RX, "telemetry_rx"),
+        (Heartbeat::TEL_TX, "telemetry_tx"),
     ]
     .into_iter()
     .filter(|(bit, _)| h.0 & bit.0 != 0)

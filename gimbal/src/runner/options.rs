@@ -120,6 +120,12 @@ pub struct BridgeArgs {
     /// The pod's port (`sim`: the simulated K40T pod, with RTC_IO wired to it).
     #[arg(long, value_name = "PORT", value_parser = parse_port)]
     pub pod_port: PortSpec,
+    /// The autopilot's MAVLink 2 telemetry port (ArduPilot `SERIALn_PROTOCOL 2`, PX4
+    /// `MAV_n_CONFIG`), beside the FC link of any --fc but mavlink: time (TIMESYNC,
+    /// SYSTEM_TIME) and fixes come from it while it gives them. A serial device or TCP
+    /// port (not `sim`). Default: no telemetry link.
+    #[arg(long, value_name = "PORT", value_parser = parse_telemetry_port)]
+    pub telemetry_port: Option<PortSpec>,
     /// The RTC_IO output: `gpiochip0:LINE[:active-low]` (a GPIO line through the
     /// kernel's character device), `log` (no pin; the edges are events),
     /// `tcp:HOST:PORT` or `tcp-listen:[HOST:]PORT` (each edge as one byte, `1` rising,
@@ -184,6 +190,10 @@ pub struct ConfigArgs {
     #[arg(long, value_name = "BAUD", value_parser = ranged::<u32>(Limit::POD_BAUD))]
     #[serde(skip)]
     pub pod_baud: Option<u32>,
+    /// Telemetry link baud rate, 8N1 [default: the telemetry port's :BAUD, else 115200].
+    #[arg(long, value_name = "BAUD", value_parser = ranged::<u32>(Limit::TELEMETRY_BAUD))]
+    #[serde(skip)]
+    pub telemetry_baud: Option<u32>,
     /// GPS time minus UTC, seconds [default: 18].
     #[arg(long, value_name = "S", value_parser = clap::value_parser!(u8))]
     #[serde(rename = "leap_seconds")]
@@ -430,6 +440,18 @@ fn parse_peer_port(s: &str) -> Result<PortSpec, String> {
     match s.parse::<PortSpec>()? {
         PortSpec::Sim => Err(
             "`sim` is for `gimbal bridge`; a simulator needs a serial device or TCP port".into(),
+        ),
+        p => Ok(p),
+    }
+}
+
+/// The telemetry port: anything but `sim` (no simulated autopilot runs there).
+fn parse_telemetry_port(s: &str) -> Result<PortSpec, String> {
+    match s.parse::<PortSpec>()? {
+        PortSpec::Sim => Err(
+            "the telemetry port is a serial device or TCP port (`gimbal sim-fc --fc mavlink` \
+can stand for the autopilot's MAVLink port)"
+                .into(),
         ),
         p => Ok(p),
     }

@@ -519,7 +519,7 @@ fn through(stage: Option<&SharedStage>, bytes: &[u8]) -> Vec<u8> {
 
 /// A real port and what to do with its bytes.
 pub struct Pump {
-    /// Its name in events: `fc`, `pod`, `rtc_io`.
+    /// Its name in events: `fc`, `pod`, `telemetry`, `rtc_io`.
     pub label: &'static str,
     /// Where the port is (as given on the command line).
     pub spec: PortSpec,

@@ -7,6 +7,11 @@
 //!        ◀─(fc_out)── task    ─┴─ engine task, RTC_IO ┴─ task    ◀──(pod_in)───
 //! ```
 //!
+//! With [`Bench::with_telemetry`], a third peer (any [`FcSim`]: an autopilot's MAVLink 2
+//! port, `ap_mavlink::ApMavlink`) is on the bridge's telemetry link
+//! ([`Port::Telemetry`](protocol_core::bridge::Port::Telemetry)), through the same kind of
+//! wire at `telemetry_baud` ([`Wires::tel_in`], [`Wires::tel_out`]).
+//!
 //! Each of the four directions passes through a [`Wire`] on the peer's side: it counts
 //! the bytes, can record them (the demo decodes them), cut them (a cable pulled out, for
 //! good or for a while: [`Wires::pull_fc`], [`Wires::pull_pod`]) or change them (a
@@ -24,7 +29,7 @@ use core::convert::Infallible;
 
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogKind, LogRecord, Timing};
-use embassy_futures::select::{Either3, select, select3};
+use embassy_futures::select::{Either3, select3};
 use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
 use protocol_core::bridge::{Config, Engine, Event, Level};
@@ -34,6 +39,7 @@ use super::line::Corrupter;
 use super::peer::{PodPin, now_us, run_peer};
 use super::pilot::Pilot;
 use super::pod::{PodSimConfig, SimPod};
+use super::scenario::{FcSim, SilentFc};
 
 /// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
 #[derive(Default)]
@@ -228,7 +234,8 @@ impl<R: Read> Read for WireRx<'_, R> {
     }
 }
 
-/// The four directions, named from the bridge's side as [`HostLinks`] is.
+/// The four directions (six with a telemetry link), named from the bridge's side as
+/// [`HostLinks`] is.
 #[derive(Debug, Default)]
 pub struct Wires<T = RefCell<Wire>> {
     /// FC → bridge.
@@ -239,12 +246,23 @@ pub struct Wires<T = RefCell<Wire>> {
     pub pod_in: T,
     /// Bridge → pod.
     pub pod_out: T,
+    /// Telemetry peer → bridge (unused without a telemetry peer).
+    pub tel_in: T,
+    /// Bridge → telemetry peer.
+    pub tel_out: T,
 }
 
 impl Wires {
     /// Records every direction.
     pub fn record_all(&self) {
-        for w in [&self.fc_in, &self.fc_out, &self.pod_in, &self.pod_out] {
+        for w in [
+            &self.fc_in,
+            &self.fc_out,
+            &self.pod_in,
+            &self.pod_out,
+            &self.tel_in,
+            &self.tel_out,
+        ] {
             w.borrow_mut().recording = true;
         }
     }
@@ -296,25 +314,53 @@ impl Wires {
             .set_faults(faults.map(|f| f.derived(1)));
     }
 
+    /// Cuts (or mends) both directions of the telemetry cable.
+    pub fn cut_telemetry(&self, cut: bool) {
+        self.tel_in.borrow_mut().cut = cut;
+        self.tel_out.borrow_mut().cut = cut;
+    }
+
+    /// Pulls the telemetry cable out for `duration_us` from `now_us` (both directions).
+    pub fn pull_telemetry(&self, now_us: u64, duration_us: u64) {
+        self.tel_in.borrow_mut().pull_for(now_us, duration_us);
+        self.tel_out.borrow_mut().pull_for(now_us, duration_us);
+    }
+
+    /// A faulty telemetry cable, as [`Wires::set_fc_faults`].
+    pub fn set_telemetry_faults(&self, faults: Option<Faults>) {
+        self.tel_in
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(0)));
+        self.tel_out
+            .borrow_mut()
+            .set_faults(faults.map(|f| f.derived(1)));
+    }
+
     fn into_inner(self) -> Wires<Wire> {
         Wires {
             fc_in: self.fc_in.into_inner(),
             fc_out: self.fc_out.into_inner(),
             pod_in: self.pod_in.into_inner(),
             pod_out: self.pod_out.into_inner(),
+            tel_in: self.tel_in.into_inner(),
+            tel_out: self.tel_out.into_inner(),
         }
     }
 }
 
-/// The bridge's tasks, a simulated FC and the simulated pod, ready to run.
-pub struct Bench<P: Pilot> {
+/// The bridge's tasks, a simulated FC and the simulated pod (and optionally a telemetry
+/// peer `T`), ready to run.
+pub struct Bench<P: Pilot, T: FcSim = SilentFc> {
     /// The bridge's configuration.
     pub config: Config,
     /// The flight controller.
     pub fc: RefCell<P>,
     /// The pod.
     pub pod: RefCell<SimPod>,
-    /// The four directions.
+    /// The peer on the telemetry link ([`Bench::with_telemetry`]; `None`: no telemetry
+    /// link, as the firmware built without `telemetry`).
+    pub telemetry: Option<RefCell<T>>,
+    /// The four directions (six with a telemetry peer).
     pub wires: Wires,
     records: RefCell<Vec<LogRecord>>,
     shared: HostShared,
@@ -322,11 +368,13 @@ pub struct Bench<P: Pilot> {
 }
 
 /// What a run leaves: the peers, the wires, the tasks' records and the engine.
-pub struct Outcome<P> {
+pub struct Outcome<P, T = SilentFc> {
     /// The flight controller.
     pub fc: P,
     /// The pod.
     pub pod: SimPod,
+    /// The telemetry peer, when the bench had one.
+    pub telemetry: Option<T>,
     /// The four directions (with their logs when recorded).
     pub wires: Wires<Wire>,
     /// Every record of the tasks' log task, in order.
@@ -349,16 +397,35 @@ impl<P: Pilot> Bench<P> {
         )
     }
 
-    /// A bench of these parts.
+    /// A bench of these parts, no telemetry link.
     pub fn with(config: Config, fc: P, pod: SimPod) -> Self {
+        Self::of(config, fc, pod, None)
+    }
+}
+
+impl<P: Pilot, T: FcSim> Bench<P, T> {
+    /// A bench of these parts with `telemetry` on the bridge's telemetry link (at
+    /// `config.telemetry_baud`): an autopilot's MAVLink 2 port beside its FC port.
+    pub fn with_telemetry(config: Config, fc: P, pod: SimPod, telemetry: T) -> Self {
+        Self::of(config, fc, pod, Some(telemetry))
+    }
+
+    /// A bench of these parts, with a telemetry peer or not.
+    pub fn of(config: Config, fc: P, pod: SimPod, telemetry: Option<T>) -> Self {
+        let links = if telemetry.is_some() {
+            HostLinks::with_telemetry()
+        } else {
+            HostLinks::new()
+        };
         Bench {
             config,
             fc: RefCell::new(fc),
             pod: RefCell::new(pod),
+            telemetry: telemetry.map(RefCell::new),
             wires: Wires::default(),
             records: RefCell::new(Vec::new()),
             shared: HostShared::new(Engine::new(config), Timing::from_config(&config)),
-            links: HostLinks::new(),
+            links,
         }
     }
 
@@ -372,13 +439,22 @@ impl<P: Pilot> Bench<P> {
         self.records.borrow()
     }
 
-    /// Runs every task of the bridge (but the LED) and both peers until `end_us` of
+    /// Runs every task of the bridge (but the LED) and the peers until `end_us` of
     /// virtual time; `script(bench, now_us)` is called at 0 and then every `tick_us`.
     ///
     /// # Panics
     /// When a peer's stream fails (it never does on pipes).
-    pub fn run(self, end_us: u64, tick_us: u64, mut script: impl FnMut(&Self, u64)) -> Outcome<P> {
-        let baud = (self.config.fc_baud, self.config.pod_baud);
+    pub fn run(
+        self,
+        end_us: u64,
+        tick_us: u64,
+        mut script: impl FnMut(&Self, u64),
+    ) -> Outcome<P, T> {
+        let baud = (
+            self.config.fc_baud,
+            self.config.pod_baud,
+            self.config.telemetry_baud,
+        );
         host::run(Clock::Virtual, || async {
             let sink = |r: &LogRecord| self.records.borrow_mut().push(*r);
             let bridge = host::bridge(
@@ -400,6 +476,20 @@ impl<P: Pilot> Bench<P> {
                 WireTx::new(&self.links.pod_rx, &self.wires.pod_in),
                 baud.1,
             );
+            let telemetry = async {
+                match (&self.telemetry, &self.links.telemetry) {
+                    (Some(peer), Some(link)) => {
+                        run_peer(
+                            peer,
+                            WireRx::new(&link.tx, &self.wires.tel_out),
+                            WireTx::new(&link.rx, &self.wires.tel_in),
+                            baud.2,
+                        )
+                        .await
+                    }
+                    _ => core::future::pending().await,
+                }
+            };
             let clock = async {
                 let mut t = 0;
                 while t < end_us {
@@ -408,12 +498,11 @@ impl<P: Pilot> Bench<P> {
                     Timer::at(EmbassyInstant::from_micros(t)).await;
                 }
             };
-            match select3(bridge, select(fc, pod), clock).await {
+            match select3(bridge, select3(fc, pod, telemetry), clock).await {
                 Either3::First(never) => match never {},
                 Either3::Second(ended) => {
                     let e: Result<Infallible, _> = match ended {
-                        embassy_futures::select::Either::First(r)
-                        | embassy_futures::select::Either::Second(r) => r,
+                        Either3::First(r) | Either3::Second(r) | Either3::Third(r) => r,
                     };
                     #[allow(clippy::panic)]
                     {
@@ -428,6 +517,7 @@ impl<P: Pilot> Bench<P> {
         Outcome {
             fc: self.fc.into_inner(),
             pod: self.pod.into_inner(),
+            telemetry: self.telemetry.map(RefCell::into_inner),
             wires: self.wires.into_inner(),
             records: self.records.into_inner(),
             records_dropped,
@@ -437,7 +527,7 @@ impl<P: Pilot> Bench<P> {
     }
 }
 
-impl<P> Outcome<P> {
+impl<P, T> Outcome<P, T> {
     /// The engine events, with the local instant the log task took them (µs).
     pub fn events(&self) -> impl Iterator<Item = (u64, Event)> + '_ {
         self.records.iter().filter_map(|r| match r.what {
@@ -475,6 +565,7 @@ impl<P> Outcome<P> {
 mod tests {
     use super::*;
     use bridge_fw::host::HostPipe;
+    use embassy_futures::select::select;
 
     #[test]
     fn a_wire_corrupts_and_cuts_both_directions() {
