@@ -13,10 +13,15 @@
 //! telemetry link) p99 < 1 ms and max < 2 ms in steady state, the first sync within
 //! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms.
 
+use gimbal::sim::FcClock;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
+use gimbal::sim::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig};
+use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
+use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
 use gimbal::sim::pilot::Pilot;
-use gimbal::sim::pod::SyncOutcome;
+use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::tasks::{Bench, Outcome};
+use protocol_core::bridge::Config;
 
 const S: u64 = 1_000_000;
 /// Steady state: syncs from this instant on (the fit converges about 32 s after the
@@ -46,15 +51,24 @@ struct Flight {
     steady_us: Vec<i64>,
 }
 
-/// The syncs' errors of a run against the FC's UTC.
-fn flight<P: Pilot>(out: &Outcome<P>) -> Flight {
-    let first_utc = out.fc.first_utc_sent_us().expect("the FC sent UTC");
+/// The syncs' errors of a run against the FC's UTC (with a telemetry link: the UTC of
+/// the autopilot's MAVLink port, what that link gives).
+fn flight<P: Pilot>(out: &Outcome<P, ApMavlink>) -> Flight {
+    let (first_utc, truth): (u64, Box<dyn Fn(u64) -> u64 + '_>) = match &out.telemetry {
+        Some(t) => (
+            t.first_utc_sent_us().expect("the autopilot sent UTC"),
+            Box::new(|e| t.fc_utc_us(e)),
+        ),
+        None => (
+            out.fc.first_utc_sent_us().expect("the FC sent UTC"),
+            Box::new(|e| out.fc.true_utc_us(e)),
+        ),
+    };
     let mut f = Flight::default();
     for (i, sync) in out.pod.syncs().iter().enumerate() {
         assert_eq!(sync.outcome, SyncOutcome::Applied, "{sync:?}");
         let edge = sync.edge_us.expect("edge before frame");
-        let err = i64::try_from(sync.unix_ms * 1000).unwrap()
-            - i64::try_from(out.fc.true_utc_us(edge)).unwrap();
+        let err = i64::try_from(sync.unix_ms * 1000).unwrap() - i64::try_from(truth(edge)).unwrap();
         if i == 0 {
             f.first_delay_us = edge.saturating_sub(first_utc);
             f.first_error_us = err;
@@ -121,9 +135,113 @@ fn mavlink_side_with_ardupilot() {
         .iter()
         .map(|&(seed, ppm, phase, valid)| {
             let ap = ApMavlink::new(ap_mavlink(seed, ppm, phase, valid));
-            let out = Bench::new(ap).run(FLIGHT, S, |_, _| {});
+            let config = Config::for_fc(ApMavlink::PROTOCOL);
+            let pod = SimPod::new(PodSimConfig::default());
+            let bench = Bench::<ApMavlink, ApMavlink>::of(config, ap, pod, None);
+            let out = bench.run(FLIGHT, S, |_, _| {});
             flight(&out)
         })
         .collect();
     report("mavlink (ArduPilot)", &flights, 1_000, 2_000, 5_000);
+}
+
+/// The flights of a SIYI, Viewpro or XF Robot ArduPilot, with the same autopilot's
+/// MAVLink port on the telemetry link or without.
+fn legacy<P: Pilot>(
+    make: impl Fn(u64, f64, u64, u64) -> P,
+    board: impl Fn(&P) -> (FcClock, Aircraft),
+    telemetry: bool,
+) -> Vec<Flight> {
+    FLIGHTS
+        .iter()
+        .map(|&(seed, ppm, phase, valid)| {
+            let fc = make(seed, ppm, phase, valid);
+            let peer = telemetry.then(|| {
+                let (clock, aircraft) = board(&fc);
+                let mut ap = ApMavlink::telemetry(clock, aircraft, seed + 100, 1);
+                ap.config.jitter_us = 10_000;
+                ap
+            });
+            let pod = SimPod::new(PodSimConfig::default());
+            let bench = Bench::of(Config::for_fc(P::PROTOCOL), fc, pod, peer);
+            flight(&bench.run(FLIGHT, S, |_, _| {}))
+        })
+        .collect()
+}
+
+/// 2026-11-23T10:00:00Z plus a flight's phase against the 10 s grid.
+const fn utc_at_zero(phase_us: u64) -> u64 {
+    1_795_428_000_000_000 + phase_us
+}
+
+fn siyi(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApSiyi {
+    ApSiyi::new(ApSiyiConfig {
+        seed,
+        ppm,
+        jitter_us: 10_000,
+        utc_at_zero_us: utc_at_zero(phase),
+        utc_valid_at_us: valid,
+        ..ApSiyiConfig::default()
+    })
+}
+
+fn viewpro(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApViewpro {
+    ApViewpro::new(ApViewproConfig {
+        seed,
+        ppm,
+        jitter_us: 10_000,
+        utc_at_zero_us: utc_at_zero(phase),
+        utc_valid_at_us: valid,
+        ..ApViewproConfig::default()
+    })
+}
+
+fn xfrobot(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApXfRobot {
+    ApXfRobot::new(ApXfRobotConfig {
+        seed,
+        ppm,
+        jitter_us: 10_000,
+        utc_at_zero_us: utc_at_zero(phase),
+        gps_valid_at_us: valid,
+        ..ApXfRobotConfig::default()
+    })
+}
+
+#[test]
+fn siyi_with_telemetry() {
+    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), true);
+    report("SIYI + telemetry", &f, 1_000, 2_000, 5_000);
+}
+
+#[test]
+fn viewlink_with_telemetry() {
+    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), true);
+    report("Viewlink + telemetry", &f, 1_000, 2_000, 5_000);
+}
+
+#[test]
+fn gcu_with_telemetry() {
+    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), true);
+    report("GCU + telemetry", &f, 1_000, 2_000, 5_000);
+}
+
+// Without the telemetry link: the legacy protocols' own time, as before (the README's
+// bounds for these sides: what ArduPilot sends them is coarser).
+
+#[test]
+fn siyi_alone() {
+    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), false);
+    report("SIYI alone", &f, 8_000, 10_000, 10_000);
+}
+
+#[test]
+fn viewlink_alone() {
+    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), false);
+    report("Viewlink alone", &f, 8_000, 10_000, 10_000);
+}
+
+#[test]
+fn gcu_alone() {
+    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), false);
+    report("GCU alone", &f, 15_000, 20_000, 15_000);
 }
