@@ -80,6 +80,11 @@ pub struct DemoArgs {
     /// Simulated seconds to fly (a photo every 15 s after 51 s).
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(10..=3600))]
     pub seconds: u32,
+    /// Attach the same simulated ArduPilot's MAVLink port to the bridge's telemetry
+    /// link (SIYI, Viewlink, GCU): UTC and fixes from TIMESYNC, SYSTEM_TIME and the
+    /// position streams.
+    #[arg(long)]
+    pub telemetry: bool,
 }
 
 /// A protocol the capture decoder knows.

@@ -7,7 +7,7 @@
 //! use protocol_core::bridge::FcProtocol;
 //!
 //! let summary = demo::run(
-//!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60 },
+//!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60, telemetry: false },
 //!     &mut std::io::stdout(),
 //! )?;
 //! assert!(summary.healthy_at_s.is_some());
@@ -29,10 +29,12 @@
 use std::io::{self, Write};
 use std::time::Instant as WallInstant;
 
-use protocol_core::bridge::{Event, FcProtocol};
+use protocol_core::bridge::{Config, Event, FcProtocol};
 use protocol_core::k40t::K40tFraming;
+use protocol_core::mavlink::MavlinkFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
+use crate::sim::ap_mavlink::ApMavlink;
 use crate::sim::ap_siyi::ApSiyi;
 use crate::sim::ap_viewpro::ApViewpro;
 use crate::sim::ap_xfrobot::ApXfRobot;
@@ -47,6 +49,9 @@ pub struct DemoOptions {
     pub fc: FcProtocol,
     /// Simulated seconds.
     pub seconds: u32,
+    /// The same autopilot's MAVLink port on the bridge's telemetry link (SIYI,
+    /// Viewlink, GCU: the simulated ArduPilots).
+    pub telemetry: bool,
 }
 
 impl Default for DemoOptions {
@@ -54,6 +59,7 @@ impl Default for DemoOptions {
         DemoOptions {
             fc: FcProtocol::Siyi,
             seconds: 60,
+            telemetry: false,
         }
     }
 }
@@ -65,6 +71,10 @@ pub struct Summary {
     pub fc: FcProtocol,
     /// Simulated seconds run.
     pub seconds: u32,
+    /// A telemetry link was attached.
+    pub telemetry: bool,
+    /// When the bridge took UTC and fixes from the telemetry link, s.
+    pub telemetry_source_at_s: Option<f64>,
     /// When the FC's driver first called the mount healthy, s.
     pub healthy_at_s: Option<f64>,
     /// Healthy at the end of the run.
@@ -74,13 +84,15 @@ pub struct Summary {
     pub commands_translated: u32,
     /// Distinct (FC command, pod command) pairs among them.
     pub command_kinds: u32,
-    /// When the FC first sent a usable UTC, s.
+    /// When the FC (with a telemetry link: the autopilot's MAVLink port) first sent a
+    /// usable UTC, s.
     pub fc_first_utc_at_s: Option<f64>,
     /// When the bridge first knew UTC from the FC, s.
     pub utc_valid_at_s: Option<f64>,
     /// The first time sync's edge, s.
     pub first_sync_at_s: Option<f64>,
-    /// The first time sync's error (UTC carried − the FC's true UTC at the edge), µs.
+    /// The first time sync's error (UTC carried − the FC's true UTC at the edge; with a
+    /// telemetry link, the UTC of the autopilot's MAVLink port), µs.
     pub first_sync_error_us: Option<i64>,
     /// Time syncs sent (RTC_IO edge + 0x00030E).
     pub syncs: u32,
@@ -196,7 +208,7 @@ pub fn run(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
         FcProtocol::Viewlink => run_with::<ApViewpro>(opts, out),
         FcProtocol::Gcu => run_with::<ApXfRobot>(opts, out),
         FcProtocol::K40t => run_with::<FcK40t>(opts, out),
-        FcProtocol::Mavlink => run_with::<crate::sim::ap_mavlink::ApMavlink>(opts, out),
+        FcProtocol::Mavlink => run_with::<ApMavlink>(opts, out),
     }
 }
 
@@ -233,6 +245,8 @@ enum Dir {
     FcOut,
     PodIn,
     PodOut,
+    TelIn,
+    TelOut,
 }
 
 impl Dir {
@@ -242,6 +256,8 @@ impl Dir {
             Dir::FcOut => "bridge → FC",
             Dir::PodIn => "pod → bridge",
             Dir::PodOut => "bridge → pod",
+            Dir::TelIn => "AP MAVLink → bridge",
+            Dir::TelOut => "bridge → AP MAVLink",
         }
     }
 }
@@ -392,7 +408,20 @@ fn quantile(sorted: &[u64], q: f64) -> Option<u64> {
 fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
     let wall = WallInstant::now();
     let steps = script(opts.seconds);
-    let bench = Bench::new(P::with_seed(1));
+    let fc = P::with_seed(1);
+    let telemetry = if opts.telemetry {
+        let Some(clock) = fc.board_clock() else {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "--telemetry needs a simulated ArduPilot FC (siyi, viewlink or gcu)",
+            ));
+        };
+        Some(ApMavlink::telemetry(clock.clone(), *fc.aircraft(), 2, 1))
+    } else {
+        None
+    };
+    let pod = crate::sim::pod::SimPod::new(crate::sim::pod::PodSimConfig::default());
+    let bench = Bench::of(Config::for_fc(P::PROTOCOL), fc, pod, telemetry);
     bench.wires.record_all();
     let (fc_baud, pod_baud) = (bench.config.fc_baud, bench.config.pod_baud);
     let end_us = u64::from(opts.seconds) * 1_000_000;
@@ -471,6 +500,22 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
         &steps,
         &mut lines,
     );
+    if o.telemetry.is_some() {
+        for (dir, from_fc, wire) in [
+            (Dir::TelIn, true, &o.wires.tel_in),
+            (Dir::TelOut, false, &o.wires.tel_out),
+        ] {
+            frame_lines(
+                dir,
+                &frames_of(MavlinkFraming::new(), &wire.log),
+                |f| ApMavlink::describe(f, from_fc),
+                |id| ApMavlink::routine(id, from_fc),
+                |_| false,
+                &steps,
+                &mut lines,
+            );
+        }
+    }
     lines.sort_by_key(|l| (l.t_us, l.rank));
 
     writeln!(
@@ -481,8 +526,15 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
     )?;
     writeln!(
         out,
-        "{} s of simulated time; FC link {} baud, pod link {} baud; time in simulated seconds\n",
-        opts.seconds, fc_baud, pod_baud
+        "{} s of simulated time; FC link {} baud, pod link {} baud{}; time in simulated seconds\n",
+        opts.seconds,
+        fc_baud,
+        pod_baud,
+        if o.telemetry.is_some() {
+            "; the same ArduPilot's MAVLink port on the telemetry link"
+        } else {
+            ""
+        }
     )?;
     for l in &lines {
         writeln!(
@@ -499,7 +551,7 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
 
 /// Engine events, time syncs, geotags and photos as lines; the summary's figures.
 fn story<P: Pilot>(
-    o: &Outcome<P>,
+    o: &Outcome<P, ApMavlink>,
     steps: &[(u64, Step)],
     opts: &DemoOptions,
     recorded: bool,
@@ -513,6 +565,7 @@ fn story<P: Pilot>(
     let mut errors = Vec::new();
     let mut syncs = 0u32;
     let mut utc_valid_at_s = None;
+    let mut telemetry_source_at_s = None;
     let mut first_sync: Option<(f64, i64)> = None;
     for (t, e) in o.events() {
         let text = match e {
@@ -559,7 +612,10 @@ fn story<P: Pilot>(
             } => {
                 syncs += 1;
                 let edge_us = edge.as_micros();
-                let truth = o.fc.true_utc_us(edge_us);
+                let truth = match &o.telemetry {
+                    Some(t) => t.fc_utc_us(edge_us),
+                    None => o.fc.true_utc_us(edge_us),
+                };
                 let err = i128::from(utc_ms * 1000) - i128::from(truth);
                 errors.push(u64::try_from(err.unsigned_abs()).unwrap_or(u64::MAX));
                 first_sync
@@ -604,7 +660,7 @@ fn story<P: Pilot>(
             } => {
                 utc_valid_at_s.get_or_insert(t as f64 / 1e6);
                 format!(
-                    "UTC known from the FC ({}, error bound {:.1} ms): time syncs on the 10 s grid",
+                    "UTC known ({}, error bound {:.1} ms): time syncs on the 10 s grid",
                     if converged {
                         "converged fit"
                     } else {
@@ -614,6 +670,15 @@ fn story<P: Pilot>(
                 )
             }
             Event::UtcLost => "UTC lost: no more time syncs".to_string(),
+            Event::TimeSource { telemetry } => {
+                if telemetry {
+                    telemetry_source_at_s.get_or_insert(t as f64 / 1e6);
+                    "time and fixes now from the telemetry link (TIMESYNC + SYSTEM_TIME, GLOBAL_POSITION_INT): the FC link's own time is no longer used".to_string()
+                } else {
+                    "time and fixes from the FC link again (the telemetry link stopped giving time)"
+                        .to_string()
+                }
+            }
             Event::FcSilenceStop => {
                 "the FC went silent while the pod turned: pod stopped".to_string()
             }
@@ -686,6 +751,8 @@ fn story<P: Pilot>(
     Summary {
         fc: P::PROTOCOL,
         seconds: opts.seconds,
+        telemetry: o.telemetry.is_some(),
+        telemetry_source_at_s,
         healthy_at_s: o
             .fc
             .health_log()
@@ -695,7 +762,11 @@ fn story<P: Pilot>(
         healthy_at_end: o.fc.healthy(),
         commands_translated: translated,
         command_kinds: translated_seen.len() as u32,
-        fc_first_utc_at_s: o.fc.first_utc_sent_us().map(|t| t as f64 / 1e6),
+        fc_first_utc_at_s: match &o.telemetry {
+            Some(t) => t.first_utc_sent_us(),
+            None => o.fc.first_utc_sent_us(),
+        }
+        .map(|t| t as f64 / 1e6),
         utc_valid_at_s,
         first_sync_at_s: first_sync.map(|(t, _)| t),
         first_sync_error_us: first_sync.map(|(_, e)| e),
@@ -765,6 +836,18 @@ fn write_summary(out: &mut dyn Write, s: &Summary, wall: std::time::Duration) ->
                 ms(s.sync_error_p50_us),
                 ms(s.sync_error_max_us)
             ),
+        ),
+        (
+            "time source",
+            if s.telemetry {
+                format!(
+                    "telemetry link (MAVLink TIMESYNC + SYSTEM_TIME) from {}",
+                    s.telemetry_source_at_s
+                        .map_or_else(|| "never".to_string(), |t| format!("{t:.3} s"))
+                )
+            } else {
+                format!("the FC link's own time ({})", fc_name(s.fc))
+            },
         ),
         (
             "first time sync",

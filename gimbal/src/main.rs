@@ -106,6 +106,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let opts = demo::DemoOptions {
                 fc: a.fc.protocol(),
                 seconds: a.seconds,
+                telemetry: a.telemetry,
             };
             let mut out = std::io::stdout().lock();
             demo::run(&opts, &mut out).map_err(|e| Failure::Runtime(format!("demo: {e}")))?;

@@ -13,7 +13,15 @@ use protocol_core::bridge::FcProtocol;
 fn run(fc: FcProtocol) -> (Summary, String) {
     let start = Instant::now();
     let mut out = Vec::new();
-    let s = demo::run(&DemoOptions { fc, seconds: 60 }, &mut out).expect("writes to a Vec");
+    let s = demo::run(
+        &DemoOptions {
+            fc,
+            seconds: 60,
+            telemetry: false,
+        },
+        &mut out,
+    )
+    .expect("writes to a Vec");
     let wall = start.elapsed();
     let text = String::from_utf8(out).expect("UTF-8");
     if std::env::var_os("DEMO_PRINT").is_some() {
@@ -128,6 +136,7 @@ fn a_short_run_has_no_sync_and_says_so() {
         &DemoOptions {
             fc: FcProtocol::Siyi,
             seconds: 8,
+            telemetry: false,
         },
         &mut out,
     )
@@ -139,4 +148,42 @@ fn a_short_run_has_no_sync_and_says_so() {
         text.contains("0 sent, 0 applied by the pod; error p50 -, max -"),
         "{text}"
     );
+}
+
+#[test]
+fn a_telemetry_link_gives_sub_millisecond_syncs_to_every_legacy_side() {
+    for fc in [FcProtocol::Siyi, FcProtocol::Viewlink, FcProtocol::Gcu] {
+        let mut out = Vec::new();
+        let opts = DemoOptions {
+            fc,
+            seconds: 60,
+            telemetry: true,
+        };
+        let s = demo::run(&opts, &mut out).expect("writes");
+        let text = String::from_utf8(out).expect("UTF-8");
+        assert!(s.telemetry, "{s:?}");
+        // The autopilot's SYSTEM_TIME comes at once: the link is the source within 2 s.
+        assert!(s.telemetry_source_at_s.is_some_and(|t| t < 2.0), "{s:?}");
+        assert!(s.syncs >= 5 && s.syncs_applied == s.syncs, "{s:?}");
+        assert!(s.sync_error_max_us.is_some_and(|m| m < 1_000), "{s:?}");
+        assert!(
+            s.first_sync_error_us.is_some_and(|e| e.abs() < 1_000),
+            "{s:?}"
+        );
+        assert_eq!(s.geotags_answered, s.geotags_requested, "{s:?}");
+        assert!(s.geotag_error_max_m.is_some_and(|m| m < 1.0), "{s:?}");
+        assert_eq!((s.frames_dropped, s.records_dropped), (0, 0), "{s:?}");
+        assert!(text.contains("bridge → AP MAVLink") && text.contains("from 1/158"));
+        assert!(
+            text.contains("time source              telemetry link"),
+            "{text}"
+        );
+    }
+    // The K40T FC is no ArduPilot: there is no MAVLink port of it to attach.
+    let opts = DemoOptions {
+        fc: FcProtocol::K40t,
+        seconds: 10,
+        telemetry: true,
+    };
+    assert!(demo::run(&opts, &mut Vec::new()).is_err());
 }

@@ -103,6 +103,11 @@ pub trait Pilot: FcSim {
     fn first_utc_sent_us(&self) -> Option<u64>;
     /// The aircraft (its true position at any instant).
     fn aircraft(&self) -> &Aircraft;
+    /// The autopilot's clock when it is a simulated ArduPilot whose MAVLink port can be
+    /// attached as the telemetry link ([`super::ap_mavlink::ApMavlink::telemetry`]).
+    fn board_clock(&self) -> Option<&super::FcClock> {
+        None
+    }
     /// Frames the FC's parser dropped.
     fn parse_errors(&self) -> u32;
     /// What the FC last read of the mount's angles: (yaw, pitch) in degrees.
@@ -312,6 +317,9 @@ impl Pilot for ApSiyi {
     fn first_utc_sent_us(&self) -> Option<u64> {
         Self::first_utc_sent_us(self)
     }
+    fn board_clock(&self) -> Option<&super::FcClock> {
+        Some(self.clock())
+    }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
     }
@@ -403,6 +411,9 @@ impl Pilot for ApViewpro {
     }
     fn first_utc_sent_us(&self) -> Option<u64> {
         Self::first_utc_sent_us(self)
+    }
+    fn board_clock(&self) -> Option<&super::FcClock> {
+        Some(self.clock())
     }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
@@ -677,6 +688,9 @@ impl Pilot for ApXfRobot {
     }
     fn first_utc_sent_us(&self) -> Option<u64> {
         Self::first_utc_sent_us(self)
+    }
+    fn board_clock(&self) -> Option<&super::FcClock> {
+        Some(self.clock())
     }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft

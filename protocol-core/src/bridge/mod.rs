@@ -69,9 +69,10 @@ use event::EventQueue;
 pub const FC_QUEUE: usize = if cfg!(feature = "mavlink") { 512 } else { 256 };
 /// Bytes of the queue of frames for the pod.
 pub const POD_QUEUE: usize = 384;
-/// Bytes of the queue of frames for the telemetry link (heartbeats, TIMESYNC, stream
-/// requests: a few frames of under 60 bytes). Zero without the `mavlink` feature.
-pub const TELEMETRY_QUEUE: usize = if cfg!(feature = "mavlink") { 192 } else { 0 };
+/// Bytes of the queue of frames for the telemetry link: what it sends when the autopilot
+/// appears (four stream requests of 45 bytes, a heartbeat of 21, a TIMESYNC of 30) fits.
+/// Zero without the `mavlink` feature.
+pub const TELEMETRY_QUEUE: usize = if cfg!(feature = "mavlink") { 256 } else { 0 };
 /// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never
 /// exceeds its queue).
 pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
