@@ -205,7 +205,8 @@ async fn log(shared: &'static BoardShared) -> ! {
     .await
 }
 
-/// The time-sync events on QEMU's stdout (the emulated-board scenarios report them).
+/// The time-sync events (and the time source) on QEMU's stdout (the emulated-board
+/// scenarios report them).
 #[cfg(feature = "qemu")]
 fn qemu_time_event(r: &LogRecord) {
     use bridge_fw::Event;
@@ -220,6 +221,10 @@ fn qemu_time_event(r: &LogRecord) {
         LogKind::Engine(Event::UtcLost) => {
             semihosting::println!("bridge-fw (qemu): {at} us: UTC lost")
         }
+        LogKind::Engine(Event::TimeSource { telemetry }) => semihosting::println!(
+            "bridge-fw (qemu): {at} us: time source {}",
+            if telemetry { "telemetry" } else { "fc" }
+        ),
         LogKind::Engine(Event::TimeSync {
             edge,
             utc_ms,

@@ -14,6 +14,12 @@
 //! carries the FC's UTC at the edge within 30 ms, the bytes on both links were all valid
 //! and QEMU still runs.
 //!
+//! The SIYI scenario also wires the telemetry link (LPUART1, the sixth `-serial`) to the
+//! same autopilot's MAVLink 2 port (`ApMavlink`, no MAVLink mount or camera, the SIYI
+//! simulator's clock): the firmware's HEARTBEAT (component 158) and TIMESYNC requests
+//! must reach it and the firmware must take its time from it (its semihosting line
+//! `time source telemetry`), so the time syncs checked are then the telemetry link's.
+//!
 //! RTC_IO reaches the simulated pod from the trace file: the file is read every few
 //! milliseconds, and always just before bytes from the pod socket are handed to the pod.
 //! QEMU writes (and flushes) the trace line while the guest stores to BSRR, before the
@@ -101,6 +107,19 @@ impl Side {
         Side::ALL.into_iter().find(|s| s.name() == name)
     }
 
+    /// The scenario also runs the MAVLink telemetry link (the SIYI side: one autopilot on
+    /// its SIYI port and its MAVLink port).
+    #[must_use]
+    pub fn telemetry(self) -> bool {
+        self == Side::Siyi
+    }
+
+    /// Checks of a complete scenario of this side.
+    #[must_use]
+    pub fn checks(self) -> usize {
+        CHECKS + usize::from(self.telemetry())
+    }
+
     /// The strap levels that select this side (A, B, then C when grounded; `0` grounded,
     /// `1` open: the firmware's `config::from_straps`).
     #[must_use]
@@ -158,7 +177,7 @@ impl Outcome {
     /// Every check passed and none is missing.
     #[must_use]
     pub fn passed(&self) -> bool {
-        self.checks.len() == CHECKS && self.checks.iter().all(|c| c.ok)
+        self.checks.len() == self.side.checks() && self.checks.iter().all(|c| c.ok)
     }
 }
 
@@ -169,7 +188,8 @@ const MAX_UTC_ERROR_US: i128 = 30_000;
 /// Time syncs each scenario checks (one every 10 s from the first).
 pub const SYNCS: usize = 3;
 
-/// How many checks a complete scenario has.
+/// How many checks a complete scenario has (one more with the telemetry link:
+/// [`Side::telemetry`]).
 pub const CHECKS: usize = 7;
 
 /// The new level of `pin` if the traced write `line` sets it on `port` (QEMU's
@@ -762,8 +782,10 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         return outcome;
     }
     let (fc_sock, pod_sock) = (o.work.join("fc.sock"), o.work.join("pod.sock"));
+    let tel_sock = o.work.join("telemetry.sock");
     let _ = std::fs::remove_file(&fc_sock);
     let _ = std::fs::remove_file(&pod_sock);
+    let _ = std::fs::remove_file(&tel_sock);
     let _ = std::fs::remove_file(&trace);
     let out = match File::create(&qemu_out).and_then(|f| Ok((f.try_clone()?, f))) {
         Ok(f) => f,
@@ -778,8 +800,10 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
     };
     let chardev =
         |id: &str, p: &Path| format!("socket,id={id},path={},server=on,wait=off", p.display());
-    // -serial maps in order to USART1, USART2 (pod), USART3, UART4 (FC).
-    let child = Command::new(&o.qemu)
+    // -serial maps in order to USART1, USART2 (pod), USART3, UART4 (FC), UART5 and
+    // LPUART1 (telemetry).
+    let mut qemu_cmd = Command::new(&o.qemu);
+    qemu_cmd
         .args([
             "-machine",
             "b-l475e-iot01a",
@@ -797,7 +821,14 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         .arg("-chardev")
         .arg(chardev("fc", &fc_sock))
         .args(["-serial", "null", "-serial", "chardev:pod"])
-        .args(["-serial", "null", "-serial", "chardev:fc"])
+        .args(["-serial", "null", "-serial", "chardev:fc"]);
+    if side.telemetry() {
+        qemu_cmd
+            .arg("-chardev")
+            .arg(chardev("tel", &tel_sock))
+            .args(["-serial", "null", "-serial", "chardev:tel"]);
+    }
+    let child = qemu_cmd
         .args(["-msg", "timestamp=on"])
         .args(["-trace", "enable=stm32l4x5_gpio_write", "-D"])
         .arg(&trace)
@@ -824,11 +855,26 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
             return outcome;
         }
     };
-    for s in [&pod_stream, &fc_stream] {
+    let tel_stream = if side.telemetry() {
+        match connect(&tel_sock, &mut qemu, deadline) {
+            Ok(s) => Some(s),
+            Err(e) => {
+                fail(&mut outcome, "boots", e);
+                return outcome;
+            }
+        }
+    } else {
+        None
+    };
+    for s in [&pod_stream, &fc_stream].into_iter().chain(&tel_stream) {
         let _ = s.set_read_timeout(Some(StdDuration::from_millis(100)));
     }
 
-    let links = HostLinks::new();
+    let links = if side.telemetry() {
+        HostLinks::with_telemetry()
+    } else {
+        HostLinks::new()
+    };
     let stop = AtomicBool::new(false);
     let qemu = RefCell::new(qemu);
     let checks = std::thread::scope(|scope| {
@@ -838,6 +884,10 @@ fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         scope.spawn(move || pump_out(fs, &l.fc_rx, st));
         scope.spawn(move || pump_in(ps, &l.pod_tx, st));
         scope.spawn(move || pump_out(ps, &l.pod_rx, st));
+        if let (Some(ts), Some(t)) = (&tel_stream, &l.telemetry) {
+            scope.spawn(move || pump_in(ts, &t.tx, st));
+            scope.spawn(move || pump_out(ts, &t.rx, st));
+        }
         // The pumps stop however `drive` ends (a panic too: the scope joins them).
         let _stop = StopOnDrop(st);
         drive::<F>(side, &links, &qemu, &qemu_out, &trace, deadline)
@@ -858,6 +908,7 @@ fn drive<F: FcUnderTest>(
 ) -> Vec<Check> {
     let fc = RefCell::new(F::make());
     let pod = RefCell::new(SimPod::new(pod_config()));
+    let tel = RefCell::new(telemetry_peer());
     let trace = RefCell::new(TraceWatch::new(trace_path.to_path_buf()));
     let checks = RefCell::new(Vec::new());
     let peers_ended = host::run(Clock::Real, || async {
@@ -872,12 +923,20 @@ fn drive<F: FcUnderTest>(
                 Timer::after(Duration::from_millis(5)).await;
             }
         };
+        let telemetry = async {
+            match &links.telemetry {
+                Some(t) => run_peer(&tel, &t.tx, &t.rx, BAUD).await,
+                None => core::future::pending().await,
+            }
+        };
         let peers = select3(
             run_peer(&fc, &links.fc_tx, &links.fc_rx, BAUD),
             run_peer(&pod, pod_reader, &links.pod_rx, BAUD),
-            watch,
+            select(watch, telemetry),
         );
-        let script = script(side, &fc, &pod, &trace, qemu, qemu_out, deadline, &checks);
+        let script = script(
+            side, &fc, &pod, &tel, &trace, qemu, qemu_out, deadline, &checks,
+        );
         match select(peers, script).await {
             Either::First(ended) => Some(ended),
             Either::Second(()) => None,
@@ -887,7 +946,8 @@ fn drive<F: FcUnderTest>(
     if let Some(ended) = peers_ended {
         let why: Result<(), PeerError> = match ended {
             embassy_futures::select::Either3::First(Err(e))
-            | embassy_futures::select::Either3::Second(Err(e)) => Err(e),
+            | embassy_futures::select::Either3::Second(Err(e))
+            | embassy_futures::select::Either3::Third(Either::Second(Err(e))) => Err(e),
             _ => Ok(()),
         };
         checks.push(Check {
@@ -980,6 +1040,56 @@ fn firmware_bounds(qemu_out: &Path) -> Vec<(u64, u32)> {
         .collect()
 }
 
+/// The autopilot's MAVLink port on the telemetry link: the same autopilot as the SIYI
+/// simulator (`ApSiyiConfig::default()`'s crystal, boot and clock), no MAVLink mount or
+/// camera.
+fn telemetry_peer() -> ApMavlink {
+    let siyi = ApSiyiConfig::default();
+    ApMavlink::new(ApMavlinkConfig {
+        mount: false,
+        camera: false,
+        ppm: siyi.ppm,
+        boot_us: siyi.boot_us,
+        utc_at_zero_us: siyi.utc_at_zero_us,
+        utc_valid_at_us: siyi.utc_valid_at_us,
+        ..ApMavlinkConfig::default()
+    })
+}
+
+/// The telemetry link works: the autopilot heard the firmware's HEARTBEAT (component
+/// 158) and TIMESYNC requests, answered none wrongly, and the firmware says its time
+/// source is the telemetry link (semihosting `time source telemetry`).
+fn telemetry_step(ap: &ApMavlink, qemu_out: &Path) -> Step {
+    const BRIDGE: u8 = 158;
+    let from_bridge = |id: u32| {
+        ap.received
+            .iter()
+            .filter(|(_, h, i)| h.component_id == BRIDGE && *i == id)
+            .count()
+    };
+    let (heartbeats, timesyncs) = (from_bridge(0), from_bridge(111));
+    let text = std::fs::read(qemu_out).unwrap_or_default();
+    let source = String::from_utf8_lossy(&text)
+        .lines()
+        .rfind(|l| l.contains("time source "))
+        .map(str::to_owned);
+    let figures = format!(
+        "{heartbeats} HEARTBEAT and {timesyncs} TIMESYNC from component 158 at the autopilot, \
+         {} frames in all; {}",
+        ap.received.len(),
+        source.as_deref().map_or("no time source line", |l| l
+            .split("bridge-fw (qemu): ")
+            .nth(1)
+            .unwrap_or(l))
+    );
+    let telemetry_source = source.is_some_and(|l| l.ends_with("time source telemetry"));
+    if heartbeats > 0 && timesyncs > 0 && telemetry_source {
+        Step::Pass(figures)
+    } else {
+        Step::Waiting(figures)
+    }
+}
+
 /// Waits (polling every 100 ms) until `f` decides, QEMU ends or the deadline passes.
 async fn wait_for(
     qemu: &RefCell<Qemu>,
@@ -1018,6 +1128,7 @@ async fn script<F: FcUnderTest>(
     side: Side,
     fc: &RefCell<F>,
     pod: &RefCell<SimPod>,
+    tel: &RefCell<ApMavlink>,
     trace: &RefCell<TraceWatch>,
     qemu: &RefCell<Qemu>,
     qemu_out: &Path,
@@ -1034,7 +1145,9 @@ async fn script<F: FcUnderTest>(
     // 1. The boot line names the side the straps select.
     let boot = wait_for(qemu, deadline, || {
         let text = std::fs::read(qemu_out).unwrap_or_default();
-        let text = String::from_utf8_lossy(&text);
+        // Whole lines only: QEMU may be writing the boot line while it is read.
+        let whole = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let text = String::from_utf8_lossy(text.get(..whole).unwrap_or_default());
         match text.lines().find(|l| l.contains("bridge-fw (qemu): up")) {
             None => Step::Pending,
             Some(l) if l.contains(&format!("FC \"{}\"", side.name())) => {
@@ -1086,8 +1199,16 @@ async fn script<F: FcUnderTest>(
     if !push("RTC_IO High, then 0x00030E", sync) {
         return;
     }
-    // 6. Every byte on both links made valid frames.
-    let errors = fc.borrow().parse_errors();
+    // (SIYI) The telemetry link: the firmware's HEARTBEAT and TIMESYNC requests reached
+    // the autopilot's MAVLink port and the firmware took its time from it.
+    if side.telemetry() {
+        let link = wait_for(qemu, deadline, || telemetry_step(&tel.borrow(), qemu_out)).await;
+        if !push("telemetry link", link) {
+            return;
+        }
+    }
+    // 6. Every byte on every link made valid frames.
+    let errors = fc.borrow().parse_errors() + tel.borrow().parse_errors();
     let rx = pod.borrow().rx_stats();
     let d = rx.deframer;
     let mut detail = String::new();

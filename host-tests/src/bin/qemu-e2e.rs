@@ -113,11 +113,11 @@ fn report(o: &emulated::Outcome) -> bool {
         for c in o.checks.iter().filter(|c| !c.ok) {
             println!("    failed: {}: {}", c.name, c.detail);
         }
-        if o.checks.len() < emulated::CHECKS {
+        if o.checks.len() < o.side.checks() {
             println!(
                 "    {} of {} checks reached",
                 o.checks.len(),
-                emulated::CHECKS
+                o.side.checks()
             );
         }
         println!(
