@@ -71,8 +71,8 @@ pub const FC_QUEUE: usize = if cfg!(feature = "mavlink") { 512 } else { 256 };
 pub const POD_QUEUE: usize = 384;
 /// Bytes of the queue of frames for the telemetry link: what it sends when the autopilot
 /// appears (four stream requests of 45 bytes, a heartbeat of 21, a TIMESYNC of 30) fits.
-/// Zero without the `mavlink` feature.
-pub const TELEMETRY_QUEUE: usize = if cfg!(feature = "mavlink") { 256 } else { 0 };
+/// Zero without the `telemetry` feature.
+pub const TELEMETRY_QUEUE: usize = if cfg!(feature = "telemetry") { 256 } else { 0 };
 /// A buffer of this many bytes takes any frame [`Engine::transmit`] gives (a frame never
 /// exceeds its queue).
 pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
@@ -238,7 +238,7 @@ impl Outputs {
     }
 
     /// Queues a frame for `port` (the FC or the telemetry link).
-    #[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+    #[cfg_attr(not(feature = "telemetry"), allow(dead_code))]
     pub(crate) fn queue_to(&mut self, port: Port, frame: &[u8]) -> bool {
         match port {
             Port::Telemetry => {
@@ -372,7 +372,7 @@ struct EngineState {
     fc_last: Option<Instant>,
     fc_link: bool,
     /// The MAVLink telemetry link (any FC side but MAVLink, whose own link is one).
-    #[cfg(feature = "mavlink")]
+    #[cfg(feature = "telemetry")]
     tel: Option<fc::TelemetryLink>,
     /// The telemetry link is the source of UTC and fixes.
     tel_source: bool,
@@ -397,7 +397,7 @@ impl Engine {
                 out: Outputs::new(),
                 fc_last: None,
                 fc_link: false,
-                #[cfg(feature = "mavlink")]
+                #[cfg(feature = "telemetry")]
                 tel: fc::TelemetryLink::for_config(&config),
                 tel_source: false,
                 config,
@@ -531,7 +531,7 @@ impl Engine {
     /// [`Engine::receive`] (`Some`) and [`Engine::idle`] (`None`) for the telemetry link.
     fn telemetry_input(&mut self, now: Instant, bytes: Option<&[u8]>) -> Changes {
         let core = &mut self.core;
-        #[cfg(feature = "mavlink")]
+        #[cfg(feature = "telemetry")]
         {
             let (tel, mut ctx) = core.telemetry_ctx(now);
             if let Some(tel) = tel {
@@ -542,7 +542,7 @@ impl Engine {
             }
             core.time_source(now);
         }
-        #[cfg(not(feature = "mavlink"))]
+        #[cfg(not(feature = "telemetry"))]
         let _ = bytes;
         core.after_input(now)
     }
@@ -633,14 +633,14 @@ impl Engine {
 
 impl EngineState {
     /// When the telemetry link has work.
-    #[cfg_attr(not(feature = "mavlink"), allow(clippy::unused_self))]
+    #[cfg_attr(not(feature = "telemetry"), allow(clippy::unused_self))]
     fn telemetry_poll_at(&self) -> Option<Instant> {
-        #[cfg(feature = "mavlink")]
+        #[cfg(feature = "telemetry")]
         {
             use fc::FcHandler as _;
             self.tel.as_ref().and_then(|t| t.handler.poll_at())
         }
-        #[cfg(not(feature = "mavlink"))]
+        #[cfg(not(feature = "telemetry"))]
         None
     }
 
@@ -670,7 +670,7 @@ impl EngineState {
     }
 
     /// The telemetry link (when there is one) and its context.
-    #[cfg(feature = "mavlink")]
+    #[cfg(feature = "telemetry")]
     fn telemetry_ctx(&mut self, now: Instant) -> (Option<&mut fc::TelemetryLink>, Ctx<'_>) {
         (
             self.tel.as_mut(),
@@ -694,7 +694,7 @@ impl EngineState {
     /// Makes the telemetry link the source of UTC and fixes while it gives time, the FC
     /// link otherwise. On a change the UTC discipline starts again from the new source,
     /// keeping its mapping in holdover until the new one is known.
-    #[cfg(feature = "mavlink")]
+    #[cfg(feature = "telemetry")]
     fn time_source(&mut self, now: Instant) {
         let tel = self.tel.as_ref().is_some_and(|t| t.handler.gives_time(now));
         if tel != self.tel_source {
@@ -810,7 +810,7 @@ impl EngineState {
             let (fc, mut ctx) = self.ctx(now);
             fc.poll(&mut ctx);
         }
-        #[cfg(feature = "mavlink")]
+        #[cfg(feature = "telemetry")]
         {
             use fc::FcHandler as _;
             let (tel, mut ctx) = self.telemetry_ctx(now);

@@ -370,10 +370,10 @@ mod siyi;
 mod viewlink;
 
 /// The MAVLink telemetry link beside another FC side.
-#[cfg(feature = "mavlink")]
+#[cfg(feature = "telemetry")]
 pub(crate) type TelemetryLink = FcLink<mavlink::TelemetrySide, { mavlink::BUF }>;
 
-#[cfg(feature = "mavlink")]
+#[cfg(feature = "telemetry")]
 impl TelemetryLink {
     /// The link for `config`: none when the FC side is MAVLink itself.
     pub(crate) fn for_config(config: &Config) -> Option<Self> {

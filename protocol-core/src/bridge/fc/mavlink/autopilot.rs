@@ -271,12 +271,14 @@ impl Autopilot {
     }
 
     /// The autopilot is heard (its HEARTBEAT within the last 3 s).
+    #[cfg(feature = "telemetry")]
     pub(super) fn is_heard(&self, now: Instant) -> bool {
         self.heard
             .is_some_and(|t| now.saturating_duration_since(t) <= AUTOPILOT_GONE)
     }
 
     /// The autopilot gives time: heard, with its SYSTEM_TIME stream coming.
+    #[cfg(feature = "telemetry")]
     pub(super) fn gives_time(&self, now: Instant) -> bool {
         self.is_heard(now)
             && self

@@ -42,8 +42,10 @@ mod autopilot;
 mod camera;
 mod gimbal;
 mod math;
+#[cfg(feature = "telemetry")]
 mod telemetry;
 
+#[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
 
 use crate::bridge::pod::PodNotice;
