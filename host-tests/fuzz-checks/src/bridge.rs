@@ -7,14 +7,18 @@
 //! going idle, the RTC_IO edge the engine asked for, a drain of every output, and a
 //! valid frame from the catalogue (an FC frame of the protocol, or a pod frame from the
 //! pod's addresses), so that the fuzzer reaches the engine's states behind valid frames.
+//! Bit 4 of the FC-bytes, FC-idle and frame ops sends them to the MAVLink telemetry link
+//! instead (its frames: the autopilot's HEARTBEAT and the MAVLink catalogue).
 //!
 //! Properties:
 //! - nothing panics (debug assertions on: no overflow either);
 //! - the queues hold what they promise: between two drains the frames for the FC take at
 //!   most [`FC_QUEUE`] bytes (each frame its length plus a 2-byte record header), those
-//!   for the pod at most [`POD_QUEUE`]; at most [`EVENTS`] events are waiting;
+//!   for the pod at most [`POD_QUEUE`], those for the telemetry link at most
+//!   [`TELEMETRY_QUEUE`]; at most [`EVENTS`] events are waiting;
 //! - every frame for the FC is a valid frame of its protocol (checked by the reference
-//!   scans written from the documents), every frame for the pod a valid K40T frame;
+//!   scans written from the documents), every frame for the pod a valid K40T frame,
+//!   every frame for the telemetry link a valid MAVLink 2 frame;
 //! - every input's [`Changes`] say what it did, as the firmware's wake-ups rely on: a
 //!   queue's frame bit exactly when the input queued a frame for that port, the events
 //!   bit exactly when it queued an event, the pin bit whenever the RTC_IO plan
@@ -29,7 +33,7 @@ use std::sync::OnceLock;
 use protocol_core::Direction;
 use protocol_core::bridge::{
     Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, MAX_FRAME_LEN, POD_QUEUE,
-    PinAction, Port,
+    PinAction, Port, TELEMETRY_QUEUE,
 };
 use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
@@ -67,6 +71,8 @@ pub mod op {
     pub const DRAIN: u8 = 6;
     /// A valid frame: a selector byte; op bit 3 set: a pod frame, else an FC frame.
     pub const FRAME: u8 = 7;
+    /// With [`FC_BYTES`], [`FC_IDLE`] or [`FRAME`] (bit 3 clear): the telemetry link.
+    pub const TELEMETRY: u8 = 16;
 }
 
 /// Valid frames of each FC protocol (index as [`PROTOCOLS`]), and pod frames (every
@@ -74,6 +80,8 @@ pub mod op {
 struct Frames {
     fc: [Vec<Vec<u8>>; 4],
     pod: Vec<Vec<u8>>,
+    /// For the telemetry link: the autopilot's HEARTBEAT, then the MAVLink catalogue.
+    tel: Vec<Vec<u8>>,
 }
 
 fn frames() -> &'static Frames {
@@ -93,9 +101,12 @@ fn frames() -> &'static Frames {
             .enumerate()
             .map(|(i, id)| pod_frame(&config, id, &fill, i as u8))
             .collect();
+        let mut tel = vec![crate::bridge_mavlink::autopilot_heartbeat()];
+        tel.extend(crate::mavlink::catalogue_frames(&fill));
         Frames {
             fc: [siyi, viewlink, gcu, k40t],
             pod,
+            tel,
         }
     })
 }
@@ -127,6 +138,7 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
     };
     let fc = take(Port::Fc);
     let pod = take(Port::Pod);
+    let tel = take(Port::Telemetry);
     let mut events = 0;
     while engine.next_event().is_some() {
         events += 1;
@@ -135,6 +147,18 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
     let used = |frames: &[Vec<u8>]| frames.iter().map(|f| f.len() + 2).sum::<usize>();
     assert!(used(&fc) <= FC_QUEUE, "FC queue: {} bytes", used(&fc));
     assert!(used(&pod) <= POD_QUEUE, "pod queue: {} bytes", used(&pod));
+    assert!(
+        used(&tel) <= TELEMETRY_QUEUE,
+        "telemetry queue: {} bytes",
+        used(&tel)
+    );
+    for f in &tel {
+        assert_eq!(
+            crate::mavlink::valid_v2(f),
+            Some(f.len()),
+            "invalid frame for the telemetry link {f:02X?}"
+        );
+    }
     for f in &fc {
         // GCU replies are followed by the resync mark `8A 00` (GcuIdentity::resync_mark).
         let f = match protocol {
@@ -173,6 +197,7 @@ struct Seen {
     /// Frames queued so far, for the FC and for the pod.
     fc_queued: u32,
     pod_queued: u32,
+    tel_queued: u32,
     /// Events queued so far: those waiting and those dropped for newer ones.
     events: usize,
     pin: Option<PinAction>,
@@ -186,6 +211,7 @@ impl Seen {
         Seen {
             fc_queued: counters.fc_sent,
             pod_queued: counters.pod_sent,
+            tel_queued: counters.telemetry_sent,
             events: waiting + counters.events_dropped as usize,
             pin: engine.pin(),
         }
@@ -203,6 +229,11 @@ impl Seen {
         assert_eq!(
             said(Changes::POD_FRAME),
             after.pod_queued != self.pod_queued,
+            "{what}"
+        );
+        assert_eq!(
+            said(Changes::TELEMETRY_FRAME),
+            after.tel_queued != self.tel_queued,
             "{what}"
         );
         assert_eq!(said(Changes::EVENTS), after.events != self.events, "{what}");
@@ -236,7 +267,12 @@ pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], mut input: Input<'_
         let changes = match op % 8 {
             op::FC_BYTES => {
                 let n = usize::from(input.byte());
-                engine.receive(now, Port::Fc, input.bytes(n))
+                let port = if op & op::TELEMETRY == 0 {
+                    Port::Fc
+                } else {
+                    Port::Telemetry
+                };
+                engine.receive(now, port, input.bytes(n))
             }
             op::POD_BYTES => {
                 let n = usize::from(input.byte());
@@ -247,6 +283,7 @@ pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], mut input: Input<'_
                 now = now.saturating_add(Duration::from_millis(ms.into()));
                 engine.poll(now)
             }
+            op::FC_IDLE if op & op::TELEMETRY != 0 => engine.idle(now, Port::Telemetry),
             op::FC_IDLE => engine.idle(now, Port::Fc),
             op::POD_IDLE => engine.idle(now, Port::Pod),
             op::PIN => match engine.pin() {
@@ -262,7 +299,9 @@ pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], mut input: Input<'_
             }
             _ => {
                 let pick = usize::from(input.byte());
-                if op & 8 == 0 {
+                if op & 8 == 0 && op & op::TELEMETRY != 0 {
+                    engine.receive(now, Port::Telemetry, &frames.tel[pick % frames.tel.len()])
+                } else if op & 8 == 0 {
                     engine.receive(now, Port::Fc, &fc_frames[pick % fc_frames.len()])
                 } else {
                     engine.receive(now, Port::Pod, &frames.pod[pick % frames.pod.len()])
@@ -381,6 +420,17 @@ pub fn seeds_with(prefix: &[u8], fc: &[Vec<u8>]) -> Vec<Vec<u8>> {
         s.extend([op::PIN, op::WAIT, 0, 4, op::PIN, op::DRAIN]);
         out.push(s);
     }
+    // The autopilot on the telemetry link, then MAVLink frames there, with FC frames.
+    let mut s = prefix.to_vec();
+    s.extend([op::FRAME | op::TELEMETRY, 0, op::WAIT, 0, 4]);
+    for i in 1..frames.tel.len().min(64) {
+        s.extend([op::FRAME | op::TELEMETRY, i as u8, op::FRAME, i as u8]);
+        s.extend([op::FC_IDLE | op::TELEMETRY, op::WAIT, 100, 0]);
+        if i % 8 == 7 {
+            s.extend([op::PIN, op::DRAIN]);
+        }
+    }
+    out.push(s);
     // Every frame of the catalogue through the frame op, between pod reports.
     let mut s = prefix.to_vec();
     for i in 0..fc.len().min(255) {

@@ -1,6 +1,7 @@
 //! The bridge engine: every public entry point of `Engine` (new, the FC and pod inputs,
 //! idle, poll, the RTC_IO pin, the output queues, events, the read-only views) with an
-//! opaque configuration (so every FC side, SIYI, Viewlink, GCU, K40T and MAVLink, and every
+//! opaque configuration (so every FC side, SIYI, Viewlink, GCU, K40T and MAVLink, the
+//! telemetry link (the port is opaque too), and every
 //! configured behaviour is reachable), opaque bytes and instants, and the engine's state
 //! made opaque between calls (`black_box(&mut engine)`: any state a previous call could
 //! have left).
