@@ -20,6 +20,7 @@ use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
 use gimbal::sim::tasks::{Bench, Outcome};
 use protocol_core::bridge::Config;
 
@@ -143,6 +144,29 @@ fn mavlink_side_with_ardupilot() {
         })
         .collect();
     report("mavlink (ArduPilot)", &flights, 1_000, 2_000, 5_000);
+}
+
+#[test]
+fn mavlink_side_with_px4() {
+    let flights: Vec<Flight> = FLIGHTS
+        .iter()
+        .map(|&(seed, ppm, phase, valid)| {
+            let px4 = Px4::new(Px4Config {
+                seed,
+                ppm,
+                jitter_us: 10_000,
+                mode: Px4Mode::Normal,
+                utc_at_zero_us: utc_at_zero(phase),
+                utc_valid_at_us: valid,
+                ..Px4Config::default()
+            });
+            let config = Config::for_fc(Px4::PROTOCOL);
+            let pod = SimPod::new(PodSimConfig::default());
+            let bench = Bench::<Px4, ApMavlink>::of(config, px4, pod, None);
+            flight(&bench.run(FLIGHT, S, |_, _| {}))
+        })
+        .collect();
+    report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 5_000);
 }
 
 /// The flights of a SIYI, Viewpro or XF Robot ArduPilot, with the same autopilot's

@@ -12,17 +12,19 @@
 //!   does not lock to the autopilot's loop), when nothing else waits to be sent. One is outstanding at a
 //!   time; a reply is matched on its ts1 (ArduPilot forwards other systems' TIMESYNC
 //!   onto the link, §8.10) and taken within [`TIMESYNC_MAX_RTT`].
-//! - **Where the autopilot read tc1.** ArduPilot stamps tc1 with its UART's estimate of
-//!   when the request *started* arriving (`receive_time_constraint_us`, never earlier
-//!   than the start): the boot clock was at most tc1 when the bridge queued the request,
-//!   a *lower bound* of the offset, tight to the UART's estimate whatever ArduPilot's
-//!   loop and output delays (up to 10 ms of transport jitter on its replies). PX4 reads
-//!   tc1 when its receive thread parses the request, after its end, and answers at once:
-//!   the boot clock at the reply's first byte was at least tc1, an ordinary *upper*
-//!   bound, late by PX4's latency. An autopilot other than ArduPilot is read as PX4 (a
-//!   value read at the start only looks later to that reading: safe). The discipline
-//!   keeps the tightest samples of the one kind (its minimum filter): the low-round-trip
-//!   samples are the ones that count.
+//! - **Where the autopilot read tc1.** Each reply says the autopilot's boot clock read
+//!   tc1 at some instant after the request started: the boot clock when the bridge
+//!   queued it (no later than its start) was at most tc1, a *lower bound* of the offset,
+//!   and the bound holds whatever delays the reply (the autopilot's loop, its output
+//!   buffer, 10 ms of transport jitter: none of them enters it). How tight it is depends
+//!   on where tc1 was read (MAVLINK-TRAFFIC §6): ArduPilot stamps it with its UART's
+//!   estimate of the request's *start* (`receive_time_constraint_us`, never earlier than
+//!   the start): tight to that estimate. PX4 reads it when its receive thread parses the
+//!   request, after its *end*: tc1 less the request's serial time is the bound, tight to
+//!   PX4's parse latency. Any other autopilot: tc1 itself (looser by up to the request's
+//!   serial time, never wrong). The discipline keeps the tightest bound of each bin (its
+//!   minimum filter on negated points): the low-round-trip samples are the ones that
+//!   count.
 //! - **SYSTEM_TIME.** Both fields are read from one clock in one call: `d =
 //!   time_unix_usec − 1000·time_boot_ms` is the UTC − boot shift plus the sub-millisecond
 //!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift
@@ -34,7 +36,7 @@
 //!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
 //!   TIMESYNC path.
 
-use crate::bridge::discipline::Sample;
+use crate::bridge::discipline::{Sample, serial_time};
 use crate::bridge::fixes::{Fix, Velocity};
 use crate::bridge::time::{Duration, Instant};
 use crate::mavlink::dialect::{
@@ -135,12 +137,25 @@ pub(super) struct Vehicle {
     pub(super) at: Instant,
 }
 
+/// Where an autopilot reads a TIMESYNC request's tc1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AutopilotKind {
+    /// At its UART's estimate of the request's start (never earlier).
+    ArduPilot,
+    /// When its receive thread parses the request: after its end.
+    Px4,
+    /// Unknown: somewhere after its start.
+    Other,
+}
+
 /// The outstanding TIMESYNC request.
 #[derive(Debug, Clone, Copy)]
 struct Request {
     ts1: i64,
     /// When it was queued: no later than it started on the wire.
     sent: Instant,
+    /// Its length, bytes.
+    len: u32,
 }
 
 /// The TIMESYNC requester.
@@ -172,8 +187,8 @@ pub(super) enum Took {
 pub(super) struct Autopilot {
     /// The autopilot's system id, the device's own (from the autopilot's HEARTBEAT).
     pub(super) sysid: Option<u8>,
-    /// The autopilot is ArduPilot (its TIMESYNC tc1 marks a request's start).
-    ardupilot: bool,
+    /// Which autopilot (where it reads a TIMESYNC request's tc1).
+    kind: AutopilotKind,
     /// The device's component that talks to the autopilot.
     own: u8,
     /// Next sequence number of frames from `own` and from a second component (camera).
@@ -192,7 +207,7 @@ impl Autopilot {
     pub(super) const fn new(own: u8) -> Self {
         Autopilot {
             sysid: None,
-            ardupilot: false,
+            kind: AutopilotKind::Other,
             own,
             seq: [0; 2],
             heard: None,
@@ -308,7 +323,11 @@ impl Autopilot {
             return None;
         }
         self.heard = Some(ctx.now);
-        self.ardupilot = hb.autopilot == MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
+        self.kind = match hb.autopilot {
+            MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA => AutopilotKind::ArduPilot,
+            MavAutopilot::MAV_AUTOPILOT_PX4 => AutopilotKind::Px4,
+            _ => AutopilotKind::Other,
+        };
         if self.sysid == Some(h.system_id) {
             return Some(false);
         }
@@ -501,7 +520,11 @@ impl Autopilot {
         if let Ok(n) = mavlink::encode(&msg, &header, &mut buf)
             && ctx.reply(buf.get(..n).unwrap_or_default())
         {
-            self.sync.outstanding = Some(Request { ts1, sent: ctx.now });
+            self.sync.outstanding = Some(Request {
+                ts1,
+                sent: ctx.now,
+                len: u32::try_from(n).unwrap_or(0),
+            });
         }
     }
 
@@ -548,15 +571,15 @@ impl Autopilot {
             }
         }
         if ctx.feeds {
-            let s = if self.ardupilot {
-                // tc1 is the request's start by ArduPilot's UART, never earlier than
-                // it: the boot clock at the instant the bridge started sending it was at
-                // most tc1.
-                Sample::new(req.sent, tc1_us, 1).lower_bound()
-            } else {
-                // Read when the request was parsed, before the reply's first byte.
-                Sample::new(ctx.now, tc1_us, 1).with_transit(ctx.transit)
+            // The boot clock when the request started was at most tc1 (ArduPilot's
+            // estimate of the start, never earlier; any other autopilot read it later),
+            // and PX4's, read when the request had ended, at most tc1 less its serial
+            // time.
+            let read_after = match self.kind {
+                AutopilotKind::Px4 => serial_time(req.len, ctx.baud).as_micros(),
+                AutopilotKind::ArduPilot | AutopilotKind::Other => 0,
             };
+            let s = Sample::new(req.sent, tc1_us.saturating_sub(read_after), 1).lower_bound();
             ctx.time.fc_clock_sample(s);
         }
         Took::Yes
