@@ -1041,19 +1041,11 @@ fn firmware_bounds(qemu_out: &Path) -> Vec<(u64, u32)> {
 }
 
 /// The autopilot's MAVLink port on the telemetry link: the same autopilot as the SIYI
-/// simulator (`ApSiyiConfig::default()`'s crystal, boot and clock), no MAVLink mount or
+/// simulator (`ApSiyiConfig::default()`: its clock and aircraft), no MAVLink mount or
 /// camera.
 fn telemetry_peer() -> ApMavlink {
-    let siyi = ApSiyiConfig::default();
-    ApMavlink::new(ApMavlinkConfig {
-        mount: false,
-        camera: false,
-        ppm: siyi.ppm,
-        boot_us: siyi.boot_us,
-        utc_at_zero_us: siyi.utc_at_zero_us,
-        utc_valid_at_us: siyi.utc_valid_at_us,
-        ..ApMavlinkConfig::default()
-    })
+    let siyi = ApSiyi::new(ApSiyiConfig::default());
+    ApMavlink::telemetry(siyi.clock().clone(), siyi.aircraft, 1, 1)
 }
 
 /// The telemetry link works: the autopilot heard the firmware's HEARTBEAT (component

@@ -5,7 +5,7 @@
 //! the autopilot's crystal, boot and clock, so the two links tell one time.
 
 use bridge_fw::LogKind;
-use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
+use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::tasks::{Bench, Outcome};
@@ -19,33 +19,23 @@ const BRIDGE_COMPONENT: u8 = 158;
 const HEARTBEAT: u32 = 0;
 const TIMESYNC: u32 = 111;
 
-/// The SIYI port's settings, and the MAVLink port's of the same autopilot.
-fn autopilot() -> (ApSiyiConfig, ApMavlinkConfig) {
-    let siyi = ApSiyiConfig {
+/// The SIYI port's settings.
+fn autopilot() -> ApSiyiConfig {
+    ApSiyiConfig {
         ppm: 25.0,
         seed: 3,
         ..ApSiyiConfig::default()
-    };
-    let mav = ApMavlinkConfig {
-        mount: false,
-        camera: false,
-        ppm: siyi.ppm,
-        boot_us: siyi.boot_us,
-        utc_at_zero_us: siyi.utc_at_zero_us,
-        utc_valid_at_us: siyi.utc_valid_at_us,
-        seed: 4,
-        ..ApMavlinkConfig::default()
-    };
-    (siyi, mav)
+    }
 }
 
 /// 75 s of the bridge with or without the telemetry port; a photo at 65 s.
 fn run(telemetry: bool) -> Outcome<ApSiyi, ApMavlink> {
-    let (siyi, mav) = autopilot();
     let config = Config::for_fc(FcProtocol::Siyi);
     let pod = SimPod::new(PodSimConfig::default());
-    let peer = telemetry.then(|| ApMavlink::new(mav));
-    let bench = Bench::of(config, ApSiyi::new(siyi), pod, peer);
+    let fc = ApSiyi::new(autopilot());
+    // The same autopilot's MAVLink port: its clock and aircraft.
+    let peer = telemetry.then(|| ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1));
+    let bench = Bench::of(config, fc, pod, peer);
     bench.wires.record_all();
     bench.run(75 * S, TICK, |b, t| {
         if t == 65 * S {

@@ -1,9 +1,11 @@
 //! The sans-IO bridge engine: a K40T pod on one side, a flight controller (FC) speaking
-//! SIYI, Viewlink, GCU or K40T on the other.
+//! SIYI, Viewlink, GCU, K40T or MAVLink on the other, and (feature `telemetry`) an
+//! optional MAVLink telemetry link to the same autopilot, the source of UTC and fixes
+//! while it gives them ([`Port::Telemetry`]).
 //!
 //! No I/O, no clock reads, no allocation, a size fixed at compile time. Like smoltcp's
 //! `Interface`, the [`Engine`] is driven by its caller, per [`Port`] (the FC's serial
-//! link and the pod's):
+//! link, the pod's, the telemetry link):
 //!
 //! - **Inputs:** bytes from a port ([`Engine::receive`]), with the local [`Instant`] the
 //!   last of them arrived; "the line went idle" ([`Engine::idle`]); and [`Engine::poll`]
@@ -631,6 +633,27 @@ impl Engine {
     }
 }
 
+/// The [`Ctx`] of a link of `$state` (an [`EngineState`]): the engine's parts, borrowed
+/// field by field (so that the caller may hold its link beside it).
+macro_rules! engine_ctx {
+    ($state:ident, $now:expr, $port:expr, $baud:expr, $feeds:expr) => {
+        Ctx {
+            now: $now,
+            config: &$state.config,
+            pod: &mut $state.pod,
+            time: &mut $state.time,
+            fixes: &mut $state.fixes,
+            geotag: &mut $state.geotag,
+            out: &mut $state.out,
+            fc_seen: false,
+            transit: Duration::ZERO,
+            baud: $baud,
+            to: $port,
+            feeds: $feeds,
+        }
+    };
+}
+
 impl EngineState {
     /// When the telemetry link has work.
     #[cfg_attr(not(feature = "telemetry"), allow(clippy::unused_self))]
@@ -650,45 +673,17 @@ impl EngineState {
     }
 
     fn ctx(&mut self, now: Instant) -> (&mut FcSide, Ctx<'_>) {
-        (
-            &mut self.fc,
-            Ctx {
-                now,
-                config: &self.config,
-                pod: &mut self.pod,
-                time: &mut self.time,
-                fixes: &mut self.fixes,
-                geotag: &mut self.geotag,
-                out: &mut self.out,
-                fc_seen: false,
-                transit: Duration::ZERO,
-                baud: self.config.fc_baud,
-                to: Port::Fc,
-                feeds: !self.tel_source,
-            },
-        )
+        let feeds = !self.tel_source;
+        let baud = self.config.fc_baud;
+        (&mut self.fc, engine_ctx!(self, now, Port::Fc, baud, feeds))
     }
 
     /// The telemetry link (when there is one) and its context.
     #[cfg(feature = "telemetry")]
     fn telemetry_ctx(&mut self, now: Instant) -> (Option<&mut fc::TelemetryLink>, Ctx<'_>) {
-        (
-            self.tel.as_mut(),
-            Ctx {
-                now,
-                config: &self.config,
-                pod: &mut self.pod,
-                time: &mut self.time,
-                fixes: &mut self.fixes,
-                geotag: &mut self.geotag,
-                out: &mut self.out,
-                fc_seen: false,
-                transit: Duration::ZERO,
-                baud: self.config.telemetry_baud,
-                to: Port::Telemetry,
-                feeds: self.tel_source,
-            },
-        )
+        let (feeds, baud) = (self.tel_source, self.config.telemetry_baud);
+        let ctx = engine_ctx!(self, now, Port::Telemetry, baud, feeds);
+        (self.tel.as_mut(), ctx)
     }
 
     /// Makes the telemetry link the source of UTC and fixes while it gives time, the FC
