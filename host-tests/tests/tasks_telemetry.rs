@@ -123,3 +123,71 @@ fn without_the_telemetry_peer_nothing_changes() {
     assert_eq!((o.wires.tel_in.bytes, o.wires.tel_out.bytes), (0, 0));
     syncs_and_geotag(&o);
 }
+
+/// The autopilot's MAVLink port says its GPS has no 3D fix (GPS_RAW_INT), while it still
+/// sends positions: the history gets no fix from it, and the SIYI link's positions are
+/// not used while the telemetry link is the source. The photo's geotag is the failure
+/// code (nothing invented); the time still comes.
+#[test]
+fn without_a_3d_fix_on_the_telemetry_link_the_geotag_is_the_failure_code() {
+    let config = Config::for_fc(FcProtocol::Siyi);
+    let pod = SimPod::new(PodSimConfig::default());
+    let fc = ApSiyi::new(autopilot());
+    let mut peer = ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1);
+    peer.config.gps_fix = false;
+    let bench = Bench::of(config, fc, pod, Some(peer));
+    let o = bench.run(75 * S, TICK, |b, t| {
+        if t == 65 * S {
+            b.fc.borrow_mut().take_picture();
+        }
+    });
+    assert!(
+        o.events()
+            .any(|(_, e)| e == Event::TimeSource { telemetry: true })
+    );
+    assert!(o.pod.syncs().len() >= 2);
+    assert_eq!(o.pod.photos().len(), 1);
+    let reply = o.pod.gps_replies().last().expect("a GPS reply");
+    assert_ne!(reply.reply.code.code(), AckCode::Ok, "{reply:?}");
+    assert_eq!((reply.reply.lat_e7, reply.reply.lon_e7), (0, 0));
+}
+
+/// The telemetry cable is pulled for 20 s: after 3 s without SYSTEM_TIME the FC link is
+/// the source again (its own time, the discipline restarted, the mapping in holdover
+/// meanwhile); back, the telemetry link is the source again. No sync is wrong by more
+/// than the SIYI link's own accuracy, and none is skipped.
+#[test]
+fn a_pulled_telemetry_cable_gives_time_back_to_the_fc_link_and_takes_it_again() {
+    let config = Config::for_fc(FcProtocol::Siyi);
+    let pod = SimPod::new(PodSimConfig::default());
+    let fc = ApSiyi::new(autopilot());
+    let peer = ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1);
+    let bench = Bench::of(config, fc, pod, Some(peer));
+    let o = bench.run(120 * S, TICK, |b, t| {
+        if t == 40 * S {
+            b.wires.pull_telemetry(t, 20 * S);
+        }
+    });
+    let sources: Vec<(u64, Event)> = o
+        .events()
+        .filter(|(_, e)| matches!(e, Event::TimeSource { .. }))
+        .collect();
+    let to = |telemetry| Event::TimeSource { telemetry };
+    assert_eq!(sources.len(), 3, "{sources:?}");
+    assert_eq!(sources[0].1, to(true));
+    assert_eq!(sources[1].1, to(false));
+    assert!((42 * S..45 * S).contains(&sources[1].0), "{sources:?}");
+    assert_eq!(sources[2].1, to(true));
+    assert!((60 * S..63 * S).contains(&sources[2].0), "{sources:?}");
+    let syncs = o.pod.syncs();
+    // One sync every 10 s from the first: none skipped across both changes.
+    assert!(syncs.len() >= 11, "{syncs:?}");
+    for s in syncs {
+        assert_eq!(s.outcome, SyncOutcome::Applied, "{s:?}");
+        let truth = o.fc.fc_utc_us(s.edge_us.expect("edge"));
+        assert!(
+            (s.unix_ms * 1000).abs_diff(truth) < 10_000,
+            "{s:?} vs {truth}"
+        );
+    }
+}
