@@ -310,3 +310,63 @@ fn without_a_telemetry_link_nothing_is_sent_on_it() {
         assert!(!matches!(ev, Event::TimeSource { .. }), "{ev:?}");
     }
 }
+
+/// The autopilot falls silent (its cable pulled) on the telemetry link and, on the
+/// MAVLink FC side, on the FC link: the engine keeps naming a future `poll_at` after each
+/// poll (a caller that polls when it is due never spins), and the telemetry link stops
+/// being the time source 3 s after the last HEARTBEAT (4 s) or SYSTEM_TIME (4.9 s), at
+/// the latest by the next poll.
+#[test]
+fn a_silent_autopilot_leaves_no_deadline_in_the_past() {
+    for (fc, port) in [
+        (FcProtocol::Siyi, Port::Telemetry),
+        (FcProtocol::Mavlink, Port::Fc),
+    ] {
+        let mut e = Engine::new(Config::for_fc(fc));
+        let mut ap = Autopilot::new(Stamp::RequestStart);
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let mut polls_after_silence = 0;
+        let mut left_at = None;
+        for ms in 0..20_000u64 {
+            let t = ms * 1000;
+            let now = Instant::from_micros(t);
+            // The autopilot speaks for 5 s, then nothing.
+            if t < 5_000_000 {
+                ap.poll(t);
+                for (_, f) in std::mem::take(&mut ap.out) {
+                    e.receive(now, port, &f);
+                }
+            }
+            if e.poll_at().is_some_and(|p| p <= now) {
+                e.poll(now);
+                if t >= 5_000_000 {
+                    polls_after_silence += 1;
+                }
+                assert!(
+                    e.poll_at().is_none_or(|p| p > now),
+                    "{fc:?}: poll_at {:?} at {now:?}",
+                    e.poll_at()
+                );
+            }
+            for p in [Port::Fc, Port::Pod, Port::Telemetry] {
+                while e.transmit(p, &mut buf).is_some() {}
+            }
+            while let Some(ev) = e.next_event() {
+                if ev == (Event::TimeSource { telemetry: false }) {
+                    left_at = Some(t);
+                }
+            }
+        }
+        // TIMESYNC and stream requests go on (3 to 7 a second), and on the MAVLink side
+        // the gimbal's 10 Hz attitude status: polls as often as that, no more.
+        let per_second = if port == Port::Fc { 20 } else { 10 };
+        assert!(
+            polls_after_silence < 15 * per_second,
+            "{fc:?}: {polls_after_silence} polls"
+        );
+        if port == Port::Telemetry {
+            let left = left_at.expect("the FC link is the source again");
+            assert!((7_000_000..8_200_000).contains(&left), "{left}");
+        }
+    }
+}

@@ -399,12 +399,15 @@ impl Autopilot {
         }
     }
 
-    /// When [`Autopilot::poll`] has work.
+    /// When [`Autopilot::poll`] has work: the next stream request (a stream that stops is
+    /// asked for again 3 s after its last message, which is also when a silent autopilot
+    /// stops giving time) and the next TIMESYNC request. Never an instant already past
+    /// once polled: the heartbeat's own time-out is no deadline (a SYSTEM_TIME coming
+    /// without heartbeats is an input, and each input re-reads the time source).
     pub(super) fn poll_at(&self) -> Option<Instant> {
         self.sysid?;
         let streams = self.streams.iter().map(Stream::due);
-        let heard = self.heard.map(|t| t.saturating_add(AUTOPILOT_GONE));
-        streams.chain([self.sync.next]).chain(heard).min()
+        streams.chain([self.sync.next]).min()
     }
 
     /// The aircraft's attitude now, when fresh.
