@@ -62,6 +62,7 @@ const VEHICLE_FRESH: Duration = Duration::from_secs(1);
 /// A GPS_RAW_INT 3D fix older than this does not make positions fixes.
 const GPS_FRESH: Duration = Duration::from_secs(3);
 /// The autopilot is gone after this long without its HEARTBEAT (1 Hz).
+#[cfg(feature = "telemetry")]
 const AUTOPILOT_GONE: Duration = Duration::from_secs(3);
 /// A TIMESYNC reply later than this after its request is not used.
 pub(crate) const TIMESYNC_MAX_RTT: Duration = Duration::from_millis(200);
