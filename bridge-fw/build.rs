@@ -2,7 +2,7 @@
 //! (`bridge.toml`, or the file named by `BRIDGE_CONFIG`) turned into Rust constants
 //! (`$OUT_DIR/bridge_config.rs`, included by `src/config.rs`).
 //!
-//! The file is deserialized into `protocol_core::bridge::Config` (its `serde` feature:
+//! The file is deserialized into `bridge_engine::Config` (its `serde` feature:
 //! every key optional, absent keys keep `Config::DEFAULT`, an unknown key or a wrong type
 //! is an error naming the key), checked with `Config::validate` (the ranges, one place
 //! for the firmware and `gimbal bridge`), and written out with `databake` (the `bake`
@@ -11,8 +11,8 @@
 
 use std::path::PathBuf;
 
+use bridge_engine::{Config, FcProtocol};
 use databake::{Bake, CrateEnv};
-use protocol_core::bridge::{Config, FcProtocol};
 use serde::Deserialize as _;
 use toml::{Table, Value};
 

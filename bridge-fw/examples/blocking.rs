@@ -18,9 +18,9 @@
 use std::collections::VecDeque;
 use std::convert::Infallible;
 
+use bridge_engine::{Config, Duration, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 use embedded_hal::digital::OutputPin;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
-use protocol_core::bridge::{Config, Duration, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 use protocol_core::k40t::{self, Address, GimbalAttitude, Header};
 
 /// A monotonic clock in microseconds (a 32-bit timer extended to 64 bits, DWT, SysTick...).

@@ -22,12 +22,12 @@
 //! USART1 (the ST-LINK virtual COM port) stays free; USART3 is wired to the on-board
 //! modules, not to a header.
 
+use bridge_engine::Config;
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
 use embassy_stm32::peripherals::IWDG;
 use embassy_stm32::usart::{self, BufferedUart};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, peripherals};
-use protocol_core::bridge::Config;
 use static_cell::StaticCell;
 
 bind_interrupts!(struct Irqs {

@@ -6,7 +6,7 @@
 //! `fc = "auto"` it is read from three strap pins at start-up ([`FcChoice::Straps`],
 //! [`from_straps`]).
 
-use protocol_core::bridge::{Config, FcProtocol};
+use bridge_engine::{Config, FcProtocol};
 
 /// How the firmware picks its FC protocol.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -2,7 +2,7 @@
 //! methods; tests put doubles in its place (a spy around the engine, a scripted engine
 //! that plans RTC_IO edges without an FC side).
 
-use protocol_core::bridge::{Changes, Engine, Event, Instant, Level, PinAction, Port};
+use bridge_engine::{Changes, Engine, Event, Instant, Level, PinAction, Port};
 
 /// Link and time status, for the LED.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -1,10 +1,10 @@
 //! The engine/timer task: `poll` when the engine asks, RTC_IO at the instants it names.
 
+use bridge_engine::{Changes, Instant, Level};
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Timer;
 use embedded_hal::digital::OutputPin;
-use protocol_core::bridge::{Changes, Instant, Level};
 
 use crate::engine::BridgeEngine;
 use crate::shared::LogKind;
@@ -13,15 +13,15 @@ use crate::{now, to_embassy};
 
 /// Drives the engine's clock and the RTC_IO pin forever.
 ///
-/// Each turn: [`poll`](protocol_core::bridge::Engine::poll) if
-/// [`poll_at`](protocol_core::bridge::Engine::poll_at) is due (waking the writers and the
+/// Each turn: [`poll`](bridge_engine::Engine::poll) if
+/// [`poll_at`](bridge_engine::Engine::poll_at) is due (waking the writers and the
 /// log task its changes concern), then sleep until the earliest of the next poll, the
-/// next pin change ([`pin`](protocol_core::bridge::Engine::pin)),
+/// next pin change ([`pin`](bridge_engine::Engine::pin)),
 /// [`Timing::heartbeat`](crate::Timing::heartbeat), or an input that changed the pin plan
 /// or wants a poll sooner ([`Shared::input`](crate::Shared::input)). When the
 /// pin's instant comes (a timer alarm), in one critical section with nothing that can
 /// wait in between: the pin is set, the clock read, and
-/// [`pin_done`](protocol_core::bridge::Engine::pin_done) told that instant (for a rising
+/// [`pin_done`](bridge_engine::Engine::pin_done) told that instant (for a rising
 /// edge the engine puts the 0x00030E at the head of the pod queue); then the pod writer
 /// is woken.
 ///

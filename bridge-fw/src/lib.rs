@@ -1,7 +1,7 @@
 //! The bridge's tasks, written once: on the STM32 (the `bridge-fw` binary, `src/main.rs`)
 //! and on the host ([`host`], feature `host`).
 //!
-//! Everything that decides something lives in [`protocol_core::bridge::Engine`]; these
+//! Everything that decides something lives in [`bridge_engine::Engine`]; these
 //! tasks only move bytes, read the clock and drive pins. Each is a plain `async fn` that
 //! takes its resources, generic over [`embedded_io_async::Read`]/[`Write`](embedded_io_async::Write),
 //! [`embedded_hal::digital::OutputPin`] and `embassy_time`, and never returns:
@@ -33,10 +33,10 @@
 //! frame is ever in the UART's buffer. Every first pod frame after an edge is logged with
 //! its measured delay ([`LogKind::EdgeToFrame`]).
 //!
-//! [`Engine`]: protocol_core::bridge::Engine
-//! [`Engine::receive`]: protocol_core::bridge::Engine::receive
-//! [`Engine::idle`]: protocol_core::bridge::Engine::idle
-//! [`Engine::transmit`]: protocol_core::bridge::Engine::transmit
+//! [`Engine`]: bridge_engine::Engine
+//! [`Engine::receive`]: bridge_engine::Engine::receive
+//! [`Engine::idle`]: bridge_engine::Engine::idle
+//! [`Engine::transmit`]: bridge_engine::Engine::transmit
 #![cfg_attr(not(feature = "host"), no_std)]
 
 pub mod config;
@@ -59,7 +59,7 @@ pub use log::{EventSink, log_task};
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
 pub use watchdog::watchdog_task;
 
-pub use protocol_core::bridge::{Changes, Config, Engine, Event, Instant, Level, PinAction, Port};
+pub use bridge_engine::{Changes, Config, Engine, Event, Instant, Level, PinAction, Port};
 
 /// The engine's clock: embassy-time's, in microseconds since boot.
 #[must_use]

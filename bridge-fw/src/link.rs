@@ -1,11 +1,11 @@
 //! The serial links: UART → engine, engine → UART.
 
+use bridge_engine::{Instant, Level, MAX_FRAME_LEN, PinAction, Port};
 use embassy_futures::join::join;
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::{Timer, with_timeout};
 use embedded_io_async::{Read, Write};
-use protocol_core::bridge::{Instant, Level, MAX_FRAME_LEN, PinAction, Port};
 
 use crate::engine::BridgeEngine;
 use crate::shared::LogKind;
@@ -72,14 +72,14 @@ enum Next {
 fn hold_for_edge(
     pin: Option<PinAction>,
     now: Instant,
-    wire: protocol_core::bridge::Duration,
+    wire: bridge_engine::Duration,
 ) -> Option<Instant> {
     let edge = pin.filter(|p| p.level == Level::High)?.at;
     (now.saturating_add(wire) >= edge).then_some(edge)
 }
 
 /// Writes `port`'s frames forever, one whole frame at a time, each taken from the engine
-/// ([`Engine::transmit`](protocol_core::bridge::Engine::transmit)) under the lock, then
+/// ([`Engine::transmit`](bridge_engine::Engine::transmit)) under the lock, then
 /// written and flushed: a frame is never split and never waits behind more than the frame
 /// before it in the UART's buffer. Woken when its queue gets a frame (the pod writer also
 /// when the RTC_IO plan changes), else it looks every [`Timing::heartbeat`].
@@ -161,8 +161,6 @@ pub async fn link<M: RawMutex, E: BridgeEngine, R: Read, W: Write>(
 }
 
 /// An engine duration as an embassy-time duration.
-pub(crate) const fn to_embassy_duration(
-    d: protocol_core::bridge::Duration,
-) -> embassy_time::Duration {
+pub(crate) const fn to_embassy_duration(d: bridge_engine::Duration) -> embassy_time::Duration {
     embassy_time::Duration::from_micros(d.as_micros())
 }

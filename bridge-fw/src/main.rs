@@ -138,8 +138,8 @@ async fn stack_watch() -> ! {
 }
 
 #[cfg(feature = "qemu")]
-fn defmt_fc(fc: protocol_core::bridge::FcProtocol) -> &'static str {
-    use protocol_core::bridge::FcProtocol;
+fn defmt_fc(fc: bridge_engine::FcProtocol) -> &'static str {
+    use bridge_engine::FcProtocol;
     match fc {
         FcProtocol::Siyi => "siyi",
         FcProtocol::Viewlink => "viewlink",

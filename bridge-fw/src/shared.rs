@@ -3,11 +3,11 @@
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
 
+use bridge_engine::{Changes, Config, Duration, Event, Instant, Level, Port};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::channel::Channel;
 use embassy_sync::signal::Signal;
-use protocol_core::bridge::{Changes, Config, Duration, Event, Instant, Level, Port};
 
 use crate::engine::BridgeEngine;
 

@@ -10,6 +10,7 @@
 use std::cell::{Cell, RefCell};
 use std::collections::VecDeque;
 
+use bridge_engine::Duration;
 use bridge_fw::host::{self, Clock, HostLinks, HostShared, PinRecorder};
 use bridge_fw::{
     BridgeEngine, Changes, Config, Engine, Event, Heartbeat, Instant, Level, LogKind, LogRecord,
@@ -17,7 +18,6 @@ use bridge_fw::{
 };
 use embassy_futures::select::{Either, select, select3};
 use embassy_time::{Duration as EDuration, Timer};
-use protocol_core::bridge::Duration;
 use protocol_core::k40t::{
     self, Address, CameraVersionAck, GimbalAttitude, GimbalVersionAck, Header, K40tFraming,
     Message, MessageData, Packet, Request, ResponseCode, Version,
@@ -818,8 +818,8 @@ fn timing_straps_and_led_patterns() {
         Duration::from_micros(20_834)
     );
 
+    use bridge_engine::FcProtocol;
     use bridge_fw::config::{self, FcChoice};
-    use protocol_core::bridge::FcProtocol;
     assert_eq!(config::COMPILED.len(), 5);
     assert_eq!(config::FC, FcChoice::Straps, "all five compiled, fc = auto");
     assert_eq!(

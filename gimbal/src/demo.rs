@@ -4,7 +4,7 @@
 //!
 //! ```no_run
 //! use gimbal::demo::{self, DemoOptions};
-//! use protocol_core::bridge::FcProtocol;
+//! use bridge_engine::FcProtocol;
 //!
 //! let summary = demo::run(
 //!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60, telemetry: false },
@@ -29,7 +29,7 @@
 use std::io::{self, Write};
 use std::time::Instant as WallInstant;
 
-use protocol_core::bridge::{Config, Event, FcProtocol};
+use bridge_engine::{Config, Event, FcProtocol};
 use protocol_core::k40t::K40tFraming;
 use protocol_core::mavlink::MavlinkFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};

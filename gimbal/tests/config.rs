@@ -1,4 +1,4 @@
-//! The bridge's one configuration: `protocol_core::bridge::Config` read from the
+//! The bridge's one configuration: `bridge_engine::Config` read from the
 //! configuration file (`bridge-fw/bridge.toml`, as the firmware's `build.rs` reads it),
 //! checked by `Config::validate`, overridden by `gimbal bridge`'s options; and the README's
 //! key table checked against all three.
@@ -6,11 +6,11 @@
 use std::collections::BTreeSet;
 use std::process::Command;
 
+use bridge_engine::config::Limit;
+use bridge_engine::{Config, Duration, FcProtocol};
 use clap::Parser;
 use gimbal::cli::{Cli, Command as Sub};
 use gimbal::runner::bridge::config_of;
-use protocol_core::bridge::config::Limit;
-use protocol_core::bridge::{Config, Duration, FcProtocol};
 use toml::{Table, Value};
 
 const BRIDGE_TOML: &str = include_str!("../../bridge-fw/bridge.toml");

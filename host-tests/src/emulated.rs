@@ -1322,7 +1322,7 @@ mod tests {
 
     #[test]
     fn each_sides_straps_select_it_in_the_firmware() {
-        use protocol_core::bridge::FcProtocol;
+        use bridge_engine::FcProtocol;
         for (side, protocol) in Side::ALL.into_iter().zip([
             FcProtocol::Siyi,
             FcProtocol::Viewlink,

@@ -3,10 +3,10 @@
 
 use std::sync::{Arc, Mutex};
 
+use bridge_engine::{Config, Event, FcProtocol, GcuIdentity, Level};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
 use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, FcProtocol, GcuIdentity, Level};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, Focus, FocusMode, GimbalAngle, GimbalControl,
     GimbalFunction, HybridZoom, ImageMode, ImageModeSetting, IrDigitalZoom, IrPalette,

@@ -2,10 +2,10 @@
 //! pod: forwarding with consistent sequence numbers, RTC_IO owned by the bridge, the
 //! geotag fallback, FC silence.
 
+use bridge_engine::{Config, Event, FcProtocol, Level};
 use gimbal::sim::fc_k40t::FcK40t;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::{
     AckCode, DialSpeed, GimbalAttitude, GimbalControl, GimbalFunction, HybridZoom, HybridZoomAck,
     PitchMotion, TakePhoto, TimeSync, TimeSyncAck, YawMotion,

@@ -4,6 +4,7 @@
 //! of the MAVLink side, in simulated time. The simulators follow
 //! `shared/MAVLINK-TRAFFIC.md`; where it allows two readings both are run.
 
+use bridge_engine::{Config, Event, FcProtocol};
 use gimbal::sim::ap_mavlink::{
     ApMavlink, ApMavlinkConfig, ApMountTarget, ApVehicle, CameraTargets,
 };
@@ -11,7 +12,6 @@ use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode, Px4Target};
 use gimbal::sim::qgc::{Qgc, QgcConfig};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, FcProtocol};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, Focus, FocusMode, GimbalAngle, GimbalControl, GimbalFunction,
     HybridZoom, MessageData, PitchMotion, RecordAction, TakePhoto, YawMotion, ZoomControl,

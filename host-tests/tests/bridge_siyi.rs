@@ -1,10 +1,10 @@
 //! The bridge between a simulated ArduPilot SIYI driver and a simulated K40T pod: the
 //! scenarios of the bridge engine issue, in simulated time.
 
+use bridge_engine::{Config, Event, FcProtocol, Level};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, GimbalControl, HybridZoom, ImageModeSetting,
     IrGainMode, IrPalette, LaserPeriodic, MessageData, PitchMotion, Record, RecordAction,

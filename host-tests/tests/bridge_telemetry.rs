@@ -6,8 +6,8 @@
 //! (115200 baud); each reply leaves after a loop latency. The full simulators run
 //! through the firmware's tasks in `tasks_telemetry.rs` and `first_sync.rs`.
 
-use protocol_core::bridge::discipline::serial_time;
-use protocol_core::bridge::{Config, Engine, Event, FcProtocol, Instant, MAX_FRAME_LEN, Port};
+use bridge_engine::discipline::serial_time;
+use bridge_engine::{Config, Engine, Event, FcProtocol, Instant, MAX_FRAME_LEN, Port};
 use protocol_core::mavlink::dialect::{
     HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };

@@ -1,12 +1,12 @@
 //! The bridge between a simulated ArduPilot Viewpro driver (`AP_Mount_Viewpro`) and a
 //! simulated K40T pod: the Viewlink scenarios of issue 10, in simulated time.
 
+use bridge_engine::gimbal::GimbalMode;
+use bridge_engine::{Config, Event, FcProtocol, Level};
 use gimbal::sim::ap_siyi::MountTarget;
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig, Tracking, TrackingStatus};
 use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, FcProtocol, Level};
-use protocol_core::gimbal::GimbalMode;
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, Focus, FocusMode, GimbalAngle, GimbalControl,
     GimbalFunction, HybridZoom, ImageModeSetting, IrDigitalZoom, IrPalette, LaserPeriodic,

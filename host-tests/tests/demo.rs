@@ -7,8 +7,8 @@
 
 use std::time::{Duration, Instant};
 
+use bridge_engine::FcProtocol;
 use gimbal::demo::{self, DemoOptions, Summary};
-use protocol_core::bridge::FcProtocol;
 
 fn run(fc: FcProtocol) -> (Summary, String) {
     let start = Instant::now();

@@ -6,6 +6,7 @@
 //! steady state, 15 ms). Eight flights per side, FC and bridge crystals up to ±25 ppm,
 //! different boot phases. Run with `--nocapture` for the figures.
 
+use bridge_engine::{Config, Event, Level};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
@@ -13,7 +14,6 @@ use gimbal::sim::fc_k40t::FcK40t;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
-use protocol_core::bridge::{Config, Event, Level};
 
 const S: u64 = 1_000_000;
 

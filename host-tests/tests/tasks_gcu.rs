@@ -5,9 +5,9 @@
 
 mod task_scenarios;
 
+use bridge_engine::{Event, Level};
 use gimbal::sim::ap_xfrobot::ApXfRobot;
 use gimbal::sim::pod::SyncOutcome;
-use protocol_core::bridge::{Event, Level};
 use task_scenarios::{Bounds, S};
 
 const BOUNDS: Bounds = Bounds {

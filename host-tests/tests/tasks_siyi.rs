@@ -6,6 +6,7 @@
 
 use core::cell::RefCell;
 
+use bridge_engine::{Config, Engine, Event, FcProtocol, Level};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either3, select, select3};
@@ -13,7 +14,6 @@ use embassy_time::{Duration, Timer};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::peer::{PodPin, run_peer};
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
-use protocol_core::bridge::{Config, Engine, Event, FcProtocol, Level};
 use task_scenarios::{Bounds, S};
 
 mod task_scenarios;

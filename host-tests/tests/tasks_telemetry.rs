@@ -4,12 +4,12 @@
 //! camera) on the telemetry link, the simulated pod on the pod link. Both simulators share
 //! the autopilot's crystal, boot and clock, so the two links tell one time.
 
+use bridge_engine::{Config, Event, FcProtocol};
 use bridge_fw::LogKind;
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::tasks::{Bench, Outcome};
-use protocol_core::bridge::{Config, Event, FcProtocol};
 use protocol_core::k40t::AckCode;
 
 const S: u64 = 1_000_000;

@@ -18,10 +18,10 @@
 //!
 //! Edges are measured from 60 s after the first sample.
 
-use protocol_core::bridge::discipline::{DisciplineConfig, Sample, TimeDiscipline, serial_time};
-use protocol_core::bridge::fixes::FixHistory;
-use protocol_core::bridge::sync::{SyncEdge, SyncScheduler};
-use protocol_core::bridge::time::{Duration, Instant};
+use bridge_engine::discipline::{DisciplineConfig, Sample, TimeDiscipline, serial_time};
+use bridge_engine::fixes::FixHistory;
+use bridge_engine::sync::{SyncEdge, SyncScheduler};
+use bridge_engine::time::{Duration, Instant};
 
 /// SplitMix64: small, seeded, deterministic.
 struct Rng(u64);

@@ -13,6 +13,7 @@
 //! telemetry link) p99 < 1 ms and max < 2 ms in steady state, the first sync within
 //! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms.
 
+use bridge_engine::Config;
 use gimbal::sim::FcClock;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
 use gimbal::sim::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig};
@@ -22,7 +23,6 @@ use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
 use gimbal::sim::tasks::{Bench, Outcome};
-use protocol_core::bridge::Config;
 
 const S: u64 = 1_000_000;
 /// Steady state: syncs from this instant on (the fit converges about 32 s after the

@@ -1,5 +1,7 @@
-//! Encoders and decoders for four gimbal serial protocols: the K40T four-sensor pod,
-//! the SIYI gimbal SDK, Viewlink (Viewpro) and the XF Robot GCU protocol.
+//! Encoders and decoders for the K40T four-sensor pod's protocol, three gimbal serial
+//! protocols (the SIYI gimbal SDK, Viewlink (Viewpro gimbals) and GCU (XF Robot gimbals))
+//! and MAVLink 2: the codecs, and nothing else. The bridge built on them is the
+//! `bridge-engine` crate.
 //!
 //! `no_std`, no allocation, no `unsafe`, and no panicking path on any input: every
 //! failure is an [`Error`] value.
@@ -32,12 +34,13 @@
 //! directions (SIYI, GCU), decoding takes the [`Direction`].
 //!
 //! # Cargo features
-//! `k40t`, `siyi`, `viewlink`, `gcu` (all default) select the codecs; `mavlink` (not
-//! default) adds [`mavlink`], MAVLink 2 over rust-mavlink's generated types; `defmt` derives
-//! `defmt::Format` and `serde` derives `serde::Serialize` on the public types, and
-//! `serde::Deserialize` on the bridge's `Config` from its configuration file's keys;
-//! `bake` (host only) derives `databake::Bake` on `Config`, for a build script that writes
-//! one out as Rust source.
+//! | feature | default | what it adds |
+//! | --- | --- | --- |
+//! | `k40t`, `siyi`, `viewlink`, `gcu` | yes | the codec of that protocol |
+//! | `mavlink` | no | [`mavlink`]: MAVLink 2 over rust-mavlink's generated types (a build-time generator, about 11.6 KB of flash) |
+//! | `defmt` | no | `defmt::Format` on every public type |
+//! | `serde` | no | `serde::Serialize` on every public type |
+//! | `bake` | no | `databake::Bake` on the K40T address types (host only: a build script that writes a configuration out as Rust source) |
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(
     test,
@@ -74,11 +77,6 @@ pub mod gcu;
 
 #[cfg(feature = "mavlink")]
 pub mod mavlink;
-
-#[cfg(feature = "bridge")]
-pub mod bridge;
-#[cfg(feature = "bridge")]
-pub mod gimbal;
 
 pub use error::{Error, Result};
 

@@ -15,6 +15,22 @@
 /// `Clone`, `Copy`, `PartialEq`, the extra ones listed in brackets (`Eq`, `Hash`,
 /// `Default` where the fields allow), `defmt::Format` and `serde::Serialize` behind
 /// their features.
+///
+/// Exported so that crates built on the codecs (the bridge engine) declare their types
+/// the same way. The `defmt` and `serde` features it tests are the *calling* crate's
+/// (a `cfg_attr` in a macro's output is evaluated where it expands), so the caller needs
+/// features of those names; `custom_serde` leaves `serde::Serialize` out, for a type
+/// that implements it by hand or has none.
+///
+/// ```
+/// protocol_core::wire_derive! {
+///     [Eq, Hash]
+///     /// A level.
+///     pub enum Level { Low, High }
+/// }
+/// assert_ne!(Level::Low, Level::High);
+/// ```
+#[macro_export]
 macro_rules! wire_derive {
     // `custom_serde`: the type implements `serde::Serialize` by hand.
     (custom_serde [$($extra:ident),*] $($item:tt)*) => {
@@ -23,7 +39,7 @@ macro_rules! wire_derive {
         $($item)*
     };
     ([$($extra:ident),*] $($item:tt)*) => {
-        wire_derive! {
+        $crate::wire_derive! {
             custom_serde [$($extra),*]
             #[cfg_attr(feature = "serde", derive(serde::Serialize))]
             $($item)*

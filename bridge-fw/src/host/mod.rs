@@ -45,12 +45,12 @@ use std::sync::{Arc, Mutex};
 use std::task::{Context, Poll, Wake, Waker};
 use std::thread::Thread;
 
+use bridge_engine::{Engine, Instant, Level, Port};
 use embassy_futures::join::{join, join5};
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::pipe::Pipe;
 use embassy_time::Duration;
 use embedded_hal::digital::{ErrorType, OutputPin};
-use protocol_core::bridge::{Engine, Instant, Level, Port};
 
 use crate::{
     BridgeEngine, EventSink, Heartbeat, Shared, engine_task, link, log_task, watchdog_task,

@@ -9,11 +9,11 @@
 use core::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use bridge_engine::{Config, Duration, Engine};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogRecord, Timing};
 use embassy_futures::select::{Either4, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
-use protocol_core::bridge::{Config, Duration, Engine};
 use serde_json::{Value, json};
 use toml::Table;
 
@@ -43,7 +43,7 @@ pub const DEFAULT_IDLE_MS: u64 = 8;
 /// The bridge's configuration from the command line: the `--config` file's keys (none:
 /// `Config::DEFAULT`), overridden by the options given ([`ConfigArgs`] serializes into
 /// the keys it sets), a port's `:BAUD` and `--fc`; deserialized into one
-/// `protocol_core::bridge::Config` and checked with `Config::validate`, as the firmware's
+/// `bridge_engine::Config` and checked with `Config::validate`, as the firmware's
 /// `build.rs` does with `bridge.toml`. Also the task timing (`idle_ms`).
 ///
 /// # Errors

@@ -3,8 +3,8 @@
 //! event of the engine does not compile until it has a name here (and in the README's
 //! table).
 
+use bridge_engine::{Counters, Event};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
-use protocol_core::bridge::{Counters, Event};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
 
@@ -143,7 +143,7 @@ pub fn counters(c: &Counters) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use protocol_core::bridge::{Duration, Instant};
+    use bridge_engine::{Duration, Instant};
     use protocol_core::k40t::AckCode;
 
     fn ev(what: LogKind) -> (u64, &'static str, Value) {

@@ -4,16 +4,16 @@
 //! ([`PortSpec`], [`RtcSpec`], [`parse_version`], ...) so that it is unit-tested.
 //!
 //! The bridge's configuration options ([`ConfigArgs`]) are the keys of the configuration
-//! file (`protocol_core::bridge::Config`'s, as in `bridge-fw/bridge.toml`): each names
+//! file (`bridge_engine::Config`'s, as in `bridge-fw/bridge.toml`): each names
 //! its key (`#[serde(rename)]`), is checked with the key's own parser or range
-//! (`protocol_core::bridge::config::Limit`), and serializes into the keys it overrides
+//! (`bridge_engine::config::Limit`), and serializes into the keys it overrides
 //! (`runner::bridge::config_of`).
 
 use std::path::PathBuf;
 
+use bridge_engine::config::Limit;
+use bridge_engine::{FcProtocol, SiyiIdentity, ViewlinkIdentity};
 use clap::{Args, ValueEnum};
-use protocol_core::bridge::config::Limit;
-use protocol_core::bridge::{FcProtocol, SiyiIdentity, ViewlinkIdentity};
 use serde::{Serialize, Serializer};
 
 use crate::runner::pin::RtcSpec;
@@ -178,7 +178,7 @@ pub struct BridgeArgs {
 
 /// The bridge's configuration: every key of `bridge-fw/bridge.toml` (serialized under
 /// that key: what `--config FILE` says is overridden), same ranges, same defaults
-/// (`protocol_core::bridge::Config::DEFAULT`).
+/// (`bridge_engine::Config::DEFAULT`).
 #[derive(Debug, Args, Default, Serialize)]
 #[command(next_help_heading = "Bridge configuration (the keys of bridge-fw/bridge.toml)")]
 pub struct ConfigArgs {

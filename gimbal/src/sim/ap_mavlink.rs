@@ -1326,7 +1326,7 @@ pub fn mavlink_command_name(fc_id: u16) -> String {
 }
 
 impl super::pilot::Pilot for ApMavlink {
-    const PROTOCOL: protocol_core::bridge::FcProtocol = protocol_core::bridge::FcProtocol::Mavlink;
+    const PROTOCOL: bridge_engine::FcProtocol = bridge_engine::FcProtocol::Mavlink;
     const DRIVER: &'static str = "ArduPilot AP_Mount_MAVLink + AP_Camera_MAVLinkCamV2 (simulated)";
     type Framing = protocol_core::mavlink::MavlinkFraming;
 

@@ -10,8 +10,8 @@
 //! adds one `impl Pilot` (in its simulator's file or here) and one match arm where the
 //! demo picks the simulator by [`FcProtocol`].
 
+use bridge_engine::FcProtocol;
 use protocol_core::Direction;
-use protocol_core::bridge::FcProtocol;
 use protocol_core::gcu::{self, GcuFraming};
 use protocol_core::k40t::{
     self, ContinuousZoom, DialSpeed, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction,

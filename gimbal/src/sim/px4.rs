@@ -715,7 +715,7 @@ impl FcSim for Px4 {
 }
 
 impl super::pilot::Pilot for Px4 {
-    const PROTOCOL: protocol_core::bridge::FcProtocol = protocol_core::bridge::FcProtocol::Mavlink;
+    const PROTOCOL: bridge_engine::FcProtocol = bridge_engine::FcProtocol::Mavlink;
     const DRIVER: &'static str = "PX4 gimbal v2 output (simulated)";
     type Framing = protocol_core::mavlink::MavlinkFraming;
 

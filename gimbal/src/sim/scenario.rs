@@ -13,7 +13,7 @@
 //! [`Scenario::set_pod_faults`] for a noisy cable (a seeded [`Faults`] model in both
 //! directions).
 
-use protocol_core::bridge::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
+use bridge_engine::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
 use super::line::Line;

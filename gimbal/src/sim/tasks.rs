@@ -9,7 +9,7 @@
 //!
 //! With [`Bench::with_telemetry`], a third peer (any [`FcSim`]: an autopilot's MAVLink 2
 //! port, `ap_mavlink::ApMavlink`) is on the bridge's telemetry link
-//! ([`Port::Telemetry`](protocol_core::bridge::Port::Telemetry)), through the same kind of
+//! ([`Port::Telemetry`](bridge_engine::Port::Telemetry)), through the same kind of
 //! wire at `telemetry_baud` ([`Wires::tel_in`], [`Wires::tel_out`]).
 //!
 //! Each of the four directions passes through a [`Wire`] on the peer's side: it counts
@@ -27,12 +27,12 @@
 use core::cell::RefCell;
 use core::convert::Infallible;
 
+use bridge_engine::{Config, Engine, Event, Level};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either3, select3};
 use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
-use protocol_core::bridge::{Config, Engine, Event, Level};
 
 use super::faults::{FaultStage, FaultStats, Faults};
 use super::line::Corrupter;

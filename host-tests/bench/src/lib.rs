@@ -19,7 +19,7 @@
 
 use std::ops::Range;
 
-use protocol_core::bridge::Port;
+use bridge_engine::Port;
 use protocol_core::wire::{Deframer, Event, Framing};
 
 /// UART-sized pieces: the deframer is fed, and rust-mavlink reads, at most this many
@@ -223,15 +223,15 @@ pub fn gcu_reply_stream() -> Stream {
 #[derive(Debug)]
 pub struct BridgeRun {
     /// The engine.
-    pub engine: protocol_core::bridge::Engine,
+    pub engine: bridge_engine::Engine,
     /// The frames, in order.
     pub frames: Vec<Vec<u8>>,
     /// They come from the FC (else from the pod).
     pub from_fc: bool,
     /// The local time.
-    pub now: protocol_core::bridge::Instant,
+    pub now: bridge_engine::Instant,
     /// Time between two frames.
-    pub step: protocol_core::bridge::Duration,
+    pub step: bridge_engine::Duration,
 }
 
 /// Rounds of bridge frames (each a frame per benchmark round).
@@ -261,7 +261,7 @@ impl BridgeRun {
 
 /// A K40T gimbal attitude report from the pod (yaw in 0.01°).
 fn pod_attitude(seq: u8, yaw_cdeg: i16) -> Vec<u8> {
-    use protocol_core::bridge::Config;
+    use bridge_engine::Config;
     use protocol_core::k40t::*;
     let c = Config::DEFAULT.pod;
     let mut payload = [0u8; 32];
@@ -280,7 +280,7 @@ fn pod_attitude(seq: u8, yaw_cdeg: i16) -> Vec<u8> {
 /// A SIYI engine with the pod and FC links up (an attitude report, a heartbeat), its
 /// queues empty.
 fn siyi_engine() -> BridgeRun {
-    use protocol_core::bridge::{Config, Duration, Engine, FcProtocol, Instant};
+    use bridge_engine::{Config, Duration, Engine, FcProtocol, Instant};
     let mut run = BridgeRun {
         engine: Engine::new(Config {
             fc: FcProtocol::Siyi,
@@ -334,14 +334,14 @@ pub fn bridge_pod_attitudes() -> BridgeRun {
         .map(|i| pod_attitude(i as u8 + 1, i as i16 * 10))
         .collect();
     run.from_fc = false;
-    run.step = protocol_core::bridge::Duration::from_millis(20);
+    run.step = bridge_engine::Duration::from_millis(20);
     run
 }
 
 /// A MAVLink engine with the pod and FC links up (an attitude report, the autopilot's
 /// HEARTBEAT: the device knows its system id), its queues empty.
 fn mavlink_engine() -> BridgeRun {
-    use protocol_core::bridge::{Config, Duration, Engine, FcProtocol, Instant};
+    use bridge_engine::{Config, Duration, Engine, FcProtocol, Instant};
     use protocol_core::mavlink::dialect::{
         HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
     };

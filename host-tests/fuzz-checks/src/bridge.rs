@@ -1,4 +1,4 @@
-//! Target `bridge`: the bridge engine ([`protocol_core::bridge::Engine`]) driven by the
+//! Target `bridge`: the bridge engine ([`bridge_engine::Engine`]) driven by the
 //! fuzzer, for each FC protocol.
 //!
 //! The input: byte 0 picks the FC protocol (SIYI, Viewlink, GCU, K40T); then a program
@@ -30,11 +30,11 @@
 
 use std::sync::OnceLock;
 
-use protocol_core::Direction;
-use protocol_core::bridge::{
+use bridge_engine::{
     Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, MAX_FRAME_LEN, POD_QUEUE,
     PinAction, Port, TELEMETRY_QUEUE,
 };
+use protocol_core::Direction;
 use protocol_core::gcu::GCU_SYNC;
 use protocol_core::k40t::{self, CrcCoverage, Kind, MessageData, MsgId};
 use protocol_core::viewlink::{self, SyncOrder};

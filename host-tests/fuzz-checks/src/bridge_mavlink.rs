@@ -13,7 +13,7 @@
 
 use std::sync::OnceLock;
 
-use protocol_core::bridge::FcProtocol;
+use bridge_engine::FcProtocol;
 use protocol_core::mavlink::dialect::{
     ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,

@@ -6,8 +6,8 @@
 //! made opaque between calls (`black_box(&mut engine)`: any state a previous call could
 //! have left).
 
+use bridge_engine::{Config, Engine, Instant, Level, Port};
 use core::hint::black_box;
-use protocol_core::bridge::{Config, Engine, Instant, Level, Port};
 
 pub fn exercise(input: &[u8], out: &mut [u8]) {
     let mut engine = Engine::new(black_box(Config::DEFAULT));

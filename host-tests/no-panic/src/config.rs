@@ -1,10 +1,10 @@
 //! The bridge's configuration checks: `Config::validate` on an opaque configuration,
 //! every `Limit`, the texts' parsers on opaque text, and `ConfigError`'s message.
 
+use bridge_engine::config::{ConfigError, Limit};
+use bridge_engine::{Config, SiyiIdentity, ViewlinkIdentity};
 use core::fmt::{self, Write};
 use core::hint::black_box;
-use protocol_core::bridge::config::{ConfigError, Limit};
-use protocol_core::bridge::{Config, SiyiIdentity, ViewlinkIdentity};
 
 /// A `fmt::Write` that keeps nothing (but the optimiser cannot see that).
 struct Sink;

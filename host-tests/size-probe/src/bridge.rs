@@ -2,8 +2,8 @@
 //! compiled-in FC side is reachable), fed opaque bytes on both ports, polled, its pin
 //! actions taken and its queues and events drained.
 
+use bridge_engine::{Config, Engine, Instant, Port};
 use core::hint::black_box;
-use protocol_core::bridge::{Config, Engine, Instant, Port};
 
 pub fn probe(input: &[u8], out: &mut [u8]) {
     let mut engine = Engine::new(black_box(Config::DEFAULT));

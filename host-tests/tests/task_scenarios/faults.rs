@@ -7,13 +7,13 @@
 //! press, and the FC's mount is unhealthy only while the pod is away (plus the driver's
 //! own time-out).
 
+use bridge_engine::{Config, Event};
 use bridge_fw::LogKind;
 use gimbal::sim::FcReboot;
 use gimbal::sim::faults::Faults;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{AckSeq, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::tasks::{Bench, Outcome};
-use protocol_core::bridge::{Config, Event};
 use protocol_core::k40t::{self, AckCode, Address, CrcCoverage, Header, TakePhoto};
 
 use super::{S, TICK, events};
@@ -344,7 +344,7 @@ pub fn fc_cable_pulled<P: Pilot>(stops: bool) {
     // The K40T FC answers the pod's requests itself and it is away: the bridge answers
     // after 200 ms from what the FC told it, no fix at all here (its only fixes are its
     // answers to earlier photos): failure codes, not a guess.
-    let want = if P::PROTOCOL == protocol_core::bridge::FcProtocol::K40t {
+    let want = if P::PROTOCOL == bridge_engine::FcProtocol::K40t {
         (1, 2)
     } else {
         (2, 1)
@@ -355,7 +355,7 @@ pub fn fc_cable_pulled<P: Pilot>(stops: bool) {
         "0.8 s: carried forward; 2 s: failure"
     );
     // Syncs at 30..33 s went on (holdover): no edge skipped.
-    let highs = o.pin_changes(protocol_core::bridge::Level::High);
+    let highs = o.pin_changes(bridge_engine::Level::High);
     assert!(
         highs.windows(2).all(|w| w[1] - w[0] < 10 * S + S / 10),
         "{highs:?}"

@@ -8,11 +8,11 @@
 
 pub mod faults;
 
+use bridge_engine::{Event, Level};
 use bridge_fw::LogKind;
 use gimbal::sim::pilot::{Pilot, describe_k40t};
 use gimbal::sim::pod::SyncOutcome;
 use gimbal::sim::tasks::{Bench, Outcome};
-use protocol_core::bridge::{Event, Level};
 use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData};
 use protocol_core::wire::{Deframer, Event as WireEvent};
 

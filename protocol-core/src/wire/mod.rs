@@ -28,7 +28,7 @@ pub use checksum::{MCRF4XX, XMODEM, crc16_mcrf4xx, crc16_xmodem, sum8, xor8};
 /// no-panic check (`host-tests/no-panic`) would fail. Sixteen elements at a time as
 /// array moves (a plain element loop is not turned into a `memcpy` at opt-level z:
 /// this halves the deframer's copying cost), then the rest one by one.
-pub(crate) fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
+pub fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
     let n = dst.len().min(src.len());
     let (Some(dst), Some(src)) = (dst.get_mut(..n), src.get(..n)) else {
         return;
@@ -58,8 +58,7 @@ pub use table::{MessageData, Protocol};
 /// panicking path (it stays out of line at opt-level z; see [`copy`]): parts out of
 /// range are not copied. In pieces whose source and destination are disjoint (a
 /// `memcpy` each), front first when moving left, back first when moving right.
-#[cfg_attr(not(feature = "bridge"), allow(dead_code))]
-pub(crate) fn copy_within(buf: &mut [u8], src: core::ops::Range<usize>, dest: usize) {
+pub fn copy_within(buf: &mut [u8], src: core::ops::Range<usize>, dest: usize) {
     if dest <= src.start {
         let step = src.start.saturating_sub(dest);
         let (mut from, mut to) = (src.start, dest);

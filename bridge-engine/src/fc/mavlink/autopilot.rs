@@ -36,14 +36,14 @@
 //!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
 //!   TIMESYNC path.
 
-use crate::bridge::discipline::{Sample, serial_time};
-use crate::bridge::fixes::{Fix, Velocity};
-use crate::bridge::time::{Duration, Instant};
-use crate::mavlink::dialect::{
+use crate::discipline::{Sample, serial_time};
+use crate::fixes::{Fix, Velocity};
+use crate::time::{Duration, Instant};
+use protocol_core::mavlink::dialect::{
     GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavType,
     SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
-use crate::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
+use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
 
 use super::super::{Ctx, clamp_i16};
 use super::math;

@@ -16,8 +16,8 @@ use super::pod::{AckClaim, PodDriver, PodNotice, PodState};
 use super::time::{Duration, Instant};
 use super::{Config, Outputs};
 use crate::gimbal::Command;
-use crate::k40t::{GimbalAttitude, GpsRequest, Header, MsgId};
-use crate::wire::{Deframer, Event as DeframerEvent, Framing, Stats};
+use protocol_core::k40t::{GimbalAttitude, GpsRequest, Header, MsgId};
+use protocol_core::wire::{Deframer, Event as DeframerEvent, Framing, Stats};
 
 /// What an FC side may use of the engine during one call.
 pub(crate) struct Ctx<'a> {
@@ -379,7 +379,7 @@ impl TelemetryLink {
     pub(crate) fn for_config(config: &Config) -> Option<Self> {
         (config.fc != super::FcProtocol::Mavlink).then(|| {
             FcLink::new(
-                crate::mavlink::MavlinkFraming::new(),
+                protocol_core::mavlink::MavlinkFraming::new(),
                 mavlink::TelemetrySide::new(),
             )
         })
@@ -395,7 +395,7 @@ pub(crate) enum FcSide {
     /// The configured protocol is not compiled in: FC bytes are ignored.
     Disabled,
     /// K40T: forwarding.
-    K40t(FcLink<k40t::K40tSide, { crate::k40t::MAX_FRAME_LEN }>),
+    K40t(FcLink<k40t::K40tSide, { protocol_core::k40t::MAX_FRAME_LEN }>),
     /// SIYI: the bridge as a ZT30 towards ArduPilot's SIYI driver.
     #[cfg(feature = "siyi")]
     Siyi(FcLink<siyi::SiyiSide, { siyi::BUF }>),
@@ -433,26 +433,26 @@ impl FcSide {
         match config.fc {
             #[cfg(feature = "siyi")]
             super::FcProtocol::Siyi => FcSide::Siyi(FcLink::new(
-                crate::siyi::SiyiFraming::new(crate::siyi::DEFAULT_MAX_PAYLOAD_LEN),
+                protocol_core::siyi::SiyiFraming::new(protocol_core::siyi::DEFAULT_MAX_PAYLOAD_LEN),
                 siyi::SiyiSide::new(),
             )),
             #[cfg(feature = "viewlink")]
             super::FcProtocol::Viewlink => FcSide::Viewlink(FcLink::new(
-                crate::viewlink::ViewlinkFraming::new(),
+                protocol_core::viewlink::ViewlinkFraming::new(),
                 viewlink::ViewlinkSide::new(),
             )),
             #[cfg(feature = "gcu")]
             super::FcProtocol::Gcu => FcSide::Gcu(FcLink::new(
-                crate::gcu::GcuFraming::host(),
+                protocol_core::gcu::GcuFraming::host(),
                 gcu::GcuSide::new(),
             )),
             #[cfg(feature = "mavlink")]
             super::FcProtocol::Mavlink => FcSide::Mavlink(FcLink::new(
-                crate::mavlink::MavlinkFraming::new(),
+                protocol_core::mavlink::MavlinkFraming::new(),
                 mavlink::MavlinkSide::new(),
             )),
             super::FcProtocol::K40t => FcSide::K40t(FcLink::new(
-                crate::k40t::K40tFraming::any(),
+                protocol_core::k40t::K40tFraming::any(),
                 k40t::K40tSide::new(config.fc_silence_stop),
             )),
             #[allow(unreachable_patterns)] // the protocols whose feature is off

@@ -495,7 +495,7 @@ mod bake {
         fn bake(&self, env: &CrateEnv) -> TokenStream {
             env.insert("protocol_core");
             let us = self.0;
-            quote!(protocol_core::bridge::Duration::from_micros(#us))
+            quote!(bridge_engine::Duration::from_micros(#us))
         }
     }
 
@@ -509,7 +509,7 @@ mod bake {
         fn bake(&self, env: &CrateEnv) -> TokenStream {
             env.insert("protocol_core");
             let us = self.0;
-            quote!(protocol_core::bridge::UtcTime::from_unix_micros(#us))
+            quote!(bridge_engine::UtcTime::from_unix_micros(#us))
         }
     }
 

@@ -35,6 +35,32 @@
 //! the aircraft's velocity for at most 1 s (see [`geotag`] and [`fixes`]). No fix, a
 //! stale fix, or no UTC gives the failure code 0x0001 with the time echoed and zero
 //! position and attitude: nothing is invented.
+//!
+//! # Cargo features
+//! | feature | default | what it adds |
+//! | --- | --- | --- |
+//! | `siyi` | yes | the SIYI FC side (the bridge as a SIYI ZT30) |
+//! | `viewlink` | yes | the Viewlink FC side (the bridge as a Viewpro gimbal) |
+//! | `gcu` | yes | the GCU FC side (the bridge as an XF Robot gimbal) |
+//! | `mavlink` | no | the MAVLink FC side (a MAVLink gimbal device and camera) |
+//! | `telemetry` | no | the MAVLink telemetry link ([`Port::Telemetry`]) beside any other FC side; brings `mavlink`'s codec |
+//! | `defmt` | no | `defmt::Format` on every public type |
+//! | `serde` | no | `serde::Serialize` on the public types, `serde::Deserialize` on [`Config`] from the configuration file's keys |
+//! | `bake` | no | `databake::Bake` on [`Config`] and what it holds (host only: a build script that writes a configuration out as Rust source) |
+//!
+//! The K40T FC side is always built: the pod speaks K40T, so its codec is in anyway.
+
+#![cfg_attr(not(test), no_std)]
+#![cfg_attr(
+    test,
+    allow(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
+    )
+)]
 
 pub mod config;
 pub mod discipline;
@@ -42,6 +68,7 @@ pub mod event;
 pub(crate) mod fc;
 pub mod fixes;
 pub mod geotag;
+pub mod gimbal;
 pub mod pod;
 pub mod queue;
 pub mod sync;
@@ -60,9 +87,9 @@ use pod::{PodDriver, PodNotice};
 use queue::FrameQueue;
 use sync::{SyncEdge, SyncScheduler};
 
-use crate::k40t::{self, Frame, K40tFraming};
-use crate::wire::{Deframer, Event as DeframerEvent, Stats};
 use event::EventQueue;
+use protocol_core::k40t::{self, Frame, K40tFraming};
+use protocol_core::wire::{Deframer, Event as DeframerEvent, Stats};
 
 /// Bytes of the queue of frames for the FC. With the `mavlink` feature 512: a MAVLink
 /// frame is up to 280 bytes; the largest the bridge sends, CAMERA_INFORMATION (250 bytes
@@ -274,8 +301,8 @@ const POD_FRAME: usize = k40t::MAX_FRAME_LEN;
 /// 0x00030E of that edge is the next frame for the pod.
 ///
 /// ```
-/// use protocol_core::bridge::discipline::serial_time;
-/// use protocol_core::bridge::{Changes, Config, Engine, Instant, Level, MAX_FRAME_LEN, Port};
+/// use bridge_engine::discipline::serial_time;
+/// use bridge_engine::{Changes, Config, Engine, Instant, Level, MAX_FRAME_LEN, Port};
 /// use protocol_core::{k40t, siyi};
 ///
 /// let mut engine = Engine::new(Config::DEFAULT);
@@ -498,7 +525,7 @@ impl Engine {
 
     /// `port`'s line has gone idle (a UART idle interrupt, a read time-out): frames are
     /// complete, and an incomplete candidate will not be (see
-    /// [`Deframer::poll_idle`](crate::wire::Deframer::poll_idle)). On the FC link it is
+    /// [`Deframer::poll_idle`](protocol_core::wire::Deframer::poll_idle)). On the FC link it is
     /// also one of the two signs by which the engine tells the FC's bursts apart (the
     /// other, a quiet line before bytes, it sees itself). Returns what changed.
     #[inline]
@@ -888,7 +915,7 @@ impl EngineState {
 #[cfg(test)]
 mod changes_tests {
     use super::*;
-    use crate::k40t::{Address, Header, TimeSync};
+    use protocol_core::k40t::{Address, Header, TimeSync};
 
     fn frame_from_fc<M: k40t::MessageData<Protocol = k40t::K40t>>(m: &M, seq: u8) -> Vec<u8> {
         let header = Header::new(Address::FLIGHT_CONTROLLER, Address::POD, seq);

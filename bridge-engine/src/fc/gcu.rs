@@ -29,26 +29,26 @@
 //!   state (`0x02` operating while a status order's ACK is pending).
 //! - **Time and position.** The sub frame's GPS week and time of week (GPS time of the
 //!   last fix, held between fixes) become a held UTC sample with the leap seconds of
-//!   [`Config`](crate::bridge::Config); its position (longitude first) and relative
+//!   [`Config`](crate::Config); its position (longitude first) and relative
 //!   altitude, with the main frame's carrier attitude, a fix.
 
-use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::{Fix, Velocity};
-use crate::bridge::pod::PodNotice;
-use crate::bridge::time::{Instant, UtcTime};
-use crate::gcu::{
+use crate::discipline::Sample;
+use crate::fixes::{Fix, Velocity};
+use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
+use crate::pod::PodNotice;
+use crate::time::{Instant, UtcTime};
+use protocol_core::gcu::{
     self, CameraSet, CameraStatus, ClickToAim, Execution, ExternalTrack, ExternalTrackAction,
     Feedback, Frame, GcuFrames, GcuFraming, GcuMain, GcuPacket, GcuSub, GimbalCode,
     GimbalMode as GcuMode, HostFrames, HostMain, HostPacket, Order, Palette, PaletteAction,
     PictureInPicture, PipView, RangingState, Record, SUB_HEADER, Shutter, Track, TrackAction,
     ZoomTo,
 };
-use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
-use crate::k40t::{self, GimbalAttitude as PodAttitude, SdState};
+use protocol_core::k40t::{self, GimbalAttitude as PodAttitude, SdState};
 
 use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
 
-/// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::bridge::GcuIdentity)):
+/// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::GcuIdentity)):
 /// a first header byte followed by one that is not the second. ArduPilot's XF Robot
 /// parser keeps the bytes it skips while looking for a header in its buffer and checks
 /// the CRC over all of it, so after one corrupted reply it can stay out of step with

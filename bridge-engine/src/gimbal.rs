@@ -10,7 +10,7 @@
 //! Each protocol side converts from its own convention (SIYI yaw is positive to the
 //! left, ArduPilot's Viewpro driver sends pitch negated, ...).
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// How the gimbal's yaw behaves when no rate is commanded.
     pub enum GimbalMode {
@@ -23,7 +23,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// A continuous motion of a lens group (zoom or focus).
     pub enum Motion {
@@ -36,7 +36,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// Which picture the pod streams (and which lens the FC's zoom addresses).
     pub enum View {
@@ -49,7 +49,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// Laser rangefinder operation.
     pub enum Ranging {
@@ -62,7 +62,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// A point or a box in the streamed image, in pixels of a 1920 x 1080 picture
     /// (0,0 top left).
@@ -88,7 +88,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// What a flight controller asks the gimbal to do.
     pub enum Command {
@@ -140,7 +140,7 @@ wire_derive! {
         /// Stream this picture.
         View(View),
         /// Thermal palette, as the K40T numbers its palettes.
-        Palette(crate::k40t::Palette),
+        Palette(protocol_core::k40t::Palette),
         /// Thermal gain: high (`true`, narrow temperature range) or low.
         ThermalHighGain(bool),
         /// Laser rangefinder.

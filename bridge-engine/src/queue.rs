@@ -103,7 +103,7 @@ impl<const N: usize> FrameQueue<N> {
     pub fn pop_into(&mut self, out: &mut [u8]) -> Option<usize> {
         let frame = self.front()?;
         let n = frame.len();
-        crate::wire::copy(out.get_mut(..n)?, frame);
+        protocol_core::wire::copy(out.get_mut(..n)?, frame);
         self.pop();
         Some(n)
     }
@@ -145,13 +145,13 @@ impl<const N: usize> FrameQueue<N> {
         }
         let at = if front { 0 } else { self.used };
         let end = self.used;
-        crate::wire::copy_within(&mut self.buf, at..end, at.saturating_add(need));
+        protocol_core::wire::copy_within(&mut self.buf, at..end, at.saturating_add(need));
         // The length fits 15 bits (checked above).
         let header = u16::try_from(frame.len()).unwrap_or(0) | if critical { CRITICAL } else { 0 };
         if let Some(slot) = self.buf.get_mut(at..at.saturating_add(need)) {
             let (h, body) = slot.split_at_mut_checked(HEADER).unwrap_or_default();
-            crate::wire::copy(h, &header.to_le_bytes());
-            crate::wire::copy(body, frame);
+            protocol_core::wire::copy(h, &header.to_le_bytes());
+            protocol_core::wire::copy(body, frame);
         }
         self.used = self.used.saturating_add(need);
         pushed.queued = true;
@@ -162,7 +162,7 @@ impl<const N: usize> FrameQueue<N> {
     fn remove(&mut self, at: usize, n: usize) {
         let end = self.used;
         let from = at.saturating_add(n).min(end);
-        crate::wire::copy_within(&mut self.buf, from..end, at);
+        protocol_core::wire::copy_within(&mut self.buf, from..end, at);
         self.used = self.used.saturating_sub(from.saturating_sub(at));
     }
 }

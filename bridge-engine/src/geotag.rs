@@ -22,7 +22,7 @@ use super::event::Event;
 use super::fixes::{Fix, FixHistory};
 use super::pod::PodDriver;
 use super::time::{Instant, TimeOfDay};
-use crate::k40t::{AckCode, GpsReply, GpsRequest, Header, ResponseCode};
+use protocol_core::k40t::{AckCode, GpsReply, GpsRequest, Header, ResponseCode};
 
 /// A request waiting for a newer fix.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

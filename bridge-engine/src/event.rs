@@ -2,9 +2,9 @@
 //! [`Counters`] (read any time).
 
 use super::time::Instant;
-use crate::k40t::{AckCode, Address, CrcCoverage};
+use protocol_core::k40t::{AckCode, Address, CrcCoverage};
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// One of the two serial links.
     pub enum Port {
@@ -20,7 +20,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// Something worth logging. Drained with [`Engine::next_event`](super::Engine::next_event);
     /// when more than the queue holds are pending, the oldest are dropped (counted in
@@ -116,7 +116,7 @@ wire_derive! {
     }
 }
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash, Default]
     /// Running totals (saturating).
     pub struct Counters {

@@ -25,7 +25,7 @@ use super::time::{Duration, Instant, UtcTime};
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge::sync))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::sync))]
 pub struct SyncConfig {
     /// Time between edges; edges fall on whole multiples of it in UTC (default 10 s).
     /// Configuration file: `[sync] period_ms`.
@@ -191,7 +191,7 @@ impl SyncScheduler {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bridge::discipline::{DisciplineConfig, Sample};
+    use crate::discipline::{DisciplineConfig, Sample};
 
     const U0: u64 = 1_767_225_603_250_000; // …:03.250
 

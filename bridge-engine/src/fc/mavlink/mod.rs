@@ -48,11 +48,15 @@ mod telemetry;
 #[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
 
-use crate::bridge::pod::PodNotice;
-use crate::bridge::time::{Duration, Instant};
-use crate::k40t::{GpsRequest, Header as PodHeader};
-use crate::mavlink::dialect::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
-use crate::mavlink::{Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet};
+use crate::pod::PodNotice;
+use crate::time::{Duration, Instant};
+use protocol_core::k40t::{GpsRequest, Header as PodHeader};
+use protocol_core::mavlink::dialect::{
+    HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+};
+use protocol_core::mavlink::{
+    Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
+};
 
 use autopilot::{Autopilot, Took, Vehicle};
 
@@ -271,7 +275,7 @@ impl FcHandler for MavlinkSide {
             PodNotice::LinkUp => self.pod_up_since = Some(ctx.now),
             PodNotice::LinkDown => self.pod_up_since = None,
             PodNotice::Acked { base, code } => {
-                self.camera_pod_answer(ctx, base, code == crate::k40t::AckCode::Ok);
+                self.camera_pod_answer(ctx, base, code == protocol_core::k40t::AckCode::Ok);
             }
             PodNotice::TimedOut { base } => self.camera_pod_answer(ctx, base, false),
             PodNotice::GpsRequest { .. } => {}

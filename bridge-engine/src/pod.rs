@@ -34,7 +34,7 @@ use super::event::Event;
 use super::time::{Duration, Instant};
 use crate::gimbal::GimbalMode;
 use crate::gimbal::{Command, Motion, Ranging, Target, View};
-use crate::k40t::{
+use protocol_core::k40t::{
     self, AckCode, Address, AiRecognition, CameraVersionAck, CameraVersionQuery, ContinuousZoom,
     CrcCoverage, Focus, FocusMode, Frame, GimbalAngle, GimbalAttitude, GimbalControl,
     GimbalFunction, GimbalStatus, GimbalVersionAck, GimbalVersionQuery, GpsReply, GpsRequest,
@@ -1245,18 +1245,18 @@ fn target_box(t: Target) -> (u16, u16, u16, u16) {
 /// The frame's payload as `M` when it carries `M` and decodes; `None` otherwise. The
 /// driver decodes only the messages it uses, one layout each, so the firmware does not
 /// carry the decoders of the hundred others (`Frame::decode_as`).
-fn typed<M: MessageData<Protocol = crate::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
+fn typed<M: MessageData<Protocol = protocol_core::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
     frame.decode_as::<M>().and_then(Result::ok)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::k40t::{
+    use protocol_core::k40t::{
         CameraVersionAck, DialSpeed, GimbalAttitude, HybridZoomAck, Kind, MessageData, MsgId,
         TakePhotoAck,
     };
-    use crate::k40t::{Message, Packet};
+    use protocol_core::k40t::{Message, Packet};
 
     fn outputs() -> Outputs {
         Outputs::new()
@@ -1298,7 +1298,7 @@ mod tests {
     }
 
     /// A frame from the pod.
-    fn from_pod<M: MessageData<Protocol = crate::k40t::K40t>>(
+    fn from_pod<M: MessageData<Protocol = protocol_core::k40t::K40t>>(
         m: M,
         src: Address,
         seq: u8,

@@ -12,9 +12,11 @@
 //! 3 s, its SYSTEM_TIME stream coming), the engine takes UTC and fixes from this link
 //! and not from the FC link's protocol (`Ctx::feeds`).
 
-use crate::bridge::time::{Duration, Instant};
-use crate::mavlink::dialect::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
-use crate::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message, Packet};
+use crate::time::{Duration, Instant};
+use protocol_core::mavlink::dialect::{
+    HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+};
+use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message, Packet};
 
 use super::super::{Ctx, FcHandler, TimedFrom};
 use super::autopilot::{Autopilot, Took};

@@ -11,7 +11,7 @@
 //!   ArduPilot is healthy while a 0x40 arrived within 1 s: while the pod does not
 //!   report its attitude the bridge sends none, as a Viewpro whose gimbal died.
 //! - **Identity.** U queries 0xE4 (model) and 0xD0 (firmware) are answered with a V of
-//!   the same code, from [`Config`](crate::bridge::Config).
+//!   the same code, from [`Config`](crate::Config).
 //! - **Motion.** A1 speed (0x01) and absolute angles (0x0B, 0x1B) go to the pod driver
 //!   every time they arrive (its edge trigger, dead-bands, rate limits and FC-silence
 //!   stop apply); follow yaw (0x03) and follow yaw disabled (0x0A) set the yaw mode;
@@ -37,14 +37,14 @@
 //! Replies carry the frame counter a Viewpro sender keeps (1, 2, 3, 0, ...); ArduPilot
 //! masks it. Every reply fits ArduPilot's 63-byte packet buffer.
 
-use crate::Text;
-use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::Velocity;
-use crate::bridge::pod::PodNotice;
-use crate::bridge::time::{Duration, Instant, TimeOfDay, UtcTime};
+use crate::discipline::Sample;
+use crate::fixes::Velocity;
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
-use crate::k40t::{AckCode, CaptureMode, Palette};
-use crate::viewlink::{
+use crate::pod::PodNotice;
+use crate::time::{Duration, Instant, TimeOfDay, UtcTime};
+use protocol_core::Text;
+use protocol_core::k40t::{AckCode, CaptureMode, Palette};
+use protocol_core::viewlink::{
     self, A1, A2, B1, B2, Block, C1, C2, C2Command, Control, ControlTgcc, D1, D2, D2Sensor, Date,
     DistanceSource, E1, E2, F1, F2, FixedBlock, Frame, FrameCounter, GpsStage, Handshake,
     Heartbeat, IrColorMode, LaserCommand, LrfCommand, M, MessageData, OperationCommand,
@@ -239,7 +239,7 @@ fn fc_id(frame: u8, command: u8) -> u16 {
 
 impl ViewlinkSide {
     /// Encodes a reply with the next frame counter and queues it for the FC.
-    fn send<Msg: MessageData<Protocol = crate::viewlink::Viewlink>>(
+    fn send<Msg: MessageData<Protocol = protocol_core::viewlink::Viewlink>>(
         &mut self,
         ctx: &mut Ctx<'_>,
         message: &Msg,

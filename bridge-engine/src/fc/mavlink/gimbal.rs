@@ -36,15 +36,15 @@
 //! 0..0), finite as older ArduPilot needs; firmware and hardware versions from the pod's
 //! 0x000018 (byte 0 major, 1 minor, 2 patch, as the spec and ArduPilot read them).
 
-use crate::bridge::fc::Ctx;
-use crate::bridge::time::Duration;
+use crate::fc::Ctx;
 use crate::gimbal::Command;
-use crate::mavlink::dialect::{
+use crate::time::Duration;
+use protocol_core::mavlink::dialect::{
     GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GimbalDeviceCapFlags, GimbalDeviceCapFlagsU16,
     GimbalDeviceErrorFlags, GimbalDeviceFlags,
 };
-use crate::mavlink::{MavMessage, dialect::CharArray};
+use protocol_core::mavlink::{MavMessage, dialect::CharArray};
 
 use super::{Cmd, Comp, MavlinkSide, math, result};
 
@@ -83,7 +83,7 @@ pub(super) fn name<const N: usize>(text: &[u8]) -> [u8; N] {
 }
 
 /// A version as MAVLink packs it: byte 0 major, 1 minor, 2 patch.
-pub(super) fn version(v: Option<crate::k40t::Version>) -> u32 {
+pub(super) fn version(v: Option<protocol_core::k40t::Version>) -> u32 {
     v.map_or(0, |v| u32::from_le_bytes([v.major, v.minor, v.patch, 0]))
 }
 

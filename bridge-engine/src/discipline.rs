@@ -239,7 +239,7 @@ pub const fn serial_time(bytes: u32, baud: u32) -> Duration {
 #[cfg_attr(
     feature = "bake",
     derive(databake::Bake),
-    databake(path = protocol_core::bridge::discipline)
+    databake(path = bridge_engine::discipline)
 )]
 pub struct DisciplineConfig {
     /// Local time covered by one bin of the estimator (default 8 s; the window is

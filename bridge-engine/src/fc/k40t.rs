@@ -18,19 +18,19 @@
 //!   pod), ACKed by the bridge; the bridge sends its own pulse and 0x00030E.
 //! - **Geotag.** The pod's GPS request (0x000310) is forwarded; the FC's answer
 //!   (0x010310) is forwarded and becomes a fix of the history. When the FC has not
-//!   answered within [`Config::k40t_geotag_fallback`](crate::bridge::Config) (200 ms),
+//!   answered within [`Config::k40t_geotag_fallback`](crate::Config) (200 ms),
 //!   the bridge answers from its fix history (or with the failure code).
 //! - **FC silence.** When the FC's last motion command (0x000010) turns the pod and the
-//!   FC sends nothing for [`Config::fc_silence_stop`](crate::bridge::Config), the bridge
+//!   FC sends nothing for [`Config::fc_silence_stop`](crate::Config), the bridge
 //!   stops the pod.
 
 use super::{Ctx, FcHandler, PodFrame, TimedFrom};
-use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::Fix;
-use crate::bridge::pod::AckClaim;
-use crate::bridge::time::{Duration, Instant};
+use crate::discipline::Sample;
+use crate::fixes::Fix;
 use crate::gimbal::Command;
-use crate::k40t::{
+use crate::pod::AckClaim;
+use crate::time::{Duration, Instant};
+use protocol_core::k40t::{
     self, Frame, GimbalControl, GpsReply, GpsRequest, Header, K40tFraming, Kind, MessageData,
     PitchMotion, ResponseCode, TimeSync, YawMotion,
 };
@@ -63,7 +63,7 @@ struct GpsPending {
 /// The K40T side.
 #[derive(Debug, Clone)]
 pub(crate) struct K40tSide {
-    /// [`Config::fc_silence_stop`](crate::bridge::Config), for `poll_at`.
+    /// [`Config::fc_silence_stop`](crate::Config), for `poll_at`.
     silence: Duration,
     forwarded: [Option<Forwarded>; SEQ_MAP],
     next_slot: usize,
@@ -111,7 +111,7 @@ impl FcHandler for K40tSide {
                     pitch_cdeg_s: 0,
                 },
             );
-            ctx.out.event(crate::bridge::Event::FcSilenceStop);
+            ctx.out.event(crate::Event::FcSilenceStop);
         }
     }
 
@@ -226,7 +226,7 @@ impl K40tSide {
             });
         }
         forward_with_seq(f, pod_seq, |out| ctx.out.queue_pod(out, false, false));
-        ctx.out.event(crate::bridge::Event::Translated {
+        ctx.out.event(crate::Event::Translated {
             fc_id: id.base,
             pod_base: id.base,
         });
@@ -265,12 +265,8 @@ impl K40tSide {
         if !reply.code.is_ok() {
             return;
         }
-        let asked = crate::bridge::time::TimeOfDay::new(
-            reply.hour,
-            reply.minute,
-            reply.second,
-            reply.millisecond,
-        );
+        let asked =
+            crate::time::TimeOfDay::new(reply.hour, reply.minute, reply.second, reply.millisecond);
         let at = asked
             .and_then(|tod| ctx.time.utc(ctx.now)?.nearest_with_time_of_day(tod))
             .and_then(|utc| ctx.time.local_of(utc));
@@ -303,7 +299,7 @@ fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
     let Some(dst) = buf.get_mut(..f.len()) else {
         return;
     };
-    crate::wire::copy(dst, f);
+    protocol_core::wire::copy(dst, f);
     let mut frame = Frame::new_unchecked(&mut *dst);
     let coverage = Frame::new_unchecked(f)
         .detect_coverage()
@@ -314,6 +310,6 @@ fn forward_with_seq(f: &[u8], seq: u8, out: impl FnOnce(&[u8]) -> bool) {
 }
 
 /// The frame's payload as `M` when it carries `M` and decodes.
-fn typed<M: MessageData<Protocol = crate::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
+fn typed<M: MessageData<Protocol = protocol_core::k40t::K40t>>(frame: &Frame<&[u8]>) -> Option<M> {
     frame.decode_as::<M>().and_then(Result::ok)
 }

@@ -3,7 +3,7 @@
 //!
 //! What ArduPilot needs, and what the bridge does (see the README's mapping table):
 //! - **Identity** (0x02 hardware id, 0x01 firmware, 0x20 codec specs of streams 0 and 1,
-//!   0x0A configuration) is answered from [`Config`](crate::bridge::Config) and the pod's
+//!   0x0A configuration) is answered from [`Config`](crate::Config) and the pod's
 //!   state, at once, in the same `poll`. The configuration reports the record status
 //!   from the pod, the motion mode ArduPilot last set (else ArduPilot re-sends its mode
 //!   at every update) and a normal mounting direction.
@@ -23,14 +23,14 @@
 //! Replies use CTRL = 2 and echo the request's sequence number; every reply fits
 //! ArduPilot's 32-byte data limit and has the exact length it checks.
 
-use crate::Direction;
-use crate::bridge::discipline::Sample;
-use crate::bridge::fixes::Velocity;
-use crate::bridge::pod::PodNotice;
-use crate::bridge::time::{Duration, Instant};
+use crate::discipline::Sample;
+use crate::fixes::Velocity;
 use crate::gimbal::{Command, GimbalMode, Motion, Target, View};
-use crate::k40t::{self, GimbalAttitude as PodAttitude};
-use crate::siyi::{
+use crate::pod::PodNotice;
+use crate::time::{Duration, Instant};
+use protocol_core::Direction;
+use protocol_core::k40t::{self, GimbalAttitude as PodAttitude};
+use protocol_core::siyi::{
     self, Angles, CameraFunctionType, CenterPosition, CodecSpecs, CurrentZoom, FeedbackInfo,
     FirmwareVersion, FirmwareVersions, FocusDirection, FunctionFeedback, GimbalAttitude,
     GimbalConfig, GimbalDataType, GimbalMode as SiyiGimbalMode, GimbalStreamAck, GlobalTemperature,
@@ -137,7 +137,11 @@ impl FcHandler for SiyiSide {
 }
 
 /// Encodes a reply (CTRL = 2) and queues it for the FC.
-fn send<M: MessageData<Protocol = crate::siyi::Siyi>>(ctx: &mut Ctx<'_>, message: &M, seq: u16) {
+fn send<M: MessageData<Protocol = protocol_core::siyi::Siyi>>(
+    ctx: &mut Ctx<'_>,
+    message: &M,
+    seq: u16,
+) {
     let mut buf = [0u8; BUF];
     if let Ok(n) = siyi::encode(message, &Header::reply(seq), &mut buf) {
         ctx.reply(buf.get(..n).unwrap_or_default());

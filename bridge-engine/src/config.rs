@@ -44,14 +44,14 @@ use super::discipline::DisciplineConfig;
 use super::fixes::FixConfig;
 use super::sync::SyncConfig;
 use super::time::Duration;
-use crate::k40t::{Address, CrcCoverage};
+use protocol_core::k40t::{Address, CrcCoverage};
 
-wire_derive! {
+protocol_core::wire_derive! {
     [Eq, Hash]
     /// The protocol the flight controller speaks (in the configuration file: `"siyi"`,
     /// `"viewlink"`, `"gcu"`, `"k40t"`).
     #[cfg_attr(feature = "serde", derive(serde::Deserialize), serde(rename_all(deserialize = "lowercase")))]
-    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
     pub enum FcProtocol {
         /// SIYI SDK (ArduPilot `MNT1_TYPE` 8): the bridge acts as a SIYI gimbal.
         Siyi,
@@ -76,7 +76,7 @@ wire_derive! {
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
 pub struct SiyiIdentity {
     /// The 12-character hardware id (0x02). Its first two characters select the model
     /// in ArduPilot: "7A" is the ZT30, for which ArduPilot enables 30x zoom, the laser
@@ -132,7 +132,7 @@ impl Default for SiyiIdentity {
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
 pub struct ViewlinkIdentity {
     /// Model text answered to the 0xE4 query (10 bytes, padded with 0x00; ArduPilot
     /// prints it).
@@ -221,7 +221,7 @@ fn model_is_valid(model: &[u8; 10]) -> bool {
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
 pub struct GcuIdentity {
     /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
     #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
@@ -266,7 +266,7 @@ impl Default for GcuIdentity {
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
 pub struct PodConfig {
     /// The bridge's own address on the pod link: the flight controller's (0x02/0x01).
     #[cfg_attr(feature = "serde", serde(skip_deserializing))]
@@ -358,7 +358,7 @@ impl Default for PodConfig {
     derive(serde::Deserialize),
     serde(default, deny_unknown_fields)
 )]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
 pub struct Config {
     /// The flight controller's protocol (default SIYI).
     pub fc: FcProtocol,

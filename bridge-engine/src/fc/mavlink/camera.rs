@@ -30,12 +30,12 @@
 //! - **CAMERA_SETTINGS** (mode from the pod's status, zoom level in %, focus level
 //!   unknown: NaN) and **STORAGE_INFORMATION** (the pod's SD card, 0x000003) on request.
 
-use crate::bridge::fc::Ctx;
-use crate::bridge::time::{Duration, Instant, TimeOfDay};
+use crate::fc::Ctx;
 use crate::gimbal::{Command, Motion};
-use crate::k40t::{CaptureMode, GpsRequest, SdState};
-use crate::mavlink::MavMessage;
-use crate::mavlink::dialect::{
+use crate::time::{Duration, Instant, TimeOfDay};
+use protocol_core::k40t::{CaptureMode, GpsRequest, SdState};
+use protocol_core::mavlink::MavMessage;
+use protocol_core::mavlink::dialect::{
     CAMERA_CAPTURE_STATUS_DATA, CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA,
     CAMERA_SETTINGS_DATA, CameraCapFlags, CameraMode, CharArray, MavBool, STORAGE_INFORMATION_DATA,
     StorageStatus, StorageType, StorageUsageFlag,
@@ -85,7 +85,7 @@ struct Shot {
 struct Waiting {
     base: u16,
     command: u16,
-    from: crate::mavlink::Header,
+    from: protocol_core::mavlink::Header,
     at: Instant,
 }
 
@@ -483,7 +483,7 @@ impl MavlinkSide {
         let time_utc = at
             .filter(|_| ok)
             .and_then(|at| ctx.time.utc(at))
-            .map_or(0, crate::bridge::time::UtcTime::as_unix_micros);
+            .map_or(0, crate::time::UtcTime::as_unix_micros);
         let q = self.camera_attitude(ctx);
         let index = self.camera.image_count;
         if ok {

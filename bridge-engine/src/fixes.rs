@@ -128,7 +128,7 @@ impl core::error::Error for GeotagError {}
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::bridge::fixes))]
+#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::fixes))]
 pub struct FixConfig {
     /// Least time between two stored fixes (default 90 ms: about 10 Hz).
     pub min_interval: Duration,
