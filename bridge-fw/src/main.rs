@@ -5,7 +5,7 @@
 //! Flavours: `hw` (default; embassy-stm32's time driver, 80 MHz) and `qemu` (QEMU 10's
 //! `b-l475e-iot01a`: time driver on the host clock with SysTick alarms, an executor idling
 //! with WFI, 16 MHz, strap levels from the semihosting command line, the vendored
-//! embassy-stm32's QEMU workarounds, semihosting boot line). See the README.
+//! embassy-stm32's QEMU workarounds, semihosting boot line). See docs/src/firmware/emulated-board.md.
 #![no_std]
 #![no_main]
 // The binary only brings the board up: its `expect`s are start-up checks of fixed things (a

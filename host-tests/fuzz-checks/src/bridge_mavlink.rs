@@ -6,7 +6,7 @@
 //! gimbal after the autopilot's HEARTBEAT answered with its COMMAND_ACK.
 //!
 //! The frame op picks from what ArduPilot, PX4 and QGroundControl send a gimbal device and
-//! camera (`shared/MAVLINK-TRAFFIC.md`): the autopilot's heartbeat and streams, every form
+//! camera (docs/src/bridge/mavlink.md): the autopilot's heartbeat and streams, every form
 //! of GIMBAL_DEVICE_SET_ATTITUDE, the requests (new and deprecated, servable or not), the
 //! camera commands, a MAV_CMD the dialect does not list, TIMESYNC, and the catalogue's
 //! frames with arbitrary contents.

@@ -1,6 +1,6 @@
 //! Seed inputs for every target, in the target's input format: the documents' example
 //! frames (`host-tests/fixtures/seed_vectors.json`, through `codec-cases`), the
-//! SPEC-NOTES K40T reference frames, and frames the encoder builds for every message of
+//! K40T reference frames of docs/src/protocols/k40t.md, and frames the encoder builds for every message of
 //! each catalogue.
 
 use protocol_core::Direction;
@@ -9,7 +9,7 @@ use protocol_core::viewlink::SyncOrder;
 
 use crate::input::Plan;
 
-/// The K40T reference frames of SPEC-NOTES (zoom, its ACK, a gimbal attitude report).
+/// The K40T reference frames of docs/src/protocols/k40t.md (zoom, its ACK, a gimbal attitude report).
 const K40T_REFERENCE: [&[u8]; 3] = [
     &[
         0xFD, 0x03, 0x04, 0x01, 0x07, 0x02, 0x01, 0x04, 0x03, 0x00, 0x00, 0x2D, 0x00, 0xCE, 0x89,

@@ -1,4 +1,4 @@
-//! Proof at link time that protocol-core cannot panic: this thumbv7em binary calls every
+//! Proof at link time that protocol-core and bridge-engine cannot panic: this thumbv7em binary calls every
 //! public decode, parse, emit, encode and deframe entry point of the codecs (MAVLink included) (and
 //! the shared `wire` module), and every entry point of the bridge engine, with inputs the optimiser cannot see through
 //! (`core::hint::black_box`), and its panic handler calls a function that exists
@@ -9,7 +9,7 @@
 //! `a_panicking_branch_survived_optimisation_see_host_tests_no_panic`; `scripts/no-panic`
 //! then shows which function calls the panic.
 //!
-//! Covered entry points: the README's "No panic, proven at link time".
+//! Covered entry points: docs/src/verification/no-panic.md.
 #![no_std]
 #![no_main]
 // Results go to `black_box`, which keeps them (and the code computing them) alive.

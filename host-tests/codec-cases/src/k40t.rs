@@ -334,8 +334,9 @@ fn every_request_has_an_ack() -> Outcome {
     Ok(())
 }
 
-/// The three reference frames of SPEC-NOTES (built by an independent encoder).
-fn spec_notes_reference_frames() -> Outcome {
+/// The three K40T reference frames of docs/src/protocols/k40t.md (zoom, its ACK, a gimbal
+/// attitude report; built by an independent encoder).
+fn reference_frames() -> Outcome {
     let zoom = [
         0xFD, 0x03, 0x04, 0x01, 0x07, 0x02, 0x01, 0x04, 0x03, 0x00, 0x00, 0x2D, 0x00, 0xCE, 0x89,
     ];
@@ -642,7 +643,7 @@ cases!("k40t":
     layouts_decode_and_reencode,
     layouts_cover_the_catalog,
     every_request_has_an_ack,
-    spec_notes_reference_frames,
+    reference_frames,
     crc_coverage_detector,
     ack_code_byte_order,
     unknown_ids_are_raw,

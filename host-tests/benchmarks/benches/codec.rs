@@ -2,13 +2,13 @@
 //! on an equivalent MAVLink v2 stream, and of the MAVLink 2 codec with its two candidate
 //! crates (rust-mavlink, mavio) on the bridge's message set: `scripts/bench` runs this at
 //! opt-level z (the firmware's release profile) and 3 and prints one table. The streams
-//! and stages: `codec_bench` (src/lib.rs). Each benchmark's input is built in its setup,
+//! and stages: `benchmarks` (src/lib.rs). Each benchmark's input is built in its setup,
 //! which Callgrind does not count.
 
 use std::hint::black_box;
 use std::io::Read;
 
-use codec_bench::{CHUNK, Stream, deframe};
+use benchmarks::{CHUNK, Stream, deframe};
 use gungraun::{library_benchmark, library_benchmark_group, main};
 use mavlink::dialects::common::MavMessage;
 use mavlink::{MavlinkReader, MavlinkVersion, MessageData};
@@ -58,7 +58,7 @@ fn mavlink_stream() -> Vec<u8> {
         message::<ENCAPSULATED_DATA_DATA>(),
     ];
     messages.sort_by_key(|m| m.2);
-    let k40t = codec_bench::k40t_stream();
+    let k40t = benchmarks::k40t_stream();
     let mut rng = 0x4D41_564Cu64;
     let mut out = Vec::new();
     for (seq, len) in k40t.payload_lens().enumerate() {
@@ -118,7 +118,7 @@ macro_rules! protocol_benches {
         [$cs:ident, $df:ident, $dc:ident, $rt:ident]
     ) => {
         #[library_benchmark]
-        #[bench::stream(leak(codec_bench::$stream()))]
+        #[bench::stream(leak(benchmarks::$stream()))]
         fn $cs(s: &Stream) -> u32 {
             let checksum = $checksum;
             black_box(s.covered.iter().fold(0u32, |acc, r| {
@@ -127,7 +127,7 @@ macro_rules! protocol_benches {
         }
 
         #[library_benchmark]
-        #[bench::stream(leak(codec_bench::$stream()))]
+        #[bench::stream(leak(benchmarks::$stream()))]
         fn $df(s: &Stream) -> usize {
             let deframe = $deframe;
             let frames = deframe(black_box(&s.bytes[..]));
@@ -136,14 +136,14 @@ macro_rules! protocol_benches {
         }
 
         #[library_benchmark]
-        #[bench::stream(leak(codec_bench::$stream()))]
+        #[bench::stream(leak(benchmarks::$stream()))]
         fn $dc(s: &Stream) -> usize {
             let decode = $decode;
             black_box(s.frames().filter(|f| decode(black_box(f)).is_ok()).count())
         }
 
         #[library_benchmark]
-        #[bench::stream(leak(codec_bench::$stream()))]
+        #[bench::stream(leak(benchmarks::$stream()))]
         fn $rt(s: &Stream) -> usize {
             let decode = $decode;
             let mut out = [0u8; 300];
@@ -202,7 +202,7 @@ protocol_benches!(
 
 // K40T as a receiver runs it: deframe, then decode each frame.
 #[library_benchmark]
-#[bench::stream(leak(codec_bench::k40t_stream()))]
+#[bench::stream(leak(benchmarks::k40t_stream()))]
 fn k40t_deframe_decode(s: &Stream) -> usize {
     use protocol_core::k40t::{K40tFraming, MAX_FRAME_LEN, Packet};
     use protocol_core::wire::{Deframer, Event};
@@ -244,7 +244,7 @@ type MavlinkInput = (
 );
 
 fn mavlink_set() -> &'static MavlinkInput {
-    leak(codec_bench::mavlink_stream())
+    leak(benchmarks::mavlink_stream())
 }
 
 // The floor: the checksum of each frame, with its message's CRC_EXTRA looked up.
@@ -445,29 +445,29 @@ fn mavio_set_encode(messages: &Vec<mavio::dialects::common::Common>) -> usize {
 // The bridge engine, per FC frame translated: a SIYI 0x07 rate command in (deframe,
 // decode, translate), a K40T gimbal control out (encode, queue, taken by the driver).
 #[library_benchmark]
-#[bench::frames(Box::leak(Box::new(codec_bench::bridge_siyi_rates())))]
-fn bridge_siyi_rate(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+#[bench::frames(Box::leak(Box::new(benchmarks::bridge_siyi_rates())))]
+fn bridge_siyi_rate(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
     let (pod, fc) = run.run();
     // A gimbal control per command (and the odd retry of the pod driver's own query).
-    assert!(pod >= codec_bench::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
     black_box((pod, fc))
 }
 
 // The bridge engine, per FC frame translated: a MAVLink GIMBAL_DEVICE_SET_ATTITUDE in
 // (deframe, check, decode, quaternion to angles, translate), a K40T angle command out.
 #[library_benchmark]
-#[bench::frames(Box::leak(Box::new(codec_bench::bridge_mavlink_set_attitudes())))]
-fn bridge_mavlink_set_attitude(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+#[bench::frames(Box::leak(Box::new(benchmarks::bridge_mavlink_set_attitudes())))]
+fn bridge_mavlink_set_attitude(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
     let (pod, fc) = run.run();
-    assert!(pod >= codec_bench::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
     black_box((pod, fc))
 }
 
 // The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
 // state updated).
 #[library_benchmark]
-#[bench::frames(Box::leak(Box::new(codec_bench::bridge_pod_attitudes())))]
-fn bridge_pod_attitude(run: &mut codec_bench::BridgeRun) -> (usize, usize) {
+#[bench::frames(Box::leak(Box::new(benchmarks::bridge_pod_attitudes())))]
+fn bridge_pod_attitude(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
     black_box(run.run())
 }
 

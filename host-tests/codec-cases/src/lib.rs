@@ -1,6 +1,6 @@
 //! Codec test cases shared by two runners: natively (`host-tests/tests/cases.rs`, one
 //! libtest test per case) and as Cortex-M code on `thumbv7m-none-eabi` under QEMU
-//! (`host-tests/qemu`). `no_std`, no allocation: a case is a plain function that returns
+//! (`host-tests/qemu-cases`). `no_std`, no allocation: a case is a plain function that returns
 //! `Err(Failure)` at its first failed check.
 //!
 //! Each protocol owns one module with a `CASES` table; [`all`] chains them.

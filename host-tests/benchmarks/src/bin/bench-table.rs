@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use codec_bench::Stream;
+use benchmarks::Stream;
 
 /// Instruction counts by benchmark function name.
 fn counts(path: &str) -> HashMap<String, u64> {
@@ -31,11 +31,11 @@ fn main() {
     let get = |m: &HashMap<String, u64>, k: &str| *m.get(k).unwrap_or_else(|| panic!("no {k}"));
 
     let streams: [(&str, &str, Stream); 5] = [
-        ("k40t", "K40T", codec_bench::k40t_stream()),
-        ("siyi", "SIYI", codec_bench::siyi_stream()),
-        ("viewlink", "Viewlink", codec_bench::viewlink_stream()),
-        ("gcu_host", "GCU host", codec_bench::gcu_host_stream()),
-        ("gcu_reply", "GCU reply", codec_bench::gcu_reply_stream()),
+        ("k40t", "K40T", benchmarks::k40t_stream()),
+        ("siyi", "SIYI", benchmarks::siyi_stream()),
+        ("viewlink", "Viewlink", benchmarks::viewlink_stream()),
+        ("gcu_host", "GCU host", benchmarks::gcu_host_stream()),
+        ("gcu_reply", "GCU reply", benchmarks::gcu_reply_stream()),
     ];
     println!(
         "Instructions (Callgrind, x86-64), whole stream and per frame; opt-level z is the firmware's release profile."
@@ -83,7 +83,7 @@ fn main() {
     );
     row("raw-frame reader", "mavlink_raw", k40t_frames);
     row("parse (frame + message)", "mavlink_parse", k40t_frames);
-    let (mav, _) = codec_bench::mavlink_stream();
+    let (mav, _) = benchmarks::mavlink_stream();
     let mav_frames = mav.frames.len();
     println!(
         "| **MAVLink 2**, protocol_core::mavlink (the bridge's 25 messages, {mav_frames} frames, {} bytes) | | | | |",
@@ -104,7 +104,7 @@ fn main() {
     println!("| **mavio 0.5 + mavspec 0.6** own receiver/builder, same stream | | | | |");
     row("receiver + decode", "mavio_set_parse", mav_frames);
     row("builder + serialize", "mavio_set_encode", mav_frames);
-    let frames = codec_bench::BRIDGE_RUN_FRAMES;
+    let frames = benchmarks::BRIDGE_RUN_FRAMES;
     println!(
         "| **bridge engine** (SIYI and MAVLink FC sides, {frames} frames, outputs taken) | | | | |"
     );
