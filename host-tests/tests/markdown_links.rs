@@ -221,7 +221,7 @@ fn every_relative_link_and_anchor_in_the_markdown_resolves() {
                 continue;
             };
             let anchor = percent_decoded(anchor);
-            if !target_page.anchors.iter().any(|a| *a == anchor) {
+            if !target_page.anchors.contains(&anchor) {
                 dead.push(format!(
                     "{where_}: no heading #{anchor} in {}",
                     target.display()
