@@ -1,7 +1,8 @@
 //! The bridge's one configuration: `bridge_engine::Config` read from the
 //! configuration file (`bridge-fw/bridge.toml`, as the firmware's `build.rs` reads it),
-//! checked by `Config::validate`, overridden by `gimbal bridge`'s options; and the README's
-//! key table checked against all three.
+//! checked by `Config::validate`, overridden by `gimbal bridge`'s options; and the book's
+//! key table (docs/src/firmware/configuration.md, its "Configuration" section) checked
+//! against all three.
 
 use std::collections::BTreeSet;
 use std::process::Command;
@@ -14,7 +15,9 @@ use gimbal::runner::bridge::config_of;
 use toml::{Table, Value};
 
 const BRIDGE_TOML: &str = include_str!("../../bridge-fw/bridge.toml");
-const README: &str = include_str!("../../README.md");
+// The book page with the key table (the constant keeps its name from when the table was
+// in the README).
+const README: &str = include_str!("../../docs/src/firmware/configuration.md");
 
 /// The file's text deserialized and validated, as `build.rs` does (`fc = "auto"` aside).
 fn load(text: &str) -> Result<Config, String> {
