@@ -117,8 +117,9 @@ pub(super) struct ClockEstimator {
     pub(super) suspect: bool,
     /// Largest truncation step of the accepted samples, µs.
     resolution: u32,
-    /// The samples are lower bounds ([`Sample::lower`](super::Sample::lower)): points are kept negated (so that
-    /// the least-advanced are the minima) and the line is negated back when given.
+    /// The samples are lower bounds ([`Sample::lower`](super::Sample::lower)): points
+    /// are kept negated (so that the least-advanced are the minima) and the line is
+    /// negated back when given.
     pub(super) negated: bool,
 }
 

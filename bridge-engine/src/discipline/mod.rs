@@ -141,28 +141,28 @@ pub const BINS: usize = 32;
 /// Most SIYI 0x30 frames (unpaired, and paired) remembered for the UTC − FC offset.
 pub const MAX_UTC_VIA_FC: usize = 6;
 
-/// Where the UTC mapping stands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum DisciplineState {
-    /// No time sample yet.
-    Unknown,
-    /// Samples arrive but the mapping has not converged (or re-converges after a step).
-    Converging,
-    /// Fed, and either converged or giving a first mapping (see
-    /// [`DisciplineConfig::quick_samples`]): `utc()` is trustworthy within
-    /// [`TimeDiscipline::error_bound`].
-    Valid,
-    /// The last samples contradict the mapping (the source may have jumped): no UTC
-    /// until a consistent sample comes, or the jump is confirmed and the mapping
-    /// restarts from the new samples.
-    Suspect,
-    /// Samples stopped (or the FC clock restarted); the last mapping is extrapolated, for
-    /// at most [`DisciplineConfig::holdover`].
-    Holdover,
-    /// The holdover expired; no UTC until the mapping converges again.
-    Lost,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Where the UTC mapping stands.
+    pub enum DisciplineState {
+        /// No time sample yet.
+        Unknown,
+        /// Samples arrive but the mapping has not converged (or re-converges after a step).
+        Converging,
+        /// Fed, and either converged or giving a first mapping (see
+        /// [`DisciplineConfig::quick_samples`]): `utc()` is trustworthy within
+        /// [`TimeDiscipline::error_bound`].
+        Valid,
+        /// The last samples contradict the mapping (the source may have jumped): no UTC
+        /// until a consistent sample comes, or the jump is confirmed and the mapping
+        /// restarts from the new samples.
+        Suspect,
+        /// Samples stopped (or the FC clock restarted); the last mapping is extrapolated, for
+        /// at most [`DisciplineConfig::holdover`].
+        Holdover,
+        /// The holdover expired; no UTC until the mapping converges again.
+        Lost,
+    }
 }
 
 impl DisciplineState {
@@ -173,19 +173,19 @@ impl DisciplineState {
     }
 }
 
-/// A change of [`DisciplineState`], reported once by [`TimeDiscipline::poll`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Transition {
-    /// State before.
-    pub from: DisciplineState,
-    /// State now.
-    pub to: DisciplineState,
-    /// The mapping was replaced by one that disagrees with it (the FC's UTC jumped, e.g.
-    /// after an FC reboot), though UTC may have stayed usable across: the old one was
-    /// lost and the new one is valid.
-    pub replaced: bool,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// A change of [`DisciplineState`], reported once by [`TimeDiscipline::poll`].
+    pub struct Transition {
+        /// State before.
+        pub from: DisciplineState,
+        /// State now.
+        pub to: DisciplineState,
+        /// The mapping was replaced by one that disagrees with it (the FC's UTC jumped, e.g.
+        /// after an FC reboot), though UTC may have stayed usable across: the old one was
+        /// lost and the new one is valid.
+        pub replaced: bool,
+    }
 }
 
 impl Transition {
@@ -202,22 +202,22 @@ impl Transition {
     }
 }
 
-/// What the discipline did with one sample.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Verdict {
-    /// Used (it may or may not have improved the estimate).
-    Accepted,
-    /// A held value repeated: nothing new.
-    Repeated,
-    /// Too far from the current estimate: ignored (a step candidate).
-    Outlier,
-    /// This sample confirmed a step; the clock's estimator restarted.
-    Step,
-    /// Not usable at all (arithmetic range, UTC before [`DisciplineConfig::min_utc`],
-    /// a pair inconsistent with the unpaired bound, no FC clock yet for an unpaired 0x30).
-    Rejected,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// What the discipline did with one sample.
+    pub enum Verdict {
+        /// Used (it may or may not have improved the estimate).
+        Accepted,
+        /// A held value repeated: nothing new.
+        Repeated,
+        /// Too far from the current estimate: ignored (a step candidate).
+        Outlier,
+        /// This sample confirmed a step; the clock's estimator restarted.
+        Step,
+        /// Not usable at all (arithmetic range, UTC before [`DisciplineConfig::min_utc`],
+        /// a pair inconsistent with the unpaired bound, no FC clock yet for an unpaired 0x30).
+        Rejected,
+    }
 }
 
 /// The path that produced the UTC mapping.

@@ -4,41 +4,41 @@
 use super::estimator::Point;
 use crate::time::{Duration, Instant};
 
-/// One time value received from the flight controller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Sample {
-    /// Local instant at which the frame's last byte arrived.
-    pub local: Instant,
-    /// The time the frame carries, in microseconds (UTC: since the Unix epoch; FC clock:
-    /// `time_boot_ms × 1000`).
-    pub value_us: u64,
-    /// Truncation step of the value: the true remote time at reading was in
-    /// `[value, value + resolution)`. 1 µs for SIYI 0x30, 1000 for `time_boot_ms` and
-    /// millisecond fields (K40T), 10 000 for Viewlink's hundredths of a second. For a
-    /// held value: the sender's update period (GCU under ArduPilot: 20 000), the most by
-    /// which the first sample after an event was read late.
-    pub resolution_us: u32,
-    /// The sender holds this value between events and repeats it (GCU: the time of the
-    /// last GPS fix, sent at 50 Hz, stepping at 5-10 Hz). Such a value is the exact time
-    /// of the event, only the first sample after each change carries information, and
-    /// a value that stops changing is not fresh.
-    pub held: bool,
-    /// The part of the delay between the sender's read and `local` that is known: the
-    /// serial time of this frame and of the bytes the sender wrote before it in the same
-    /// burst ([`serial_time`]). Subtracted from `local`.
-    pub transit: Duration,
-    /// The sender writes this value at once after the instant it carries, by protocol
-    /// (the K40T FC's 0x00030E follows its own RTC_IO edge): a single such sample is
-    /// enough for a first mapping.
-    pub prompt: bool,
-    /// The remote clock read `value_us` at or *after* `local` (here the instant the
-    /// bridge started sending a request the remote stamped on arrival: ArduPilot's
-    /// TIMESYNC tc1, its UART's estimate of the request's start, never earlier), not
-    /// before it: the point lies on or under the offset line, and the least-advanced
-    /// samples are the tight ones. An estimator takes one kind (the first sample's).
-    pub lower: bool,
+protocol_core::wire_derive! {
+    [Eq]
+    /// One time value received from the flight controller.
+    pub struct Sample {
+        /// Local instant at which the frame's last byte arrived.
+        pub local: Instant,
+        /// The time the frame carries, in microseconds (UTC: since the Unix epoch; FC clock:
+        /// `time_boot_ms × 1000`).
+        pub value_us: u64,
+        /// Truncation step of the value: the true remote time at reading was in
+        /// `[value, value + resolution)`. 1 µs for SIYI 0x30, 1000 for `time_boot_ms` and
+        /// millisecond fields (K40T), 10 000 for Viewlink's hundredths of a second. For a
+        /// held value: the sender's update period (GCU under ArduPilot: 20 000), the most by
+        /// which the first sample after an event was read late.
+        pub resolution_us: u32,
+        /// The sender holds this value between events and repeats it (GCU: the time of the
+        /// last GPS fix, sent at 50 Hz, stepping at 5-10 Hz). Such a value is the exact time
+        /// of the event, only the first sample after each change carries information, and
+        /// a value that stops changing is not fresh.
+        pub held: bool,
+        /// The part of the delay between the sender's read and `local` that is known: the
+        /// serial time of this frame and of the bytes the sender wrote before it in the same
+        /// burst ([`serial_time`]). Subtracted from `local`.
+        pub transit: Duration,
+        /// The sender writes this value at once after the instant it carries, by protocol
+        /// (the K40T FC's 0x00030E follows its own RTC_IO edge): a single such sample is
+        /// enough for a first mapping.
+        pub prompt: bool,
+        /// The remote clock read `value_us` at or *after* `local` (here the instant the
+        /// bridge started sending a request the remote stamped on arrival: ArduPilot's
+        /// TIMESYNC tc1, its UART's estimate of the request's start, never earlier), not
+        /// before it: the point lies on or under the offset line, and the least-advanced
+        /// samples are the tight ones. An estimator takes one kind (the first sample's).
+        pub lower: bool,
+    }
 }
 
 impl Sample {

@@ -4,12 +4,12 @@
 //!   requests. Settings and camera actions are tracked for their ACK. Idempotent ones
 //!   (settings, absolute zoom, record start/stop, focus, views) are sent again when their
 //!   ACK does not come ([`PodConfig::tries`], [`PodConfig::retry_interval`]); a newer
-//!   command with the same base id supersedes a pending one. An action that counts (take photo, burst,
-//!   time-lapse, single laser ranging) is **never sent twice for one FC command**: if its
-//!   ACK does not come within the time the others get for all their tries, it is reported
-//!   as timed out (the FC sides tell the FC it failed) rather than risk a second shot.
-//!   Motion commands (0x000010, 0x000012, 0x000017) are never retried: the next one
-//!   supersedes them.
+//!   command with the same base id supersedes a pending one. An action that counts (take
+//!   photo, burst, time-lapse, single laser ranging) is **never sent twice for one FC
+//!   command**: if its ACK does not come within the time the others get for all their
+//!   tries, it is reported as timed out (the FC sides tell the FC it failed) rather than
+//!   risk a second shot. Motion commands (0x000010, 0x000012, 0x000017) are never
+//!   retried: the next one supersedes them.
 //! - **Matching ACKs** (SPEC-NOTES): the K40T document has every component number the
 //!   frames *it* sends, so a pod's ACK may carry the pod's own counter rather than the
 //!   request's SEQ. An ACK is matched to the oldest outstanding request with the same base
