@@ -1,7 +1,8 @@
 //! The GCU side: the bridge acts as an XF Robot GCU (gimbal control unit) towards
 //! ArduPilot's `AP_Mount_XFRobot` and any host that follows the GCU private protocol.
 //!
-//! What the host needs, and what the bridge does (see the README's mapping table):
+//! What the host needs, and what the bridge does (the mapping table:
+//! docs/src/bridge/gcu.md):
 //! - **Question and answer.** Every valid host package (`A8 E5`, any version byte, 72 to
 //!   [`BUF`] bytes) gets exactly one `8A 5E` reply in the same call, built from the pod's
 //!   cached state, with the host's version byte and, when the host asks for it (request

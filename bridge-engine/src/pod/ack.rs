@@ -41,8 +41,8 @@ pub(super) struct Outstanding {
 }
 
 /// How well an ACK matches an outstanding request: an exact sequence number beats
-/// none, then the older request wins (SPEC-NOTES: oldest pending first, exact SEQ
-/// preferred, never required).
+/// none, then the older request wins (oldest pending first, exact SEQ preferred, never
+/// required: see docs/src/bridge/engine.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct AckClaim {
     /// The ACK's SEQ is the request's.

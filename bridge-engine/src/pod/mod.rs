@@ -10,11 +10,12 @@
 //!   tries, it is reported as timed out (the FC sides tell the FC it failed) rather than
 //!   risk a second shot. Motion commands (0x000010, 0x000012, 0x000017) are never
 //!   retried: the next one supersedes them.
-//! - **Matching ACKs** (SPEC-NOTES): the K40T document has every component number the
-//!   frames *it* sends, so a pod's ACK may carry the pod's own counter rather than the
-//!   request's SEQ. An ACK is matched to the oldest outstanding request with the same base
-//!   id, an exact SEQ match preferred but never required. A superseded request stays
-//!   outstanding (not retried) so that its late ACK is not taken for its successor's.
+//! - **Matching ACKs** (see docs/src/bridge/engine.md): the K40T document has every
+//!   component number the frames *it* sends (K40T external protocol, 2.1, SEQ), so a
+//!   pod's ACK may carry the pod's own counter rather than the request's SEQ. An ACK is
+//!   matched to the oldest outstanding request with the same base id, an exact SEQ match
+//!   preferred but never required. A superseded request stays outstanding (not retried)
+//!   so that its late ACK is not taken for its successor's.
 //! - **Motion, never flooding the pod.** Rates and angles are edge-triggered: a target
 //!   is sent when it differs from the last one sent by more than a dead-band, at most
 //!   once per [`PodConfig::motion_interval`], and refreshed once per
