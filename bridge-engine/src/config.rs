@@ -57,7 +57,7 @@ protocol_core::wire_derive! {
         Siyi,
         /// Viewlink (ArduPilot `MNT1_TYPE` 11): the bridge acts as a Viewpro gimbal.
         Viewlink,
-        /// XF Robot GCU (ArduPilot `MNT1_TYPE` 14): the bridge acts as a GCU.
+        /// GCU (ArduPilot `MNT1_TYPE` 14): the bridge acts as a gimbal control unit.
         Gcu,
         /// K40T itself: the bridge forwards, and owns RTC_IO.
         K40t,
@@ -235,7 +235,7 @@ protocol_core::wire_derive! {
         /// of the listed models: 0xFF by default, which no table entry uses.
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
         pub gimbal_code: u8,
-        /// Send `8A 00` after every reply (default true): ArduPilot's XF Robot parser keeps
+        /// Send `8A 00` after every reply (default true): `AP_Mount_XFRobot`'s parser keeps
         /// skipped bytes in its buffer and, after one corrupted reply, can lose step with
         /// the replies for good; the pair puts it back in step at the end of every reply.
         pub resync_mark: bool,

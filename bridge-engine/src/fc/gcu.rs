@@ -50,7 +50,7 @@ use protocol_core::k40t::{self, GimbalAttitude as PodAttitude, SdState};
 use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
 
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::GcuIdentity)):
-/// a first header byte followed by one that is not the second. ArduPilot's XF Robot
+/// a first header byte followed by one that is not the second. `AP_Mount_XFRobot`'s
 /// parser keeps the bytes it skips while looking for a header in its buffer and checks
 /// the CRC over all of it, so after one corrupted reply it can stay out of step with
 /// the 50 Hz replies for good (each reset lands the same distance before the next

@@ -35,7 +35,7 @@
 //!   attitude the fix history. The relative altitude of a fix is the MSL altitude above
 //!   that of the first position received (M carries no home altitude).
 //!
-//! Replies carry the frame counter a Viewpro sender keeps (1, 2, 3, 0, ...); ArduPilot
+//! Replies carry the frame counter a Viewlink sender keeps (1, 2, 3, 0, ...); ArduPilot
 //! masks it. Every reply fits ArduPilot's 63-byte packet buffer.
 
 use crate::discipline::Sample;
