@@ -57,7 +57,7 @@ protocol_core::wire_derive! {
         Siyi,
         /// Viewlink (ArduPilot `MNT1_TYPE` 11): the bridge acts as a Viewpro gimbal.
         Viewlink,
-        /// XF Robot GCU (ArduPilot `MNT1_TYPE` 14): the bridge acts as a GCU.
+        /// GCU (ArduPilot `MNT1_TYPE` 14): the bridge acts as a gimbal control unit.
         Gcu,
         /// K40T itself: the bridge forwards, and owns RTC_IO.
         K40t,
@@ -68,30 +68,31 @@ protocol_core::wire_derive! {
     }
 }
 
-/// How the bridge presents itself to a SIYI flight controller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
-pub struct SiyiIdentity {
-    /// The 12-character hardware id (0x02). Its first two characters select the model
-    /// in ArduPilot: "7A" is the ZT30, for which ArduPilot enables 30x zoom, the laser
-    /// rangefinder, lens selection and thermal min/max.
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::hardware_id"))]
-    pub hardware_id: [u8; 12],
-    /// Camera firmware (major, minor, patch); ArduPilot needs it non-zero.
-    pub camera_version: [u8; 3],
-    /// Gimbal firmware (major, minor, patch).
-    pub gimbal_version: [u8; 3],
-    /// Zoom firmware (major, minor, patch).
-    pub zoom_version: [u8; 3],
-    /// Largest zoom reported by 0x16, times ten (the ZT30 reports 30x).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub max_zoom_x10: u16,
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// How the bridge presents itself to a SIYI flight controller.
+    #[cfg_attr(
+        feature = "serde",
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
+    )]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct SiyiIdentity {
+        /// The 12-character hardware id (0x02). Its first two characters select the model
+        /// in ArduPilot: "7A" is the ZT30, for which ArduPilot enables 30x zoom, the laser
+        /// rangefinder, lens selection and thermal min/max.
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::hardware_id"))]
+        pub hardware_id: [u8; 12],
+        /// Camera firmware (major, minor, patch); ArduPilot needs it non-zero.
+        pub camera_version: [u8; 3],
+        /// Gimbal firmware (major, minor, patch).
+        pub gimbal_version: [u8; 3],
+        /// Zoom firmware (major, minor, patch).
+        pub zoom_version: [u8; 3],
+        /// Largest zoom reported by 0x16, times ten (the ZT30 reports 30x).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub max_zoom_x10: u16,
+    }
 }
 
 impl SiyiIdentity {
@@ -124,26 +125,27 @@ impl Default for SiyiIdentity {
     }
 }
 
-/// How the bridge presents itself to a Viewlink flight controller.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
-pub struct ViewlinkIdentity {
-    /// Model text answered to the 0xE4 query (10 bytes, padded with 0x00; ArduPilot
-    /// prints it).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::model"))]
-    pub model: [u8; 10],
-    /// Firmware text answered to the 0xD0 query (20 bytes, padded with 0x00). Viewpro
-    /// gimbals send "S" and a date (`Syyyymmdd`); ArduPilot reads bytes 3..9 as three
-    /// two-digit numbers, major, minor and patch. In the configuration file: the version
-    /// `[major, minor, patch]` ([`ViewlinkIdentity::firmware_text`]).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::viewlink_firmware"))]
-    pub firmware: [u8; 20],
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// How the bridge presents itself to a Viewlink flight controller.
+    #[cfg_attr(
+        feature = "serde",
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
+    )]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct ViewlinkIdentity {
+        /// Model text answered to the 0xE4 query (10 bytes, padded with 0x00; ArduPilot
+        /// prints it).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::model"))]
+        pub model: [u8; 10],
+        /// Firmware text answered to the 0xD0 query (20 bytes, padded with 0x00). Viewpro
+        /// gimbals send "S" and a date (`Syyyymmdd`); ArduPilot reads bytes 3..9 as three
+        /// two-digit numbers, major, minor and patch. In the configuration file: the version
+        /// `[major, minor, patch]` ([`ViewlinkIdentity::firmware_text`]).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::viewlink_firmware"))]
+        pub firmware: [u8; 20],
+    }
 }
 
 impl ViewlinkIdentity {
@@ -212,31 +214,32 @@ fn model_is_valid(model: &[u8; 10]) -> bool {
         && model.iter().skip(len).all(|&b| b == 0)
 }
 
-/// How the bridge presents itself to a GCU flight controller (the sub data frame of
-/// every reply).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
-pub struct GcuIdentity {
-    /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub hardware_x10: u8,
-    /// Firmware version times ten (reply byte 39).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub firmware_x10: u8,
-    /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
-    /// of the listed models: 0xFF by default, which no table entry uses.
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub gimbal_code: u8,
-    /// Send `8A 00` after every reply (default true): ArduPilot's XF Robot parser keeps
-    /// skipped bytes in its buffer and, after one corrupted reply, can lose step with
-    /// the replies for good; the pair puts it back in step at the end of every reply.
-    pub resync_mark: bool,
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// How the bridge presents itself to a GCU flight controller (the sub data frame of
+    /// every reply).
+    #[cfg_attr(
+        feature = "serde",
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
+    )]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct GcuIdentity {
+        /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub hardware_x10: u8,
+        /// Firmware version times ten (reply byte 39).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub firmware_x10: u8,
+        /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
+        /// of the listed models: 0xFF by default, which no table entry uses.
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub gimbal_code: u8,
+        /// Send `8A 00` after every reply (default true): `AP_Mount_XFRobot`'s parser keeps
+        /// skipped bytes in its buffer and, after one corrupted reply, can lose step with
+        /// the replies for good; the pair puts it back in step at the end of every reply.
+        pub resync_mark: bool,
+    }
 }
 
 impl GcuIdentity {
@@ -256,70 +259,71 @@ impl Default for GcuIdentity {
     }
 }
 
-/// The pod link: addresses, CRC coverage, retries, time-outs and rate limits. The
-/// configuration file sets the axis conventions only (`[pod] yaw_positive_left`,
-/// `pitch_positive_down`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
-pub struct PodConfig {
-    /// The bridge's own address on the pod link: the flight controller's (0x02/0x01).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub own: Address,
-    /// Where gimbal-class requests (0x000010..0x0000FF) go until the pod's reports
-    /// show its address (default 0x03/0x01, section 3.1 of the document).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub gimbal: Address,
-    /// Where camera requests go until learnt (default 0x04/0x01).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub camera: Address,
-    /// CRC coverage until the pod's first report shows its own (default: MAVLink's).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub coverage: CrcCoverage,
-    /// Learn addresses and coverage from the pod's reports (default true).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub learn: bool,
-    /// Tries of a setting or camera action before giving up (default 3).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub tries: u8,
-    /// Time between tries (default 200 ms).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub retry_interval: Duration,
-    /// The pod is lost when no report arrives for this long (default 1 s).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub link_timeout: Duration,
-    /// While lost, a version query is sent this often (default 1 s).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub probe_interval: Duration,
-    /// A motion command is refreshed this often while the gimbal turns (default 1 s).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub motion_refresh: Duration,
-    /// Least time between two motion commands (default 100 ms): a flight controller's
-    /// 50 Hz control loop becomes at most 10 motion commands a second.
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub motion_interval: Duration,
-    /// A rate change smaller than this (0.01 °/s) is no new command (default 50: 0.5 °/s).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub rate_deadband_cdeg_s: u16,
-    /// An angle change smaller than this (0.01 °) is no new command (default 20).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub angle_deadband_cdeg: u16,
-    /// The pod reports yaw positive to the left (the document does not say; default
-    /// false: positive right, the aerospace convention).
-    pub yaw_positive_left: bool,
-    /// The pod reports pitch positive down (default false: positive up).
-    pub pitch_positive_down: bool,
-    /// Target categories of the AI recognition the bridge switches on before box
-    /// tracking (0x000319 bytes 3..12: ids of the pod model's label file; the document
-    /// names none). Default 0..=9, the first ten (with the usual YOLO labels: person,
-    /// bicycle, car, motorcycle, aeroplane, bus, train, truck, boat, traffic light).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub ai_classes: [u8; 10],
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// The pod link: addresses, CRC coverage, retries, time-outs and rate limits. The
+    /// configuration file sets the axis conventions only (`[pod] yaw_positive_left`,
+    /// `pitch_positive_down`).
+    #[cfg_attr(
+        feature = "serde",
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
+    )]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct PodConfig {
+        /// The bridge's own address on the pod link: the flight controller's (0x02/0x01).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub own: Address,
+        /// Where gimbal-class requests (0x000010..0x0000FF) go until the pod's reports
+        /// show its address (default 0x03/0x01, section 3.1 of the document).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub gimbal: Address,
+        /// Where camera requests go until learnt (default 0x04/0x01).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub camera: Address,
+        /// CRC coverage until the pod's first report shows its own (default: MAVLink's).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub coverage: CrcCoverage,
+        /// Learn addresses and coverage from the pod's reports (default true).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub learn: bool,
+        /// Tries of a setting or camera action before giving up (default 3).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub tries: u8,
+        /// Time between tries (default 200 ms).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub retry_interval: Duration,
+        /// The pod is lost when no report arrives for this long (default 1 s).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub link_timeout: Duration,
+        /// While lost, a version query is sent this often (default 1 s).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub probe_interval: Duration,
+        /// A motion command is refreshed this often while the gimbal turns (default 1 s).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub motion_refresh: Duration,
+        /// Least time between two motion commands (default 100 ms): a flight controller's
+        /// 50 Hz control loop becomes at most 10 motion commands a second.
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub motion_interval: Duration,
+        /// A rate change smaller than this (0.01 °/s) is no new command (default 50: 0.5 °/s).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub rate_deadband_cdeg_s: u16,
+        /// An angle change smaller than this (0.01 °) is no new command (default 20).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub angle_deadband_cdeg: u16,
+        /// The pod reports yaw positive to the left (the document does not say; default
+        /// false: positive right, the aerospace convention).
+        pub yaw_positive_left: bool,
+        /// The pod reports pitch positive down (default false: positive up).
+        pub pitch_positive_down: bool,
+        /// Target categories of the AI recognition the bridge switches on before box
+        /// tracking (0x000319 bytes 3..12: ids of the pod model's label file; the document
+        /// names none). Default 0..=9, the first ten (with the usual YOLO labels: person,
+        /// bicycle, car, motorcycle, aeroplane, bus, train, truck, boat, traffic light).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub ai_classes: [u8; 10],
+    }
 }
 
 impl PodConfig {
@@ -350,73 +354,74 @@ impl Default for PodConfig {
     }
 }
 
-/// Everything the bridge can be told.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
-pub struct Config {
-    /// The flight controller's protocol (default SIYI).
-    pub fc: FcProtocol,
-    /// Baud rate of the FC link (default 115200; used to time bursts).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub fc_baud: u32,
-    /// Baud rate of the pod link (default 115200).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub pod_baud: u32,
-    /// Baud rate of the optional MAVLink telemetry link (default 115200; used to time
-    /// its frames). The link needs no switch: it is used once an autopilot speaks on it.
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub telemetry_baud: u32,
-    /// SIYI identity.
-    pub siyi: SiyiIdentity,
-    /// Viewlink identity.
-    pub viewlink: ViewlinkIdentity,
-    /// GCU identity.
-    pub gcu: GcuIdentity,
-    /// The pod link.
-    pub pod: PodConfig,
-    /// RTC_IO pulses: period (10 s), width (50 ms).
-    pub sync: SyncConfig,
-    /// The UTC discipline.
-    pub discipline: DisciplineConfig,
-    /// The fix history (no key in the configuration file).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub fixes: FixConfig,
-    /// GPS time minus UTC, seconds (default 18, since 2017).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub leap_seconds: u8,
-    /// The bridge stops the pod when the FC sends no motion for this long while the pod
-    /// turns (default 500 ms): a cut FC cable must not leave the pod spinning.
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// Everything the bridge can be told.
     #[cfg_attr(
         feature = "serde",
-        serde(rename = "fc_silence_stop_ms", deserialize_with = "de::ms")
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
     )]
-    pub fc_silence_stop: Duration,
-    /// The FC link is down when no valid frame arrives for this long (default 2 s).
-    #[cfg_attr(
-        feature = "serde",
-        serde(rename = "fc_link_timeout_ms", deserialize_with = "de::ms")
-    )]
-    pub fc_link_timeout: Duration,
-    /// K40T side: the bridge answers the pod's GPS request itself when the FC has not
-    /// within this time (default 200 ms; `None`: never, `"off"` in the file).
-    #[cfg_attr(
-        feature = "serde",
-        serde(
-            rename = "k40t_geotag_fallback_ms",
-            deserialize_with = "de::fallback_ms"
-        )
-    )]
-    pub k40t_geotag_fallback: Option<Duration>,
-    /// Send the K40T 0x00030E with this time zone (minutes west of Greenwich; default 0:
-    /// the pod keeps UTC).
-    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-    pub tz_minuteswest: i32,
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct Config {
+        /// The flight controller's protocol (default SIYI).
+        pub fc: FcProtocol,
+        /// Baud rate of the FC link (default 115200; used to time bursts).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub fc_baud: u32,
+        /// Baud rate of the pod link (default 115200).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub pod_baud: u32,
+        /// Baud rate of the optional MAVLink telemetry link (default 115200; used to time
+        /// its frames). The link needs no switch: it is used once an autopilot speaks on it.
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub telemetry_baud: u32,
+        /// SIYI identity.
+        pub siyi: SiyiIdentity,
+        /// Viewlink identity.
+        pub viewlink: ViewlinkIdentity,
+        /// GCU identity.
+        pub gcu: GcuIdentity,
+        /// The pod link.
+        pub pod: PodConfig,
+        /// RTC_IO pulses: period (10 s), width (50 ms).
+        pub sync: SyncConfig,
+        /// The UTC discipline.
+        pub discipline: DisciplineConfig,
+        /// The fix history (no key in the configuration file).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub fixes: FixConfig,
+        /// GPS time minus UTC, seconds (default 18, since 2017).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub leap_seconds: u8,
+        /// The bridge stops the pod when the FC sends no motion for this long while the pod
+        /// turns (default 500 ms): a cut FC cable must not leave the pod spinning.
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "fc_silence_stop_ms", deserialize_with = "de::ms")
+        )]
+        pub fc_silence_stop: Duration,
+        /// The FC link is down when no valid frame arrives for this long (default 2 s).
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "fc_link_timeout_ms", deserialize_with = "de::ms")
+        )]
+        pub fc_link_timeout: Duration,
+        /// K40T side: the bridge answers the pod's GPS request itself when the FC has not
+        /// within this time (default 200 ms; `None`: never, `"off"` in the file).
+        #[cfg_attr(
+            feature = "serde",
+            serde(
+                rename = "k40t_geotag_fallback_ms",
+                deserialize_with = "de::fallback_ms"
+            )
+        )]
+        pub k40t_geotag_fallback: Option<Duration>,
+        /// Send the K40T 0x00030E with this time zone (minutes west of Greenwich; default 0:
+        /// the pod keeps UTC).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub tz_minuteswest: i32,
+    }
 }
 
 impl Config {
@@ -491,17 +496,18 @@ fn millis(d: Duration) -> i64 {
     i64::try_from(d.as_millis()).unwrap_or(i64::MAX)
 }
 
-/// The integers a key of the configuration file allows: `min..=max`. [`Config::validate`]
-/// checks a [`Config`] against these; `gimbal bridge` checks its options with them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Limit {
-    /// The key (`sync.period_ms`).
-    pub key: &'static str,
-    /// The least value allowed.
-    pub min: i64,
-    /// The greatest value allowed.
-    pub max: i64,
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// The integers a key of the configuration file allows: `min..=max`. [`Config::validate`]
+    /// checks a [`Config`] against these; `gimbal bridge` checks its options with them.
+    pub struct Limit {
+        /// The key (`sync.period_ms`).
+        pub key: &'static str,
+        /// The least value allowed.
+        pub min: i64,
+        /// The greatest value allowed.
+        pub max: i64,
+    }
 }
 
 impl Limit {
@@ -586,16 +592,17 @@ impl Limit {
 // Every RTC_IO pulse the ranges allow is shorter than every period they allow.
 const _: () = assert!(Limit::SYNC_WIDTH_MS.max < Limit::SYNC_PERIOD_MS.min);
 
-/// A value of the configuration that is not allowed: its key (as in the configuration
-/// file, `sync.period_ms`; `gimbal bridge`'s option is `--sync-period-ms`) and what is
-/// wrong. Displays as `fc_baud: 12 is out of range 1200..=4000000`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ConfigError {
-    /// The key.
-    pub key: &'static str,
-    /// What is wrong with its value.
-    pub problem: Problem,
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// A value of the configuration that is not allowed: its key (as in the configuration
+    /// file, `sync.period_ms`; `gimbal bridge`'s option is `--sync-period-ms`) and what is
+    /// wrong. Displays as `fc_baud: 12 is out of range 1200..=4000000`.
+    pub struct ConfigError {
+        /// The key.
+        pub key: &'static str,
+        /// What is wrong with its value.
+        pub problem: Problem,
+    }
 }
 
 impl ConfigError {
@@ -607,31 +614,33 @@ impl ConfigError {
     }
 }
 
-/// What is wrong with a value of the configuration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Problem {
-    /// A number outside `min..=max`.
-    OutOfRange {
-        /// The value given.
-        value: i64,
-        /// The least value allowed.
-        min: i64,
-        /// The greatest value allowed.
-        max: i64,
-    },
-    /// A text that breaks its rule.
-    Text(TextRule),
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// What is wrong with a value of the configuration.
+    pub enum Problem {
+        /// A number outside `min..=max`.
+        OutOfRange {
+            /// The value given.
+            value: i64,
+            /// The least value allowed.
+            min: i64,
+            /// The greatest value allowed.
+            max: i64,
+        },
+        /// A text that breaks its rule.
+        Text(TextRule),
+    }
 }
 
-/// What a text of the configuration must be.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum TextRule {
-    /// Exactly this many ASCII characters.
-    Ascii(u8),
-    /// 1 to this many printable ASCII characters (space included).
-    Printable(u8),
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// What a text of the configuration must be.
+    pub enum TextRule {
+        /// Exactly this many ASCII characters.
+        Ascii(u8),
+        /// 1 to this many printable ASCII characters (space included).
+        Printable(u8),
+    }
 }
 
 impl fmt::Display for Problem {

@@ -49,17 +49,17 @@ fn low16(at: Instant) -> u16 {
     u16::try_from(at.as_millis() % 65_536).unwrap_or(0)
 }
 
-/// The aircraft's velocity over ground, north-east-down, cm/s.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Velocity {
-    /// Towards north, cm/s.
-    pub north_cm_s: i16,
-    /// Towards east, cm/s.
-    pub east_cm_s: i16,
-    /// Downwards, cm/s.
-    pub down_cm_s: i16,
+protocol_core::wire_derive! {
+    [Eq, Default]
+    /// The aircraft's velocity over ground, north-east-down, cm/s.
+    pub struct Velocity {
+        /// Towards north, cm/s.
+        pub north_cm_s: i16,
+        /// Towards east, cm/s.
+        pub east_cm_s: i16,
+        /// Downwards, cm/s.
+        pub down_cm_s: i16,
+    }
 }
 
 impl Velocity {
@@ -75,42 +75,42 @@ impl Velocity {
     }
 }
 
-/// Position and attitude of the aircraft at a local instant, in the units of the K40T
-/// 0x010310 reply.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Fix {
-    /// Local instant the fix refers to.
-    pub at: Instant,
-    /// Latitude, 1e-7 degree.
-    pub lat_e7: i32,
-    /// Longitude, 1e-7 degree.
-    pub lon_e7: i32,
-    /// Altitude above mean sea level, 0.1 m.
-    pub alt_msl_dm: i16,
-    /// Height relative to home, 0.1 m.
-    pub rel_alt_dm: i16,
-    /// Yaw (heading), 0.01°, −18000..=18000.
-    pub yaw_cdeg: i16,
-    /// Roll, 0.01°.
-    pub roll_cdeg: i16,
-    /// Pitch, 0.01°.
-    pub pitch_cdeg: i16,
-    /// The aircraft's velocity at that instant, when the FC sends one (to carry the
-    /// newest fix forward; see the module documentation).
-    pub velocity: Option<Velocity>,
+protocol_core::wire_derive! {
+    [Eq, Default]
+    /// Position and attitude of the aircraft at a local instant, in the units of the K40T
+    /// 0x010310 reply.
+    pub struct Fix {
+        /// Local instant the fix refers to.
+        pub at: Instant,
+        /// Latitude, 1e-7 degree.
+        pub lat_e7: i32,
+        /// Longitude, 1e-7 degree.
+        pub lon_e7: i32,
+        /// Altitude above mean sea level, 0.1 m.
+        pub alt_msl_dm: i16,
+        /// Height relative to home, 0.1 m.
+        pub rel_alt_dm: i16,
+        /// Yaw (heading), 0.01°, −18000..=18000.
+        pub yaw_cdeg: i16,
+        /// Roll, 0.01°.
+        pub roll_cdeg: i16,
+        /// Pitch, 0.01°.
+        pub pitch_cdeg: i16,
+        /// The aircraft's velocity at that instant, when the FC sends one (to carry the
+        /// newest fix forward; see the module documentation).
+        pub velocity: Option<Velocity>,
+    }
 }
 
-/// Why no fix can be given for an instant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum GeotagError {
-    /// The history holds no fix.
-    NoFix,
-    /// The instant is further than the hold limit from any fix the history can use.
-    OutOfRange,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Why no fix can be given for an instant.
+    pub enum GeotagError {
+        /// The history holds no fix.
+        NoFix,
+        /// The instant is further than the hold limit from any fix the history can use.
+        OutOfRange,
+    }
 }
 
 impl fmt::Display for GeotagError {
@@ -124,24 +124,24 @@ impl fmt::Display for GeotagError {
 
 impl core::error::Error for GeotagError {}
 
-/// Settings of the [`FixHistory`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::fixes))]
-pub struct FixConfig {
-    /// Least time between two stored fixes (default 90 ms: about 10 Hz).
-    pub min_interval: Duration,
-    /// How far from a fix it is held unchanged (default 100 ms: 1 m at 10 m/s).
-    pub max_hold: Duration,
-    /// How far after the newest fix it is carried forward with the aircraft's velocity
-    /// (default 1 s).
-    pub max_extrapolate: Duration,
-    /// Widest gap between two fixes that is interpolated (default 1 s).
-    pub max_gap: Duration,
-    /// How long a GPS request for an instant after the newest fix waits for the next
-    /// fix (default 250 ms; zero: answer at once). See [`geotag`](super::geotag).
-    pub max_wait: Duration,
+protocol_core::wire_derive! {
+    [Eq]
+    /// Settings of the [`FixHistory`].
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::fixes))]
+    pub struct FixConfig {
+        /// Least time between two stored fixes (default 90 ms: about 10 Hz).
+        pub min_interval: Duration,
+        /// How far from a fix it is held unchanged (default 100 ms: 1 m at 10 m/s).
+        pub max_hold: Duration,
+        /// How far after the newest fix it is carried forward with the aircraft's velocity
+        /// (default 1 s).
+        pub max_extrapolate: Duration,
+        /// Widest gap between two fixes that is interpolated (default 1 s).
+        pub max_gap: Duration,
+        /// How long a GPS request for an instant after the newest fix waits for the next
+        /// fix (default 250 ms; zero: answer at once). See [`geotag`](super::geotag).
+        pub max_wait: Duration,
+    }
 }
 
 impl FixConfig {

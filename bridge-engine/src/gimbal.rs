@@ -8,7 +8,7 @@
 //! aircraft's nose (body frame) and positive to the right (clockwise seen from above);
 //! pitch is relative to the horizon and positive up; roll positive right side down.
 //! Each protocol side converts from its own convention (SIYI yaw is positive to the
-//! left, ArduPilot's Viewpro driver sends pitch negated, ...).
+//! left, `AP_Mount_Viewpro` sends pitch negated, ...).
 
 protocol_core::wire_derive! {
     [Eq, Hash]

@@ -110,39 +110,39 @@ pub const MAX_FRAME_LEN: usize = if FC_QUEUE > POD_QUEUE {
     POD_QUEUE
 };
 
-/// The level of the RTC_IO pin.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum Level {
-    /// Pin low (idle).
-    Low,
-    /// Pin high: the edge the pod time-stamps.
-    High,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// The level of the RTC_IO pin.
+    pub enum Level {
+        /// Pin low (idle).
+        Low,
+        /// Pin high: the edge the pod time-stamps.
+        High,
+    }
 }
 
-/// A change of the RTC_IO pin the caller must make at a local instant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct PinAction {
-    /// The level to set.
-    pub level: Level,
-    /// The local instant at which to apply it.
-    pub at: Instant,
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// A change of the RTC_IO pin the caller must make at a local instant.
+    pub struct PinAction {
+        /// The level to set.
+        pub level: Level,
+        /// The local instant at which to apply it.
+        pub at: Instant,
+    }
 }
 
-/// What an input changed, for a caller that wakes only whom it concerns (after smoltcp's
-/// `PollResult`): [`Engine::receive`], [`Engine::idle`], [`Engine::poll`] and
-/// [`Engine::pin_done`] each return the changes since the previous of them. A small bit
-/// set: test it with [`Changes::contains`], combine with `|`.
-///
-/// Deadlines are not in it: [`Engine::poll_at`] may move with any input, whatever the
-/// changes say.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Changes(u8);
+protocol_core::wire_derive! {
+    [Eq, Hash, Default]
+    /// What an input changed, for a caller that wakes only whom it concerns (after smoltcp's
+    /// `PollResult`): [`Engine::receive`], [`Engine::idle`], [`Engine::poll`] and
+    /// [`Engine::pin_done`] each return the changes since the previous of them. A small bit
+    /// set: test it with [`Changes::contains`], combine with `|`.
+    ///
+    /// Deadlines are not in it: [`Engine::poll_at`] may move with any input, whatever the
+    /// changes say.
+    pub struct Changes(u8);
+}
 
 impl Changes {
     /// Nothing changed.

@@ -12,14 +12,15 @@ const HEADER: usize = 2;
 /// The critical flag of a record header.
 const CRITICAL: u16 = 0x8000;
 
-/// What a push did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Pushed {
-    /// The frame was queued.
-    pub queued: bool,
-    /// Older non-critical frames dropped to make room.
-    pub dropped: u8,
+protocol_core::wire_derive! {
+    custom_serde [Eq, Default]
+    /// What a push did.
+    pub struct Pushed {
+        /// The frame was queued.
+        pub queued: bool,
+        /// Older non-critical frames dropped to make room.
+        pub dropped: u8,
+    }
 }
 
 /// A queue of frames in `N` bytes (each frame takes its length plus two bytes).

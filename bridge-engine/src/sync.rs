@@ -16,49 +16,49 @@
 use super::discipline::TimeDiscipline;
 use super::time::{Duration, Instant, UtcTime};
 
-/// Settings of the [`SyncScheduler`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Deserialize),
-    serde(default, deny_unknown_fields)
-)]
-#[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::sync))]
-pub struct SyncConfig {
-    /// Time between edges; edges fall on whole multiples of it in UTC (default 10 s).
-    /// Configuration file: `[sync] period_ms`.
+protocol_core::wire_derive! {
+    [Eq]
+    /// Settings of the [`SyncScheduler`].
     #[cfg_attr(
         feature = "serde",
-        serde(
-            rename(deserialize = "period_ms"),
-            deserialize_with = "super::config::de::ms"
-        )
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
     )]
-    pub period: Duration,
-    /// How long the pin stays high (default 50 ms; the K40T document does not say).
-    /// Configuration file: `[sync] width_ms`.
-    #[cfg_attr(
-        feature = "serde",
-        serde(
-            rename(deserialize = "width_ms"),
-            deserialize_with = "super::config::de::ms"
-        )
-    )]
-    pub width: Duration,
-    /// Least time between planning an edge and the edge (default 2 ms).
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub lead: Duration,
-    /// How late the pin may rise and still carry the planned UTC (default 20 µs); later
-    /// than that, [`SyncScheduler::stamp`] re-stamps it from the discipline.
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub late_tolerance: Duration,
-    /// No edge is planned, and no 0x00030E sent, while the discipline believes its UTC
-    /// at the edge may be off by more than this (default 30 ms): a wrong stamp is worse
-    /// than none.
-    #[cfg_attr(feature = "serde", serde(skip_deserializing))]
-    pub max_error: Duration,
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine::sync))]
+    pub struct SyncConfig {
+        /// Time between edges; edges fall on whole multiples of it in UTC (default 10 s).
+        /// Configuration file: `[sync] period_ms`.
+        #[cfg_attr(
+            feature = "serde",
+            serde(
+                rename(deserialize = "period_ms"),
+                deserialize_with = "super::config::de::ms"
+            )
+        )]
+        pub period: Duration,
+        /// How long the pin stays high (default 50 ms; the K40T document does not say).
+        /// Configuration file: `[sync] width_ms`.
+        #[cfg_attr(
+            feature = "serde",
+            serde(
+                rename(deserialize = "width_ms"),
+                deserialize_with = "super::config::de::ms"
+            )
+        )]
+        pub width: Duration,
+        /// Least time between planning an edge and the edge (default 2 ms).
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub lead: Duration,
+        /// How late the pin may rise and still carry the planned UTC (default 20 µs); later
+        /// than that, [`SyncScheduler::stamp`] re-stamps it from the discipline.
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub late_tolerance: Duration,
+        /// No edge is planned, and no 0x00030E sent, while the discipline believes its UTC
+        /// at the edge may be off by more than this (default 30 ms): a wrong stamp is worse
+        /// than none.
+        #[cfg_attr(feature = "serde", serde(skip_deserializing))]
+        pub max_error: Duration,
+    }
 }
 
 impl SyncConfig {
@@ -78,17 +78,17 @@ impl Default for SyncConfig {
     }
 }
 
-/// One planned RTC_IO pulse.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct SyncEdge {
-    /// Local instant at which the pin rises.
-    pub at: Instant,
-    /// UTC of the rising edge: the value of 0x00030E (`utc.as_unix_millis()`, exact).
-    pub utc: UtcTime,
-    /// Local instant at which the pin falls (`at + width`).
-    pub low_at: Instant,
+protocol_core::wire_derive! {
+    [Eq]
+    /// One planned RTC_IO pulse.
+    pub struct SyncEdge {
+        /// Local instant at which the pin rises.
+        pub at: Instant,
+        /// UTC of the rising edge: the value of 0x00030E (`utc.as_unix_millis()`, exact).
+        pub utc: UtcTime,
+        /// Local instant at which the pin falls (`at + width`).
+        pub low_at: Instant,
+    }
 }
 
 /// Plans RTC_IO edges on the UTC grid.

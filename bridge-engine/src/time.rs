@@ -23,11 +23,11 @@ const GPS_EPOCH_UNIX_S: u64 = 315_964_800;
 /// Seconds in one GPS week.
 const S_PER_WEEK: u64 = 604_800;
 
-/// A span of time in microseconds (never negative).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Duration(u64);
+protocol_core::wire_derive! {
+    [Eq, PartialOrd, Ord, Hash, Default]
+    /// A span of time in microseconds (never negative).
+    pub struct Duration(u64);
+}
 
 impl Duration {
     /// No time at all.
@@ -96,16 +96,16 @@ impl Duration {
     }
 }
 
-/// An instant of the caller's monotonic clock, in microseconds since an arbitrary origin
-/// (typically the MCU's boot).
-///
-/// This is the local clock of the bridge: its rate differs from true time by the
-/// crystal's error (tens of ppm). [`TimeDiscipline`](super::discipline::TimeDiscipline)
-/// maps it to UTC and back.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Instant(u64);
+protocol_core::wire_derive! {
+    [Eq, PartialOrd, Ord, Hash, Default]
+    /// An instant of the caller's monotonic clock, in microseconds since an arbitrary origin
+    /// (typically the MCU's boot).
+    ///
+    /// This is the local clock of the bridge: its rate differs from true time by the
+    /// crystal's error (tens of ppm). [`TimeDiscipline`](super::discipline::TimeDiscipline)
+    /// maps it to UTC and back.
+    pub struct Instant(u64);
+}
 
 impl Instant {
     /// The clock's origin.
@@ -181,15 +181,15 @@ impl Instant {
     }
 }
 
-/// A UTC time of day with millisecond resolution, as the K40T 0x000310 request carries it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct TimeOfDay {
-    hour: u8,
-    minute: u8,
-    second: u8,
-    millisecond: u16,
+protocol_core::wire_derive! {
+    [Eq, PartialOrd, Ord, Hash, Default]
+    /// A UTC time of day with millisecond resolution, as the K40T 0x000310 request carries it.
+    pub struct TimeOfDay {
+        hour: u8,
+        minute: u8,
+        second: u8,
+        millisecond: u16,
+    }
 }
 
 impl TimeOfDay {
@@ -269,12 +269,12 @@ impl TimeOfDay {
     }
 }
 
-/// A UTC instant: microseconds since 1970-01-01T00:00:00Z, leap seconds not counted
-/// (Unix time).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct UtcTime(u64);
+protocol_core::wire_derive! {
+    [Eq, PartialOrd, Ord, Hash, Default]
+    /// A UTC instant: microseconds since 1970-01-01T00:00:00Z, leap seconds not counted
+    /// (Unix time).
+    pub struct UtcTime(u64);
+}
 
 impl UtcTime {
     /// The Unix epoch, 1970-01-01T00:00:00Z.

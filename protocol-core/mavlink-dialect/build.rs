@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The message set: what a gimbal-v2 device + camera-v2 + time/position consumer sees
-/// (`shared/MAVLINK-TRAFFIC.md`).
+/// (see docs/src/protocols/mavlink.md; what the autopilots send:
+/// docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md).
 const MESSAGES: &[&str] = &[
     "HEARTBEAT",
     "SYSTEM_TIME",

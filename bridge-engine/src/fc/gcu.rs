@@ -1,7 +1,8 @@
 //! The GCU side: the bridge acts as an XF Robot GCU (gimbal control unit) towards
 //! ArduPilot's `AP_Mount_XFRobot` and any host that follows the GCU private protocol.
 //!
-//! What the host needs, and what the bridge does (see the README's mapping table):
+//! What the host needs, and what the bridge does (the mapping table:
+//! docs/src/bridge/gcu.md):
 //! - **Question and answer.** Every valid host package (`A8 E5`, any version byte, 72 to
 //!   [`BUF`] bytes) gets exactly one `8A 5E` reply in the same call, built from the pod's
 //!   cached state, with the host's version byte and, when the host asks for it (request
@@ -49,7 +50,7 @@ use protocol_core::k40t::{self, GimbalAttitude as PodAttitude, SdState};
 use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
 
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::GcuIdentity)):
-/// a first header byte followed by one that is not the second. ArduPilot's XF Robot
+/// a first header byte followed by one that is not the second. `AP_Mount_XFRobot`'s
 /// parser keeps the bytes it skips while looking for a header in its buffer and checks
 /// the CRC over all of it, so after one corrupted reply it can stay out of step with
 /// the 50 Hz replies for good (each reset lands the same distance before the next

@@ -9,10 +9,11 @@
 //!   answers), so it numbers every frame it sends there from one counter: a forwarded FC
 //!   frame gets the next sequence number (and its CRC, in the frame's own coverage, is
 //!   computed again). A pod's ACK carries that number or (as the K40T document has each
-//!   component number its own frames) the pod's own counter: it is matched to the oldest
-//!   forwarded request of its base id, an exact number preferred (SPEC-NOTES), and the
-//!   bridge gives it the FC's own number before forwarding it. ACKs of the bridge's own
-//!   frames are not forwarded.
+//!   component number its own frames: K40T external protocol, 2.1) the pod's own
+//!   counter: it is matched to the oldest forwarded request of its base id, an exact
+//!   number preferred, never required (see docs/src/bridge/k40t.md), and the bridge gives
+//!   it the FC's own number before forwarding it. ACKs of the bridge's own frames are not
+//!   forwarded.
 //! - **RTC_IO.** The FC's 0x00030E is not forwarded: it is a UTC sample for the
 //!   discipline (the FC sends it right after its own pulse, which is not wired to the
 //!   pod), ACKed by the bridge; the bridge sends its own pulse and 0x00030E.

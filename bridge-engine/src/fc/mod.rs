@@ -210,10 +210,10 @@ pub(crate) trait FcHandler {
     type Framing: Framing;
 
     /// Where the FC read the values of a frame: at its burst's first byte (the FC writes
-    /// all the frames of one update at once, as ArduPilot's SIYI and Viewpro drivers do:
-    /// the UART's buffer then sends them back to back), or at the frame's own first byte
-    /// (one frame per update, or one written after an event: ArduPilot's XF Robot
-    /// driver, a K40T FC's 0x00030E after its edge). See [`Ctx::transit`].
+    /// all the frames of one update at once, as `AP_Mount_Siyi` and `AP_Mount_Viewpro`
+    /// do: the UART's buffer then sends them back to back), or at the frame's own first
+    /// byte (one frame per update, or one written after an event: `AP_Mount_XFRobot`, a
+    /// K40T FC's 0x00030E after its edge). See [`Ctx::transit`].
     const TIMED_FROM: TimedFrom;
 
     /// One valid frame from the FC; [`Ctx::transit`] is its serial time as
@@ -396,13 +396,13 @@ pub(crate) enum FcSide {
     Disabled,
     /// K40T: forwarding.
     K40t(FcLink<k40t::K40tSide, { protocol_core::k40t::MAX_FRAME_LEN }>),
-    /// SIYI: the bridge as a ZT30 towards ArduPilot's SIYI driver.
+    /// SIYI: the bridge as a ZT30 towards `AP_Mount_Siyi`.
     #[cfg(feature = "siyi")]
     Siyi(FcLink<siyi::SiyiSide, { siyi::BUF }>),
-    /// Viewlink (Viewpro).
+    /// Viewlink: the bridge as a Viewpro gimbal towards `AP_Mount_Viewpro`.
     #[cfg(feature = "viewlink")]
     Viewlink(FcLink<viewlink::ViewlinkSide, { viewlink::BUF }>),
-    /// XF Robot GCU.
+    /// GCU: the bridge as a gimbal control unit towards `AP_Mount_XFRobot`.
     #[cfg(feature = "gcu")]
     Gcu(FcLink<gcu::GcuSide, { gcu::BUF }>),
     /// MAVLink 2: gimbal device and camera.

@@ -1,7 +1,8 @@
 //! The SIYI side: the bridge acts as a SIYI gimbal (a ZT30 by default) towards
 //! ArduPilot's `AP_Mount_Siyi`.
 //!
-//! What ArduPilot needs, and what the bridge does (see the README's mapping table):
+//! What ArduPilot needs, and what the bridge does (the mapping table:
+//! docs/src/bridge/siyi.md):
 //! - **Identity** (0x02 hardware id, 0x01 firmware, 0x20 codec specs of streams 0 and 1,
 //!   0x0A configuration) is answered from [`Config`](crate::Config) and the pod's
 //!   state, at once, in the same `poll`. The configuration reports the record status

@@ -1,7 +1,8 @@
 //! The Viewlink side: the bridge acts as a Viewpro gimbal towards ArduPilot's
 //! `AP_Mount_Viewpro` (and towards any console that speaks the Viewlink protocol).
 //!
-//! What ArduPilot needs, and what the bridge does (see the README's mapping table):
+//! What ArduPilot needs, and what the bridge does (the mapping table:
+//! docs/src/bridge/viewlink.md):
 //! - **Status.** The 0x00 handshake, the 0x10 heartbeat and the control frames are
 //!   answered with a 0x40 (T1 + F1 + B1 + D1, 41 data bytes), at most one per
 //!   [`STATUS_GAP`] (ArduPilot's 10 Hz cycle gets one; a flood of frames does not
@@ -34,7 +35,7 @@
 //!   attitude the fix history. The relative altitude of a fix is the MSL altitude above
 //!   that of the first position received (M carries no home altitude).
 //!
-//! Replies carry the frame counter a Viewpro sender keeps (1, 2, 3, 0, ...); ArduPilot
+//! Replies carry the frame counter a Viewlink sender keeps (1, 2, 3, 0, ...); ArduPilot
 //! masks it. Every reply fits ArduPilot's 63-byte packet buffer.
 
 use crate::discipline::Sample;

@@ -1,4 +1,4 @@
-//! The XF Robot GCU private protocol V2.0.2 (`001_8e19e435fc647e3e.txt`).
+//! The GCU private protocol V2.0.2 (Nanjing Xianfei, XF Robot gimbals).
 //!
 //! Package (both directions): `SYNC(2) LENGTH(u16 LE) VERSION MAIN(32) SUB(32) ORDER
 //! PAYLOAD CRC(u16 BE)`, 115200 8N1 (or 250000, 500000, 1000000). The host computer
@@ -65,7 +65,7 @@
 //!   [`Message::get`].
 //! - [`CATALOG`] lists the 26 orders; [`GpsTime`] converts GPS week + time of week.
 //!
-//! # Decisions where the document is silent (see the README)
+//! # Decisions where the document is silent (see docs/src/protocols/gcu.md)
 //! - One framing per direction ([`GcuFraming::host`], [`GcuFraming::gcu`]): each wire of
 //!   the UART carries one direction, and the shared deframer looks for one sync pattern.
 //!   [`Frame`] and [`Packet`] accept both directions.

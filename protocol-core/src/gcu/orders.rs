@@ -43,7 +43,7 @@ impl CatalogEntry {
 // order without parameters (`Neutral {}`), a newtype named after it for one parameter
 // (`Shutter(CameraSet)`), or a type of `params.rs`.
 message_table! {
-    /// The XF Robot GCU protocol: every typed command implements
+    /// The GCU protocol: every typed command implements
     /// [`MessageData`](crate::wire::MessageData) with `Protocol = Gcu`.
     ///
     /// ```

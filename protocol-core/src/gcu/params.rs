@@ -98,7 +98,7 @@ code_enum! {
 
 code_enum! {
     /// `TT` of the picture-in-picture order (0x74). The document defines 0x00; 1..4 are
-    /// the views ArduPilot's XFRobot driver selects (its `CameraType`).
+    /// the views `AP_Mount_XFRobot` selects (its `CameraType`).
     pub enum PipView: u8 {
         /// Next view.
         Next = 0x00,

@@ -123,7 +123,8 @@ impl MsgId {
 
 wire_derive! {
     [Eq, Hash, Default]
-    /// Which bytes the CRC covers. The document does not say (see SPEC-NOTES).
+    /// Which bytes the CRC covers. The document does not say (K40T external protocol, 2.1,
+    /// names the checksum only; see docs/src/protocols/k40t.md).
     #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = protocol_core::k40t))]
     pub enum CrcCoverage {
         /// LEN through the last payload byte (as MAVLink v2, without CRC_EXTRA). The default.

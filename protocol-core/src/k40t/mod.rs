@@ -1,4 +1,4 @@
-//! The K40T four-sensor pod protocol (`000_cac8f3505cecd78b.txt`).
+//! The K40T four-sensor pod protocol (K40T external protocol, single-channel streaming).
 //!
 //! Frame: `FD LEN DST_SYS DST_COMP SEQ SRC_SYS SRC_COMP MSGID(3, LE) PAYLOAD CRC(2, LE)`,
 //! 115200 8N1. The message id's high byte is the [`Kind`] (0x00 request or report, 0x01
@@ -38,7 +38,7 @@
 //!   [`Message::get`].
 //! - [`CATALOG`] lists every base id with the kinds it has.
 //!
-//! # Decisions where the document is silent (see the README)
+//! # Decisions where the document is silent (see docs/src/protocols/k40t.md)
 //! - CRC: CRC-16/MCRF4XX over LEN..payload ([`CrcCoverage::ExcludeStx`], the default) or
 //!   STX..payload ([`CrcCoverage::IncludeStx`]); [`Frame::detect_coverage`] tells which.
 //! - All payload fields little-endian; the ACK response code is written big-endian and
@@ -494,8 +494,10 @@ mod tests {
         0xFD, 0x02, 0x02, 0x01, 0x07, 0x04, 0x01, 0x04, 0x03, 0x01, 0x00, 0x00, 0xE8, 0xEB,
     ];
 
+    /// Reference frames built by an encoder independent of the project, following the
+    /// codec's decisions (the document prints none; see docs/src/protocols/k40t.md).
     #[test]
-    fn spec_notes_reference_frames() {
+    fn independent_reference_frames() {
         let p = Packet::decode(&ZOOM).unwrap();
         assert_eq!(p.header.dst, Address::POD);
         assert_eq!(p.header.src, Address::FLIGHT_CONTROLLER);

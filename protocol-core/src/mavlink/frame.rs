@@ -329,39 +329,39 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Frame<T> {
     }
 }
 
-/// What the deframer does with a frame whose message id is outside the dialect: its
-/// checksum cannot be verified (CRC_EXTRA is per message).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub enum UnknownIds {
-    /// Reject it as a candidate ([`Error::UnknownId`], counted with the checksum
-    /// errors) and scan on from the byte after its STX: an unverifiable "frame" can
-    /// then never swallow a valid frame behind it. The default, for firmware.
-    #[default]
-    Reject,
-    /// Deliver it unverified (for a router or a capture tool that forwards what it does
-    /// not know). A false STX in noise with a plausible length is then delivered as a
-    /// frame too, hiding up to 280 bytes behind it.
-    Deliver,
+wire_derive! {
+    [Eq, Default]
+    /// What the deframer does with a frame whose message id is outside the dialect: its
+    /// checksum cannot be verified (CRC_EXTRA is per message).
+    pub enum UnknownIds {
+        /// Reject it as a candidate ([`Error::UnknownId`], counted with the checksum
+        /// errors) and scan on from the byte after its STX: an unverifiable "frame" can
+        /// then never swallow a valid frame behind it. The default, for firmware.
+        #[default]
+        Reject,
+        /// Deliver it unverified (for a router or a capture tool that forwards what it does
+        /// not know). A false STX in noise with a plausible length is then delivered as a
+        /// frame too, hiding up to 280 bytes behind it.
+        Deliver,
+    }
 }
 
-/// MAVLink framing rules for the [`Deframer`](crate::wire::Deframer): MAVLink 2 frames
-/// (STX 0xFD, length from LEN and the SIGNED flag, checksum with the message's
-/// CRC_EXTRA) are delivered; MAVLink 1 frames (STX 0xFE) whose checksum checks are
-/// skipped whole ([`Event::Skipped`](crate::wire::Event::Skipped), counted in
-/// `frames_skipped`), so that neither their bytes nor a 0xFD inside them are scanned
-/// as MAVLink 2. A MAVLink 1 candidate that does not check is rejected like any other,
-/// so a 0xFE inside noise or a corrupted MAVLink 2 frame cannot hide what follows it.
-///
-/// Use a deframer of [`MAX_FRAME_LEN`] (280) bytes:
-/// `Deframer::<MavlinkFraming, MAX_FRAME_LEN>::new(MavlinkFraming::new())`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct MavlinkFraming {
-    /// What to do with message ids outside the dialect.
-    pub unknown_ids: UnknownIds,
+wire_derive! {
+    [Eq, Default]
+    /// MAVLink framing rules for the [`Deframer`](crate::wire::Deframer): MAVLink 2 frames
+    /// (STX 0xFD, length from LEN and the SIGNED flag, checksum with the message's
+    /// CRC_EXTRA) are delivered; MAVLink 1 frames (STX 0xFE) whose checksum checks are
+    /// skipped whole ([`Event::Skipped`](crate::wire::Event::Skipped), counted in
+    /// `frames_skipped`), so that neither their bytes nor a 0xFD inside them are scanned
+    /// as MAVLink 2. A MAVLink 1 candidate that does not check is rejected like any other,
+    /// so a 0xFE inside noise or a corrupted MAVLink 2 frame cannot hide what follows it.
+    ///
+    /// Use a deframer of [`MAX_FRAME_LEN`] (280) bytes:
+    /// `Deframer::<MavlinkFraming, MAX_FRAME_LEN>::new(MavlinkFraming::new())`.
+    pub struct MavlinkFraming {
+        /// What to do with message ids outside the dialect.
+        pub unknown_ids: UnknownIds,
+    }
 }
 
 impl MavlinkFraming {

@@ -111,16 +111,16 @@ wire_derive! {
     }
 }
 
-/// A message whose id is outside the dialect, or whose content the dialect cannot
-/// represent (an enumeration value the XML does not list): id and payload as received.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
-pub struct Raw<'a> {
-    /// The message id.
-    pub id: u32,
-    /// The payload as sent (trailing zeros possibly dropped).
-    pub payload: &'a [u8],
+wire_derive! {
+    [Eq]
+    /// A message whose id is outside the dialect, or whose content the dialect cannot
+    /// represent (an enumeration value the XML does not list): id and payload as received.
+    pub struct Raw<'a> {
+        /// The message id.
+        pub id: u32,
+        /// The payload as sent (trailing zeros possibly dropped).
+        pub payload: &'a [u8],
+    }
 }
 
 impl Raw<'_> {

@@ -1,5 +1,5 @@
-//! The SIYI gimbal camera SDK protocol (`003_d4f397a57e673bf9.txt`, completed by
-//! `siyi-commands.md`).
+//! The SIYI gimbal camera SDK protocol (the command ids its tables lack taken from SIYI's
+//! public "External SDK Protocol" V0.1.1; see docs/src/protocols/siyi.md).
 //!
 //! Frame: `55 66 CTRL LEN(u16 LE) SEQ(u16 LE) CMD DATA CRC16(LE)`, CRC-16/XMODEM over
 //! everything before the CRC; 115200 8N1 on the UART. All data fields little-endian.
@@ -78,7 +78,7 @@
 //! send). A reply encodes exactly the layout ArduPilot's `AP_Mount_Siyi` parses (it
 //! checks the exact length of 0x01, 0x0B, 0x0D, 0x14 and 0x05 replies).
 //!
-//! # Decisions where the documents are silent (see the README)
+//! # Decisions where the documents are silent (see docs/src/protocols/siyi.md)
 //! - Payload lengths are exact: a length other than the layout's is
 //!   [`Error::BadLength`], except the variants seen in the wild, which decode and
 //!   re-encode to the same length: 0x00 heartbeat with 0 or 1 byte (the document's

@@ -7,9 +7,10 @@ use crate::{Error, Result};
 
 wire_struct! {
     Be;
-    /// The attitude group of M (bytes 9..14 when every group is present). Order per
-    /// SPEC-NOTES: roll, pitch, yaw (the document labels bytes 9..10 "tilt"; ArduPilot
-    /// fixed the swap this typo caused).
+    /// The attitude group of M (bytes 9..14 when every group is present). Order: roll,
+    /// pitch, yaw (Viewlink serial command protocol V3.4.4, 3.19, labels bytes 9..10
+    /// "tilt"; ArduPilot fixed the swap this typo caused; see
+    /// docs/src/protocols/viewlink.md).
     pub struct MAttitude {
         /// Vehicle roll, 360/65536°, positive right.
         pub roll_bam16: i16,

@@ -1,4 +1,4 @@
-//! The Viewlink (Viewpro) serial protocol V3.4.4 (`004_97d9a16052f5b223.txt`).
+//! The Viewlink serial command protocol V3.4.4 (of Viewpro gimbals).
 //!
 //! Frame: `55 AA DC LEN ID DATA XOR`, 115200 8N1. LEN bits 0..5 count the bytes from LEN
 //! through the checksum (4..=63), bits 6..7 are a frame counter; the checksum is the
@@ -52,7 +52,7 @@
 //!   [`Status`], ...) are blocks made of blocks.
 //! - [`tcp`] is the TCP envelope `EB 90 LEN BODY SUM`.
 //!
-//! # Decisions where the document is ambiguous (see the README)
+//! # Decisions where the document is ambiguous (see docs/src/protocols/viewlink.md)
 //! - The length byte is authoritative: a fixed-size block with more or fewer bytes is
 //!   [`Error::BadLength`]. Printed examples with a spurious or missing byte are rejected
 //!   (their checksum byte is not at the position LEN gives); the deframer then
@@ -68,11 +68,12 @@
 //!   bits, and unlisted enumeration values, are kept, so every decoded frame re-encodes
 //!   byte for byte; encoding a bit field whose value does not fit is
 //!   [`Error::OutOfRange`].
-//! - M (0xB1): data-type bit 0 selects the 6-byte attitude group (roll, pitch, yaw, per
-//!   SPEC-NOTES), bit 1 the 28-byte GPS group; the document defines no bytes for the
-//!   gyro bit (2), so it adds none. Byte 1 and the seven reserved bytes 2..8 are always
-//!   present: an M packet has 8, 14, 36 or 42 bytes. Date: day bits 15..11, month
-//!   10..7, year-2000 6..0; time: 3 bytes of 0.01 s since UTC midnight.
+//! - M (0xB1): data-type bit 0 selects the 6-byte attitude group (roll, pitch, yaw: the
+//!   document's 3.19 labels bytes 9..10 "tilt"), bit 1 the 28-byte GPS group; the
+//!   document defines no bytes for the gyro bit (2), so it adds none. Byte 1 and the
+//!   seven reserved bytes 2..8 are always present: an M packet has 8, 14, 36 or 42
+//!   bytes. Date: day bits 15..11, month 10..7, year-2000 6..0; time: 3 bytes of 0.01 s
+//!   since UTC midnight.
 //! - B1 roll: 12 bits of 180/4095°, 0 at -90° (ArduPilot's reading).
 //! - T2 bytes 13..14 (printed "pitch" twice) are roll; T1 "attitude" fields are
 //!   altitudes in metres.

@@ -1,6 +1,8 @@
 //! What a MAVLink device learns from the autopilot on its link, shared by the MAVLink FC
 //! side and the telemetry link: the autopilot's identity, the streams asked of it, the
-//! aircraft's attitude and position, and time (`shared/MAVLINK-TRAFFIC.md` §6, §7).
+//! aircraft's attitude and position, and time (see docs/src/bridge/time.md and
+//! docs/src/bridge/geotag.md; what ArduPilot and PX4 send and answer:
+//! docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md).
 //!
 //! # Time: TIMESYNC and SYSTEM_TIME
 //! The bridge learns the autopilot's boot clock against its own with TIMESYNC, and UTC
@@ -9,22 +11,23 @@
 //! - **Requests.** Once the autopilot is known, a TIMESYNC request (tc1 = 0, ts1 = the
 //!   bridge's clock in ns, the autopilot as target) goes out every 50..100 ms twelve
 //!   times, then every 150..350 ms (dithered to the microsecond, so that its arrival
-//!   does not lock to the autopilot's loop), when nothing else waits to be sent. One is outstanding at a
-//!   time; a reply is matched on its ts1 (ArduPilot forwards other systems' TIMESYNC
-//!   onto the link, §8.10) and taken within [`TIMESYNC_MAX_RTT`].
+//!   does not lock to the autopilot's loop), when nothing else waits to be sent. One is
+//!   outstanding at a time; a reply is matched on its ts1 (ArduPilot's TIMESYNC has no
+//!   target fields: its own requests every 10 s, and a ground station's requests and
+//!   replies, are routed onto the link too) and taken within [`TIMESYNC_MAX_RTT`].
 //! - **Where the autopilot read tc1.** Each reply says the autopilot's boot clock read
 //!   tc1 at some instant after the request started: the boot clock when the bridge
 //!   queued it (no later than its start) was at most tc1, a *lower bound* of the offset,
 //!   and the bound holds whatever delays the reply (the autopilot's loop, its output
 //!   buffer, 10 ms of transport jitter: none of them enters it). How tight it is depends
-//!   on where tc1 was read (MAVLINK-TRAFFIC §6): ArduPilot stamps it with its UART's
-//!   estimate of the request's *start* (`receive_time_constraint_us`, never earlier than
-//!   the start): tight to that estimate. PX4 reads it when its receive thread parses the
-//!   request, after its *end*: tc1 less the request's serial time is the bound, tight to
-//!   PX4's parse latency. Any other autopilot: tc1 itself (looser by up to the request's
-//!   serial time, never wrong). The discipline keeps the tightest bound of each bin (its
-//!   minimum filter on negated points): the low-round-trip samples are the ones that
-//!   count.
+//!   on where tc1 was read (see docs/src/bridge/time.md): ArduPilot stamps it with its
+//!   UART's estimate of the request's *start* (`receive_time_constraint_us`, never
+//!   earlier than the start): tight to that estimate. PX4 reads it when its receive
+//!   thread parses the request, after its *end*: tc1 less the request's serial time is
+//!   the bound, tight to PX4's parse latency. Any other autopilot: tc1 itself (looser by
+//!   up to the request's serial time, never wrong). The discipline keeps the tightest
+//!   bound of each bin (its minimum filter on negated points): the low-round-trip samples
+//!   are the ones that count.
 //! - **SYSTEM_TIME.** Both fields are read from one clock in one call: `d =
 //!   time_unix_usec − 1000·time_boot_ms` is the UTC − boot shift plus the sub-millisecond
 //!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift

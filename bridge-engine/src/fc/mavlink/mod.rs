@@ -1,6 +1,9 @@
 //! The MAVLink side: the bridge is a MAVLink 2 gimbal device (component 154) and camera
 //! (component 100) towards ArduPilot (`MNT1_TYPE` 6, `CAM1_TYPE` 6), PX4 (gimbal v2
-//! output) and, through their routing, QGroundControl (`shared/MAVLINK-TRAFFIC.md`).
+//! output) and, through their routing, QGroundControl (the mapping table:
+//! docs/src/bridge/mavlink.md; what each of them sends and reads:
+//! docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md,
+//! docs/src/autopilots/qgroundcontrol.md).
 //!
 //! - **Identity.** Both components send HEARTBEAT at 1 Hz (type 26 GIMBAL and 30 CAMERA,
 //!   autopilot INVALID) with the system id of the autopilot, learnt from its own
