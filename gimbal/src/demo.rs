@@ -34,12 +34,16 @@ use protocol_core::k40t::K40tFraming;
 use protocol_core::mavlink::MavlinkFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
+use crate::sim::Autopilot;
 use crate::sim::ap_mavlink::ApMavlink;
 use crate::sim::ap_siyi::ApSiyi;
 use crate::sim::ap_viewpro::ApViewpro;
 use crate::sim::ap_xfrobot::ApXfRobot;
+use crate::sim::describe::{
+    Described, MavlinkFrames, SideFrames, describe_k40t, k40t_name, k40t_routine,
+};
 use crate::sim::fc_k40t::FcK40t;
-use crate::sim::pilot::{Described, Pilot, describe_k40t, k40t_name, k40t_routine};
+use crate::sim::pilot::Pilot;
 use crate::sim::tasks::{Bench, Outcome};
 
 /// What to run.
@@ -466,18 +470,18 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
     // Frames on both links.
     frame_lines(
         Dir::FcIn,
-        &frames_of(P::framing(true), &o.wires.fc_in.log),
-        |f| P::describe(f, true),
-        |id| P::routine(id, true),
+        &frames_of(P::Frames::framing(true), &o.wires.fc_in.log),
+        |f| P::Frames::describe(f, true),
+        |id| P::Frames::routine(id, true),
         |_| false,
         &steps,
         &mut lines,
     );
     frame_lines(
         Dir::FcOut,
-        &frames_of(P::framing(false), &o.wires.fc_out.log),
-        |f| P::describe(f, false),
-        |id| P::routine(id, false),
+        &frames_of(P::Frames::framing(false), &o.wires.fc_out.log),
+        |f| P::Frames::describe(f, false),
+        |id| P::Frames::routine(id, false),
         |_| false,
         &steps,
         &mut lines,
@@ -508,8 +512,8 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
             frame_lines(
                 dir,
                 &frames_of(MavlinkFraming::new(), &wire.log),
-                |f| ApMavlink::describe(f, from_fc),
-                |id| ApMavlink::routine(id, from_fc),
+                |f| MavlinkFrames::describe(f, from_fc),
+                |id| MavlinkFrames::routine(id, from_fc),
                 |_| false,
                 &steps,
                 &mut lines,
@@ -592,7 +596,7 @@ fn story<P: Pilot>(
                 }
                 format!(
                     "translated {} → K40T 0x{pod_base:04X} {}",
-                    P::command_name(fc_id),
+                    P::Frames::command_name(fc_id),
                     k40t_name(pod_base)
                 )
             }

@@ -51,14 +51,15 @@ use protocol_core::k40t::{
     YawMotion,
 };
 
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApMountTarget};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
 use gimbal::sim::fc_k40t::FcK40t;
 use gimbal::sim::peer::{PeerError, now_us, run_peer};
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
-use gimbal::sim::scenario::FcSim;
 
 /// Both links' baud rate (bridge.toml's `fc_baud` and `pod_baud`; QEMU's chardevs ignore it,
 /// the simulators pace their output with it).
@@ -507,7 +508,7 @@ enum Step {
 }
 
 /// What the script needs from an FC simulator.
-trait FcUnderTest: FcSim {
+trait FcUnderTest: Pilot {
     /// Settings for `side`.
     fn make() -> Self;
     /// Healthy (the driver's own notion; for a K40T FC: pod reports arrive).
@@ -518,10 +519,6 @@ trait FcUnderTest: FcSim {
     fn command_reached(&self, pod: &SimPod, since_us: u64) -> Step;
     /// Whether telemetry from the pod came back.
     fn telemetry(&self, pod: &SimPod) -> Step;
-    /// The FC's UTC at wall µs `t` (the reference of the time sync).
-    fn utc_us(&self, t: u64) -> u64;
-    /// Frames the FC's parser rejected.
-    fn parse_errors(&self) -> u32;
 }
 
 fn control_step(pod: &SimPod, yaw: YawMotion, since_us: u64) -> Step {
@@ -581,12 +578,6 @@ impl FcUnderTest for ApSiyi {
     fn telemetry(&self, _pod: &SimPod) -> Step {
         yaw_step(self.attitude.map(|(_, yaw, _, _)| yaw), 5.0)
     }
-    fn utc_us(&self, t: u64) -> u64 {
-        self.fc_utc_us(t)
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
-    }
 }
 
 impl FcUnderTest for ApViewpro {
@@ -604,12 +595,6 @@ impl FcUnderTest for ApViewpro {
     }
     fn telemetry(&self, _pod: &SimPod) -> Step {
         yaw_step(self.attitude.map(|a| a.yaw_deg), 5.0)
-    }
-    fn utc_us(&self, t: u64) -> u64 {
-        self.fc_utc_us(t)
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
     }
 }
 
@@ -647,12 +632,6 @@ impl FcUnderTest for ApXfRobot {
     fn telemetry(&self, _pod: &SimPod) -> Step {
         yaw_step(self.attitude.map(|(_, _, _, yaw)| yaw), 10.0)
     }
-    fn utc_us(&self, t: u64) -> u64 {
-        self.gps_utc_us(t)
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
-    }
 }
 
 impl FcUnderTest for ApMavlink {
@@ -675,12 +654,6 @@ impl FcUnderTest for ApMavlink {
     }
     fn telemetry(&self, _pod: &SimPod) -> Step {
         yaw_step(self.attitude.map(|(_, _, _, yaw, _)| yaw), 5.0)
-    }
-    fn utc_us(&self, t: u64) -> u64 {
-        self.fc_utc_us(t)
-    }
-    fn parse_errors(&self) -> u32 {
-        ApMavlink::parse_errors(self)
     }
 }
 
@@ -725,12 +698,6 @@ impl FcUnderTest for FcK40t {
             )),
             Some((_, h, a)) => Step::Fail(format!("ACK seq {} code {:?}", h.seq, a.code)),
         }
-    }
-    fn utc_us(&self, t: u64) -> u64 {
-        FcK40t::utc_us(self, t)
-    }
-    fn parse_errors(&self) -> u32 {
-        0
     }
 }
 
@@ -986,7 +953,7 @@ fn sync_step<F: FcUnderTest>(fc: &F, pod: &SimPod, trace: &TraceWatch, qemu_out:
         if s.tz_minuteswest != 0 {
             return Step::Fail(format!("sync {}: time zone {}", i + 1, s.tz_minuteswest));
         }
-        let err_us = i128::from(s.unix_ms) * 1000 - i128::from(fc.utc_us(edge));
+        let err_us = i128::from(s.unix_ms) * 1000 - i128::from(fc.true_utc_us(edge));
         let bound = bounds
             .iter()
             .find(|(ms, _)| *ms == s.unix_ms)

@@ -4,6 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use bridge_engine::{Config, Event, FcProtocol, GcuIdentity, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
 use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
@@ -36,7 +37,7 @@ fn scenario_with(
 fn healthy_scenario() -> Scenario<ApXfRobot> {
     let mut s = scenario(ApXfRobotConfig::default(), PodSimConfig::default(), 30);
     s.run_until(3 * S);
-    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
+    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log());
     s
 }
 
@@ -73,7 +74,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
     // 72-byte form ArduPilot ignores, so the mount is not healthy.
     s.pod.set_silent(true);
     s.run_until(3 * S);
-    assert!(s.fc.health_log.is_empty(), "{:?}", s.fc.health_log);
+    assert!(s.fc.health_log().is_empty(), "{:?}", s.fc.health_log());
     assert!(s.fc.replies.len() > 100);
     for r in &s.fc.replies {
         assert_eq!(r.bytes.len(), 72);
@@ -92,7 +93,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
         .expect("pod link up")
         .0;
     let ap = &s.fc;
-    let (t, healthy) = ap.health_log[0];
+    let (t, healthy) = ap.health_log()[0];
     assert!(healthy);
     assert!(
         t > up && t - up < S,
@@ -100,10 +101,10 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
         (t - up) / 1000
     );
     assert_eq!(
-        ap.health_log.len(),
+        ap.health_log().len(),
         1,
         "and stays healthy: {:?}",
-        ap.health_log
+        ap.health_log()
     );
     // Exactly one reply per package, in order, echoing the order and version byte 0x02,
     // 72 or 73 bytes (ArduPilot takes 10..=80), none rejected by ArduPilot's parser (at
@@ -698,7 +699,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let cut = s.now_us;
     s.run_for(4 * S);
     let down =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > cut && !h)
             .expect("unhealthy")
@@ -715,7 +716,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let back = s.now_us;
     s.run_for(3 * S);
     let up =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > back && *h)
             .expect("healthy again")
@@ -1065,7 +1066,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
     assert!(c.fc_garbage_bytes > 1000);
     assert_eq!(s.fc.parse_errors, 0);
     // With two of three packages intact, ArduPilot stays healthy.
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
 }
 
 #[test]

@@ -3,6 +3,7 @@
 //! geotag fallback, FC silence.
 
 use bridge_engine::{Config, Event, FcProtocol, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::fc_k40t::FcK40t;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::scenario::Scenario;
@@ -75,7 +76,7 @@ fn the_fc_time_sync_is_a_utc_sample_and_the_bridge_owns_rtc_io() {
     for (edge, sync) in highs.iter().zip(syncs) {
         assert_eq!(sync.outcome, SyncOutcome::Applied);
         assert_eq!(sync.unix_ms % 10_000, 0);
-        let err = sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64;
+        let err = sync.unix_ms as i64 * 1000 - s.fc.fc_utc_us(edge.at_us) as i64;
         assert!(err.abs() < 5_000, "error {err} us");
     }
     assert_eq!(
@@ -119,7 +120,7 @@ fn a_time_sync_behind_other_frames_is_timed_from_its_own_first_byte() {
         .zip(s.pod.syncs())
         .map(|(edge, sync)| {
             assert_eq!(sync.outcome, SyncOutcome::Applied);
-            sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64
+            sync.unix_ms as i64 * 1000 - s.fc.fc_utc_us(edge.at_us) as i64
         })
         .collect();
     assert!(errors.len() >= 3, "{errors:?}");

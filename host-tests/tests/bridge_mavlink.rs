@@ -5,9 +5,11 @@
 //! `shared/MAVLINK-TRAFFIC.md`; where it allows two readings both are run.
 
 use bridge_engine::{Config, Event, FcProtocol};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{
     ApMavlink, ApMavlinkConfig, ApMountTarget, ApVehicle, CameraTargets,
 };
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode, Px4Target};
 use gimbal::sim::qgc::{Qgc, QgcConfig};
@@ -36,7 +38,7 @@ fn ap_scenario(ap: ApMavlinkConfig, pod: PodSimConfig) -> Scenario<ApMavlink> {
 fn healthy_ap() -> Scenario<ApMavlink> {
     let mut s = ap_scenario(ApMavlinkConfig::default(), PodSimConfig::default());
     s.run_until(3 * S);
-    assert!(s.fc.healthy(), "{:?}", s.fc.health_log);
+    assert!(s.fc.healthy(), "{:?}", s.fc.health_log());
     assert!(s.fc.camera_info.is_some());
     s
 }
@@ -74,13 +76,18 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
         (10 * S..10 * S + 1_100_000).contains(&found),
         "found at {found}"
     );
-    let (t, up) = ap.health_log[0];
+    let (t, up) = ap.health_log()[0];
     assert!(
         up && t - found <= 2 * S,
         "healthy {} ms after discovery",
         (t - found) / 1000
     );
-    assert_eq!(ap.health_log.len(), 1, "stays healthy: {:?}", ap.health_log);
+    assert_eq!(
+        ap.health_log().len(),
+        1,
+        "stays healthy: {:?}",
+        ap.health_log()
+    );
     assert!(ap.mount_initialised && !ap.mount_refused);
     assert_eq!(ap.parse_errors(), 0);
     // Both components, 1 Hz each, with the autopilot's system id; nothing before its
@@ -434,7 +441,7 @@ fn pod_lost_sets_failure_flags_and_ardupilot_calls_the_mount_unhealthy() {
     let cut = s.now_us;
     s.pull_pod_cable(4 * S);
     s.run_for(8 * S);
-    let log = &s.fc.health_log;
+    let log = &s.fc.health_log();
     assert_eq!(log.len(), 3, "{log:?}");
     let (down, up) = (log[1], log[2]);
     assert!(
@@ -496,7 +503,7 @@ fn ardupilot_old_gremsy_driver_and_timesync() {
     let mut s = ap_scenario(ap, PodSimConfig::default());
     s.run_until(25 * S);
     assert!(s.fc.healthy());
-    assert_eq!(s.fc.health_log.len(), 1);
+    assert_eq!(s.fc.health_log().len(), 1);
     // ArduPilot's TIMESYNC requests (every 10 s) are answered with the bridge's clock.
     let replies = &s.fc.timesync_replies;
     assert!(replies.len() >= 2, "{replies:?}");

@@ -2,6 +2,7 @@
 //! scenarios of the bridge engine issue, in simulated time.
 
 use bridge_engine::{Config, Event, FcProtocol, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod};
 use gimbal::sim::scenario::Scenario;
@@ -26,7 +27,7 @@ fn scenario(ap: ApSiyiConfig, pod: PodSimConfig, bridge_ppm: i64) -> Scenario<Ap
 fn healthy_scenario() -> Scenario<ApSiyi> {
     let mut s = scenario(ApSiyiConfig::default(), PodSimConfig::default(), 30);
     s.run_until(5 * S);
-    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
+    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log());
     s
 }
 
@@ -39,7 +40,7 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     assert!(ap.initialised());
     // Healthy within the start-up: hardware id (1 Hz), firmware (1 Hz), codec specs, then
     // attitude at 20 Hz.
-    let (t, up) = ap.health_log[0];
+    let (t, up) = ap.health_log()[0];
     assert!(up);
     assert!(t < 4 * S, "healthy at {t} us");
     assert!(ap.healthy());
@@ -72,7 +73,7 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     assert_eq!(ap.parse_errors, 0);
     // And it stays healthy.
     s.run_until(60 * S);
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
 }
 
 #[test]
@@ -271,7 +272,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let cut = s.now_us;
     s.run_for(4 * S);
     let down =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > cut && !h)
             .expect("unhealthy")
@@ -282,7 +283,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let back = s.now_us;
     s.run_for(4 * S);
     let up =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > back && *h)
             .expect("healthy again")
@@ -512,7 +513,7 @@ fn damaged_lines_cost_frames_not_health_or_control() {
     let sent = s.fc.sent.iter().filter(|(t, _)| *t > 5 * S).count() as u32;
     assert!(fc_frames * 100 >= sent * 95, "{fc_frames} of {sent}");
     // ArduPilot stays healthy throughout, its parser never sees a bad frame from us.
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
     assert_eq!(s.fc.parse_errors, 0);
     // The pod got only well-formed frames.
     let rx = s.pod.rx_stats();
@@ -581,9 +582,9 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
     s.run_for(5 * S);
     assert!(!s.engine.pod_state().link);
     assert!(
-        s.fc.health_log.iter().any(|(t, h)| *t > start && !h),
+        s.fc.health_log().iter().any(|(t, h)| *t > start && !h),
         "{:?}",
-        s.fc.health_log
+        s.fc.health_log()
     );
     s.pod
         .set_output_faults(gimbal::sim::pod::OutputFaults::default());
@@ -591,7 +592,7 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
     s.run_for(4 * S);
     assert!(s.engine.pod_state().link);
     let up =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > back && *h)
             .expect("healthy again")

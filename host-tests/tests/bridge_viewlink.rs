@@ -3,6 +3,7 @@
 
 use bridge_engine::gimbal::GimbalMode;
 use bridge_engine::{Config, Event, FcProtocol, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_siyi::MountTarget;
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig, Tracking, TrackingStatus};
 use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
@@ -35,7 +36,7 @@ fn scenario(ap: ApViewproConfig, pod: PodSimConfig, bridge_ppm: i64) -> Scenario
 fn healthy_scenario_with(pod: PodSimConfig) -> Scenario<ApViewpro> {
     let mut s = scenario(ApViewproConfig::default(), pod, 30);
     s.run_until(3 * S);
-    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
+    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log());
     s
 }
 
@@ -64,7 +65,7 @@ fn ardupilot_is_healthy_within_a_second_and_reads_the_identity() {
     let ap = &s.fc;
     // The pod reports from t = 0: healthy at the driver's second run (it reads its UART
     // every 100 ms, so the 0x40 answering its first handshake is read at the next run).
-    let (t, up) = ap.health_log[0];
+    let (t, up) = ap.health_log()[0];
     assert!(up);
     assert!(t < S, "healthy at {} ms", t / MS);
     assert_eq!(ap.model.as_deref(), Some("K40TBRIDGE"));
@@ -96,7 +97,7 @@ fn ardupilot_is_healthy_within_a_second_and_reads_the_identity() {
     }
     // It stays healthy.
     s.run_until(60 * S);
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
     assert_eq!(s.fc.short_status, 0);
 }
 
@@ -105,14 +106,14 @@ fn healthy_within_a_second_of_the_pod_reporting() {
     let mut s = scenario(ApViewproConfig::default(), PodSimConfig::default(), 20);
     s.pod.set_silent(true);
     s.run_until(4 * S);
-    assert!(s.fc.health_log.is_empty(), "no pod, no 0x40");
+    assert!(s.fc.health_log().is_empty(), "no pod, no 0x40");
     assert!(s.fc.received.iter().all(|r| r.id != 0x40));
     // The identity does not depend on the pod.
     assert!(s.fc.model.is_some() && s.fc.firmware.is_some());
     s.pod.set_silent(false);
     let on = s.now_us;
     s.run_for(2 * S);
-    let (t, up) = s.fc.health_log[0];
+    let (t, up) = s.fc.health_log()[0];
     assert!(up);
     assert!(
         t - on < S,
@@ -740,7 +741,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let cut = s.now_us;
     s.run_for(4 * S);
     let down =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > cut && !h)
             .expect("unhealthy")
@@ -752,7 +753,7 @@ fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let back = s.now_us;
     s.run_for(3 * S);
     let up =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > back && *h)
             .expect("healthy again")
@@ -916,7 +917,7 @@ fn garbage_and_bit_flips_on_both_ports() {
     let before = s.engine.counters();
     s.run_for(60 * S);
     // ArduPilot stays healthy throughout; commands still go through.
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
     let c = s.engine.counters();
     assert!(c.fc_rejected + c.fc_garbage_bytes > before.fc_rejected + before.fc_garbage_bytes);
     assert!(c.pod_rejected > before.pod_rejected, "{c:?}");
@@ -943,7 +944,7 @@ fn floods_on_both_ports() {
         s.pod_line.send(now, &noise.bytes(100));
         s.run_for(10 * MS);
     }
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
     let c = s.engine.counters();
     assert!(
         c.fc_garbage_bytes - before.fc_garbage_bytes > 50_000,

@@ -6,6 +6,7 @@
 mod task_scenarios;
 
 use bridge_engine::{Event, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_xfrobot::ApXfRobot;
 use gimbal::sim::pod::SyncOutcome;
 use task_scenarios::{Bounds, S};

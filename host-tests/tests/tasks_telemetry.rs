@@ -6,6 +6,7 @@
 
 use bridge_engine::{Config, Event, FcProtocol};
 use bridge_fw::LogKind;
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
@@ -65,7 +66,7 @@ fn syncs_and_geotag(o: &Outcome<ApSiyi, ApMavlink>) {
         o.events()
             .any(|(_, e)| matches!(e, Event::Geotag { answered: true, .. }))
     );
-    assert!(o.fc.healthy(), "{:?}", o.fc.health_log);
+    assert!(o.fc.healthy(), "{:?}", o.fc.health_log());
     assert_eq!(o.records_dropped, 0);
     // The watchdog task saw every supervised loop (the telemetry link's too) run.
     assert!(

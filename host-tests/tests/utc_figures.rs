@@ -14,11 +14,13 @@
 //! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms.
 
 use bridge_engine::Config;
+use gimbal::sim::Autopilot;
 use gimbal::sim::FcClock;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
-use gimbal::sim::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig};
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
+use gimbal::sim::board::Aircraft;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};

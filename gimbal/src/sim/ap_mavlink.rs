@@ -57,12 +57,12 @@
 //!   (boot µs / 1000, truncated) from one reading of the FC clock at composition.
 //! - **Telemetry port** ([`ApMavlink::telemetry`]): an ArduPilot port without a MAVLink
 //!   mount or camera that shares the FC clock and the aircraft of another simulated
-//!   driver on the same board (e.g. [`super::ap_siyi::ApSiyi::clock`]).
+//!   driver on the same board (e.g. [`Autopilot::clock`] of [`super::ap_siyi::ApSiyi`]).
 //! - **Routing.** A ground station ([`Qgc`]) can be attached: the device's messages
 //!   without a target, with target 0 or the ground station's system reach it; its
 //!   messages for the device (or broadcast) go onto the port as they came.
-//! - **Reboot** ([`ApMavlink::reboot`]): silent for the off time, then a new boot clock,
-//!   streams back to the defaults, the drivers searching again.
+//! - **Reboot** ([`Autopilot::reboot`], on the [`Board`]): silent for the off time, then
+//!   a new boot clock, streams back to the defaults, the drivers searching again.
 
 use std::collections::BTreeMap;
 
@@ -76,11 +76,12 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::ap_siyi::Aircraft;
+use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::describe::MavlinkFrames;
 use super::mav::{self, AUTOPILOT, CAMERA, Endpoint, GIMBAL, Rx, TimesyncAnswer};
+use super::pilot::Pilot;
 use super::qgc::Qgc;
-use super::scenario::FcSim;
-use super::{FcBoot, FcClock, FcReboot, XorShift};
+use super::{FcClock, XorShift};
 
 /// The vehicle type: its default stream rates and loop rate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -243,23 +244,9 @@ pub struct ApMavlink {
     pub aircraft: Aircraft,
     /// A ground station attached to the FC's routing.
     pub gcs: Option<Qgc>,
-    rng: XorShift,
-    now_us: u64,
-    clock: FcClock,
-    power_on_at: Option<u64>,
-    /// Bytes lost while the FC was off.
-    pub lost_while_off: u64,
-    /// True time of loop 0 of this boot.
-    loop_epoch_us: u64,
-    /// Index of the next loop in this boot.
-    loop_index: u64,
-    /// True time of the next loop (lateness included).
-    next_loop_at_us: u64,
+    board: Board,
     /// Chunks the UART delivered since the last loop: (true time, bytes).
     uart: Vec<(u64, Vec<u8>)>,
-    out: Vec<(u64, Vec<u8>)>,
-    /// The `now_us` at which the last burst of `out` was opened.
-    burst_opened_at: Option<u64>,
     me: Endpoint,
     rx: Rx,
     /// Stream intervals of the device's port, µs.
@@ -315,9 +302,6 @@ pub struct ApMavlink {
     pub received: Vec<(u64, Header, u32)>,
     /// Every frame sent: (true time it was written, message id, the message).
     pub sent: Vec<(u64, MavMessage)>,
-    /// True times at which `healthy()` changed, with the new value.
-    pub health_log: Vec<(u64, bool)>,
-    healthy: bool,
 }
 
 impl ApMavlink {
@@ -336,9 +320,9 @@ impl ApMavlink {
     /// The MAVLink telemetry port (`SERIALn_PROTOCOL` 2, no MAVLink mount or camera:
     /// `MNT1_TYPE` and `CAM1_TYPE` are another driver's) of the autopilot that also runs
     /// another simulated driver, e.g. [`super::ap_siyi::ApSiyi`]: pass that driver's
-    /// [`super::ap_siyi::ApSiyi::clock`] and aircraft, so that both ports agree on time
+    /// [`Autopilot::clock`] and aircraft, so that both ports agree on time
     /// and position. The clock is a copy: when the other driver reboots, reboot this
-    /// one too at the same instant with the same [`FcReboot`] (the clocks then stay
+    /// one too at the same instant with the same [`super::FcReboot`] (the clocks then stay
     /// equal, [`FcClock::reboot`] being deterministic). Other settings are the
     /// defaults of [`ApMavlinkConfig`] (Copter).
     #[must_use]
@@ -362,21 +346,12 @@ impl ApMavlink {
     /// loop starts at the clock's latest power-on.
     #[must_use]
     pub fn with_clock(config: ApMavlinkConfig, clock: FcClock, aircraft: Aircraft) -> Self {
-        let epoch = clock.current().at_us;
+        let main_loop = MainLoop::imu(loop_rate_hz(&config), config.imu_ppm, config.loop_jitter_us);
         let mut ap = ApMavlink {
-            rng: XorShift::new(config.seed),
             aircraft,
             gcs: None,
-            now_us: 0,
-            power_on_at: (epoch > 0).then_some(epoch),
-            clock,
-            lost_while_off: 0,
-            loop_epoch_us: epoch,
-            loop_index: 0,
-            next_loop_at_us: epoch,
+            board: Board::new(clock, XorShift::new(config.seed), main_loop),
             uart: Vec::new(),
-            out: Vec::new(),
-            burst_opened_at: None,
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
             intervals: BTreeMap::new(),
@@ -408,56 +383,22 @@ impl ApMavlink {
             capture_statuses: Vec::new(),
             received: Vec::new(),
             sent: Vec::new(),
-            health_log: Vec::new(),
-            healthy: false,
             config,
         };
         ap.default_streams();
-        ap.schedule_loop();
         ap
-    }
-
-    /// The FC's clock (boot clock, crystal, UTC, reboots).
-    #[must_use]
-    pub fn clock(&self) -> &FcClock {
-        &self.clock
-    }
-
-    /// The loop period in true µs of a perfect oscillator.
-    fn loop_period_us(&self) -> f64 {
-        1e6 / f64::from(self.loop_rate_hz().max(1))
-    }
-
-    /// Sets the instant of loop `loop_index`: its IMU-paced nominal instant plus a
-    /// lateness.
-    fn schedule_loop(&mut self) {
-        let k = self.loop_index as f64;
-        let nominal = self.loop_epoch_us
-            + (k * self.loop_period_us() / (1.0 + self.config.imu_ppm * 1e-6)).round() as u64;
-        let at = nominal + self.rng.uniform(self.config.loop_jitter_us);
-        // Never before the previous loop.
-        self.next_loop_at_us = if self.loop_index == 0 {
-            at
-        } else {
-            at.max(self.next_loop_at_us + 1)
-        };
     }
 
     /// True time of the next loop.
     #[must_use]
     pub fn next_loop_at_us(&self) -> u64 {
-        self.next_loop_at_us
+        self.board.next_run_us()
     }
 
     /// The loop rate, Hz.
     #[must_use]
     pub fn loop_rate_hz(&self) -> u32 {
-        self.config
-            .loop_rate_hz
-            .unwrap_or(match self.config.vehicle {
-                ApVehicle::Copter => 400,
-                ApVehicle::Plane => 50,
-            })
+        loop_rate_hz(&self.config)
     }
 
     fn default_streams(&mut self) {
@@ -475,80 +416,26 @@ impl ApMavlink {
         }
     }
 
-    /// The FC's uptime clock (µs) at true time `t_us`.
-    #[must_use]
-    pub fn fc_us(&self, t_us: u64) -> u64 {
-        self.clock.clock_us(t_us)
-    }
-
-    /// The FC's UTC (µs) at true time `t_us`.
-    #[must_use]
-    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.clock.utc_us(t_us)
-    }
-
-    /// Every boot of the FC.
-    #[must_use]
-    pub fn boots(&self) -> &[FcBoot] {
-        self.clock.boots()
-    }
-
-    /// True time of the first SYSTEM_TIME with a set clock.
-    #[must_use]
-    pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent.iter().find_map(|(t, m)| match m {
-            MavMessage::SYSTEM_TIME(s) if s.time_unix_usec != 0 => Some(*t),
-            _ => None,
-        })
-    }
-
-    /// The mount driver calls the gimbal healthy.
-    #[must_use]
-    pub fn healthy(&self) -> bool {
-        self.healthy
-    }
-
-    /// Frames dropped by the FC's parser.
-    #[must_use]
-    pub fn parse_errors(&self) -> u32 {
-        self.rx.errors()
-    }
-
-    fn fc_ms(&self) -> u64 {
-        self.fc_us(self.now_us) / 1000
-    }
-
     /// Messages of type `M` sent to the device, with their true time.
     pub fn sent_of(&self, id: u32) -> impl Iterator<Item = &(u64, MavMessage)> {
         self.sent.iter().filter(move |(_, m)| mav::id_of(m) == id)
     }
 
     fn send(&mut self, msg: &MavMessage) {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return;
         }
         let frame = self.me.frame(msg);
-        self.sent.push((self.now_us, msg.clone()));
-        self.push_bytes(frame);
-    }
-
-    /// Bytes into the burst of this instant (one loop's writes leave together).
-    fn push_bytes(&mut self, frame: Vec<u8>) {
-        match self.out.last_mut() {
-            Some((_, bytes)) if self.burst_opened_at == Some(self.now_us) => {
-                bytes.extend_from_slice(&frame);
-            }
-            _ => {
-                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
-                self.out.push((at, frame));
-                self.burst_opened_at = Some(self.now_us);
-            }
-        }
+        self.sent.push((self.board.now_us(), msg.clone()));
+        self.board.write_loop(frame, self.config.jitter_us);
     }
 
     fn in_search_window(&self) -> bool {
-        let uptime_ms = self.fc_ms();
-        let armed = self.config.armed_at_us.is_some_and(|a| self.now_us >= a);
+        let uptime_ms = self.board.fc_ms();
+        let armed = self
+            .config
+            .armed_at_us
+            .is_some_and(|a| self.board.now_us() >= a);
         uptime_ms >= 10_000 && !(uptime_ms > 60_000 && armed)
     }
 
@@ -622,31 +509,6 @@ impl ApMavlink {
 
     // The loop.
 
-    /// One main loop at its instant: GCS receive, mount and camera (50 Hz), GCS send.
-    fn run_loop(&mut self) {
-        self.now_us = self.next_loop_at_us;
-        self.gcs_receive();
-        if let Some(mut gcs) = self.gcs.take() {
-            gcs.poll(self.now_us);
-            for frame in gcs.transmit() {
-                self.route_from_gcs(frame);
-            }
-            self.gcs = Some(gcs);
-        }
-        let every = u64::from((self.loop_rate_hz() / 50).max(1));
-        if self.loop_index.is_multiple_of(every) {
-            if self.config.mount {
-                self.mount_update();
-            }
-            if self.config.camera {
-                self.camera_update();
-            }
-        }
-        self.update_send();
-        self.loop_index += 1;
-        self.schedule_loop();
-    }
-
     /// The GCS receive processing: every byte the UART delivered so far.
     fn gcs_receive(&mut self) {
         let chunks = std::mem::take(&mut self.uart);
@@ -654,7 +516,7 @@ impl ApMavlink {
             return;
         };
         // The UART's timestamp of the last chunk it delivered, on the FC clock.
-        let stamp_us = self.fc_us(last_at);
+        let stamp_us = self.board.fc_us(last_at);
         let bytes: Vec<u8> = chunks.into_iter().flat_map(|(_, b)| b).collect();
         for (r, after) in self.rx.push_counting(&bytes) {
             self.process(r, stamp_us, after);
@@ -671,7 +533,7 @@ impl ApMavlink {
 
     /// The GCS send processing: heartbeat, own TIMESYNC request, due streams.
     fn update_send(&mut self) {
-        let ms = self.fc_ms();
+        let ms = self.board.fc_ms();
         if self.last_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
             self.last_heartbeat_ms = Some(ms);
             let mavtype = match self.config.vehicle {
@@ -689,7 +551,8 @@ impl ApMavlink {
         }
         if self.last_timesync_ms.is_none_or(|l| ms - l >= 10_000) {
             self.last_timesync_ms = Some(ms);
-            let ts1 = (self.fc_us(self.now_us) * 1000 + u64::from(self.config.sysid)) as i64;
+            let ts1 = (self.board.fc_us(self.board.now_us()) * 1000 + u64::from(self.config.sysid))
+                as i64;
             self.send(&MavMessage::TIMESYNC(TIMESYNC_DATA {
                 tc1: 0,
                 ts1,
@@ -701,7 +564,7 @@ impl ApMavlink {
     }
 
     fn streams(&mut self) {
-        let fc_us = self.fc_us(self.now_us);
+        let fc_us = self.board.fc_us(self.board.now_us());
         let due: Vec<u32> = self
             .intervals
             .iter()
@@ -727,17 +590,17 @@ impl ApMavlink {
 
     /// The stream message `id` now.
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
-        let t = self.now_us;
-        let fc_us = self.fc_us(t);
+        let t = self.board.now_us();
+        let fc_us = self.board.fc_us(t);
         let boot_ms = (fc_us / 1000) as u32;
         let (lat, lon) = self.aircraft.position_e7(t);
         let alt_mm = (self.aircraft.alt_msl_m * 1000.0) as i32;
         let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
-        let (vn, ve) = self.velocity_m_s();
+        let (vn, ve) = self.aircraft.velocity_m_s();
         Some(match id {
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
-                time_unix_usec: if self.clock.utc_valid(t) {
-                    self.fc_utc_us(t)
+                time_unix_usec: if self.board.utc_valid() {
+                    self.board.clock().utc_us(t)
                 } else {
                     0
                 },
@@ -813,15 +676,6 @@ impl ApMavlink {
         })
     }
 
-    /// North and east velocity, m/s.
-    fn velocity_m_s(&self) -> (f64, f64) {
-        let h = self.aircraft.heading_deg.to_radians();
-        (
-            self.aircraft.speed_m_s * h.cos(),
-            self.aircraft.speed_m_s * h.sin(),
-        )
-    }
-
     /// `set_message_interval` on this port: the result.
     fn set_interval(&mut self, id: u32, interval_us: f32) -> MavResult {
         let known = [
@@ -856,7 +710,7 @@ impl ApMavlink {
     }
 
     fn mount_update(&mut self) {
-        let ms = self.fc_ms();
+        let ms = self.board.fc_ms();
         let Some(sysid) = self.mount_found else {
             return;
         };
@@ -937,7 +791,7 @@ impl ApMavlink {
             target_system: sysid,
             target_component: GIMBAL,
         };
-        self.set_attitudes.push((self.now_us, set.clone()));
+        self.set_attitudes.push((self.board.now_us(), set.clone()));
         self.send(&MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(set));
     }
 
@@ -950,13 +804,13 @@ impl ApMavlink {
                 ..
             }
         ) {
-            self.rate_set_ms = self.fc_ms();
+            self.rate_set_ms = self.board.fc_ms();
         }
         self.target = Some(target);
     }
 
     fn camera_update(&mut self) {
-        let ms = self.fc_ms();
+        let ms = self.board.fc_ms();
         let Some(sysid) = self.camera_found else {
             return;
         };
@@ -1003,10 +857,10 @@ impl ApMavlink {
         }
     }
 
-    /// A frame from the device, read in the loop at `self.now_us`; `stamp_us` is the
+    /// A frame from the device, read in the loop at the board's time; `stamp_us` is the
     /// UART's timestamp of the last chunk, `after` the bytes unread behind the frame.
     fn process(&mut self, r: mav::Received, stamp_us: u64, after: usize) {
-        let now_us = self.now_us;
+        let now_us = self.board.now_us();
         let h = r.header;
         let id = mav::id_of(&r.message);
         self.received.push((now_us, h, id));
@@ -1130,7 +984,7 @@ impl ApMavlink {
                     target_system: 0,
                     target_component: 0,
                 }));
-                if let Some(&(sent_at_us, _)) = self.out.last() {
+                if let Some(sent_at_us) = self.board.last_burst_at() {
                     self.timesync_answers.push(TimesyncAnswer {
                         from: h,
                         handled_at_us: now_us,
@@ -1180,49 +1034,69 @@ impl ApMavlink {
             None => true,
             Some((sys, comp)) => sys == 0 || (sys == self.config.sysid && comp != AUTOPILOT),
         };
-        if for_device && self.power_on_at.is_none() {
-            self.push_bytes(frame);
+        if for_device && !self.board.is_off() {
+            self.board.write_loop(frame, self.config.jitter_us);
         }
+    }
+}
+
+/// `SCHED_LOOP_RATE`: the setting, else the vehicle's default.
+fn loop_rate_hz(config: &ApMavlinkConfig) -> u32 {
+    config.loop_rate_hz.unwrap_or(match config.vehicle {
+        ApVehicle::Copter => 400,
+        ApVehicle::Plane => 50,
+    })
+}
+
+impl Autopilot for ApMavlink {
+    board_field!();
+
+    /// The UART delivers `bytes` (a chunk) at `now_us`; the next loop reads them.
+    fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
+        // Loops due before this chunk came read what was there then.
+        self.run_loop_until(now_us, false);
+        self.board.set_now(now_us);
+        self.uart.push((now_us, bytes.to_vec()));
+        self.update_health();
+    }
+
+    /// One main loop at its instant: GCS receive, mount and camera (50 Hz), GCS send.
+    fn run(&mut self) {
+        self.gcs_receive();
+        if let Some(mut gcs) = self.gcs.take() {
+            gcs.poll(self.board.now_us());
+            for frame in gcs.transmit() {
+                self.route_from_gcs(frame);
+            }
+            self.gcs = Some(gcs);
+        }
+        let every = u64::from((self.loop_rate_hz() / 50).max(1));
+        if self.board.run_index().is_multiple_of(every) {
+            if self.config.mount {
+                self.mount_update();
+            }
+            if self.config.camera {
+                self.camera_update();
+            }
+        }
+        self.update_send();
     }
 
     fn update_health(&mut self) {
+        let now = self.board.now_us();
         let fresh = self
             .status
             .as_ref()
-            .is_some_and(|s| self.now_us.saturating_sub(s.at_us) < 1_000_000);
+            .is_some_and(|s| now.saturating_sub(s.at_us) < 1_000_000);
         let critical = self
             .status
             .as_ref()
             .is_some_and(|s| s.data.failure_flags.bits() & (8 | 16 | 32 | 64 | 128) != 0);
-        let healthy = self.mount_info.is_some() && fresh && !critical && !self.is_off();
-        if healthy != self.healthy {
-            self.healthy = healthy;
-            self.health_log.push((self.now_us, healthy));
-        }
-    }
-
-    /// The FC is without power.
-    #[must_use]
-    pub fn is_off(&self) -> bool {
-        self.power_on_at.is_some()
-    }
-
-    /// The FC loses power at `now_us` and boots as `reboot` says.
-    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        self.poll(now_us);
-        let on = self.clock.reboot(self.now_us, reboot);
-        self.power_on_at = Some(on);
-        let now = self.now_us;
-        self.out.retain(|(at, _)| *at <= now);
-        self.uart.clear();
-        self.update_health();
+        let healthy = self.mount_info.is_some() && fresh && !critical && !self.board.is_off();
+        self.board.set_healthy(healthy);
     }
 
     fn power_on(&mut self) {
-        self.power_on_at = None;
-        self.loop_epoch_us = self.clock.current().at_us;
-        self.loop_index = 0;
-        self.schedule_loop();
         self.uart.clear();
         self.me = Endpoint::new(self.config.sysid, AUTOPILOT);
         self.rx = Rx::default();
@@ -1244,91 +1118,14 @@ impl ApMavlink {
         self.capture_req = (None, 0);
     }
 
-    /// Runs the loops due before `now_us` (`inclusive`: at it too).
-    fn run_loops(&mut self, now_us: u64, inclusive: bool) {
-        while self.next_loop_at_us < now_us || (inclusive && self.next_loop_at_us == now_us) {
-            self.run_loop();
-        }
+    fn power_off(&mut self) {
+        self.uart.clear();
     }
 }
 
-impl FcSim for ApMavlink {
-    /// The UART delivers `bytes` (a chunk) at `now_us`; the next loop reads them.
-    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        match self.power_on_at {
-            Some(on) if now_us < on => {
-                self.now_us = self.now_us.max(now_us);
-                self.lost_while_off += bytes.len() as u64;
-                return;
-            }
-            Some(_) => self.power_on(),
-            None => {}
-        }
-        // Loops due before this chunk came read what was there then.
-        self.run_loops(now_us, false);
-        self.now_us = self.now_us.max(now_us);
-        self.uart.push((now_us, bytes.to_vec()));
-        self.update_health();
-    }
-
-    fn poll(&mut self, now_us: u64) {
-        match self.power_on_at {
-            Some(on) if now_us < on => {
-                self.now_us = self.now_us.max(now_us);
-                self.update_health();
-                return;
-            }
-            Some(_) => self.power_on(),
-            None => {}
-        }
-        self.run_loops(now_us, true);
-        self.now_us = self.now_us.max(now_us);
-        self.update_health();
-    }
-
-    fn next_wakeup(&self) -> u64 {
-        // An attached ground station is polled in the loops.
-        self.power_on_at.unwrap_or(self.next_loop_at_us)
-    }
-
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        std::mem::take(&mut self.out)
-    }
-}
-
-/// MAVLink periodic traffic: heartbeats, streams, time and state from the FC; from the
-/// device everything but its ACKs and captured images.
-#[must_use]
-pub fn mavlink_routine(id: u32, from_fc: bool) -> bool {
-    if from_fc {
-        matches!(id, 0 | 2 | 24 | 30 | 33 | 111 | 286)
-    } else {
-        !matches!(id, 77 | 263)
-    }
-}
-
-/// The name of the FC id of the engine's `Translated` event on the MAVLink side: a
-/// MAV_CMD number, or 284 for GIMBAL_DEVICE_SET_ATTITUDE.
-#[must_use]
-pub fn mavlink_command_name(fc_id: u16) -> String {
-    let name = match fc_id {
-        284 => "GIMBAL_DEVICE_SET_ATTITUDE",
-        530 => "MAV_CMD_SET_CAMERA_MODE",
-        531 => "MAV_CMD_SET_CAMERA_ZOOM",
-        532 => "MAV_CMD_SET_CAMERA_FOCUS",
-        2000 => "MAV_CMD_IMAGE_START_CAPTURE",
-        2001 => "MAV_CMD_IMAGE_STOP_CAPTURE",
-        2500 => "MAV_CMD_VIDEO_START_CAPTURE",
-        2501 => "MAV_CMD_VIDEO_STOP_CAPTURE",
-        _ => "?",
-    };
-    format!("MAVLink {fc_id} {name}")
-}
-
-impl super::pilot::Pilot for ApMavlink {
-    const PROTOCOL: bridge_engine::FcProtocol = bridge_engine::FcProtocol::Mavlink;
+impl Pilot for ApMavlink {
     const DRIVER: &'static str = "ArduPilot AP_Mount_MAVLink + AP_Camera_MAVLinkCamV2 (simulated)";
-    type Framing = protocol_core::mavlink::MavlinkFraming;
+    type Frames = MavlinkFrames;
 
     fn with_seed(seed: u64) -> Self {
         ApMavlink::new(ApMavlinkConfig {
@@ -1337,39 +1134,17 @@ impl super::pilot::Pilot for ApMavlink {
         })
     }
 
-    fn framing(_from_fc: bool) -> Self::Framing {
-        protocol_core::mavlink::MavlinkFraming::new()
-    }
-
-    fn describe(frame: &[u8], _from_fc: bool) -> Option<super::pilot::Described> {
-        mav::describe(frame)
-    }
-
-    fn routine(id: u32, from_fc: bool) -> bool {
-        mavlink_routine(id, from_fc)
-    }
-
-    fn command_name(fc_id: u16) -> String {
-        mavlink_command_name(fc_id)
-    }
-
-    fn healthy(&self) -> bool {
-        ApMavlink::healthy(self)
-    }
-    fn health_log(&self) -> &[(u64, bool)] {
-        &self.health_log
-    }
-    fn true_utc_us(&self, t_us: u64) -> u64 {
-        self.fc_utc_us(t_us)
-    }
     fn first_utc_sent_us(&self) -> Option<u64> {
-        ApMavlink::first_utc_sent_us(self)
+        self.sent.iter().find_map(|(t, m)| match m {
+            MavMessage::SYSTEM_TIME(s) if s.time_unix_usec != 0 => Some(*t),
+            _ => None,
+        })
     }
     fn aircraft(&self) -> &Aircraft {
         &self.aircraft
     }
     fn parse_errors(&self) -> u32 {
-        ApMavlink::parse_errors(self)
+        self.rx.errors()
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|(_, _, pitch, yaw, _)| (yaw, pitch))
@@ -1400,14 +1175,12 @@ impl super::pilot::Pilot for ApMavlink {
     fn record(&mut self, on: bool) {
         self.record_video(on);
     }
-    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        ApMavlink::reboot(self, now_us, reboot);
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::FcReboot;
     use crate::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
     use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
     use protocol_core::mavlink::dialect::GIMBAL_DEVICE_INFORMATION_DATA;

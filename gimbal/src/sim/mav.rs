@@ -235,28 +235,6 @@ pub fn euler_deg(q: [f32; 4]) -> Option<(f64, f64, f64)> {
     Some((roll.to_degrees(), pitch.to_degrees(), yaw.to_degrees()))
 }
 
-/// A MAVLink frame decoded for display (the demo and traces).
-#[must_use]
-pub fn describe(frame: &[u8]) -> Option<super::pilot::Described> {
-    let p = Packet::decode(frame).ok()?;
-    let Message::Known(m) = &p.message else {
-        return None;
-    };
-    let id = m.message_id();
-    Some(super::pilot::Described {
-        protocol: "MAVLink",
-        id,
-        digits: 0,
-        name: m.message_name().to_string(),
-        fields: format!(
-            "from {}/{} {}",
-            p.header.system_id,
-            p.header.component_id,
-            super::pilot::fields_text(m)
-        ),
-    })
-}
-
 /// A message-id check for tests: `M::ID == id`.
 #[must_use]
 pub fn is<M: protocol_core::mavlink::MessageData>(id: u32) -> bool {
@@ -269,7 +247,7 @@ pub const COMMAND_LONG_ID: u32 = COMMAND_LONG_DATA::ID;
 /// Test helpers: bytes as a UART hands them over, a driver that records every loop.
 #[cfg(test)]
 pub(crate) mod testing {
-    use super::super::scenario::FcSim;
+    use super::super::peer::Peer;
 
     /// µs of one byte (10 bits) at `baud`.
     pub(crate) fn byte_us(baud: u32) -> f64 {
@@ -307,21 +285,21 @@ pub(crate) mod testing {
         }
 
         /// Polls every wakeup up to `t_us` included.
-        pub(crate) fn run_until(&mut self, fc: &mut impl FcSim, t_us: u64) {
+        pub(crate) fn run_until(&mut self, fc: &mut impl Peer, t_us: u64) {
             while fc.next_wakeup() <= t_us {
                 let w = fc.next_wakeup();
                 self.wakeups.push(w);
                 fc.poll(w);
-                self.bursts.extend(fc.transmit());
+                self.bursts.extend(fc.transmit(w));
             }
         }
 
         /// Hands `chunks` over, each at its instant.
-        pub(crate) fn deliver(&mut self, fc: &mut impl FcSim, chunks: &[(u64, Vec<u8>)]) {
+        pub(crate) fn deliver(&mut self, fc: &mut impl Peer, chunks: &[(u64, Vec<u8>)]) {
             for (at, c) in chunks {
                 self.run_until(fc, at - 1);
                 fc.receive(*at, c);
-                self.bursts.extend(fc.transmit());
+                self.bursts.extend(fc.transmit(*at));
             }
         }
 

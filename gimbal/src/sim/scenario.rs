@@ -17,20 +17,8 @@ use bridge_engine::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
 use super::line::Line;
+use super::peer::Peer;
 use super::pod::SimPod;
-
-/// A simulated flight controller: sans-IO, true time in microseconds.
-pub trait FcSim {
-    /// Bytes from the bridge, the last of them arriving at `now_us`.
-    fn receive(&mut self, now_us: u64, bytes: &[u8]);
-    /// Periodic work due at `now_us`.
-    fn poll(&mut self, now_us: u64);
-    /// When [`FcSim::poll`] is next due (`u64::MAX`: never).
-    fn next_wakeup(&self) -> u64;
-    /// Bytes to send, each batch with the instant it starts on the wire (not before
-    /// the poll that produced it).
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)>;
-}
 
 /// A flight controller that says nothing.
 #[derive(Debug, Default)]
@@ -39,7 +27,7 @@ pub struct SilentFc {
     pub received: Vec<u8>,
 }
 
-impl FcSim for SilentFc {
+impl Peer for SilentFc {
     fn receive(&mut self, _now_us: u64, bytes: &[u8]) {
         self.received.extend_from_slice(bytes);
     }
@@ -47,7 +35,7 @@ impl FcSim for SilentFc {
     fn next_wakeup(&self) -> u64 {
         u64::MAX
     }
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+    fn transmit(&mut self, _now_us: u64) -> Vec<(u64, Vec<u8>)> {
         Vec::new()
     }
 }
@@ -62,7 +50,7 @@ pub struct PinEdge {
 }
 
 /// The engine, its peers and the four lines.
-pub struct Scenario<F: FcSim> {
+pub struct Scenario<F: Peer> {
     /// True time now.
     pub now_us: u64,
     /// The bridge's clock error against true time, parts per million.
@@ -96,7 +84,7 @@ pub struct Scenario<F: FcSim> {
     pub fc_idle_off: bool,
 }
 
-impl<F: FcSim> Scenario<F> {
+impl<F: Peer> Scenario<F> {
     /// A scenario at true time 0 with a bridge clock `bridge_ppm` off.
     pub fn new(config: Config, fc: F, pod: SimPod, bridge_ppm: i64) -> Self {
         Scenario {
@@ -266,7 +254,7 @@ impl<F: FcSim> Scenario<F> {
             self.pod.poll(now);
         }
         self.drain_engine();
-        for (at, bytes) in self.fc.transmit() {
+        for (at, bytes) in self.fc.transmit(now) {
             if !self.fc_is_cut() {
                 self.fc_line.send(at.max(now), &bytes);
             }

@@ -7,7 +7,7 @@
 //!        ◀─(fc_out)── task    ─┴─ engine task, RTC_IO ┴─ task    ◀──(pod_in)───
 //! ```
 //!
-//! With [`Bench::with_telemetry`], a third peer (any [`FcSim`]: an autopilot's MAVLink 2
+//! With [`Bench::with_telemetry`], a third peer (any [`Peer`]: an autopilot's MAVLink 2
 //! port, `ap_mavlink::ApMavlink`) is on the bridge's telemetry link
 //! ([`Port::Telemetry`](bridge_engine::Port::Telemetry)), through the same kind of
 //! wire at `telemetry_baud` ([`Wires::tel_in`], [`Wires::tel_out`]).
@@ -36,10 +36,10 @@ use embedded_io_async::{ErrorType, Read, Write};
 
 use super::faults::{FaultStage, FaultStats, Faults};
 use super::line::Corrupter;
-use super::peer::{PodPin, now_us, run_peer};
+use super::peer::{Peer, PodPin, now_us, run_peer};
 use super::pilot::Pilot;
 use super::pod::{PodSimConfig, SimPod};
-use super::scenario::{FcSim, SilentFc};
+use super::scenario::SilentFc;
 
 /// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
 #[derive(Default)]
@@ -350,7 +350,7 @@ impl Wires {
 
 /// The bridge's tasks, a simulated FC and the simulated pod (and optionally a telemetry
 /// peer `T`), ready to run.
-pub struct Bench<P: Pilot, T: FcSim = SilentFc> {
+pub struct Bench<P: Pilot, T: Peer = SilentFc> {
     /// The bridge's configuration.
     pub config: Config,
     /// The flight controller.
@@ -403,7 +403,7 @@ impl<P: Pilot> Bench<P> {
     }
 }
 
-impl<P: Pilot, T: FcSim> Bench<P, T> {
+impl<P: Pilot, T: Peer> Bench<P, T> {
     /// A bench of these parts with `telemetry` on the bridge's telemetry link (at
     /// `config.telemetry_baud`): an autopilot's MAVLink 2 port beside its FC port.
     pub fn with_telemetry(config: Config, fc: P, pod: SimPod, telemetry: T) -> Self {

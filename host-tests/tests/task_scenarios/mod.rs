@@ -10,7 +10,8 @@ pub mod faults;
 
 use bridge_engine::{Event, Level};
 use bridge_fw::LogKind;
-use gimbal::sim::pilot::{Pilot, describe_k40t};
+use gimbal::sim::describe::describe_k40t;
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::SyncOutcome;
 use gimbal::sim::tasks::{Bench, Outcome};
 use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData};
