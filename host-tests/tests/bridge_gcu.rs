@@ -1002,7 +1002,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
     let intact = Arc::new(Mutex::new(Vec::<bool>::new()));
     let log = intact.clone();
     let mut rng = Rng(7);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes| {
+    s.fc_line.damage.set_corrupter(Box::new(move |_, bytes| {
         let mut out = Vec::new();
         // Garbage before the package, now and then (with false sync bytes).
         if rng.below(3) == 0 {
@@ -1031,7 +1031,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
         out
     }));
     s.run_for(20 * S);
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     s.run_for(S);
     let intact = intact.lock().unwrap().clone();
     let corrupted = intact.iter().filter(|ok| !**ok).count();
@@ -1102,7 +1102,7 @@ fn floods_on_both_ports_lose_no_valid_package() {
     let mut s = healthy_scenario();
     // The FC port at full baud rate for 3 s: random bytes around every package.
     let mut rng = Rng(11);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes| {
+    s.fc_line.damage.set_corrupter(Box::new(move |_, bytes| {
         let mut out: Vec<u8> = (0..180).map(|_| rng.next() as u8).collect();
         out.extend_from_slice(bytes);
         out
@@ -1116,7 +1116,7 @@ fn floods_on_both_ports_lose_no_valid_package() {
     });
     let (sent0, replies0) = (s.fc.sent.len(), s.fc.replies.len());
     s.run_for(3 * S);
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     // Valid packages flood in back to back (a host writing null orders as fast as the
     // line allows): every one answered.
     for _ in 0..300 {

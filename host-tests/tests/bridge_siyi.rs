@@ -459,22 +459,24 @@ impl Noise {
 fn damaged_lines_cost_frames_not_health_or_control() {
     let mut s = healthy_scenario();
     let mut noise = Noise(0x5eed_1234_abcd_0001);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes: &[u8]| {
-        let mut out = Vec::with_capacity(bytes.len() + 8);
-        if noise.chance(10_000) {
-            let n = 1 + noise.next() % 12;
-            out.extend((0..n).map(|_| noise.next() as u8));
-        }
-        for &b in bytes {
-            let flip = if noise.chance(1_000) {
-                1 << (noise.next() % 8)
-            } else {
-                0
-            };
-            out.push(b ^ flip);
-        }
-        out
-    }));
+    s.fc_line
+        .damage
+        .set_corrupter(Box::new(move |_, bytes: &[u8]| {
+            let mut out = Vec::with_capacity(bytes.len() + 8);
+            if noise.chance(10_000) {
+                let n = 1 + noise.next() % 12;
+                out.extend((0..n).map(|_| noise.next() as u8));
+            }
+            for &b in bytes {
+                let flip = if noise.chance(1_000) {
+                    1 << (noise.next() % 8)
+                } else {
+                    0
+                };
+                out.push(b ^ flip);
+            }
+            out
+        }));
     s.pod.set_output_faults(gimbal::sim::pod::OutputFaults {
         seed: 77,
         garbage_probability: 0.05,
@@ -537,14 +539,16 @@ fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
     let start = s.now_us;
     let end = start + 5 * S;
     let mut noise = Noise(0x0bad_cafe_0000_0001);
-    s.fc_line.set_corrupter(Box::new(move |at, bytes: &[u8]| {
-        if at < end {
-            // Every write replaced by twice as many random bytes: the line stays full.
-            (0..bytes.len() * 2).map(|_| noise.next() as u8).collect()
-        } else {
-            bytes.to_vec()
-        }
-    }));
+    s.fc_line
+        .damage
+        .set_corrupter(Box::new(move |at, bytes: &[u8]| {
+            if at < end {
+                // Every write replaced by twice as many random bytes: the line stays full.
+                (0..bytes.len() * 2).map(|_| noise.next() as u8).collect()
+            } else {
+                bytes.to_vec()
+            }
+        }));
     let garbage_before = s.engine.counters().fc_garbage_bytes;
     s.run_for(5 * S);
     assert!(s.engine.counters().fc_garbage_bytes - garbage_before > 5_000);
@@ -561,7 +565,7 @@ fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
             .all(|m| !matches!(m.command, MotionCommand::Control(c)
                 if c.yaw != YawMotion::Stop))
     );
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     s.run_for(3 * S);
     assert!(s.fc.healthy());
     assert!(s.pod.gimbal().yaw_rate_dps > 0.0, "moving again");

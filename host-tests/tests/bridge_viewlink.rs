@@ -893,20 +893,22 @@ fn garbage_and_bit_flips_on_both_ports() {
     let mut s = healthy_scenario();
     let mut noise = Noise(0x9E37_79B9_7F4A_7C15);
     // FC to bridge: garbage before 30 % of the bursts, a bit flipped in 20 %.
-    s.fc_line.set_corrupter(Box::new(move |_, bytes: &[u8]| {
-        let mut out = Vec::new();
-        if noise.next() % 10 < 3 {
-            let n = (noise.next() % 24) as usize + 1;
-            out.extend(noise.bytes(n));
-        }
-        let mut b = bytes.to_vec();
-        if noise.next() % 10 < 2 && !b.is_empty() {
-            let i = (noise.next() % b.len() as u64) as usize;
-            b[i] ^= 1 << (noise.next() % 8);
-        }
-        out.extend(b);
-        out
-    }));
+    s.fc_line
+        .damage
+        .set_corrupter(Box::new(move |_, bytes: &[u8]| {
+            let mut out = Vec::new();
+            if noise.next() % 10 < 3 {
+                let n = (noise.next() % 24) as usize + 1;
+                out.extend(noise.bytes(n));
+            }
+            let mut b = bytes.to_vec();
+            if noise.next() % 10 < 2 && !b.is_empty() {
+                let i = (noise.next() % b.len() as u64) as usize;
+                b[i] ^= 1 << (noise.next() % 8);
+            }
+            out.extend(b);
+            out
+        }));
     // Pod to bridge: garbage before 30 % of the frames, a bit flipped in 10 %.
     s.pod.set_output_faults(OutputFaults {
         seed: 7,
@@ -925,7 +927,7 @@ fn garbage_and_bit_flips_on_both_ports() {
     assert_eq!(c.dropped, 0, "no output dropped");
     let (garbage, flips) = s.pod.faults_injected();
     assert!(garbage > 100 && flips > 50, "{garbage} {flips}");
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     s.fc.take_picture();
     s.run_for(S);
     assert!(!s.pod.received_of::<TakePhoto>().is_empty());

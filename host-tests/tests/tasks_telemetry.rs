@@ -10,7 +10,7 @@ use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
-use gimbal::sim::tasks::{Bench, Outcome};
+use gimbal::sim::tasks::{Bench, Cable, Outcome};
 use protocol_core::k40t::AckCode;
 
 const S: u64 = 1_000_000;
@@ -166,7 +166,7 @@ fn a_pulled_telemetry_cable_gives_time_back_to_the_fc_link_and_takes_it_again() 
     let bench = Bench::of(config, fc, pod, Some(peer));
     let o = bench.run(120 * S, TICK, |b, t| {
         if t == 40 * S {
-            b.wires.pull_telemetry(t, 20 * S);
+            b.wires.pull(Cable::Telemetry, t, 20 * S);
         }
     });
     let sources: Vec<(u64, Event)> = o

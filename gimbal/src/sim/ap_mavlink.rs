@@ -69,16 +69,16 @@ use std::collections::BTreeMap;
 use protocol_core::mavlink::dialect::{
     ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, CAMERA_CAPTURE_STATUS_DATA,
     CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA, COMMAND_ACK_DATA, CameraCapFlags,
-    EstimatorStatusFlags, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
+    GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
-    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
-    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    GpsFixType, MavAutopilot, MavCmd, MavLandedState, MavResult, MavType, MessageData as _,
+    SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
 use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
 use super::describe::MavlinkFrames;
-use super::mav::{self, AUTOPILOT, CAMERA, Endpoint, GIMBAL, Rx, TimesyncAnswer};
+use super::mav::{self, AUTOPILOT, AircraftState, CAMERA, Endpoint, GIMBAL, Rx, TimesyncAnswer};
 use super::pilot::Pilot;
 use super::qgc::Qgc;
 use super::{FcClock, XorShift};
@@ -456,12 +456,7 @@ impl ApMavlink {
         if !self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_CAPTURE_VIDEO) {
             return;
         }
-        let cmd = if on {
-            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
-        } else {
-            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
-        };
-        self.camera_command(cmd, [0.0; 4]);
+        self.camera_command(mav::video_capture(on), [0.0; 4]);
     }
 
     /// Continuous zoom: -1 out, 0 stop, 1 in.
@@ -503,8 +498,7 @@ impl ApMavlink {
             CameraTargets::Broadcast => (0, 0),
             CameraTargets::Addressed => (self.camera_found.unwrap_or(0), CAMERA),
         };
-        let msg = mav::command_long(cmd, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0);
-        self.send(&msg);
+        self.send(&mav::camera_command(cmd, p, target));
     }
 
     // The loop.
@@ -540,14 +534,8 @@ impl ApMavlink {
                 ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
                 ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
             };
-            self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-                custom_mode: 0,
-                mavtype,
-                autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-                base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
-                system_status: MavState::MAV_STATE_STANDBY,
-                mavlink_version: 3,
-            }));
+            let autopilot = MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
+            self.send(&mav::autopilot_heartbeat(mavtype, autopilot));
         }
         if self.last_timesync_ms.is_none_or(|l| ms - l >= 10_000) {
             self.last_timesync_ms = Some(ms);
@@ -592,11 +580,9 @@ impl ApMavlink {
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
         let t = self.board.now_us();
         let fc_us = self.board.fc_us(t);
-        let boot_ms = (fc_us / 1000) as u32;
-        let (lat, lon) = self.aircraft.position_e7(t);
-        let alt_mm = (self.aircraft.alt_msl_m * 1000.0) as i32;
-        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
-        let (vn, ve) = self.aircraft.velocity_m_s();
+        let a = AircraftState::of(&self.aircraft, t, fc_us);
+        let (lat, lon) = a.lat_lon_e7;
+        let alt_mm = a.alt_mm;
         Some(match id {
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
                 time_unix_usec: if self.board.utc_valid() {
@@ -604,7 +590,7 @@ impl ApMavlink {
                 } else {
                     0
                 },
-                time_boot_ms: boot_ms,
+                time_boot_ms: a.boot_ms,
             }),
             GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 // The last fix's time since boot (5 Hz GPS), not UTC.
@@ -629,49 +615,17 @@ impl ApMavlink {
                 hdg_acc: 0,
                 yaw: 0,
             }),
-            GLOBAL_POSITION_INT_DATA::ID => {
-                MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
-                    time_boot_ms: boot_ms,
-                    lat,
-                    lon,
-                    alt: alt_mm,
-                    relative_alt: ((self.aircraft.alt_msl_m - self.config.home_alt_m) * 1000.0)
-                        as i32,
-                    vx: (vn * 100.0) as i16,
-                    vy: (ve * 100.0) as i16,
-                    vz: 0,
-                    hdg: (yaw.rem_euclid(360.0) * 100.0) as u16,
-                })
-            }
-            ATTITUDE_DATA::ID => MavMessage::ATTITUDE(ATTITUDE_DATA {
-                time_boot_ms: boot_ms,
-                roll: roll.to_radians() as f32,
-                pitch: pitch.to_radians() as f32,
-                yaw: yaw.to_radians() as f32,
-                rollspeed: 0.0,
-                pitchspeed: 0.0,
-                yawspeed: 0.0,
-            }),
-            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => {
-                MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
-                    AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
-                        // AP_HAL::micros(): 32 bits.
-                        time_boot_us: u64::from(fc_us as u32),
-                        q: mav::quat_deg(roll, pitch, yaw),
-                        q_estimated_delay_us: 0,
-                        vx: vn as f32,
-                        vy: ve as f32,
-                        vz: 0.0,
-                        v_estimated_delay_us: 0,
-                        feed_forward_angular_velocity_z: 0.0,
-                        estimator_status: EstimatorStatusFlags::from_bits_retain(0x01A7),
-                        target_system: self.config.sysid,
-                        target_component: 0,
-                        landed_state: MavLandedState::MAV_LANDED_STATE_UNDEFINED,
-                        angular_velocity_z: 0.0,
-                    },
-                )
-            }
+            GLOBAL_POSITION_INT_DATA::ID => a.global_position(
+                ((self.aircraft.alt_msl_m - self.config.home_alt_m) * 1000.0) as i32,
+            ),
+            ATTITUDE_DATA::ID => a.attitude(),
+            // AP_HAL::micros(): 32 bits.
+            AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => a.autopilot_state(
+                u64::from(fc_us as u32),
+                0x01A7,
+                self.config.sysid,
+                MavLandedState::MAV_LANDED_STATE_UNDEFINED,
+            ),
             _ => return None,
         })
     }
@@ -715,23 +669,9 @@ impl ApMavlink {
             return;
         };
         if self.mount_info.is_none() {
-            if self.last_info_req_ms.is_none_or(|l| ms - l >= 1000) {
-                self.last_info_req_ms = Some(ms);
-                self.send(&mav::command_long(
-                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                    [
-                        GIMBAL_DEVICE_INFORMATION_DATA::ID as f32,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                    ],
-                    (sysid, GIMBAL),
-                    0,
-                ));
-            }
+            let id = GIMBAL_DEVICE_INFORMATION_DATA::ID;
+            self.last_info_req_ms =
+                self.ask_every_second(self.last_info_req_ms, id, (sysid, GIMBAL));
             return;
         }
         if !self.mount_initialised {
@@ -809,29 +749,25 @@ impl ApMavlink {
         self.target = Some(target);
     }
 
+    /// Asks `target` for message `id` when a second (FC ms) has passed since `last_ms`;
+    /// returns the instant of the last request.
+    fn ask_every_second(&mut self, last_ms: Option<u64>, id: u32, target: (u8, u8)) -> Option<u64> {
+        let ms = self.board.fc_ms();
+        if last_ms.is_some_and(|l| ms - l < 1000) {
+            return last_ms;
+        }
+        self.send(&mav::request_message(id, target));
+        Some(ms)
+    }
+
     fn camera_update(&mut self) {
         let ms = self.board.fc_ms();
         let Some(sysid) = self.camera_found else {
             return;
         };
         if self.camera_info.is_none() {
-            if self.last_cam_req_ms.is_none_or(|l| ms - l >= 1000) {
-                self.last_cam_req_ms = Some(ms);
-                self.send(&mav::command_long(
-                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                    [
-                        CAMERA_INFORMATION_DATA::ID as f32,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                    ],
-                    (sysid, CAMERA),
-                    0,
-                ));
-            }
+            let id = CAMERA_INFORMATION_DATA::ID;
+            self.last_cam_req_ms = self.ask_every_second(self.last_cam_req_ms, id, (sysid, CAMERA));
             return;
         }
         if self.config.capture_status_requests {
@@ -839,19 +775,9 @@ impl ApMavlink {
             let wait = if misses >= 3 { 10_000 } else { 1_000 };
             if last.is_none_or(|l| ms - l >= wait) {
                 self.capture_req = (Some(ms), misses.saturating_add(1));
-                self.send(&mav::command_long(
-                    MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                    [
-                        CAMERA_CAPTURE_STATUS_DATA::ID as f32,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.0,
-                    ],
+                self.send(&mav::request_message(
+                    CAMERA_CAPTURE_STATUS_DATA::ID,
                     (sysid, CAMERA),
-                    0,
                 ));
             }
         }
@@ -958,14 +884,7 @@ impl ApMavlink {
                     && c.target_component == AUTOPILOT =>
             {
                 let result = self.set_interval(c.param1 as u32, c.param2);
-                self.send(&MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
-                    command: c.command,
-                    result,
-                    progress: 0,
-                    result_param2: 0,
-                    target_system: h.system_id,
-                    target_component: h.component_id,
-                }));
+                self.send(&mav::command_ack(c.command, result, &h));
             }
             MavMessage::TIMESYNC(t)
                 if t.tc1 == 0
@@ -1014,11 +933,7 @@ impl ApMavlink {
         let Some(gcs) = self.gcs.as_mut() else {
             return;
         };
-        let to_gcs = match mav::target_of(&r.message) {
-            None => true,
-            Some((sys, _)) => sys == 0 || sys == gcs.config.sysid,
-        };
-        if to_gcs {
+        if mav::routed_to(&r.message, gcs.config.sysid) {
             gcs.receive(now_us, r.header, &r.message);
         }
     }
@@ -1184,6 +1099,7 @@ mod tests {
     use crate::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
     use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
     use protocol_core::mavlink::dialect::GIMBAL_DEVICE_INFORMATION_DATA;
+    use protocol_core::mavlink::dialect::{HEARTBEAT_DATA, MavModeFlag, MavState};
 
     /// The device: the FC's system, the gimbal's component.
     fn device() -> Endpoint {

@@ -60,6 +60,9 @@ use protocol_core::viewlink::{
 
 use super::ap_siyi::MountTarget;
 
+/// The frame header the driver's parser looks for.
+const HEADER: [u8; 3] = [0x55, 0xAA, 0xDC];
+
 /// Settings of the simulated driver.
 #[derive(Debug, Clone)]
 pub struct ApViewproConfig {
@@ -544,26 +547,11 @@ impl ApViewpro {
             self.buf.push(b);
             let mut reset = self.buf.len() > 63;
             match self.state {
-                0 => {
-                    if b == 0x55 {
+                // The header `55 AA DC`, one byte a state; the buffer starts after it.
+                0..=2 => {
+                    if HEADER.get(usize::from(self.state)) == Some(&b) {
                         self.buf.clear();
-                        self.state = 1;
-                    } else {
-                        reset = true;
-                    }
-                }
-                1 => {
-                    if b == 0xAA {
-                        self.buf.clear();
-                        self.state = 2;
-                    } else {
-                        reset = true;
-                    }
-                }
-                2 => {
-                    if b == 0xDC {
-                        self.buf.clear();
-                        self.state = 3;
+                        self.state += 1;
                     } else {
                         reset = true;
                     }

@@ -31,6 +31,25 @@ pub struct Described {
     pub fields: String,
 }
 
+impl Described {
+    /// A message of `protocol` with its id (printed with `digits` hex digits), its name and
+    /// the payload's fields ([`fields_text`]).
+    fn message<T: Serialize + ?Sized>(
+        protocol: &'static str,
+        (id, digits): (u32, usize),
+        name: &str,
+        payload: &T,
+    ) -> Self {
+        Described {
+            protocol,
+            id,
+            digits,
+            name: name.to_string(),
+            fields: fields_text(payload),
+        }
+    }
+}
+
 impl core::fmt::Display for Described {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         write!(
@@ -172,13 +191,13 @@ fn untag(mut v: Value) -> Value {
 pub fn describe_k40t(frame: &[u8]) -> Option<Described> {
     let p = k40t::Packet::decode(frame).ok()?;
     let id = p.message.id();
-    Some(Described {
-        protocol: "K40T",
-        id: id.to_u32(),
-        digits: 6,
-        name: p.message.name().to_string(),
-        fields: fields_text(&p.message),
-    })
+    let name = p.message.name();
+    Some(Described::message(
+        "K40T",
+        (id.to_u32(), 6),
+        name,
+        &p.message,
+    ))
 }
 
 /// K40T periodic traffic: reports, status frames, the pod's ACKs (`from_pod`) and
@@ -219,13 +238,8 @@ impl SideFrames for SiyiFrames {
             Direction::FromGimbal
         };
         let p = siyi::Packet::decode(frame, direction).ok()?;
-        Some(Described {
-            protocol: "SIYI",
-            id: u32::from(p.message.id()),
-            digits: 2,
-            name: p.message.name().to_string(),
-            fields: fields_text(&p.message),
-        })
+        let (id, name) = (u32::from(p.message.id()), p.message.name());
+        Some(Described::message("SIYI", (id, 2), name, &p.message))
     }
 
     fn routine(id: u32, from_fc: bool) -> bool {
@@ -261,13 +275,8 @@ impl SideFrames for ViewlinkFrames {
 
     fn describe(frame: &[u8], _from_fc: bool) -> Option<Described> {
         let p = viewlink::Packet::decode(frame).ok()?;
-        Some(Described {
-            protocol: "Viewlink",
-            id: u32::from(p.message.id()),
-            digits: 2,
-            name: p.message.name().to_string(),
-            fields: fields_text(&p.message),
-        })
+        let (id, name) = (u32::from(p.message.id()), p.message.name());
+        Some(Described::message("Viewlink", (id, 2), name, &p.message))
     }
 
     fn routine(id: u32, from_fc: bool) -> bool {

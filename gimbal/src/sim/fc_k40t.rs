@@ -386,15 +386,20 @@ mod tests {
             .collect()
     }
 
+    /// The syncs sent: (true µs, sequence number, UTC ms).
+    fn syncs_sent(fc: &mut FcK40t) -> Vec<(u64, u8, u64)> {
+        decoded(fc)
+            .into_iter()
+            .filter_map(|(at, h, m)| Some((at, h.seq, m.get::<TimeSync>()?.unix_ms)))
+            .collect()
+    }
+
     #[test]
     fn a_reboot_restarts_the_counter_and_the_syncs_with_the_new_utc() {
         let mut fc = FcK40t::default();
         let utc0 = fc.fc_utc_us(0);
         fc.poll(15_000_000);
-        let syncs: Vec<(u64, u8, u64)> = decoded(&mut fc)
-            .into_iter()
-            .filter_map(|(at, h, m)| Some((at, h.seq, m.get::<TimeSync>()?.unix_ms)))
-            .collect();
+        let syncs = syncs_sent(&mut fc);
         assert_eq!(
             syncs,
             [
@@ -414,10 +419,7 @@ mod tests {
         fc.receive(16_000_000, &[0xFD, 0x00]);
         assert_eq!(fc.lost_while_off(), 2);
         fc.poll(30_000_000);
-        let syncs: Vec<(u64, u8, u64)> = decoded(&mut fc)
-            .into_iter()
-            .filter_map(|(at, h, m)| Some((at, h.seq, m.get::<TimeSync>()?.unix_ms)))
-            .collect();
+        let syncs = syncs_sent(&mut fc);
         assert_eq!(
             syncs,
             [

@@ -41,17 +41,17 @@
 use std::collections::BTreeMap;
 
 use protocol_core::mavlink::dialect::{
-    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, EstimatorStatusFlags,
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA,
     GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
-    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
-    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    GpsFixType, MavAutopilot, MavCmd, MavLandedState, MavResult, MavType, MessageData as _,
+    SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
 use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
 use super::describe::MavlinkFrames;
-use super::mav::{self, AUTOPILOT, Endpoint, Rx, TimesyncAnswer};
+use super::mav::{self, AUTOPILOT, AircraftState, Endpoint, Rx, TimesyncAnswer};
 use super::pilot::Pilot;
 use super::qgc::Qgc;
 use super::{FcClock, XorShift};
@@ -271,12 +271,7 @@ impl Px4 {
 
     /// Starts or stops recording.
     pub fn record_video(&mut self, on: bool) {
-        let cmd = if on {
-            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
-        } else {
-            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
-        };
-        self.camera_command(cmd, [0.0; 4]);
+        self.camera_command(mav::video_capture(on), [0.0; 4]);
     }
 
     /// Continuous zoom.
@@ -287,8 +282,7 @@ impl Px4 {
 
     fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
         let target = (self.config.sysid, self.config.camera_target_component);
-        let msg = mav::command_long(cmd, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0);
-        self.send(&msg);
+        self.send(&mav::camera_command(cmd, p, target));
     }
 
     fn send(&mut self, msg: &MavMessage) {
@@ -369,43 +363,20 @@ impl Px4 {
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
         let t = self.board.now_us();
         let us = self.board.fc_us(t);
-        let boot_ms = (us / 1000) as u32;
-        let (lat, lon) = self.aircraft.position_e7(t);
-        let alt = (self.aircraft.alt_msl_m * 1000.0) as i32;
-        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
-        let h = self.aircraft.heading_deg.to_radians();
-        let (vn, ve) = (
-            self.aircraft.speed_m_s * h.cos(),
-            self.aircraft.speed_m_s * h.sin(),
-        );
+        let a = AircraftState::of(&self.aircraft, t, us);
+        let (lat, lon) = a.lat_lon_e7;
         Some(match id {
             GIMBAL_DEVICE_SET_ATTITUDE_DATA::ID => {
                 MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(self.set_attitude()?)
             }
             AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => {
-                MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
-                    AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
-                        time_boot_us: us,
-                        q: mav::quat_deg(roll, pitch, yaw),
-                        q_estimated_delay_us: 0,
-                        vx: vn as f32,
-                        vy: ve as f32,
-                        vz: 0.0,
-                        v_estimated_delay_us: 0,
-                        feed_forward_angular_velocity_z: 0.0,
-                        estimator_status: EstimatorStatusFlags::from_bits_retain(0x3F),
-                        target_system: 0,
-                        target_component: 0,
-                        landed_state: MavLandedState::MAV_LANDED_STATE_IN_AIR,
-                        angular_velocity_z: 0.0,
-                    },
-                )
+                a.autopilot_state(us, 0x3F, 0, MavLandedState::MAV_LANDED_STATE_IN_AIR)
             }
             // Not sent at all while the clock is invalid.
             SYSTEM_TIME_DATA::ID if !self.board.utc_valid() => return None,
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
                 time_unix_usec: self.fc_utc_us(t),
-                time_boot_ms: boot_ms,
+                time_boot_ms: a.boot_ms,
             }),
             TIMESYNC_DATA::ID => MavMessage::TIMESYNC(TIMESYNC_DATA {
                 tc1: 0,
@@ -413,35 +384,17 @@ impl Px4 {
                 target_system: 0,
                 target_component: 0,
             }),
-            GLOBAL_POSITION_INT_DATA::ID => {
-                MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
-                    time_boot_ms: boot_ms,
-                    lat,
-                    lon,
-                    alt,
-                    relative_alt: 58_000,
-                    vx: (vn * 100.0) as i16,
-                    vy: (ve * 100.0) as i16,
-                    vz: 0,
-                    hdg: (yaw.rem_euclid(360.0) * 100.0) as u16,
-                })
-            }
+            GLOBAL_POSITION_INT_DATA::ID => a.global_position(58_000),
             GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 time_usec: self.fc_utc_us(t),
                 lat,
                 lon,
-                alt,
+                alt: a.alt_mm,
                 fix_type: GpsFixType::GPS_FIX_TYPE_3D_FIX,
                 satellites_visible: 12,
                 ..GPS_RAW_INT_DATA::default()
             }),
-            ATTITUDE_DATA::ID => MavMessage::ATTITUDE(ATTITUDE_DATA {
-                time_boot_ms: boot_ms,
-                roll: roll.to_radians() as f32,
-                pitch: pitch.to_radians() as f32,
-                yaw: yaw.to_radians() as f32,
-                ..ATTITUDE_DATA::default()
-            }),
+            ATTITUDE_DATA::ID => a.attitude(),
             _ => return None,
         })
     }
@@ -451,9 +404,7 @@ impl Px4 {
         let h = r.header;
         self.received.push((now, h, mav::id_of(&r.message)));
         if let Some(gcs) = self.gcs.as_mut() {
-            let to_gcs = mav::target_of(&r.message)
-                .is_none_or(|(sys, _)| sys == 0 || sys == gcs.config.sysid);
-            if to_gcs {
+            if mav::routed_to(&r.message, gcs.config.sysid) {
                 gcs.receive(now, h, &r.message);
             }
         }
@@ -512,14 +463,7 @@ impl Px4 {
                     self.intervals.remove(&(c.param1 as u32));
                     MavResult::MAV_RESULT_ACCEPTED
                 };
-                self.send(&MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
-                    command: c.command,
-                    result,
-                    progress: 0,
-                    result_param2: 0,
-                    target_system: h.system_id,
-                    target_component: h.component_id,
-                }));
+                self.send(&mav::command_ack(c.command, result, &h));
             }
             _ => {}
         }
@@ -544,30 +488,16 @@ impl Autopilot for Px4 {
         let now = self.board.now_us();
         if self.last_heartbeat_us.is_none_or(|l| now - l >= 1_000_000) {
             self.last_heartbeat_us = Some(now);
-            self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-                custom_mode: 0,
-                mavtype: MavType::MAV_TYPE_QUADROTOR,
-                autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
-                base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
-                system_status: MavState::MAV_STATE_STANDBY,
-                mavlink_version: 3,
-            }));
+            self.send(&mav::autopilot_heartbeat(
+                MavType::MAV_TYPE_QUADROTOR,
+                MavAutopilot::MAV_AUTOPILOT_PX4,
+            ));
         }
         if self.info.is_none() && self.last_info_req_us.is_none_or(|l| now - l >= 1_000_000) {
             self.last_info_req_us = Some(now);
-            self.send(&mav::command_long(
-                MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                [
-                    GIMBAL_DEVICE_INFORMATION_DATA::ID as f32,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                ],
+            self.send(&mav::request_message(
+                GIMBAL_DEVICE_INFORMATION_DATA::ID,
                 (0, 0),
-                0,
             ));
         }
         self.integrate();
@@ -668,6 +598,7 @@ impl Pilot for Px4 {
 mod tests {
     use super::*;
     use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+    use protocol_core::mavlink::dialect::HEARTBEAT_DATA;
     use protocol_core::mavlink::dialect::TIMESYNC_DATA;
 
     fn request(ts1: i64, target: (u8, u8)) -> MavMessage {

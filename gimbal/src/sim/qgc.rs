@@ -218,12 +218,7 @@ impl Qgc {
 
     /// Video start (all streams, no status stream) or stop.
     pub fn record(&mut self, on: bool) {
-        let cmd = if on {
-            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
-        } else {
-            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
-        };
-        self.command(cmd, [0.0; 4]);
+        self.command(mav::video_capture(on), [0.0; 4]);
     }
 
     /// The photo/video switch (only with HAS_MODES).

@@ -164,14 +164,20 @@ impl<F: Peer> Scenario<F> {
     /// A noisy FC cable from now on: `faults` in both directions, each with its own seed
     /// ([`Faults::derived`]: 0 into the bridge, 1 out of it); `None`: a good cable.
     pub fn set_fc_faults(&mut self, faults: Option<Faults>) {
-        self.fc_line.set_faults(faults.map(|f| f.derived(0)));
-        self.to_fc_line.set_faults(faults.map(|f| f.derived(1)));
+        self.fc_line.damage.set_faults(faults.map(|f| f.derived(0)));
+        self.to_fc_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(1)));
     }
 
     /// A noisy pod cable, as [`Scenario::set_fc_faults`].
     pub fn set_pod_faults(&mut self, faults: Option<Faults>) {
-        self.pod_line.set_faults(faults.map(|f| f.derived(0)));
-        self.to_pod_line.set_faults(faults.map(|f| f.derived(1)));
+        self.pod_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(0)));
+        self.to_pod_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(1)));
     }
 
     fn fc_is_cut(&self) -> bool {
@@ -352,11 +358,14 @@ mod tests {
         // A noisy cable: both directions through their own fault stage.
         s.set_pod_faults(Some(Faults::bit_errors(1e-3, 4)));
         s.run_for(2_000_000);
-        let (a, b) = (s.pod_line.fault_stats(), s.to_pod_line.fault_stats());
+        let (a, b) = (
+            s.pod_line.damage.fault_stats(),
+            s.to_pod_line.damage.fault_stats(),
+        );
         assert!(a.is_some_and(|a| a.bytes_in > 1_000), "{a:?}");
         assert!(b.is_some());
-        assert_eq!(s.fc_line.fault_stats(), None);
+        assert_eq!(s.fc_line.damage.fault_stats(), None);
         s.set_pod_faults(None);
-        assert_eq!(s.pod_line.fault_stats(), None);
+        assert_eq!(s.pod_line.damage.fault_stats(), None);
     }
 }
