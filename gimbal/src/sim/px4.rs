@@ -403,10 +403,10 @@ impl Px4 {
     fn process(&mut self, now: u64, end: u64, r: mav::Received) {
         let h = r.header;
         self.received.push((now, h, mav::id_of(&r.message)));
-        if let Some(gcs) = self.gcs.as_mut() {
-            if mav::routed_to(&r.message, gcs.config.sysid) {
-                gcs.receive(now, h, &r.message);
-            }
+        if let Some(gcs) = self.gcs.as_mut()
+            && mav::routed_to(&r.message, gcs.config.sysid)
+        {
+            gcs.receive(now, h, &r.message);
         }
         match r.message {
             MavMessage::GIMBAL_DEVICE_INFORMATION(i) if self.info.is_none() => {
