@@ -1,13 +1,13 @@
 //! UTC at the RTC_IO edge through the firmware's tasks (virtual time, pipes), per FC
 //! side, with and without a MAVLink telemetry link: the first sync's delay after the
 //! autopilot's first valid UTC and its error, and the steady-state error (p50, p99,
-//! max). The simulated autopilots follow `shared/FC-TRAFFIC.md` and
-//! `shared/MAVLINK-TRAFFIC.md` (ArduPilot's 400 Hz loop on its IMU, TIMESYNC answered
+//! max). The simulated autopilots follow docs/src/autopilots/ardupilot.md and
+//! docs/src/autopilots/px4.md (ArduPilot's 400 Hz loop on its IMU, TIMESYNC answered
 //! from the UART's receive-time estimate, SYSTEM_TIME read in one call); FC crystals
 //! ±25 ppm against the bridge's, serial jitter 0–10 ms per burst. The error is the
 //! UTC the pod was given for an edge minus the autopilot's own UTC at that edge (the
 //! bridge cannot be better than the autopilot's clock). Run with `--nocapture` for the
-//! figures (the README's table).
+//! figures (docs/src/figures.md).
 //!
 //! Required (issue "Sub-millisecond UTC"): with MAVLink time (the MAVLink side, or a
 //! telemetry link) p99 < 1 ms and max < 2 ms in steady state, the first sync within
@@ -251,8 +251,8 @@ fn gcu_with_telemetry() {
     report("GCU + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
-// Without the telemetry link: the legacy protocols' own time, as before (the README's
-// bounds for these sides: what ArduPilot sends them is coarser).
+// Without the telemetry link: the legacy protocols' own time, as before (the bounds of
+// docs/src/figures.md for these sides: what ArduPilot sends them is coarser).
 
 #[test]
 fn siyi_alone() {

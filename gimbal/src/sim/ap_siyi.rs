@@ -1,5 +1,6 @@
 //! A simulated ArduPilot `AP_Mount_Siyi` driver: the flight controller as a SIYI gimbal
-//! sees it, following `../shared/FC-TRAFFIC.md` (SIYI section) and the driver's code.
+//! sees it, following the driver's code as docs/src/autopilots/ardupilot.md describes
+//! what it sends and reads.
 //!
 //! - **Loop.** `update()` runs at 50 Hz on the FC's own crystal ([`ApSiyiConfig::ppm`]),
 //!   each run a few hundred microseconds late ([`ApSiyiConfig::loop_jitter_us`]). Every

@@ -1,6 +1,7 @@
 //! A simulated ArduPilot `AP_Mount_Viewpro` driver: the flight controller as a Viewpro
-//! gimbal sees it, following `../shared/FC-TRAFFIC.md` (Viewlink section) and the
-//! driver's code (`libraries/AP_Mount/AP_Mount_Viewpro.cpp`).
+//! gimbal (the Viewlink protocol) sees it, following the driver's code
+//! (`libraries/AP_Mount/AP_Mount_Viewpro.cpp`) as docs/src/autopilots/ardupilot.md
+//! describes what it sends and reads.
 //!
 //! - **Loop.** `update()` is called at 50 Hz on the FC's own crystal
 //!   ([`ApViewproConfig::ppm`]), each call a few hundred microseconds late

@@ -1,5 +1,6 @@
 //! A simulated ArduPilot `AP_Mount_XFRobot` driver: the flight controller as an XF Robot
-//! GCU sees it, following `../shared/FC-TRAFFIC.md` (GCU section) and the driver's code.
+//! GCU sees it, following the driver's code as docs/src/autopilots/ardupilot.md describes
+//! what it sends and reads.
 //!
 //! - **Loop.** `update()` runs at 50 Hz on the FC's own crystal ([`ApXfRobotConfig::ppm`]),
 //!   each run a few hundred microseconds late ([`ApXfRobotConfig::loop_jitter_us`]), and

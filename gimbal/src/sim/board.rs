@@ -495,7 +495,7 @@ pub(crate) use board_field;
 /// ([`Autopilot::take_bytes`]) or does the work due ([`Autopilot::run_due`]: the loop's
 /// runs, [`Autopilot::run`]).
 pub trait Autopilot {
-    /// The board ([`board_field`] when it is the field `board`).
+    /// The board (`board_field!()` when it is the field `board`).
     fn board(&self) -> &Board;
     /// The board, to change.
     fn board_mut(&mut self) -> &mut Board;
@@ -505,7 +505,7 @@ pub trait Autopilot {
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]);
     /// One run of the main loop, at the board's time.
     fn run(&mut self);
-    /// The driver's health rule at the board's time ([`Board::set_healthy`]).
+    /// The driver's health rule at the board's time (the board logs each change).
     fn update_health(&mut self);
     /// The driver as new, at the first instant after power-on (the board has restarted
     /// its loop on the new boot's clock).

@@ -2,7 +2,9 @@
 //! [`super::px4`]) and the QGroundControl-like client ([`super::qgc`]): an endpoint that
 //! numbers its frames, a receiver, command and angle helpers. The simulators use the
 //! project's MAVLink 2 codec for bytes (tested on its own against the spec's frames)
-//! and decide everything else from `shared/MAVLINK-TRAFFIC.md`, not from the bridge.
+//! and decide everything else from what the autopilots and the ground station do
+//! (docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md,
+//! docs/src/autopilots/qgroundcontrol.md), not from the bridge.
 
 use protocol_core::mavlink::dialect::{
     ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, COMMAND_LONG_DATA,

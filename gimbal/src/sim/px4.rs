@@ -1,6 +1,6 @@
 //! A simulated PX4 with the gimbal v2 output (`MNT_MODE_OUT` 2) on a MAVLink port in mode
-//! Gimbal (10), Normal (0) or Onboard (2), written from `shared/MAVLINK-TRAFFIC.md` §1,
-//! §4–§7:
+//! Gimbal (10), Normal (0) or Onboard (2), as docs/src/autopilots/px4.md describes what
+//! PX4 sends and reads:
 //!
 //! - HEARTBEAT (QUADROTOR, autopilot PX4) at 1 Hz.
 //! - **Discovery**: COMMAND_LONG REQUEST_MESSAGE(GIMBAL_DEVICE_INFORMATION) to 0/0 every

@@ -1,5 +1,6 @@
-//! A QGroundControl-like ground station (camera and gimbal client), written from
-//! `shared/MAVLINK-TRAFFIC.md` §0 and §5. It talks to the device through an autopilot's
+//! A QGroundControl-like ground station (camera and gimbal client), as
+//! docs/src/autopilots/qgroundcontrol.md describes what QGroundControl sends and reads. It
+//! talks to the device through an autopilot's
 //! routing ([`super::ap_mavlink::ApMavlink::gcs`], [`super::px4::Px4::gcs`]): it gets
 //! the device's messages the autopilot forwards and hands it frames to forward.
 //!

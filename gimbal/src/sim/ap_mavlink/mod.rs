@@ -1,6 +1,6 @@
 //! A simulated ArduPilot with a MAVLink gimbal (`MNT1_TYPE` 6, `AP_Mount_MAVLink`:
-//! [`mount`]) and a MAVLink camera (`CAM1_TYPE` 6, `AP_Camera_MAVLinkCamV2`: [`camera`]) on
-//! one serial port (`SERIALn_PROTOCOL` 2: its GCS link, [`gcs`]), as
+//! `mount.rs`) and a MAVLink camera (`CAM1_TYPE` 6, `AP_Camera_MAVLinkCamV2`: `camera.rs`)
+//! on one serial port (`SERIALn_PROTOCOL` 2: its GCS link, `gcs.rs`), as
 //! docs/src/autopilots/ardupilot.md describes what ArduPilot sends and reads:
 //!
 //! - **Loop.** The main loop runs at `SCHED_LOOP_RATE` ([`ApMavlink::loop_rate_hz`]:

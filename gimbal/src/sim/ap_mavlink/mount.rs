@@ -5,7 +5,7 @@
 //!   system/154 every second until it comes (ACKs not looked at); then enables
 //!   AUTOPILOT_STATE_FOR_GIMBAL_DEVICE at 20 000 µs on the port: refused (a 50 Hz
 //!   interval above 0.8 × the loop rate), the driver never initialises and no
-//!   GIMBAL_DEVICE_SET_ATTITUDE is ever sent (§8.1). Initialised: SET_ATTITUDE every
+//!   GIMBAL_DEVICE_SET_ATTITUDE is ever sent (Plane's 50 Hz loop). Initialised: SET_ATTITUDE every
 //!   mount update: an angle as a quaternion (rates NaN) with flags 28 for an earth-frame
 //!   yaw, 0 for a vehicle-relative one; a rate with the quaternion NaN (same flag rule;
 //!   a rate from a MAVLink command zeroed after 3 s); retract as flags 1 with the

@@ -95,7 +95,9 @@ pub enum AckSeq {
     /// number of its source address's counter, like a report.
     OwnCounter,
     /// The ACK carries the request's sequence number and does not advance the counter
-    /// (the default on this branch until the bridge matches ACKs as SPEC-NOTES says).
+    /// (as the reference ACK exchange of docs/src/protocols/k40t.md has it; the type's
+    /// default, kept from before the bridge matched ACKs as docs/src/bridge/engine.md
+    /// says: [`PodSimConfig`] takes [`AckSeq::OwnCounter`]).
     #[default]
     Echo,
 }

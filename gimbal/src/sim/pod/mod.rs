@@ -1,5 +1,6 @@
-//! A simulated K40T four-sensor pod (`000_cac8f3505cecd78b.txt`), sans-IO, in simulated
-//! time, for the bridge's host tests and the demo.
+//! A simulated K40T four-sensor pod (as the K40T external protocol document describes
+//! it; docs/src/protocols/k40t.md for its ambiguities), sans-IO, in simulated time, for
+//! the bridge's host tests and the demo.
 //!
 //! The pod talks to one peer, the bridge acting as the flight controller. Time is plain
 //! `u64` microseconds chosen by the caller (independent of the bridge's own time type);
@@ -59,7 +60,8 @@
 //! document's reading ([`AckSeq::OwnCounter`]) an ACK takes the next number of its
 //! source's counter, like a report: this is the default. [`AckSeq::Echo`] gives an ACK
 //! the request's sequence number and leaves the counter alone, as the one reference ACK
-//! of SPEC-NOTES happens to do (tests run the bridge against both). A requester that
+//! exchange (docs/src/protocols/k40t.md) happens to do (tests run the bridge against
+//! both). A requester that
 //! insists on an echoed SEQ retries every command sent to an `OwnCounter` pod. Frames
 //! generated while the cable is cut ([`SimPod::set_silent`]) are lost but still consume
 //! their number, so the bridge sees a gap.
@@ -96,7 +98,7 @@
 //!   look down moves pitch to −90° and keeps yaw (the motion bytes are then ignored).
 //! - 0x000017 sets the dial speeds, unit 0.2°/s, clamped to 5..=150 (1..=30°/s);
 //!   default 50 (10°/s) on both axes. A rate in progress takes the new speed at once.
-//! - 0x000012 moves to absolute joint angles (unit 0.01° per SPEC-NOTES; direction byte
+//! - 0x000012 moves to absolute joint angles (unit 0.01°, docs/src/protocols/k40t.md; direction byte
 //!   2 leaves that axis alone), clamped to the limits (pitch −90..+30°, yaw ±180°, hard
 //!   stops, no wrap). Target moves (and centre, look down, point to aim) run at
 //!   [`PodSimConfig::slew_speed_dps`] (45°/s), not at the dial speed, which the document
@@ -171,7 +173,7 @@
 //!
 //! **GPS.** Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
 //! is recorded ([`SimPod::gps_replies`]) and matched to a request of the current boot as
-//! SPEC-NOTES matches ACKs (the reply is the FC's message, so it may carry the FC's own
+//! the bridge matches ACKs (docs/src/bridge/engine.md; the reply is the FC's message, so it may carry the FC's own
 //! counter rather than the request's SEQ): a pending request with the same sequence
 //! number (the oldest), else the most recent request that timed out with that number
 //! (a late reply), else the oldest pending request; the SEQ is preferred, never
