@@ -88,7 +88,7 @@ fn ardupilot_is_healthy_within_a_second_and_reads_the_identity() {
             .all(|r| r.id != 0x40 || r.data.len() == 41)
     );
     assert_eq!((ap.short_status, ap.parse_errors), (0, 0));
-    // The frame counter of a Viewpro sender: 1, 2, 3, 0, 1, ... over every reply.
+    // The frame counter of a Viewlink sender: 1, 2, 3, 0, 1, ... over every reply.
     for (i, r) in ap.received.iter().enumerate() {
         assert_eq!(r.counter, ((i + 1) % 4) as u8, "reply {i}");
     }

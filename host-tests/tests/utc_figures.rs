@@ -15,12 +15,10 @@
 
 use bridge_engine::Config;
 use gimbal::sim::Autopilot;
-use gimbal::sim::FcClock;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
-use gimbal::sim::board::Aircraft;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
@@ -171,20 +169,16 @@ fn mavlink_side_with_px4() {
     report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 5_000);
 }
 
-/// The flights of a SIYI, Viewpro or XF Robot ArduPilot, with the same autopilot's
-/// MAVLink port on the telemetry link or without.
-fn legacy<P: Pilot>(
-    make: impl Fn(u64, f64, u64, u64) -> P,
-    board: impl Fn(&P) -> (FcClock, Aircraft),
-    telemetry: bool,
-) -> Vec<Flight> {
+/// The flights of ArduPilot with its SIYI, Viewpro or XFRobot mount driver, with the same
+/// autopilot's MAVLink port on the telemetry link or without.
+fn legacy<P: Pilot>(make: impl Fn(u64, f64, u64, u64) -> P, telemetry: bool) -> Vec<Flight> {
     FLIGHTS
         .iter()
         .map(|&(seed, ppm, phase, valid)| {
             let fc = make(seed, ppm, phase, valid);
             let peer = telemetry.then(|| {
-                let (clock, aircraft) = board(&fc);
-                let mut ap = ApMavlink::telemetry(clock, aircraft, seed + 100, 1);
+                let clock = fc.board_clock().expect("an ArduPilot with a MAVLink port");
+                let mut ap = ApMavlink::telemetry(clock.clone(), *fc.aircraft(), seed + 100, 1);
                 ap.config.jitter_us = 10_000;
                 ap
             });
@@ -235,19 +229,19 @@ fn xfrobot(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApXfRobot {
 
 #[test]
 fn siyi_with_telemetry() {
-    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(siyi, true);
     report("SIYI + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
 #[test]
 fn viewlink_with_telemetry() {
-    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(viewpro, true);
     report("Viewlink + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
 #[test]
 fn gcu_with_telemetry() {
-    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(xfrobot, true);
     report("GCU + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
@@ -256,18 +250,18 @@ fn gcu_with_telemetry() {
 
 #[test]
 fn siyi_alone() {
-    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(siyi, false);
     report("SIYI alone", &f, 8_000, 10_000, 10_000);
 }
 
 #[test]
 fn viewlink_alone() {
-    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(viewpro, false);
     report("Viewlink alone", &f, 8_000, 10_000, 10_000);
 }
 
 #[test]
 fn gcu_alone() {
-    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(xfrobot, false);
     report("GCU alone", &f, 15_000, 20_000, 15_000);
 }
