@@ -128,6 +128,23 @@ pub struct Received {
     pub data: Vec<u8>,
 }
 
+/// When the driver last sent each of its periodic frames, FC ms.
+#[derive(Debug, Clone, Copy, Default)]
+struct LastSent {
+    /// The 1 Hz group: 0x02/0x01 until answered, then 0x0A, 0x30, 0x20.
+    config_ms: Option<u64>,
+    /// 0x0D.
+    attitude_req_ms: Option<u64>,
+    /// 0x15.
+    range_req_ms: Option<u64>,
+    /// 0x14.
+    thermal_req_ms: Option<u64>,
+    /// 0x22 and 0x3E.
+    attitude_sent_ms: Option<u64>,
+    /// 0x05 while zooming.
+    zoom_ms: Option<u64>,
+}
+
 /// The simulated `AP_Mount_Siyi`.
 #[derive(Debug)]
 pub struct ApSiyi {
@@ -146,12 +163,7 @@ pub struct ApSiyi {
     fw_received: bool,
     codec_record: bool,
     codec_main: bool,
-    last_send_ms: Option<u64>,
-    last_att_req_ms: Option<u64>,
-    last_range_req_ms: Option<u64>,
-    last_therm_req_ms: Option<u64>,
-    last_att_send_ms: Option<u64>,
-    last_zoom_ms: Option<u64>,
+    last: LastSent,
     sent_time_count: u8,
     /// `_config_info.motion_mode` as the driver believes it.
     motion_mode: Option<MotionMode>,
@@ -205,12 +217,7 @@ impl ApSiyi {
             fw_received: false,
             codec_record: false,
             codec_main: false,
-            last_send_ms: None,
-            last_att_req_ms: None,
-            last_range_req_ms: None,
-            last_therm_req_ms: None,
-            last_att_send_ms: None,
-            last_zoom_ms: None,
+            last: LastSent::default(),
             sent_time_count: 0,
             motion_mode: None,
             record_status: RecordStatus::Off,
@@ -255,7 +262,7 @@ impl ApSiyi {
     pub fn set_zoom_rate(&mut self, rate: i8) {
         self.zoom_rate = rate.signum();
         self.send_zoom_rate();
-        self.last_zoom_ms = Some(self.board.fc_ms());
+        self.last.zoom_ms = Some(self.board.fc_ms());
     }
 
     fn send_zoom_rate(&mut self) {
@@ -511,8 +518,8 @@ impl Autopilot for ApSiyi {
     fn run(&mut self) {
         let now_ms = self.board.fc_ms();
         let t = self.board.now_us();
-        if self.last_send_ms.is_none_or(|l| now_ms - l >= 1000) {
-            self.last_send_ms = Some(now_ms);
+        if self.last.config_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last.config_ms = Some(now_ms);
             if !self.got_hardware_id {
                 self.send(&HardwareIdQuery {});
                 return;
@@ -536,32 +543,33 @@ impl Autopilot for ApSiyi {
         if self.config.codec_gate && !(self.codec_record && self.codec_main) {
             return;
         }
-        if self.last_att_req_ms.is_none_or(|l| now_ms - l >= 50) {
-            self.last_att_req_ms = Some(now_ms);
+        if self.last.attitude_req_ms.is_none_or(|l| now_ms - l >= 50) {
+            self.last.attitude_req_ms = Some(now_ms);
             self.send(&GimbalAttitudeQuery {});
         }
         let zt30 = self.model == Some(*b"7A");
-        if zt30 && self.last_range_req_ms.is_none_or(|l| now_ms - l > 100) {
-            self.last_range_req_ms = Some(now_ms);
+        if zt30 && self.last.range_req_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last.range_req_ms = Some(now_ms);
             self.send(&LaserDistanceQuery {});
         }
         if (zt30 || self.model == Some(*b"83"))
-            && self.last_therm_req_ms.is_none_or(|l| now_ms - l > 1000)
+            && self.last.thermal_req_ms.is_none_or(|l| now_ms - l > 1000)
         {
-            self.last_therm_req_ms = Some(now_ms);
+            self.last.thermal_req_ms = Some(now_ms);
             self.send(&GlobalTemperatureRequest {
                 flag: siyi::MeasureFlag::from_value(2),
             });
         }
-        if self.last_att_send_ms.is_none_or(|l| now_ms - l > 100) {
-            self.last_att_send_ms = Some(now_ms);
+        if self.last.attitude_sent_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last.attitude_sent_ms = Some(now_ms);
             let time_boot_ms = now_ms as u32;
             let (r, p, y) = self.aircraft.attitude_deg(t);
+            let [roll_rad, pitch_rad, yaw_rad] = [r, p, y].map(|deg| deg.to_radians() as f32);
             self.send(&FcAttitude {
                 time_boot_ms,
-                roll_rad: r.to_radians() as f32,
-                pitch_rad: p.to_radians() as f32,
-                yaw_rad: y.to_radians() as f32,
+                roll_rad,
+                pitch_rad,
+                yaw_rad,
                 roll_rate_rad_s: 0.0,
                 pitch_rate_rad_s: 0.0,
                 yaw_rate_rad_s: 0.0,
@@ -582,8 +590,8 @@ impl Autopilot for ApSiyi {
             }
         }
         // Zoom control: a non-zero rate is repeated at 1 Hz.
-        if self.zoom_rate != 0 && self.last_zoom_ms.is_none_or(|l| now_ms - l >= 1000) {
-            self.last_zoom_ms = Some(now_ms);
+        if self.zoom_rate != 0 && self.last.zoom_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last.zoom_ms = Some(now_ms);
             self.send_zoom_rate();
         }
         self.send_target();
@@ -605,12 +613,7 @@ impl Autopilot for ApSiyi {
         self.fw_received = false;
         self.codec_record = false;
         self.codec_main = false;
-        self.last_send_ms = None;
-        self.last_att_req_ms = None;
-        self.last_range_req_ms = None;
-        self.last_therm_req_ms = None;
-        self.last_att_send_ms = None;
-        self.last_zoom_ms = None;
+        self.last = LastSent::default();
         self.sent_time_count = 0;
         self.motion_mode = None;
         self.record_status = RecordStatus::Off;

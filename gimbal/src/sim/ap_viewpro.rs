@@ -303,23 +303,11 @@ impl ApViewpro {
         let (op, speed) = if ir {
             // The driver's IR_ZOOM_OUT is 0x1B and IR_ZOOM_IN 0x1C, and it sends
             // IR_ZOOM_OUT for a positive rate: 0x1B ("IR digital zoom +") to zoom in.
-            let op = if rate < 0.0 {
-                OperationCommand::IrDzoomOut
-            } else if rate > 0.0 {
-                OperationCommand::IrDzoomIn
-            } else {
-                OperationCommand::StopZoomFocus
-            };
-            (op, 1)
+            use OperationCommand::{IrDzoomIn, IrDzoomOut};
+            (by_sign(rate, [IrDzoomOut, IrDzoomIn]), 1)
         } else {
-            let op = if rate < 0.0 {
-                OperationCommand::ZoomOut
-            } else if rate > 0.0 {
-                OperationCommand::ZoomIn
-            } else {
-                OperationCommand::StopZoomFocus
-            };
-            (op, 7)
+            use OperationCommand::{ZoomIn, ZoomOut};
+            (by_sign(rate, [ZoomOut, ZoomIn]), 7)
         };
         self.camera_command(s, op, speed, LrfCommand::NoAction);
     }
@@ -333,13 +321,10 @@ impl ApViewpro {
     /// Focus rate: < 0 focus −, 0 stop, > 0 focus +.
     pub fn set_focus_rate(&mut self, rate: f64) {
         let s = self.image_sensor;
-        let op = if rate < 0.0 {
-            OperationCommand::FocusDown
-        } else if rate > 0.0 {
-            OperationCommand::FocusUp
-        } else {
-            OperationCommand::StopZoomFocus
-        };
+        let op = by_sign(
+            rate,
+            [OperationCommand::FocusDown, OperationCommand::FocusUp],
+        );
         self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 
@@ -658,6 +643,17 @@ impl ApViewpro {
     #[must_use]
     pub fn last_status(&self) -> Option<&Received> {
         self.received.iter().rev().find(|r| r.id == 0x40)
+    }
+}
+
+/// The operation for a rate: `[negative, positive]`, or stop when it is 0.
+fn by_sign(rate: f64, [negative, positive]: [OperationCommand; 2]) -> OperationCommand {
+    if rate < 0.0 {
+        negative
+    } else if rate > 0.0 {
+        positive
+    } else {
+        OperationCommand::StopZoomFocus
     }
 }
 

@@ -174,6 +174,10 @@ impl Reply {
         i16::from_le_bytes([self.bytes[at], self.bytes[at + 1]])
     }
 
+    fn u16_at(&self, at: usize) -> u16 {
+        u16::from_le_bytes([self.bytes[at], self.bytes[at + 1]])
+    }
+
     /// Earth-frame roll, 0.01° (bytes 18..19).
     #[must_use]
     pub fn roll_cdeg(&self) -> i16 {
@@ -201,31 +205,31 @@ impl Reply {
     /// Zoom ratio of the visible camera, 0.1x (bytes 59..60).
     #[must_use]
     pub fn zoom_rgb_x10(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[59], self.bytes[60]])
+        self.u16_at(59)
     }
 
     /// Zoom ratio of the thermal camera, 0.1x (bytes 61..62).
     #[must_use]
     pub fn zoom_thermal_x10(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[61], self.bytes[62]])
+        self.u16_at(61)
     }
 
     /// Camera status of ArduPilot's revision (bytes 64..65).
     #[must_use]
     pub fn camera_status(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[64], self.bytes[65]])
+        self.u16_at(64)
     }
 
     /// Main-frame camera status (bytes 6..7).
     #[must_use]
     pub fn main_status(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[6], self.bytes[7]])
+        self.u16_at(6)
     }
 
     /// Error code (bytes 41..42).
     #[must_use]
     pub fn error_code(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[41], self.bytes[42]])
+        self.u16_at(41)
     }
 
     /// The order answered (byte 69).

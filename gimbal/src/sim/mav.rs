@@ -400,6 +400,8 @@ pub const COMMAND_LONG_ID: u32 = COMMAND_LONG_DATA::ID;
 #[cfg(test)]
 pub(crate) mod testing {
     use super::super::peer::Peer;
+    use super::Endpoint;
+    use protocol_core::mavlink::dialect::{MavCmd, TIMESYNC_DATA};
 
     /// µs of one byte (10 bits) at `baud`.
     pub(crate) fn byte_us(baud: u32) -> f64 {
@@ -417,6 +419,26 @@ pub(crate) mod testing {
                 Some((at, c.to_vec()))
             })
             .collect()
+    }
+
+    /// A TIMESYNC request (tc1 0) with `ts1`, to `target`.
+    pub(crate) fn timesync_request(ts1: i64, target: (u8, u8)) -> super::MavMessage {
+        super::MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1,
+            target_system: target.0,
+            target_component: target.1,
+        })
+    }
+
+    /// MAV_CMD_SET_MESSAGE_INTERVAL of message `id` to system 1's autopilot.
+    pub(crate) fn set_interval(id: u32, interval_us: f32) -> super::MavMessage {
+        super::command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+            (1, super::AUTOPILOT),
+            0,
+        )
     }
 
     /// Drives a simulated FC in true time as the scenario does: each wakeup polled at
@@ -453,6 +475,17 @@ pub(crate) mod testing {
                 fc.receive(*at, c);
                 self.bursts.extend(fc.transmit(*at));
             }
+        }
+
+        /// `msg` from `dev`, its first start bit at `t0_us` on a 115 200 baud line.
+        pub(crate) fn send(
+            &mut self,
+            fc: &mut impl Peer,
+            t0_us: u64,
+            dev: &mut Endpoint,
+            msg: &super::MavMessage,
+        ) {
+            self.deliver(fc, &uart_chunks(t0_us, 115_200, &dev.frame(msg)));
         }
 
         /// Every frame sent, with the start of its burst.

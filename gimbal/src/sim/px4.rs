@@ -597,27 +597,9 @@ impl Pilot for Px4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+    use crate::sim::mav::testing::{Driver, byte_us, set_interval, timesync_request, uart_chunks};
     use protocol_core::mavlink::dialect::HEARTBEAT_DATA;
     use protocol_core::mavlink::dialect::TIMESYNC_DATA;
-
-    fn request(ts1: i64, target: (u8, u8)) -> MavMessage {
-        MavMessage::TIMESYNC(TIMESYNC_DATA {
-            tc1: 0,
-            ts1,
-            target_system: target.0,
-            target_component: target.1,
-        })
-    }
-
-    fn set_interval(id: u32, interval_us: f32) -> MavMessage {
-        mav::command_long(
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
-            (1, AUTOPILOT),
-            0,
-        )
-    }
 
     fn system_times(d: &Driver) -> Vec<(u64, SYSTEM_TIME_DATA)> {
         d.frames()
@@ -643,7 +625,7 @@ mod tests {
         for i in 0..40u64 {
             let t0 = 1_000_000 + i * 98_765;
             let ts1 = 9_000_000_000 + i as i64;
-            let req = dev.frame(&request(ts1, (if i % 3 == 0 { 0 } else { 1 }, 1)));
+            let req = dev.frame(&timesync_request(ts1, (if i % 3 == 0 { 0 } else { 1 }, 1)));
             let mut wire = req.clone();
             if i % 2 == 1 {
                 // Bytes behind it in the same chunks.
@@ -694,8 +676,7 @@ mod tests {
         assert!(min < 60.0 && max > 240.0, "{min}..{max}");
         // A request for another system is not answered.
         let n = px4.timesync_answers.len();
-        let req = dev.frame(&request(1, (7, 1)));
-        d.deliver(&mut px4, &uart_chunks(6_000_000, 115_200, &req));
+        d.send(&mut px4, 6_000_000, &mut dev, &timesync_request(1, (7, 1)));
         d.run_until(&mut px4, 6_100_000);
         assert_eq!(px4.timesync_answers.len(), n);
     }
@@ -717,8 +698,8 @@ mod tests {
             d.run_until(&mut px4, 3_000_000);
             assert!(system_times(&d).is_empty(), "{mode:?}");
             let mut dev = Endpoint::new(1, mav::GIMBAL);
-            let cmd = dev.frame(&set_interval(SYSTEM_TIME_DATA::ID, 100_000.0));
-            d.deliver(&mut px4, &uart_chunks(3_000_000, 115_200, &cmd));
+            let cmd = set_interval(SYSTEM_TIME_DATA::ID, 100_000.0);
+            d.send(&mut px4, 3_000_000, &mut dev, &cmd);
             d.run_until(&mut px4, 6_000_000);
             let expected = if honours {
                 MavResult::MAV_RESULT_ACCEPTED
@@ -775,13 +756,13 @@ mod tests {
             .unwrap();
         assert_eq!(ts1, (px4.fc_us(sent_at) * 1000) as i64);
         let mut dev = Endpoint::new(1, mav::GIMBAL);
-        let reply = dev.frame(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+        let reply = MavMessage::TIMESYNC(TIMESYNC_DATA {
             tc1: 42,
             ts1,
             target_system: 1,
             target_component: 1,
-        }));
-        d.deliver(&mut px4, &uart_chunks(10_000_000, 115_200, &reply));
+        });
+        d.send(&mut px4, 10_000_000, &mut dev, &reply);
         assert_eq!(px4.timesync_replies.len(), 1);
         assert_eq!(px4.timesync_replies[0].1, 42);
     }

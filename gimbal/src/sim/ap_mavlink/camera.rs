@@ -16,7 +16,7 @@ use protocol_core::mavlink::dialect::{
     MessageData as _,
 };
 
-use super::{ApMavlink, CameraTargets, Heard};
+use super::{ApMavlink, CameraTargets, Heard, announced, from_device};
 use crate::sim::mav::{self, CAMERA};
 
 impl ApMavlink {
@@ -64,21 +64,20 @@ impl ApMavlink {
     /// A HEARTBEAT in the search window: the camera found when it is one (type 30 from
     /// component 100).
     pub(super) fn camera_heartbeat(&mut self, h: Header, mavtype: MavType) {
-        if self.config.camera
-            && self.camera_found.is_none()
-            && mavtype == MavType::MAV_TYPE_CAMERA
-            && h.component_id == CAMERA
-        {
-            self.camera_found = Some(h.system_id);
+        let camera = announced(
+            self.camera_found,
+            &h,
+            mavtype,
+            (MavType::MAV_TYPE_CAMERA, CAMERA),
+        );
+        if self.config.camera && camera.is_some() {
+            self.camera_found = camera;
         }
     }
 
     /// CAMERA_INFORMATION: the first from the camera found.
     pub(super) fn camera_information(&mut self, h: Header, info: CAMERA_INFORMATION_DATA) {
-        if self.camera_found == Some(h.system_id)
-            && h.component_id == CAMERA
-            && self.camera_info.is_none()
-        {
+        if from_device(self.camera_found, &h, CAMERA) && self.camera_info.is_none() {
             self.camera_info = Some(Heard::new(self.board.now_us(), h, info));
         }
     }

@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 use protocol_core::mavlink::dialect::{
     CAMERA_CAPTURE_STATUS_DATA, CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA,
     COMMAND_ACK_DATA, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
-    GIMBAL_DEVICE_SET_ATTITUDE_DATA,
+    GIMBAL_DEVICE_SET_ATTITUDE_DATA, MavType,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
@@ -351,6 +351,23 @@ impl ApMavlink {
         self.sent.push((self.board.now_us(), msg.clone()));
         self.board.write_loop(frame, self.config.jitter_us);
     }
+}
+
+/// The system of the device a HEARTBEAT from `h` announces, when it is the first of the
+/// `(type, component)` a driver looks for (none found yet).
+fn announced(
+    found: Option<u8>,
+    h: &Header,
+    mavtype: MavType,
+    (want, comp): (MavType, u8),
+) -> Option<u8> {
+    (found.is_none() && mavtype == want && h.component_id == comp).then_some(h.system_id)
+}
+
+/// A message from `h` comes from the device a driver found (system `found`), component
+/// `comp`.
+fn from_device(found: Option<u8>, h: &Header, comp: u8) -> bool {
+    found == Some(h.system_id) && h.component_id == comp
 }
 
 /// `SCHED_LOOP_RATE`: the setting, else the vehicle's default.

@@ -23,7 +23,7 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::{ApMavlink, Heard};
+use super::{ApMavlink, Heard, announced, from_device};
 use crate::sim::mav::{self, GIMBAL};
 
 /// What the mount is told to do.
@@ -134,12 +134,14 @@ impl ApMavlink {
     /// A HEARTBEAT in the search window: the gimbal found when it is one (type 26 from
     /// component 154).
     pub(super) fn mount_heartbeat(&mut self, h: Header, mavtype: MavType) {
-        if self.config.mount
-            && self.mount_found.is_none()
-            && mavtype == MavType::MAV_TYPE_GIMBAL
-            && h.component_id == GIMBAL
-        {
-            self.mount_found = Some(h.system_id);
+        let gimbal = announced(
+            self.mount_found,
+            &h,
+            mavtype,
+            (MavType::MAV_TYPE_GIMBAL, GIMBAL),
+        );
+        if self.config.mount && gimbal.is_some() {
+            self.mount_found = gimbal;
             self.mount_found_at_us = Some(self.board.now_us());
         }
     }
@@ -147,10 +149,7 @@ impl ApMavlink {
     /// GIMBAL_DEVICE_INFORMATION: the first from the gimbal found initialises the driver,
     /// when the port takes AUTOPILOT_STATE_FOR_GIMBAL_DEVICE at 50 Hz.
     pub(super) fn mount_information(&mut self, h: Header, info: GIMBAL_DEVICE_INFORMATION_DATA) {
-        if self.mount_found != Some(h.system_id)
-            || h.component_id != GIMBAL
-            || self.mount_info.is_some()
-        {
+        if !from_device(self.mount_found, &h, GIMBAL) || self.mount_info.is_some() {
             return;
         }
         self.mount_info = Some(Heard::new(self.board.now_us(), h, info));
@@ -163,7 +162,7 @@ impl ApMavlink {
     /// GIMBAL_DEVICE_ATTITUDE_STATUS from the gimbal found: the mount's attitude (the old
     /// driver: only a status whose `time_boot_ms` changed).
     pub(super) fn mount_status(&mut self, h: Header, s: GIMBAL_DEVICE_ATTITUDE_STATUS_DATA) {
-        if self.mount_found != Some(h.system_id) || h.component_id != GIMBAL {
+        if !from_device(self.mount_found, &h, GIMBAL) {
             return;
         }
         let now_us = self.board.now_us();

@@ -3,26 +3,16 @@
 use super::*;
 use crate::sim::FcReboot;
 use crate::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
-use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+use crate::sim::mav::testing::{Driver, byte_us, set_interval, timesync_request, uart_chunks};
 use crate::sim::mav::{CAMERA, GIMBAL};
 use protocol_core::mavlink::dialect::{
     AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, GIMBAL_DEVICE_INFORMATION_DATA, HEARTBEAT_DATA,
-    MavAutopilot, MavCmd, MavModeFlag, MavResult, MavState, MavType, MessageData as _,
-    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    MavAutopilot, MavModeFlag, MavResult, MavState, MavType, MessageData as _, SYSTEM_TIME_DATA,
 };
 
 /// The device: the FC's system, the gimbal's component.
 fn device() -> Endpoint {
     Endpoint::new(1, GIMBAL)
-}
-
-fn request(ts1: i64, target: (u8, u8)) -> MavMessage {
-    MavMessage::TIMESYNC(TIMESYNC_DATA {
-        tc1: 0,
-        ts1,
-        target_system: target.0,
-        target_component: target.1,
-    })
 }
 
 fn heartbeat(mavtype: MavType) -> MavMessage {
@@ -34,15 +24,6 @@ fn heartbeat(mavtype: MavType) -> MavMessage {
         system_status: MavState::MAV_STATE_ACTIVE,
         mavlink_version: 3,
     })
-}
-
-fn set_interval(id: u32, interval_us: f32) -> MavMessage {
-    mav::command_long(
-        MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-        [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
-        (1, AUTOPILOT),
-        0,
-    )
 }
 
 /// One request on the wire from true `t0`, optionally followed at once by a
@@ -131,7 +112,7 @@ fn ardupilot_answers_timesync_with_the_uart_receive_estimate_of_the_request_star
     for i in 0..40u64 {
         let t0 = 1_000_000 + i * 123_457;
         // Targeted at the autopilot: a full 30-byte frame.
-        let msg = request(7_000_000_000_000 + i as i64, (1, AUTOPILOT));
+        let msg = timesync_request(7_000_000_000_000 + i as i64, (1, AUTOPILOT));
         let err = timesync_trial(&mut ap, &mut d, t0, &msg, i % 2 == 1);
         // Late by the whole-µs byte time's 0.8 µs a byte, at most one byte time
         // plus the chunk stamp's rounding; never early.
@@ -139,13 +120,15 @@ fn ardupilot_answers_timesync_with_the_uart_receive_estimate_of_the_request_star
     }
     // A broadcast request is answered too; one for another component is not.
     let t0 = 7_000_000;
-    let err = timesync_trial(&mut ap, &mut d, t0, &request(5, (0, 0)), false);
+    let err = timesync_trial(&mut ap, &mut d, t0, &timesync_request(5, (0, 0)), false);
     assert!((-1.0..=byte + 1.0).contains(&err));
     let n = ap.timesync_answers.len();
     let mut dev = device();
-    d.deliver(
+    d.send(
         &mut ap,
-        &uart_chunks(8_000_000, 115_200, &dev.frame(&request(6, (1, CAMERA)))),
+        8_000_000,
+        &mut dev,
+        &timesync_request(6, (1, CAMERA)),
     );
     d.run_until(&mut ap, 8_100_000);
     assert_eq!(ap.timesync_answers.len(), n);
@@ -163,7 +146,7 @@ fn ardupilot_timesync_estimate_with_payload_size_reading() {
     // No targets and a small ts1: MAVLink 2 trims the frame to 24 bytes; the driver
     // still counts 30, so the estimate is 6 bytes early.
     for i in 0..10u64 {
-        let msg = request(3_000_000_000 + i as i64, (0, 0));
+        let msg = timesync_request(3_000_000_000 + i as i64, (0, 0));
         assert_eq!(device().frame(&msg).len(), 24);
         let err = timesync_trial(&mut ap, &mut d, 2_000_000 + i * 77_777, &msg, i % 2 == 0);
         let early = -6.0 * 86.0;
@@ -178,7 +161,7 @@ fn ardupilot_timesync_estimate_with_payload_size_reading() {
         ..ApMavlinkConfig::default()
     });
     let mut d = Driver::new();
-    let msg = request(3_000_000_000, (0, 0));
+    let msg = timesync_request(3_000_000_000, (0, 0));
     let err = timesync_trial(&mut ap, &mut d, 2_000_000, &msg, true);
     assert!((-1.0..=byte + 1.0).contains(&err), "{err} µs");
 }
@@ -192,13 +175,11 @@ fn ardupilot_loop_phase_sweeps_the_ms_grid_and_system_time_gives_the_utc_shift()
     });
     let mut d = Driver::new();
     let mut dev = device();
-    d.deliver(
+    d.send(
         &mut ap,
-        &uart_chunks(
-            10_000,
-            115_200,
-            &dev.frame(&set_interval(SYSTEM_TIME_DATA::ID, 100_000.0)),
-        ),
+        10_000,
+        &mut dev,
+        &set_interval(SYSTEM_TIME_DATA::ID, 100_000.0),
     );
     d.run_until(&mut ap, 31_000_000);
     assert!(ap.acks.is_empty());
@@ -262,13 +243,11 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
     });
     let mut d = Driver::new();
     let mut dev = device();
-    d.deliver(
+    d.send(
         &mut ap,
-        &uart_chunks(
-            50_000,
-            115_200,
-            &dev.frame(&heartbeat(MavType::MAV_TYPE_GIMBAL)),
-        ),
+        50_000,
+        &mut dev,
+        &heartbeat(MavType::MAV_TYPE_GIMBAL),
     );
     d.run_until(&mut ap, 100_000);
     assert_eq!(ap.mount_found, Some(1));
@@ -279,7 +258,7 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
         yaw_max: 3.0,
         ..GIMBAL_DEVICE_INFORMATION_DATA::default()
     });
-    d.deliver(&mut ap, &uart_chunks(150_000, 115_200, &dev.frame(&info)));
+    d.send(&mut ap, 150_000, &mut dev, &info);
     d.run_until(&mut ap, 200_000);
     assert!(ap.mount_initialised);
     ap.set_target(ApMountTarget::Angle {
@@ -313,10 +292,7 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
     let mut dev = device();
     let hb = dev.frame(&heartbeat(MavType::MAV_TYPE_GIMBAL));
     d.deliver(&mut plane, &uart_chunks(50_000, 115_200, &hb));
-    d.deliver(
-        &mut plane,
-        &uart_chunks(150_000, 115_200, &dev.frame(&info)),
-    );
+    d.send(&mut plane, 150_000, &mut dev, &info);
     d.run_until(&mut plane, 1_000_000);
     assert!(plane.mount_refused && !plane.mount_initialised);
     let loops = d.wakeups.iter().filter(|&&w| w < 1_000_000).count();

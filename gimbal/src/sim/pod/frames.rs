@@ -95,20 +95,6 @@ impl SimPod {
         let id = packet.message.id();
         *self.rx_counts.entry(id.to_u32()).or_insert(0) += 1;
         let message = packet.message;
-        if self.config.strict_destination
-            && header.dst != self.config.gimbal_address
-            && header.dst != self.config.camera_address
-        {
-            self.rx.misaddressed += 1;
-            self.received.push(RxRecord {
-                start_us,
-                at_us,
-                header,
-                id,
-                frame,
-            });
-            return;
-        }
         let reply = message.get::<GpsReply>();
         let request = match message {
             Message::Request(r) => Some(r),
@@ -123,6 +109,13 @@ impl SimPod {
             id,
             frame,
         });
+        if self.config.strict_destination
+            && header.dst != self.config.gimbal_address
+            && header.dst != self.config.camera_address
+        {
+            self.rx.misaddressed += 1;
+            return;
+        }
         if let Some(reply) = reply {
             self.handle_gps_reply(now, header, reply);
         } else if let Some(request) = request {

@@ -396,14 +396,8 @@ impl SimPod {
     /// Every received message of type `M`, with arrival instant and header.
     #[must_use]
     pub fn received_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
-        self.received
-            .iter()
-            .filter(|r| r.id == M::ID)
-            .filter_map(|r| {
-                let p = Packet::decode(&r.frame).ok()?;
-                Some((r.at_us, r.header, p.message.get::<M>()?))
-            })
-            .collect()
+        let frames = self.received.iter();
+        messages_of(frames.map(|r| (r.at_us, r.header, r.id, r.frame.as_slice())))
     }
 
     /// Every frame put on the line, in order (uncorrupted).
@@ -421,14 +415,8 @@ impl SimPod {
     /// Every sent message of type `M`, with instant and header.
     #[must_use]
     pub fn sent_of<M: MessageData<Protocol = K40t>>(&self) -> Vec<(u64, Header, M)> {
-        self.sent
-            .iter()
-            .filter(|r| r.id == M::ID)
-            .filter_map(|r| {
-                let p = Packet::decode(&r.frame).ok()?;
-                Some((r.at_us, r.header, p.message.get::<M>()?))
-            })
-            .collect()
+        let frames = self.sent.iter();
+        messages_of(frames.map(|r| (r.at_us, r.header, r.id, r.frame.as_slice())))
     }
 
     /// Frames generated while the cable was cut.
@@ -480,4 +468,17 @@ impl SimPod {
     pub fn faults_injected(&self) -> (u32, u32) {
         (self.garbage_bursts, self.bit_flips)
     }
+}
+
+/// The frames (instant, header, message id, bytes) that carry message `M`, decoded.
+fn messages_of<'a, M: MessageData<Protocol = K40t>>(
+    frames: impl Iterator<Item = (u64, Header, MsgId, &'a [u8])>,
+) -> Vec<(u64, Header, M)> {
+    frames
+        .filter(|f| f.2 == M::ID)
+        .filter_map(|(at_us, header, _, frame)| {
+            let p = Packet::decode(frame).ok()?;
+            Some((at_us, header, p.message.get::<M>()?))
+        })
+        .collect()
 }
