@@ -136,7 +136,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
             .filter(|r| r.at_us > t)
             .all(|r| r.bytes.len() == 73)
     );
-    assert_eq!(ap.parse_errors, 0);
+    assert_eq!(ap.parse_errors(), 0);
     assert_eq!(
         ap.texts_with("hw:"),
         vec![(t, "XFRobot: hw:1.0 fw:1.0".to_string())]
@@ -836,7 +836,7 @@ fn photos_are_geotagged_from_the_sub_frame_position_and_main_frame_attitude() {
     let (r, photo_t) = one_photo_geotagged(&mut s);
     assert_eq!((r.alt_msl_dm, r.rel_alt_dm), (4880, 523));
     assert_eq!(r.pitch_cdeg, -300);
-    let (roll, ..) = s.fc.aircraft.attitude_deg(photo_t);
+    let (roll, ..) = s.fc.aircraft().attitude_deg(photo_t);
     assert!(
         (f64::from(r.roll_cdeg) - roll * 100.0).abs() < 10.0,
         "{} vs {roll}",
@@ -896,7 +896,7 @@ fn every_document_package_is_answered_once_echoing_its_version() {
         assert_eq!(sub, u8::from(p[30] == 0x01), "request code {}", p[30]);
     }
     assert_eq!(s.engine.counters().fc_rejected, 1, "the misprinted one");
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
 }
 
 /// SplitMix64 for the fault scenarios.
@@ -989,7 +989,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
     );
     assert_eq!(c.fc_frames, c.fc_sent, "every valid package answered");
     assert!(c.fc_garbage_bytes > 1000);
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
     // With two of three packages intact, ArduPilot stays healthy.
     assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
 }
@@ -1060,6 +1060,6 @@ fn floods_on_both_ports_lose_no_valid_package() {
     assert!(c.pod_rejected > 0 && c.pod_garbage_bytes > 0, "{c:?}");
     assert!(s.engine.pod_state().link);
     assert!(s.fc.healthy());
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
     assert_eq!(c.dropped, 0);
 }

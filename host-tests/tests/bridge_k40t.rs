@@ -5,6 +5,7 @@
 
 mod engine_scenarios;
 
+use gimbal::sim::Autopilot;
 use gimbal::sim::fc_k40t::FcK40t;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig};
 use gimbal::sim::scenario::Scenario;
@@ -134,7 +135,7 @@ fn the_bridge_answers_gps_requests_the_fc_leaves_unanswered() {
     let last = &replies[4].reply;
     assert_eq!(last.code.code(), AckCode::Ok);
     let photo = s.pod.photos().last().expect("a photo").at_us;
-    let (lat, lon) = s.fc.aircraft.position_e7(photo);
+    let (lat, lon) = s.fc.aircraft().position_e7(photo);
     assert!(
         (last.lat_e7 - lat).abs() < 50 && (last.lon_e7 - lon).abs() < 70,
         "{last:?} vs {lat} {lon}"

@@ -321,7 +321,7 @@ fn photos_carry_utc_and_the_geotag_the_pod_got_both_camera_target_readings() {
             assert_eq!(c.relative_alt, i32::from(reply.reply.rel_alt_dm) * 100);
             // And it is where the aircraft was at the photo's UTC.
             let photo = s.pod.photos()[i];
-            let (lat, lon) = s.fc.aircraft.position_e7(photo.at_us);
+            let (lat, lon) = s.fc.aircraft().position_e7(photo.at_us);
             assert!(
                 lat.abs_diff(c.lat) < 30 && lon.abs_diff(c.lon) < 30,
                 "{c:?}"

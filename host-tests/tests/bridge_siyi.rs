@@ -70,7 +70,7 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     );
     // No reply longer than ArduPilot's 32 data bytes, none dropped by its parser.
     assert!(ap.received.iter().all(|r| r.data.len() <= 32));
-    assert_eq!(ap.parse_errors, 0);
+    assert_eq!(ap.parse_errors(), 0);
     // And it stays healthy.
     stays_healthy(&mut s, 60 * S);
 }
@@ -138,15 +138,15 @@ fn camera_commands_reach_the_pod_with_the_right_fields() {
     assert_eq!(photo.len(), 1);
     assert_eq!(photo[0].2.action, k40t::ShootAction::Start);
     // Record: ArduPilot toggles only after reading the state from 0x0A.
-    s.fc.record_video(true);
+    s.fc.record(true);
     s.run_for(3 * S);
     let rec = s.pod.received_of::<Record>();
     assert_eq!(rec.last().unwrap().2.action, RecordAction::Start);
     assert_eq!(s.fc.record_status, protocol_core::siyi::RecordStatus::On);
-    s.fc.record_video(true); // already on: no toggle
+    s.fc.record(true); // already on: no toggle
     s.run_for(2 * S);
     assert_eq!(s.pod.received_of::<Record>().len(), 1);
-    s.fc.record_video(false);
+    s.fc.record(false);
     s.run_for(3 * S);
     assert_eq!(
         s.pod.received_of::<Record>().last().unwrap().2.action,
@@ -364,7 +364,7 @@ fn damaged_lines_cost_frames_not_health_or_control() {
     assert!(fc_frames * 100 >= sent * 95, "{fc_frames} of {sent}");
     // ArduPilot stays healthy throughout, its parser never sees a bad frame from us.
     assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
     // The pod got only well-formed frames.
     let rx = s.pod.rx_stats();
     assert_eq!(rx.deframer.checksum_errors, 0);
@@ -455,7 +455,7 @@ fn assert_geotag_matches(s: &Scenario<ApSiyi>, photo: usize) {
     let r = &s.pod.gps_replies()[req.reply.expect("answered")];
     assert_eq!(r.reply.code.code(), AckCode::Ok, "photo {photo}: {r:?}");
     assert!(r.time_matches && !r.late);
-    let (lat, lon) = s.fc.aircraft.position_e7(p.at_us);
+    let (lat, lon) = s.fc.aircraft().position_e7(p.at_us);
     assert!(
         (r.reply.lat_e7 - lat).abs() < 50,
         "photo {photo}: lat {} vs {lat}",

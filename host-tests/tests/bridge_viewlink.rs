@@ -87,7 +87,7 @@ fn ardupilot_is_healthy_within_a_second_and_reads_the_identity() {
             .iter()
             .all(|r| r.id != 0x40 || r.data.len() == 41)
     );
-    assert_eq!((ap.short_status, ap.parse_errors), (0, 0));
+    assert_eq!((ap.short_status, ap.parse_errors()), (0, 0));
     // The frame counter of a Viewlink sender: 1, 2, 3, 0, 1, ... over every reply.
     for (i, r) in ap.received.iter().enumerate() {
         assert_eq!(r.counter, ((i + 1) % 4) as u8, "reply {i}");
@@ -232,12 +232,12 @@ fn camera_commands_reach_the_pod_and_their_state_comes_back() {
     assert_eq!(s.pod.photos().len(), 1);
     // Record start: the pod records, D1 says so, ArduPilot reads it.
     assert!(!s.fc.recording);
-    s.fc.record_video(true);
+    s.fc.record(true);
     s.run_for(S);
     assert_eq!(last_of::<Record>(&s).unwrap().action, RecordAction::Start);
     assert!(s.pod.camera().recording.is_some());
     assert!(s.fc.recording, "D1 byte 32 & 7 == 1");
-    s.fc.record_video(false);
+    s.fc.record(false);
     s.run_for(2 * S);
     assert_eq!(last_of::<Record>(&s).unwrap().action, RecordAction::Stop);
     assert!(!s.fc.recording);
@@ -704,7 +704,7 @@ fn photos_are_geotagged_with_the_position_and_attitude_of_m_ahrs() {
     // Heading 45 deg (M carries whole degrees), pitch -3 deg (sent negated, read back),
     // roll 5 sin(t/2) deg; MSL 488 m, relative 0 (level flight from the first fix).
     assert!((r.pitch_cdeg + 300).abs() <= 1, "{}", r.pitch_cdeg);
-    let (roll, ..) = s.fc.aircraft.attitude_deg(photo_t);
+    let (roll, ..) = s.fc.aircraft().attitude_deg(photo_t);
     assert!(
         (f64::from(r.roll_cdeg) / 100.0 - roll).abs() < 0.5,
         "{} vs {roll}",

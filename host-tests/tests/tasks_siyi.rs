@@ -14,6 +14,7 @@ use embassy_time::{Duration, Timer};
 use gimbal::sim::Autopilot;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::peer::{PodPin, run_peer};
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use task_scenarios::{Bounds, S};
 
@@ -85,7 +86,7 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
     assert!(r.fc.healthy(), "{:?}", r.fc.health_log());
     assert_eq!(r.fc.health_log().len(), 1);
     assert!(r.fc.health_log()[0].0 < 5_000_000);
-    assert_eq!(r.fc.parse_errors, 0);
+    assert_eq!(r.fc.parse_errors(), 0);
     // The rate turned the pod, and it stopped.
     assert!(r.pod.motions().len() >= 2, "{:?}", r.pod.motions());
     assert_eq!(r.pod.gimbal().yaw_rate_dps, 0.0);

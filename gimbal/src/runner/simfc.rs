@@ -155,9 +155,9 @@ impl AnyFc {
     #[must_use]
     pub fn parse_errors(&self) -> u32 {
         match self {
-            AnyFc::Siyi(f) => f.parse_errors,
-            AnyFc::Viewlink(f) => f.parse_errors,
-            AnyFc::Gcu(f) => f.parse_errors,
+            AnyFc::Siyi(f) => f.parse_errors(),
+            AnyFc::Viewlink(f) => f.parse_errors(),
+            AnyFc::Gcu(f) => f.parse_errors(),
             AnyFc::Mavlink(f) => f.parse_errors(),
             AnyFc::K40t(_) => 0,
         }

@@ -35,7 +35,7 @@
 //! bridge's time sync is [`Autopilot::fc_utc_us`], which follows the FC's UTC of the
 //! boot in effect.
 
-use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::SiyiFrames;
 use super::pilot::Pilot;
 use super::{FcClock, XorShift};
@@ -150,8 +150,6 @@ struct LastSent {
 pub struct ApSiyi {
     /// The simulated driver's settings (rates, camera model, seed).
     pub config: ApSiyiConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     board: Board,
     seq: u16,
     // Parser.
@@ -187,8 +185,6 @@ pub struct ApSiyi {
     /// The mount target.
     pub target: Option<MountTarget>,
     zoom_rate: i8,
-    /// Frames dropped by the parser (CRC or too long).
-    pub parse_errors: u32,
 }
 
 impl ApSiyi {
@@ -208,7 +204,6 @@ impl ApSiyi {
         );
         ApSiyi {
             config,
-            aircraft: Aircraft::default(),
             board,
             seq: 0,
             buf: Vec::new(),
@@ -230,7 +225,6 @@ impl ApSiyi {
             sent: Vec::new(),
             target: None,
             zoom_rate: 0,
-            parse_errors: 0,
         }
     }
 
@@ -238,31 +232,6 @@ impl ApSiyi {
     #[must_use]
     pub fn initialised(&self) -> bool {
         self.fw_received
-    }
-
-    /// Take a picture (0x0C 0).
-    pub fn take_picture(&mut self) {
-        self.send(&CameraFunction {
-            function: CameraFunctionType::TakePhoto,
-        });
-    }
-
-    /// Start or stop recording: a toggle only when the last 0x0A says it is needed.
-    pub fn record_video(&mut self, start: bool) {
-        let on = self.record_status == RecordStatus::On;
-        if start != on && self.record_status != RecordStatus::NoCard {
-            self.send(&CameraFunction {
-                function: CameraFunctionType::RecordToggle,
-            });
-        }
-        self.send(&GimbalConfigQuery {});
-    }
-
-    /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
-    pub fn set_zoom_rate(&mut self, rate: i8) {
-        self.zoom_rate = rate.signum();
-        self.send_zoom_rate();
-        self.last.zoom_ms = Some(self.board.fc_ms());
     }
 
     fn send_zoom_rate(&mut self) {
@@ -432,7 +401,7 @@ impl ApSiyi {
                             let data = self.buf[8..n - 2].to_vec();
                             self.process(now_us, id, &data);
                         } else {
-                            self.parse_errors += 1;
+                            self.board.parse_error();
                         }
                         true
                     } else {
@@ -443,7 +412,7 @@ impl ApSiyi {
             };
             if reset {
                 if n >= 5 && n != 10 + usize::from(u16::from_le_bytes([self.buf[3], self.buf[4]])) {
-                    self.parse_errors += 1;
+                    self.board.parse_error();
                 }
                 self.buf.clear();
             }
@@ -511,7 +480,6 @@ impl Autopilot for ApSiyi {
 
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
         self.parse(now_us, bytes);
-        self.update_health();
     }
 
     /// One `update()` run.
@@ -563,7 +531,7 @@ impl Autopilot for ApSiyi {
         if self.last.attitude_sent_ms.is_none_or(|l| now_ms - l > 100) {
             self.last.attitude_sent_ms = Some(now_ms);
             let time_boot_ms = now_ms as u32;
-            let (r, p, y) = self.aircraft.attitude_deg(t);
+            let (r, p, y) = self.board.aircraft().attitude_deg(t);
             let [roll_rad, pitch_rad, yaw_rad] = [r, p, y].map(|deg| deg.to_radians() as f32);
             self.send(&FcAttitude {
                 time_boot_ms,
@@ -575,8 +543,8 @@ impl Autopilot for ApSiyi {
                 yaw_rate_rad_s: 0.0,
             });
             if self.config.position {
-                let (lat_e7, lon_e7) = self.aircraft.position_e7(t);
-                let alt = (self.aircraft.alt_msl_m * 100.0) as i32;
+                let (lat_e7, lon_e7) = self.board.aircraft().position_e7(t);
+                let alt = (self.board.aircraft().alt_msl_m * 100.0) as i32;
                 self.send(&FcPosition {
                     time_boot_ms,
                     lat_e7,
@@ -644,12 +612,6 @@ impl Pilot for ApSiyi {
             .find(|(_, id)| *id == 0x30)
             .map(|(t, _)| *t)
     }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
-    }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|(_, yaw, pitch, _)| (yaw, pitch))
     }
@@ -664,14 +626,27 @@ impl Pilot for ApSiyi {
             yaw_is_ef: false,
         });
     }
+    /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
     fn zoom(&mut self, rate: i8) {
-        self.set_zoom_rate(rate);
+        self.zoom_rate = rate.signum();
+        self.send_zoom_rate();
+        self.last.zoom_ms = Some(self.board.fc_ms());
     }
+    /// Take a picture (0x0C 0).
     fn take_picture(&mut self) {
-        ApSiyi::take_picture(self);
+        self.send(&CameraFunction {
+            function: CameraFunctionType::TakePhoto,
+        });
     }
-    fn record(&mut self, on: bool) {
-        self.record_video(on);
+    /// Start or stop recording: a toggle only when the last 0x0A says it is needed.
+    fn record(&mut self, start: bool) {
+        let on = self.record_status == RecordStatus::On;
+        if start != on && self.record_status != RecordStatus::NoCard {
+            self.send(&CameraFunction {
+                function: CameraFunctionType::RecordToggle,
+            });
+        }
+        self.send(&GimbalConfigQuery {});
     }
 }
 

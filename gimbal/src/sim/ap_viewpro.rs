@@ -49,7 +49,7 @@
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
-use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::ViewlinkFrames;
 use super::pilot::Pilot;
 use super::{FcClock, XorShift};
@@ -160,8 +160,6 @@ pub enum Tracking {
 pub struct ApViewpro {
     /// The simulated driver's settings (rates, seed).
     pub config: ApViewproConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     board: Board,
     last_update_ms: Option<u64>,
     counter: FrameCounter,
@@ -195,8 +193,6 @@ pub struct ApViewpro {
     pub sent: Vec<(u64, u8, Vec<u8>)>,
     /// The mount target.
     pub target: Option<MountTarget>,
-    /// Frames dropped by the parser (bad checksum).
-    pub parse_errors: u32,
     /// 0x40 frames with fewer than 41 data bytes.
     pub short_status: u32,
 }
@@ -218,7 +214,6 @@ impl ApViewpro {
         );
         ApViewpro {
             config,
-            aircraft: Aircraft::default(),
             board,
             last_update_ms: None,
             counter: FrameCounter::new(),
@@ -239,7 +234,6 @@ impl ApViewpro {
             received: Vec::new(),
             sent: Vec::new(),
             target: None,
-            parse_errors: 0,
             short_status: 0,
         }
     }
@@ -277,23 +271,6 @@ impl ApViewpro {
             lrf,
         };
         self.send_raw(&c1);
-    }
-
-    /// Take a picture.
-    pub fn take_picture(&mut self) {
-        let s = self.image_sensor;
-        self.camera_command(s, OperationCommand::TakePicture, 0, LrfCommand::NoAction);
-    }
-
-    /// Start or stop recording.
-    pub fn record_video(&mut self, start: bool) {
-        let s = self.image_sensor;
-        let op = if start {
-            OperationCommand::StartRecord
-        } else {
-            OperationCommand::StopRecord
-        };
-        self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 
     /// Zoom rate: < 0 out, 0 stop, > 0 in (the EO or the IR zoom, by the sensor).
@@ -438,11 +415,11 @@ impl ApViewpro {
             // AP_RTC without time: all zero, month + 1.
             (48 | (1 << 7), 0)
         };
-        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
+        let (roll, pitch, yaw) = self.board.aircraft().attitude_deg(t);
         let bam = |deg: f64| (deg * 65536.0 / 360.0) as i32 as i16;
-        let (lat_e7, lon_e7) = self.aircraft.position_e7(t);
-        let h = self.aircraft.heading_deg.to_radians();
-        let v = self.aircraft.speed_m_s;
+        let (lat_e7, lon_e7) = self.board.aircraft().position_e7(t);
+        let h = self.board.aircraft().heading_deg.to_radians();
+        let v = self.board.aircraft().speed_m_s;
         let m = M::new(
             Some(MAttitude {
                 roll_bam16: bam(roll),
@@ -454,11 +431,11 @@ impl ApViewpro {
             Some(MGps {
                 date: Date(date),
                 time: TimeCs(cs),
-                gps_yaw_bam16: bam(self.aircraft.heading_deg.rem_euclid(360.0)),
+                gps_yaw_bam16: bam(self.board.aircraft().heading_deg.rem_euclid(360.0)),
                 position_mark: 0x0F,
                 lat_e7,
                 lon_e7,
-                height_mm: (self.aircraft.alt_msl_m * 1000.0) as i32,
+                height_mm: (self.board.aircraft().alt_msl_m * 1000.0) as i32,
                 vel_north_cm_s: (v * h.cos() * 100.0) as i16,
                 vel_east_cm_s: (v * h.sin() * 100.0) as i16,
                 vdop_x100: 120,
@@ -565,7 +542,7 @@ impl ApViewpro {
                         let data = self.buf[2..n - 1].to_vec();
                         self.process(counter, id, data);
                     } else {
-                        self.parse_errors += 1;
+                        self.board.parse_error();
                     }
                     reset = true;
                 }
@@ -675,6 +652,9 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 impl Autopilot for ApViewpro {
     board_field!();
 
+    /// Its health only at its runs (the bytes wait for them).
+    const HEALTH_ON_RECEIVE: bool = false;
+
     fn take_bytes(&mut self, _now_us: u64, bytes: &[u8]) {
         // The driver reads its UART at its next run.
         self.rx.extend_from_slice(bytes);
@@ -733,12 +713,6 @@ impl Pilot for ApViewpro {
             .find(|(t, id, _)| *id == 0xB1 && self.board.clock().utc_valid(*t))
             .map(|(t, _, _)| *t)
     }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
-    }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|a| (a.yaw_deg, a.pitch_deg))
     }
@@ -756,11 +730,20 @@ impl Pilot for ApViewpro {
     fn zoom(&mut self, rate: i8) {
         self.set_zoom_rate(f64::from(rate));
     }
+    /// Take a picture.
     fn take_picture(&mut self) {
-        ApViewpro::take_picture(self);
+        let s = self.image_sensor;
+        self.camera_command(s, OperationCommand::TakePicture, 0, LrfCommand::NoAction);
     }
-    fn record(&mut self, on: bool) {
-        self.record_video(on);
+    /// Start or stop recording.
+    fn record(&mut self, start: bool) {
+        let s = self.image_sensor;
+        let op = if start {
+            OperationCommand::StartRecord
+        } else {
+            OperationCommand::StopRecord
+        };
+        self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 }
 

@@ -41,7 +41,7 @@
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
-use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::GcuFrames;
 use super::pilot::Pilot;
 use super::{FcClock, XorShift};
@@ -262,8 +262,6 @@ enum ParseState {
 pub struct ApXfRobot {
     /// The simulated driver's settings (rates, GPS, seed).
     pub config: ApXfRobotConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// The mount target (none: neutral, 0/0/0).
     pub target: Option<MountTarget>,
     /// A document host's control in place of ArduPilot's set attitude.
@@ -287,8 +285,6 @@ pub struct ApXfRobot {
     pub sent: Vec<Sent>,
     /// Every package the parser accepted.
     pub replies: Vec<Reply>,
-    /// Candidates that failed the CRC.
-    pub parse_errors: u32,
 }
 
 impl ApXfRobot {
@@ -308,7 +304,6 @@ impl ApXfRobot {
         );
         ApXfRobot {
             config,
-            aircraft: Aircraft::default(),
             target: None,
             host_control: None,
             board,
@@ -323,7 +318,6 @@ impl ApXfRobot {
             texts: Vec::new(),
             sent: Vec::new(),
             replies: Vec::new(),
-            parse_errors: 0,
         }
     }
 
@@ -453,7 +447,7 @@ impl ApXfRobot {
 
     /// The vehicle's yaw, degrees.
     fn vehicle_yaw_deg(&self) -> f64 {
-        self.aircraft.attitude_deg(self.board.now_us()).2
+        self.board.aircraft().attitude_deg(self.board.now_us()).2
     }
 
     /// `update_mnt_target` + `update_angle_target_from_rate`.
@@ -511,7 +505,7 @@ impl ApXfRobot {
     /// `send_target_angles` (or the document host's package).
     fn send_attitude(&mut self) {
         let t = self.board.now_us();
-        let (r, p, y) = self.aircraft.attitude_deg(t);
+        let (r, p, y) = self.board.aircraft().attitude_deg(t);
         let (troll, tpitch, tyaw, ef) = self.angle;
         let yaw_bf = if ef { wrap180(tyaw - y) } else { tyaw };
         let cd = |deg: f64, lim: f64| (deg * 100.0).clamp(-lim, lim) as i16;
@@ -524,8 +518,8 @@ impl ApXfRobot {
                 cd(yaw_bf, 18000.0),
             ),
         };
-        let v = self.aircraft.speed_m_s;
-        let h = self.aircraft.heading_deg.to_radians();
+        let v = self.board.aircraft().speed_m_s;
+        let h = self.board.aircraft().heading_deg.to_radians();
         let main = HostMain {
             roll_control: roll_c,
             pitch_control: pitch_c,
@@ -546,7 +540,7 @@ impl ApXfRobot {
         };
         let gps = self.board.utc_valid();
         let (lat, lon) = if gps {
-            self.aircraft.position_e7(t)
+            self.board.aircraft().position_e7(t)
         } else {
             (0, 0)
         };
@@ -556,7 +550,7 @@ impl ApXfRobot {
             lon_e7: lon,
             lat_e7: lat,
             alt_mm: if gps {
-                (self.aircraft.alt_msl_m * 1000.0) as i32
+                (self.board.aircraft().alt_msl_m * 1000.0) as i32
             } else {
                 0
             },
@@ -626,7 +620,7 @@ impl ApXfRobot {
                     if crc16_xmodem(&self.buf[..n - 2]) == self.crc {
                         self.process(now_us);
                     } else {
-                        self.parse_errors += 1;
+                        self.board.parse_error();
                     }
                     reset = true;
                 }
@@ -710,7 +704,6 @@ impl Autopilot for ApXfRobot {
 
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
         self.parse(now_us, bytes);
-        self.update_health();
     }
 
     /// One `update()` run.
@@ -769,12 +762,6 @@ impl Pilot for ApXfRobot {
             .iter()
             .find(|s| s.order == 0x10 && self.board.clock().utc_valid(s.at_us))
             .map(|s| s.at_us)
-    }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        self.parse_errors
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|(_, _, pitch, yaw)| (yaw, pitch))

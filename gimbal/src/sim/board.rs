@@ -161,9 +161,12 @@ enum Power {
 }
 
 /// The board of a simulated autopilot: clock, power, main loop, output queue, health
-/// log, and the seeded noise of its jitters.
+/// log, the aircraft it flies, the frames its driver's parser dropped, and the seeded
+/// noise of its jitters.
 #[derive(Debug)]
 pub struct Board {
+    aircraft: Aircraft,
+    parse_errors: u32,
     rng: XorShift,
     now_us: u64,
     clock: FcClock,
@@ -184,6 +187,8 @@ impl Board {
     pub(crate) fn new(clock: FcClock, rng: XorShift, main_loop: MainLoop) -> Self {
         let on = clock.current().at_us;
         let mut board = Board {
+            aircraft: Aircraft::default(),
+            parse_errors: 0,
             rng,
             now_us: 0,
             clock,
@@ -197,6 +202,30 @@ impl Board {
         };
         board.restart_loop();
         board
+    }
+
+    /// The board flying `aircraft`.
+    #[must_use]
+    pub(crate) fn flying(mut self, aircraft: Aircraft) -> Self {
+        self.aircraft = aircraft;
+        self
+    }
+
+    /// The aircraft (its true position and attitude at any instant).
+    #[must_use]
+    pub fn aircraft(&self) -> &Aircraft {
+        &self.aircraft
+    }
+
+    /// Frames the driver's parser dropped.
+    #[must_use]
+    pub fn parse_errors(&self) -> u32 {
+        self.parse_errors
+    }
+
+    /// The driver's parser dropped a frame.
+    pub(crate) fn parse_error(&mut self) {
+        self.parse_errors += 1;
     }
 
     // Time.
@@ -500,8 +529,11 @@ pub trait Autopilot {
     /// The board, to change.
     fn board_mut(&mut self) -> &mut Board;
 
+    /// The driver's health is taken as bytes arrive too, not only in its loop.
+    const HEALTH_ON_RECEIVE: bool = true;
+
     /// Bytes from the bridge, the last of them arriving at `now_us`, the board on (its
-    /// time already taken).
+    /// time already taken); the health is taken after ([`Autopilot::HEALTH_ON_RECEIVE`]).
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]);
     /// One run of the main loop, at the board's time.
     fn run(&mut self);
@@ -566,6 +598,14 @@ pub trait Autopilot {
     fn lost_while_off(&self) -> u64 {
         self.board().lost_while_off()
     }
+    /// The aircraft (its true position at any instant).
+    fn aircraft(&self) -> &Aircraft {
+        self.board().aircraft()
+    }
+    /// Frames the FC's parser dropped.
+    fn parse_errors(&self) -> u32 {
+        self.board().parse_errors()
+    }
     /// The FC loses power at `now_us` (the work due up to then done first) and boots
     /// again as `reboot` says.
     fn reboot(&mut self, now_us: u64, reboot: FcReboot)
@@ -586,6 +626,9 @@ impl<A: Autopilot> Peer for A {
             Power::On => {}
         }
         self.take_bytes(now_us, bytes);
+        if Self::HEALTH_ON_RECEIVE {
+            self.update_health();
+        }
     }
 
     fn poll(&mut self, now_us: u64) {

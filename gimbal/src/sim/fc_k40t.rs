@@ -26,7 +26,7 @@ use protocol_core::k40t::{
 };
 use protocol_core::wire::{Deframer, Event};
 
-use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::K40tFrames;
 use super::pilot::Pilot;
 use super::pod::AckSeq;
@@ -51,8 +51,6 @@ pub struct FcK40t {
     pub answer_gps: bool,
     /// Sequence number of the GPS replies.
     pub reply_seq: AckSeq,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// Every frame received from the bridge.
     pub received: Vec<Received>,
     /// Frames the FC sent: (true time, sequence number, message id).
@@ -97,7 +95,6 @@ impl FcK40t {
             next_sync_us: 1_000_000,
             answer_gps: true,
             reply_seq: AckSeq::OwnCounter,
-            aircraft: Aircraft::default(),
             received: Vec::new(),
             sent: Vec::new(),
             last_report_us: None,
@@ -142,7 +139,7 @@ impl FcK40t {
     }
 
     fn answer(&mut self, header: Header, request: k40t::GpsRequest) {
-        let (lat_e7, lon_e7) = self.aircraft.position_e7(self.board.now_us());
+        let (lat_e7, lon_e7) = self.board.aircraft().position_e7(self.board.now_us());
         let reply = GpsReply {
             code: ResponseCode::OK,
             hour: request.hour,
@@ -152,8 +149,8 @@ impl FcK40t {
             lon_e7,
             lat_e7,
             rel_alt_dm: 500,
-            alt_msl_dm: (self.aircraft.alt_msl_m * 10.0) as i16,
-            yaw_cdeg: (self.aircraft.heading_deg * 100.0) as i16,
+            alt_msl_dm: (self.board.aircraft().alt_msl_m * 10.0) as i16,
+            yaw_cdeg: (self.board.aircraft().heading_deg * 100.0) as i16,
             roll_cdeg: 0,
             pitch_cdeg: 0,
         };
@@ -204,7 +201,6 @@ impl Autopilot for FcK40t {
                 frame: f,
             });
         }
-        self.update_health();
     }
 
     /// No loop: the syncs and a held motion have their own instants ([`Autopilot::run_due`]).
@@ -282,12 +278,6 @@ impl Pilot for FcK40t {
             .iter()
             .find(|(_, _, id)| *id == 0x00_030E)
             .map(|(t, _, _)| *t)
-    }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        0
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         let (_, _, a) = self.received_of::<GimbalAttitude>().pop()?;

@@ -16,7 +16,7 @@
 use bridge_engine::FcProtocol;
 
 use super::FcClock;
-use super::board::{Aircraft, Autopilot};
+use super::board::Autopilot;
 use super::describe::SideFrames;
 
 /// A simulated flight controller the demo and the task scenarios can fly.
@@ -47,15 +47,11 @@ pub trait Pilot: Autopilot {
     /// True time the FC first sent a usable UTC (SIYI 0x30, Viewlink M_AHRS with a valid
     /// date, GCU a GPS time, K40T 0x00030E), µs.
     fn first_utc_sent_us(&self) -> Option<u64>;
-    /// The aircraft (its true position at any instant).
-    fn aircraft(&self) -> &Aircraft;
     /// The autopilot's clock when it is a simulated ArduPilot whose MAVLink port can be
     /// attached as the telemetry link ([`Pilot::TELEMETRY_PORT`]).
     fn board_clock(&self) -> Option<&FcClock> {
         Self::TELEMETRY_PORT.then(|| self.clock())
     }
-    /// Frames the FC's parser dropped.
-    fn parse_errors(&self) -> u32;
     /// What the FC last read of the mount's angles: (yaw, pitch) in degrees.
     fn mount_angles(&self) -> Option<(f64, f64)>;
 

@@ -49,7 +49,7 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
+use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::MavlinkFrames;
 use super::mav::{self, AUTOPILOT, AircraftState, Endpoint, Rx, TimesyncAnswer};
 use super::pilot::Pilot;
@@ -145,8 +145,6 @@ pub enum Px4Target {
 pub struct Px4 {
     /// Settings.
     pub config: Px4Config,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// A ground station the port forwards to.
     pub gcs: Option<Qgc>,
     board: Board,
@@ -198,7 +196,6 @@ impl Px4 {
             config.utc_valid_at_us,
         );
         let mut p = Px4 {
-            aircraft: Aircraft::default(),
             gcs: None,
             board: Board::new(clock, XorShift::new(config.seed), MainLoop::ticks(5_000)),
             me: Endpoint::new(config.sysid, AUTOPILOT),
@@ -260,24 +257,6 @@ impl Px4 {
     pub fn mount_angles(&self) -> Option<(f64, f64, f64)> {
         let (_, _, s) = self.statuses.last()?;
         mav::euler_deg(s.q)
-    }
-
-    /// Takes one picture (a re-emitted camera command).
-    pub fn take_picture(&mut self) {
-        self.image_seq += 1;
-        let n = self.image_seq as f32;
-        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
-    }
-
-    /// Starts or stops recording.
-    pub fn record_video(&mut self, on: bool) {
-        self.camera_command(mav::video_capture(on), [0.0; 4]);
-    }
-
-    /// Continuous zoom.
-    pub fn zoom_rate(&mut self, rate: i8) {
-        let r = f32::from(rate.signum());
-        self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
     }
 
     fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
@@ -363,7 +342,7 @@ impl Px4 {
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
         let t = self.board.now_us();
         let us = self.board.fc_us(t);
-        let a = AircraftState::of(&self.aircraft, t, us);
+        let a = AircraftState::of(self.board.aircraft(), t, us);
         let (lat, lon) = a.lat_lon_e7;
         Some(match id {
             GIMBAL_DEVICE_SET_ATTITUDE_DATA::ID => {
@@ -473,6 +452,11 @@ impl Px4 {
 impl Autopilot for Px4 {
     board_field!();
 
+    /// Frames the MAVLink receiver dropped for a bad checksum or length.
+    fn parse_errors(&self) -> u32 {
+        self.rx.errors()
+    }
+
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
         let byte_us = 1e7 / f64::from(self.config.baud.max(1));
         for (r, after) in self.rx.push_counting(bytes) {
@@ -480,7 +464,6 @@ impl Autopilot for Px4 {
             let end = now_us.saturating_sub((after as f64 * byte_us).round() as u64);
             self.process(now_us, end, r);
         }
-        self.update_health();
     }
 
     /// One 5 ms tick of the MAVLink threads.
@@ -563,12 +546,6 @@ impl Pilot for Px4 {
             _ => None,
         })
     }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        self.rx.errors()
-    }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         Px4::mount_angles(self).map(|(_, pitch, yaw)| (yaw, pitch))
     }
@@ -583,14 +560,20 @@ impl Pilot for Px4 {
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
         self.target = Some(Px4Target::Rate { pitch_dps, yaw_dps });
     }
+    /// Continuous zoom.
     fn zoom(&mut self, rate: i8) {
-        self.zoom_rate(rate);
+        let r = f32::from(rate.signum());
+        self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
     }
+    /// Takes one picture (a re-emitted camera command).
     fn take_picture(&mut self) {
-        Px4::take_picture(self);
+        self.image_seq += 1;
+        let n = self.image_seq as f32;
+        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
     }
+    /// Starts or stops recording.
     fn record(&mut self, on: bool) {
-        self.record_video(on);
+        self.camera_command(mav::video_capture(on), [0.0; 4]);
     }
 }
 

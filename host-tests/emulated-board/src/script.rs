@@ -335,7 +335,7 @@ fn firmware_bounds(qemu_out: &Path) -> Vec<(u64, u32)> {
 /// camera.
 fn telemetry_peer() -> ApMavlink {
     let siyi = ApSiyi::new(ApSiyiConfig::default());
-    ApMavlink::telemetry(siyi.clock().clone(), siyi.aircraft, 1, 1)
+    ApMavlink::telemetry(siyi.clock().clone(), *siyi.aircraft(), 1, 1)
 }
 
 /// The telemetry link works: the autopilot heard the firmware's HEARTBEAT (component

@@ -135,7 +135,7 @@ impl ApMavlink {
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
         let t = self.board.now_us();
         let fc_us = self.board.fc_us(t);
-        let a = AircraftState::of(&self.aircraft, t, fc_us);
+        let a = AircraftState::of(self.board.aircraft(), t, fc_us);
         let (lat, lon) = a.lat_lon_e7;
         let alt_mm = a.alt_mm;
         Some(match id {
@@ -155,8 +155,8 @@ impl ApMavlink {
                 alt: alt_mm,
                 eph: 90,
                 epv: 140,
-                vel: (self.aircraft.speed_m_s * 100.0) as u16,
-                cog: (self.aircraft.heading_deg * 100.0) as u16,
+                vel: (self.board.aircraft().speed_m_s * 100.0) as u16,
+                cog: (self.board.aircraft().heading_deg * 100.0) as u16,
                 fix_type: if self.config.gps_fix {
                     GpsFixType::GPS_FIX_TYPE_3D_FIX
                 } else {
@@ -171,7 +171,7 @@ impl ApMavlink {
                 yaw: 0,
             }),
             GLOBAL_POSITION_INT_DATA::ID => a.global_position(
-                ((self.aircraft.alt_msl_m - self.config.home_alt_m) * 1000.0) as i32,
+                ((self.board.aircraft().alt_msl_m - self.config.home_alt_m) * 1000.0) as i32,
             ),
             ATTITUDE_DATA::ID => a.attitude(),
             // AP_HAL::micros(): 32 bits.

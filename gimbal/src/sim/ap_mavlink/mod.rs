@@ -177,8 +177,6 @@ impl<T> Heard<T> {
 pub struct ApMavlink {
     /// Settings.
     pub config: ApMavlinkConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// A ground station attached to the FC's routing.
     pub gcs: Option<Qgc>,
     board: Board,
@@ -285,9 +283,8 @@ impl ApMavlink {
     pub fn with_clock(config: ApMavlinkConfig, clock: FcClock, aircraft: Aircraft) -> Self {
         let main_loop = MainLoop::imu(loop_rate_hz(&config), config.imu_ppm, config.loop_jitter_us);
         let mut ap = ApMavlink {
-            aircraft,
             gcs: None,
-            board: Board::new(clock, XorShift::new(config.seed), main_loop),
+            board: Board::new(clock, XorShift::new(config.seed), main_loop).flying(aircraft),
             uart: Vec::new(),
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
@@ -381,13 +378,17 @@ fn loop_rate_hz(config: &ApMavlinkConfig) -> u32 {
 impl Autopilot for ApMavlink {
     board_field!();
 
+    /// Frames the MAVLink receiver dropped for a bad checksum or length.
+    fn parse_errors(&self) -> u32 {
+        self.rx.errors()
+    }
+
     /// The UART delivers `bytes` (a chunk) at `now_us`; the next loop reads them.
     fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
         // Loops due before this chunk came read what was there then.
         self.run_loop_until(now_us, false);
         self.board.set_now(now_us);
         self.uart.push((now_us, bytes.to_vec()));
-        self.update_health();
     }
 
     /// One main loop at its instant: GCS receive, mount and camera (50 Hz), GCS send.
@@ -469,12 +470,6 @@ impl Pilot for ApMavlink {
             MavMessage::SYSTEM_TIME(s) if s.time_unix_usec != 0 => Some(*t),
             _ => None,
         })
-    }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        self.rx.errors()
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|(_, _, pitch, yaw, _)| (yaw, pitch))

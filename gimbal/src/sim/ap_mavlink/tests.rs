@@ -305,12 +305,15 @@ fn telemetry_port_shares_the_clock_and_aircraft_of_the_board() {
         ppm: 17.0,
         ..ApSiyiConfig::default()
     });
-    let mut tel = ApMavlink::telemetry(siyi.clock().clone(), siyi.aircraft, 9, 1);
+    let mut tel = ApMavlink::telemetry(siyi.clock().clone(), *siyi.aircraft(), 9, 1);
     assert!(!tel.config.mount && !tel.config.camera);
     for t in [0, 1_234_567, 20_000_000] {
         assert_eq!(tel.fc_us(t), siyi.fc_us(t));
         assert_eq!(tel.fc_utc_us(t), siyi.fc_utc_us(t));
-        assert_eq!(tel.aircraft.position_e7(t), siyi.aircraft.position_e7(t));
+        assert_eq!(
+            tel.aircraft().position_e7(t),
+            siyi.aircraft().position_e7(t)
+        );
     }
     // Both ports reboot together: the clocks stay equal.
     let r = FcReboot {
