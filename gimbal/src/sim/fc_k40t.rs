@@ -388,15 +388,15 @@ mod tests {
     fn a_reboot_restarts_the_counter_and_the_syncs_with_the_new_utc() {
         let mut fc = FcK40t::default();
         let utc0 = fc.fc_utc_us(0);
-        fc.poll(15_000_000);
-        let syncs = syncs_sent(&mut fc);
-        assert_eq!(
-            syncs,
+        // Two syncs 10 s apart from sequence number 0, each with the FC's UTC then.
+        let two_syncs = |at: u64, utc: u64| {
             [
-                (1_000_000, 0, (utc0 + 1_000_000) / 1000),
-                (11_000_000, 1, (utc0 + 11_000_000) / 1000)
+                (at, 0, utc / 1000),
+                (at + 10_000_000, 1, (utc + 10_000_000) / 1000),
             ]
-        );
+        };
+        fc.poll(15_000_000);
+        assert_eq!(syncs_sent(&mut fc), two_syncs(1_000_000, utc0 + 1_000_000));
         fc.reboot(
             15_000_000,
             FcReboot {
@@ -409,13 +409,9 @@ mod tests {
         fc.receive(16_000_000, &[0xFD, 0x00]);
         assert_eq!(fc.lost_while_off(), 2);
         fc.poll(30_000_000);
-        let syncs = syncs_sent(&mut fc);
         assert_eq!(
-            syncs,
-            [
-                (19_000_000, 0, (utc0 + 21_000_000) / 1000),
-                (29_000_000, 1, (utc0 + 31_000_000) / 1000)
-            ]
+            syncs_sent(&mut fc),
+            two_syncs(19_000_000, utc0 + 21_000_000)
         );
         assert_eq!(fc.fc_utc_us(29_000_000), utc0 + 31_000_000);
     }

@@ -12,11 +12,10 @@
 
 use protocol_core::mavlink::Header;
 use protocol_core::mavlink::dialect::{
-    CAMERA_CAPTURE_STATUS_DATA, CAMERA_INFORMATION_DATA, CameraCapFlags, MavCmd, MavType,
-    MessageData as _,
+    CAMERA_CAPTURE_STATUS_DATA, CAMERA_INFORMATION_DATA, CameraCapFlags, MavCmd, MessageData as _,
 };
 
-use super::{ApMavlink, CameraTargets, Heard, announced, from_device};
+use super::{ApMavlink, CameraTargets, Heard, from_device};
 use crate::sim::mav::{self, CAMERA};
 
 impl ApMavlink {
@@ -58,20 +57,6 @@ impl ApMavlink {
         if self.camera_can(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_FOCUS) {
             let k = f32::from(kind);
             self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_FOCUS, [k, value, 0.0, 0.0]);
-        }
-    }
-
-    /// A HEARTBEAT in the search window: the camera found when it is one (type 30 from
-    /// component 100).
-    pub(super) fn camera_heartbeat(&mut self, h: Header, mavtype: MavType) {
-        let camera = announced(
-            self.camera_found,
-            &h,
-            mavtype,
-            (MavType::MAV_TYPE_CAMERA, CAMERA),
-        );
-        if self.config.camera && camera.is_some() {
-            self.camera_found = camera;
         }
     }
 

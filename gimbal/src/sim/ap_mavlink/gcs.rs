@@ -30,8 +30,9 @@ use protocol_core::mavlink::dialect::{
     MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 
-use super::{ApMavlink, ApVehicle, Heard, TIMESYNC_PAYLOAD_SIZE, TimesyncLen};
-use crate::sim::mav::{self, AUTOPILOT, AircraftState, Rx, TimesyncAnswer};
+use super::{ApMavlink, ApVehicle, Heard, TIMESYNC_PAYLOAD_SIZE, TimesyncLen, announced};
+use crate::sim::mav::{self, AUTOPILOT, AircraftState, CAMERA, GIMBAL, Rx, TimesyncAnswer};
+use protocol_core::mavlink::Header;
 
 impl ApMavlink {
     pub(super) fn default_streams(&mut self) {
@@ -244,8 +245,7 @@ impl ApMavlink {
         self.route_to_gcs(now_us, &r);
         match r.message {
             MavMessage::HEARTBEAT(hb) if self.in_search_window() => {
-                self.mount_heartbeat(h, hb.mavtype);
-                self.camera_heartbeat(h, hb.mavtype);
+                self.discover(h, hb.mavtype);
             }
             MavMessage::GIMBAL_DEVICE_INFORMATION(info) => self.mount_information(h, info),
             MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s) => self.mount_status(h, s),
@@ -302,6 +302,25 @@ impl ApMavlink {
                 }
             }
             _ => {}
+        }
+    }
+
+    /// A HEARTBEAT in the drivers' search window: the gimbal (type 26 from component 154)
+    /// or the camera (type 30 from component 100) found, when the driver is configured
+    /// and has found none yet.
+    fn discover(&mut self, h: Header, mavtype: MavType) {
+        let gimbal = (MavType::MAV_TYPE_GIMBAL, GIMBAL);
+        if let Some(system) = announced(self.mount_found, &h, mavtype, gimbal)
+            && self.config.mount
+        {
+            self.mount_found = Some(system);
+            self.mount_found_at_us = Some(self.board.now_us());
+        }
+        let camera = (MavType::MAV_TYPE_CAMERA, CAMERA);
+        if let Some(system) = announced(self.camera_found, &h, mavtype, camera)
+            && self.config.camera
+        {
+            self.camera_found = Some(system);
         }
     }
 

@@ -19,11 +19,11 @@
 use protocol_core::mavlink::dialect::{
     AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA,
     GIMBAL_DEVICE_INFORMATION_DATA, GIMBAL_DEVICE_SET_ATTITUDE_DATA, GimbalDeviceFlags, MavResult,
-    MavType, MessageData as _,
+    MessageData as _,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::{ApMavlink, Heard, announced, from_device};
+use super::{ApMavlink, Heard, from_device};
 use crate::sim::mav::{self, GIMBAL};
 
 /// What the mount is told to do.
@@ -129,21 +129,6 @@ impl ApMavlink {
         };
         self.set_attitudes.push((self.board.now_us(), set.clone()));
         self.send(&MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(set));
-    }
-
-    /// A HEARTBEAT in the search window: the gimbal found when it is one (type 26 from
-    /// component 154).
-    pub(super) fn mount_heartbeat(&mut self, h: Header, mavtype: MavType) {
-        let gimbal = announced(
-            self.mount_found,
-            &h,
-            mavtype,
-            (MavType::MAV_TYPE_GIMBAL, GIMBAL),
-        );
-        if self.config.mount && gimbal.is_some() {
-            self.mount_found = gimbal;
-            self.mount_found_at_us = Some(self.board.now_us());
-        }
     }
 
     /// GIMBAL_DEVICE_INFORMATION: the first from the gimbal found initialises the driver,
