@@ -673,6 +673,14 @@ mod tests {
     }
 
     impl Gimbal {
+        /// The data of the driver's frames `id`, with their instants.
+        fn seen_of(&self, id: u8) -> impl Iterator<Item = (u64, &[u8])> {
+            self.seen
+                .iter()
+                .filter(move |(_, i, _)| *i == id)
+                .map(|(at, _, d)| (*at, d.as_slice()))
+        }
+
         fn take(&mut self, at: u64, mut bytes: &[u8]) {
             while bytes.len() >= 10 {
                 assert_eq!(bytes[..2], [0x55, 0x66]);
@@ -742,10 +750,8 @@ mod tests {
         run(&mut fc, &mut g, 40_000_000, off, reboot);
 
         let times: Vec<(u64, u64)> = g
-            .seen
-            .iter()
-            .filter(|(_, id, _)| *id == 0x30)
-            .map(|(at, _, d)| (*at, u64::from_le_bytes(d[..8].try_into().unwrap())))
+            .seen_of(0x30)
+            .map(|(at, d)| (at, u64::from_le_bytes(d[..8].try_into().unwrap())))
             .collect();
         assert_eq!(times.len(), 10, "five per boot");
         let utc0 = ApSiyiConfig::default().utc_at_zero_us;
@@ -780,10 +786,8 @@ mod tests {
         assert!(after.contains(&0x20));
         // time_boot_ms in 0x22: tens of seconds before the reboot, near 0 after.
         let boot_ms: Vec<(u64, u32)> = g
-            .seen
-            .iter()
-            .filter(|(_, id, _)| *id == 0x22)
-            .map(|(at, _, d)| (*at, u32::from_le_bytes(d[..4].try_into().unwrap())))
+            .seen_of(0x22)
+            .map(|(at, d)| (at, u32::from_le_bytes(d[..4].try_into().unwrap())))
             .collect();
         let before = boot_ms.iter().rfind(|(at, _)| *at < off).unwrap().1;
         let first_after = boot_ms.iter().find(|(at, _)| *at >= on).unwrap();

@@ -305,14 +305,15 @@ mod tests {
     use crate::sim::pod::PodSimConfig;
     use protocol_core::k40t::{CameraVersionQuery, GimbalVersionQuery, MessageData};
 
+    /// The engine between a silent FC and the default pod, the bridge `bridge_ppm` fast.
+    fn silent_fc(bridge_ppm: i64) -> Scenario<SilentFc> {
+        let pod = SimPod::new(PodSimConfig::default());
+        Scenario::new(Config::default(), SilentFc::default(), pod, bridge_ppm)
+    }
+
     #[test]
     fn the_pod_link_comes_up_and_versions_are_asked_once_connected() {
-        let mut s = Scenario::new(
-            Config::default(),
-            SilentFc::default(),
-            SimPod::new(PodSimConfig::default()),
-            40,
-        );
+        let mut s = silent_fc(40);
         s.run_until(3_000_000);
         assert!(s.engine.pod_state().link);
         assert!(s.engine.pod_state().gimbal_version.is_some());
@@ -337,12 +338,7 @@ mod tests {
 
     #[test]
     fn a_pulled_pod_cable_carries_nothing_until_it_is_back() {
-        let mut s = Scenario::new(
-            Config::default(),
-            SilentFc::default(),
-            SimPod::new(PodSimConfig::default()),
-            0,
-        );
+        let mut s = silent_fc(0);
         s.run_until(3_000_000);
         let (pod_rx, pod_tx) = (s.pod.rx_stats().bytes, s.pod_line.bytes_sent);
         let edges = s.pod.rtc_edges().len();
