@@ -31,16 +31,19 @@ use std::time::Instant as WallInstant;
 
 use bridge_engine::{Config, Event, FcProtocol};
 use protocol_core::k40t::K40tFraming;
-use protocol_core::mavlink::MavlinkFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
+use crate::sim::Autopilot;
 use crate::sim::ap_mavlink::ApMavlink;
 use crate::sim::ap_siyi::ApSiyi;
 use crate::sim::ap_viewpro::ApViewpro;
 use crate::sim::ap_xfrobot::ApXfRobot;
+use crate::sim::describe::{
+    Described, MavlinkFrames, SideFrames, describe_k40t, k40t_name, k40t_routine,
+};
 use crate::sim::fc_k40t::FcK40t;
-use crate::sim::pilot::{Described, Pilot, describe_k40t, k40t_name, k40t_routine};
-use crate::sim::tasks::{Bench, Outcome};
+use crate::sim::pilot::Pilot;
+use crate::sim::tasks::{Bench, Outcome, Wire};
 
 /// What to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -287,6 +290,25 @@ fn frames_of<F: Framing>(framing: F, log: &[(u64, Vec<u8>)]) -> Vec<(u64, Vec<u8
 /// previous frame of their id or the first of their id for over a second (at most
 /// [`PER_WINDOW`] per direction and window); new commands outside the windows too when
 /// `anytime(id)` (on the pod link: time syncs, geotag requests and replies).
+/// The frames of an FC-side link (`S`'s), into the FC (the first wire) and out of it.
+fn fc_link_lines<S: SideFrames>(
+    wires: [(Dir, &Wire); 2],
+    steps: &[(u64, Step)],
+    lines: &mut Vec<Line>,
+) {
+    for ((dir, wire), from_fc) in wires.into_iter().zip([true, false]) {
+        frame_lines(
+            dir,
+            &frames_of(S::framing(from_fc), &wire.log),
+            |f| S::describe(f, from_fc),
+            |id| S::routine(id, from_fc),
+            |_| false,
+            steps,
+            lines,
+        );
+    }
+}
+
 fn frame_lines(
     dir: Dir,
     frames: &[(u64, Vec<u8>)],
@@ -464,57 +486,28 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
     let summary = story(&o, &steps, opts, recorded, &mut lines);
 
     // Frames on both links.
-    frame_lines(
-        Dir::FcIn,
-        &frames_of(P::framing(true), &o.wires.fc_in.log),
-        |f| P::describe(f, true),
-        |id| P::routine(id, true),
-        |_| false,
-        &steps,
-        &mut lines,
-    );
-    frame_lines(
-        Dir::FcOut,
-        &frames_of(P::framing(false), &o.wires.fc_out.log),
-        |f| P::describe(f, false),
-        |id| P::routine(id, false),
-        |_| false,
-        &steps,
-        &mut lines,
-    );
-    frame_lines(
-        Dir::PodOut,
-        &frames_of(K40tFraming::any(), &o.wires.pod_out.log),
-        describe_k40t,
-        |id| k40t_routine(id, false),
-        pod_anytime,
-        &steps,
-        &mut lines,
-    );
-    frame_lines(
-        Dir::PodIn,
-        &frames_of(K40tFraming::any(), &o.wires.pod_in.log),
-        describe_k40t,
-        |id| k40t_routine(id, true),
-        pod_anytime,
-        &steps,
-        &mut lines,
-    );
+    let fc = [(Dir::FcIn, &o.wires.fc_in), (Dir::FcOut, &o.wires.fc_out)];
+    fc_link_lines::<P::Frames>(fc, &steps, &mut lines);
+    for (dir, from_pod, wire) in [
+        (Dir::PodOut, false, &o.wires.pod_out),
+        (Dir::PodIn, true, &o.wires.pod_in),
+    ] {
+        frame_lines(
+            dir,
+            &frames_of(K40tFraming::any(), &wire.log),
+            describe_k40t,
+            |id| k40t_routine(id, from_pod),
+            pod_anytime,
+            &steps,
+            &mut lines,
+        );
+    }
     if o.telemetry.is_some() {
-        for (dir, from_fc, wire) in [
-            (Dir::TelIn, true, &o.wires.tel_in),
-            (Dir::TelOut, false, &o.wires.tel_out),
-        ] {
-            frame_lines(
-                dir,
-                &frames_of(MavlinkFraming::new(), &wire.log),
-                |f| ApMavlink::describe(f, from_fc),
-                |id| ApMavlink::routine(id, from_fc),
-                |_| false,
-                &steps,
-                &mut lines,
-            );
-        }
+        let telemetry = [
+            (Dir::TelIn, &o.wires.tel_in),
+            (Dir::TelOut, &o.wires.tel_out),
+        ];
+        fc_link_lines::<MavlinkFrames>(telemetry, &steps, &mut lines);
     }
     lines.sort_by_key(|l| (l.t_us, l.rank));
 
@@ -592,7 +585,7 @@ fn story<P: Pilot>(
                 }
                 format!(
                     "translated {} → K40T 0x{pod_base:04X} {}",
-                    P::command_name(fc_id),
+                    P::Frames::command_name(fc_id),
                     k40t_name(pod_base)
                 )
             }

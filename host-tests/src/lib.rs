@@ -1,5 +1,3 @@
-//! The project's test harness beyond the test files: the emulated-board driver
-//! ([`emulated`], run by the `qemu-e2e` binary). The simulators it drives are the `gimbal`
-//! tool's ([`gimbal::sim`]).
-
-pub mod emulated;
+//! The project's test suites are this crate's tests (`tests/`): engine and task
+//! scenarios, codec properties and cases, fuzz replays, the demo. The library holds
+//! nothing; the emulated-board driver is the `emulated-board` crate beside it.

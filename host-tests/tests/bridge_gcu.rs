@@ -1,20 +1,29 @@
 //! The bridge between a simulated ArduPilot XFRobot driver (the bridge acts as an XF
-//! Robot GCU) and a simulated K40T pod, in simulated time: the GCU scenarios of issue 10.
+//! Robot GCU) and a simulated K40T pod, in simulated time: the GCU side's engine
+//! scenarios. The scenarios every FC side runs are in `engine_scenarios/mod.rs`; the
+//! bounds and the GCU side's own are here.
+
+mod engine_scenarios;
 
 use std::sync::{Arc, Mutex};
 
-use bridge_engine::{Config, Event, FcProtocol, GcuIdentity, Level};
+use bridge_engine::{Config, Event, FcProtocol, GcuIdentity};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
-use gimbal::sim::pod::{OutputFaults, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::pilot::Pilot;
+use gimbal::sim::pod::{OutputFaults, PodSimConfig};
 use gimbal::sim::scenario::Scenario;
+
+use engine_scenarios::{
+    MS, S, Silence, figures, healthy, one_photo_geotagged, one_sync_per_edge,
+    pod_loss_then_recovery, pod_stops_when_the_fc_falls_silent, sync_errors_us,
+};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, DialSpeed, Focus, FocusMode, GimbalAngle, GimbalControl,
     GimbalFunction, HybridZoom, ImageMode, ImageModeSetting, IrDigitalZoom, IrPalette,
     LaserPeriodic, MessageData, PitchMotion, PointToAim, Record, RecordAction, TakePhoto, Toggle,
     TrackBox, YawMotion, ZoomControl,
 };
-
-const S: u64 = 1_000_000;
 
 fn config() -> Config {
     Config::for_fc(FcProtocol::Gcu)
@@ -30,14 +39,14 @@ fn scenario_with(
     pod: PodSimConfig,
     bridge_ppm: i64,
 ) -> Scenario<ApXfRobot> {
-    Scenario::new(config, ApXfRobot::new(ap), SimPod::new(pod), bridge_ppm)
+    engine_scenarios::scenario_with(config, ApXfRobot::new(ap), pod, bridge_ppm)
 }
 
 fn healthy_scenario() -> Scenario<ApXfRobot> {
-    let mut s = scenario(ApXfRobotConfig::default(), PodSimConfig::default(), 30);
-    s.run_until(3 * S);
-    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
-    s
+    healthy(
+        scenario(ApXfRobotConfig::default(), PodSimConfig::default(), 30),
+        3 * S,
+    )
 }
 
 /// A host that sends only what the test writes (no 50 Hz set attitude): the document's
@@ -73,7 +82,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
     // 72-byte form ArduPilot ignores, so the mount is not healthy.
     s.pod.set_silent(true);
     s.run_until(3 * S);
-    assert!(s.fc.health_log.is_empty(), "{:?}", s.fc.health_log);
+    assert!(s.fc.health_log().is_empty(), "{:?}", s.fc.health_log());
     assert!(s.fc.replies.len() > 100);
     for r in &s.fc.replies {
         assert_eq!(r.bytes.len(), 72);
@@ -92,7 +101,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
         .expect("pod link up")
         .0;
     let ap = &s.fc;
-    let (t, healthy) = ap.health_log[0];
+    let (t, healthy) = ap.health_log()[0];
     assert!(healthy);
     assert!(
         t > up && t - up < S,
@@ -100,10 +109,10 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
         (t - up) / 1000
     );
     assert_eq!(
-        ap.health_log.len(),
+        ap.health_log().len(),
         1,
         "and stays healthy: {:?}",
-        ap.health_log
+        ap.health_log()
     );
     // Exactly one reply per package, in order, echoing the order and version byte 0x02,
     // 72 or 73 bytes (ArduPilot takes 10..=80), none rejected by ArduPilot's parser (at
@@ -127,7 +136,7 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
             .filter(|r| r.at_us > t)
             .all(|r| r.bytes.len() == 73)
     );
-    assert_eq!(ap.parse_errors, 0);
+    assert_eq!(ap.parse_errors(), 0);
     assert_eq!(
         ap.texts_with("hw:"),
         vec![(t, "XFRobot: hw:1.0 fw:1.0".to_string())]
@@ -244,11 +253,7 @@ fn set_attitude_reaches_the_pod_as_angles_with_the_right_signs_and_no_flood() {
     assert_eq!((a.pitch_direction, a.pitch_cdeg), (PitchMotion::Down, 1000));
     // Rates: ArduPilot integrates them into angles at 50 Hz; the pod follows, at most
     // ten commands a second.
-    s.fc.target = Some(MountTarget::Rate {
-        pitch_dps: 0.0,
-        yaw_dps: -10.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(-10.0, 0.0);
     let before = s.pod.received_count(GimbalAngle::ID.to_u32());
     let t0 = s.now_us;
     s.run_for(3 * S);
@@ -667,22 +672,10 @@ fn fc_silence_stops_the_pod() {
         pitch: 0,
         yaw: 200,
     });
-    s.run_for(2 * S);
-    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
-    s.fc_cut = true;
-    let cut = s.now_us;
-    s.run_for(2 * S);
-    let stop = s.pod.first_stop_after(cut).expect("a stop");
-    assert!(stop - cut <= 600_000, "{} ms", (stop - cut) / 1000);
-    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
-    assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);
+    pod_stops_when_the_fc_falls_silent(&mut s, 2 * S, 0.0, Silence::CableCut, 600 * MS, true);
     // ArduPilot's angles: the pod goes to the last angle and stays there.
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Rate {
-        pitch_dps: 0.0,
-        yaw_dps: 20.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(20.0, 0.0);
     s.run_for(S);
     s.fc_cut = true;
     s.run_for(3 * S);
@@ -694,61 +687,24 @@ fn fc_silence_stops_the_pod() {
 #[test]
 fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let mut s = healthy_scenario();
-    s.pod.set_silent(true);
-    let cut = s.now_us;
-    s.run_for(4 * S);
-    let down =
-        s.fc.health_log
-            .iter()
-            .find(|(t, h)| *t > cut && !h)
-            .expect("unhealthy")
-            .0;
-    assert!(down - cut <= 2 * S, "{} ms", (down - cut) / 1000);
-    assert!(!s.engine.pod_state().link);
-    // Still one reply per package, the short form with the hardware-error bit.
-    let r = s.fc.replies.last().unwrap();
-    assert_eq!(r.bytes.len(), 72);
-    assert_ne!(r.error_code() & 1 << 7, 0);
-    // A picture while the pod is lost is refused by ArduPilot itself (unhealthy).
-    assert!(!s.fc.take_picture());
-    s.pod.set_silent(false);
-    let back = s.now_us;
-    s.run_for(3 * S);
-    let up =
-        s.fc.health_log
-            .iter()
-            .find(|(t, h)| *t > back && *h)
-            .expect("healthy again")
-            .0;
-    assert!(up - back <= S, "{} ms", (up - back) / 1000);
+    pod_loss_then_recovery(&mut s, 2 * S, 3 * S, S, |s| {
+        // Still one reply per package, the short form with the hardware-error bit.
+        let r = s.fc.replies.last().unwrap();
+        assert_eq!(r.bytes.len(), 72);
+        assert_ne!(r.error_code() & 1 << 7, 0);
+        // A picture while the pod is lost is refused by ArduPilot itself (unhealthy).
+        assert!(!s.fc.take_picture());
+    });
     assert!(s.fc.sent.len() - s.fc.replies.len() <= 2);
     let c = s.engine.counters();
     assert_eq!(c.fc_frames, c.fc_sent);
 }
 
-/// |UTC of the 0x00030E the pod applied − the GPS's UTC at the edge's true time|, µs,
-/// for the edges after `warmup_us`.
+/// UTC of the 0x00030E the pod applied − the GPS's UTC (the side's true UTC) at the
+/// edge's true time, µs, for the edges after `warmup_us`, one sync per edge.
 fn sync_errors(s: &Scenario<ApXfRobot>, warmup_us: u64) -> Vec<i64> {
-    let highs: Vec<_> = s
-        .pin_edges
-        .iter()
-        .filter(|e| e.level == Level::High)
-        .collect();
-    assert_eq!(s.pod.syncs().len(), highs.len());
-    highs
-        .iter()
-        .zip(s.pod.syncs())
-        .filter(|(e, _)| e.at_us >= warmup_us)
-        .map(|(e, sync)| {
-            assert_eq!(sync.outcome, SyncOutcome::Applied, "{sync:?}");
-            assert_eq!(sync.unix_ms % 10_000, 0, "on the 10 s grid");
-            sync.unix_ms as i64 * 1000 - s.fc.gps_utc_us(e.at_us) as i64
-        })
-        .collect()
-}
-
-fn quantile(sorted: &[i64], q: f64) -> i64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+    one_sync_per_edge(s);
+    sync_errors_us(s, warmup_us)
 }
 
 /// Time-sync accuracy through the whole engine over one-hour flights, GPS at 5 and
@@ -785,31 +741,18 @@ fn time_sync_accuracy_over_one_hour_flights_with_held_gps_time() {
             let signed = sync_errors(&s, 60 * S);
             assert!(signed.len() >= 354, "seed {seed}: {} edges", signed.len());
             let mean = signed.iter().sum::<i64>() as f64 / signed.len() as f64;
-            let mut errs: Vec<i64> = signed.iter().map(|e| e.abs()).collect();
-            errs.sort_unstable();
-            println!(
-                "GCU {hz} Hz GPS, seed {seed} (FC {fc_ppm:+} ppm, bridge {bridge_ppm:+} ppm): \
-                 {} edges, p50 {} us, p99 {} us, max {} us, mean signed {:.0} us",
-                errs.len(),
-                quantile(&errs, 0.5),
-                quantile(&errs, 0.99),
-                errs[errs.len() - 1],
-                mean
+            let label = format!(
+                "GCU {hz} Hz GPS, seed {seed} (FC {fc_ppm:+} ppm, bridge {bridge_ppm:+} ppm, \
+                 mean signed {mean:.0} us)"
             );
+            let errs = figures(&label, &signed);
             // Half a package period, plus the transient while the read phase wraps
             // (the error jumps from -10 ms to +10 ms and the fitted rate lags).
             assert!(errs[errs.len() - 1] < 15_000);
-            all.extend(errs);
+            all.extend(signed);
         }
     }
-    all.sort_unstable();
-    println!(
-        "GCU, all flights: {} edges, p50 {} us, p99 {} us, max {} us",
-        all.len(),
-        quantile(&all, 0.5),
-        quantile(&all, 0.99),
-        all[all.len() - 1]
-    );
+    figures("GCU, all flights", &all);
 }
 
 /// Without any idle signal from the caller (a busy host, a UART driver without idle
@@ -831,14 +774,7 @@ fn time_sync_needs_no_idle_signal_from_the_caller() {
     };
     let with = flight(false);
     let without = flight(true);
-    let mut errs: Vec<i64> = without.iter().map(|e| e.abs()).collect();
-    errs.sort_unstable();
-    println!(
-        "GCU without idle signals: {} edges, p50 {} us, max {} us",
-        errs.len(),
-        quantile(&errs, 0.5),
-        errs[errs.len() - 1]
-    );
+    let errs = figures("GCU without idle signals", &without);
     assert!(errs.len() >= 50, "{} edges", errs.len());
     assert_eq!(with.len(), without.len());
     for (a, b) in with.iter().zip(&without) {
@@ -897,25 +833,15 @@ fn photos_are_geotagged_from_the_sub_frame_position_and_main_frame_attitude() {
     s.run_until(90 * S);
     assert!(!s.pin_edges.is_empty(), "UTC valid, syncs sent");
     assert!(s.fc.take_picture());
-    s.run_for(2 * S);
-    let replies = s.pod.gps_replies();
-    assert_eq!(replies.len(), 1, "{replies:?}");
-    let r = &replies[0].reply;
-    assert_eq!(r.code.code(), AckCode::Ok);
-    let photo_t = s.pod.photos()[0].at_us;
-    let (lat, lon) = s.fc.aircraft.position_e7(photo_t);
-    // 8 m/s: 1e-7° ~ 1.1 cm; 50 cm.
-    assert!((r.lat_e7 - lat).abs() < 50, "{} vs {lat}", r.lat_e7);
-    assert!((r.lon_e7 - lon).abs() < 70, "{} vs {lon}", r.lon_e7);
+    let (r, photo_t) = one_photo_geotagged(&mut s);
     assert_eq!((r.alt_msl_dm, r.rel_alt_dm), (4880, 523));
-    assert_eq!((r.yaw_cdeg, r.pitch_cdeg), (4500, -300));
-    let (roll, ..) = s.fc.aircraft.attitude_deg(photo_t);
+    assert_eq!(r.pitch_cdeg, -300);
+    let (roll, ..) = s.fc.aircraft().attitude_deg(photo_t);
     assert!(
         (f64::from(r.roll_cdeg) - roll * 100.0).abs() < 10.0,
         "{} vs {roll}",
         r.roll_cdeg
     );
-    assert_eq!(s.engine.counters().geotags, 1);
 }
 
 /// The document's example packages (host-tests/fixtures/seed_vectors.json, 72 to 82
@@ -970,7 +896,7 @@ fn every_document_package_is_answered_once_echoing_its_version() {
         assert_eq!(sub, u8::from(p[30] == 0x01), "request code {}", p[30]);
     }
     assert_eq!(s.engine.counters().fc_rejected, 1, "the misprinted one");
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
 }
 
 /// SplitMix64 for the fault scenarios.
@@ -1001,7 +927,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
     let intact = Arc::new(Mutex::new(Vec::<bool>::new()));
     let log = intact.clone();
     let mut rng = Rng(7);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes| {
+    s.fc_line.damage.set_corrupter(Box::new(move |_, bytes| {
         let mut out = Vec::new();
         // Garbage before the package, now and then (with false sync bytes).
         if rng.below(3) == 0 {
@@ -1030,7 +956,7 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
         out
     }));
     s.run_for(20 * S);
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     s.run_for(S);
     let intact = intact.lock().unwrap().clone();
     let corrupted = intact.iter().filter(|ok| !**ok).count();
@@ -1063,9 +989,9 @@ fn garbage_bit_flips_and_cut_packages_on_the_fc_port_get_no_reply_and_are_counte
     );
     assert_eq!(c.fc_frames, c.fc_sent, "every valid package answered");
     assert!(c.fc_garbage_bytes > 1000);
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
     // With two of three packages intact, ArduPilot stays healthy.
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
 }
 
 #[test]
@@ -1101,7 +1027,7 @@ fn floods_on_both_ports_lose_no_valid_package() {
     let mut s = healthy_scenario();
     // The FC port at full baud rate for 3 s: random bytes around every package.
     let mut rng = Rng(11);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes| {
+    s.fc_line.damage.set_corrupter(Box::new(move |_, bytes| {
         let mut out: Vec<u8> = (0..180).map(|_| rng.next() as u8).collect();
         out.extend_from_slice(bytes);
         out
@@ -1115,7 +1041,7 @@ fn floods_on_both_ports_lose_no_valid_package() {
     });
     let (sent0, replies0) = (s.fc.sent.len(), s.fc.replies.len());
     s.run_for(3 * S);
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     // Valid packages flood in back to back (a host writing null orders as fast as the
     // line allows): every one answered.
     for _ in 0..300 {
@@ -1134,6 +1060,6 @@ fn floods_on_both_ports_lose_no_valid_package() {
     assert!(c.pod_rejected > 0 && c.pod_garbage_bytes > 0, "{c:?}");
     assert!(s.engine.pod_state().link);
     assert!(s.fc.healthy());
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.parse_errors(), 0);
     assert_eq!(c.dropped, 0);
 }

@@ -1,25 +1,25 @@
 //! The bridge between a flight controller that speaks K40T itself and the simulated
 //! pod: forwarding with consistent sequence numbers, RTC_IO owned by the bridge, the
-//! geotag fallback, FC silence.
+//! geotag fallback, FC silence. The scenarios every FC side runs are in
+//! `engine_scenarios/mod.rs`.
 
-use bridge_engine::{Config, Event, FcProtocol, Level};
+mod engine_scenarios;
+
+use gimbal::sim::Autopilot;
 use gimbal::sim::fc_k40t::FcK40t;
-use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
+use gimbal::sim::pod::{MotionCommand, PodSimConfig};
 use gimbal::sim::scenario::Scenario;
+
+use engine_scenarios::{
+    MS, S, Silence, one_sync_per_edge, pod_stops_when_the_fc_falls_silent, sync_errors_us,
+};
 use protocol_core::k40t::{
     AckCode, DialSpeed, GimbalAttitude, GimbalControl, GimbalFunction, HybridZoom, HybridZoomAck,
     PitchMotion, TakePhoto, TimeSync, TimeSyncAck, YawMotion,
 };
 
-const S: u64 = 1_000_000;
-
 fn scenario() -> Scenario<FcK40t> {
-    Scenario::new(
-        Config::for_fc(FcProtocol::K40t),
-        FcK40t::default(),
-        SimPod::new(PodSimConfig::default()),
-        20,
-    )
+    engine_scenarios::scenario(FcK40t::default(), PodSimConfig::default(), 20)
 }
 
 #[test]
@@ -59,28 +59,15 @@ fn the_fc_time_sync_is_a_utc_sample_and_the_bridge_owns_rtc_io() {
     s.run_until(120 * S);
     // The FC's own 0x00030E never reaches the pod as the FC sent it; the FC gets an ACK.
     assert!(s.fc.received_of::<TimeSyncAck>().len() >= 10);
-    let highs: Vec<_> = s
-        .pin_edges
-        .iter()
-        .filter(|e| e.level == Level::High)
-        .copied()
-        .collect();
-    assert!(highs.len() >= 5, "{} edges", highs.len());
-    let syncs = s.pod.syncs();
-    assert_eq!(
-        syncs.len(),
-        highs.len(),
-        "one 0x00030E per edge, none from the FC"
-    );
-    for (edge, sync) in highs.iter().zip(syncs) {
-        assert_eq!(sync.outcome, SyncOutcome::Applied);
-        assert_eq!(sync.unix_ms % 10_000, 0);
-        let err = sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64;
+    // One 0x00030E per edge, none from the FC.
+    let edges = one_sync_per_edge(&s);
+    assert!(edges >= 5, "{edges} edges");
+    for err in sync_errors_us(&s, 0) {
         assert!(err.abs() < 5_000, "error {err} us");
     }
     assert_eq!(
         s.pod.received_of::<TimeSync>().len(),
-        syncs.len(),
+        edges,
         "no FC time sync forwarded"
     );
 }
@@ -108,20 +95,7 @@ fn a_time_sync_behind_other_frames_is_timed_from_its_own_first_byte() {
         "the line is busy at the FC's edge"
     );
     s.run_until(40 * S);
-    let highs: Vec<_> = s
-        .pin_edges
-        .iter()
-        .filter(|e| e.level == Level::High)
-        .copied()
-        .collect();
-    let errors: Vec<i64> = highs
-        .iter()
-        .zip(s.pod.syncs())
-        .map(|(edge, sync)| {
-            assert_eq!(sync.outcome, SyncOutcome::Applied);
-            sync.unix_ms as i64 * 1000 - s.fc.utc_us(edge.at_us) as i64
-        })
-        .collect();
+    let errors = sync_errors_us(&s, 0);
     assert!(errors.len() >= 3, "{errors:?}");
     assert!(errors.iter().all(|e| e.abs() < 3_000), "{errors:?} us");
 }
@@ -161,7 +135,7 @@ fn the_bridge_answers_gps_requests_the_fc_leaves_unanswered() {
     let last = &replies[4].reply;
     assert_eq!(last.code.code(), AckCode::Ok);
     let photo = s.pod.photos().last().expect("a photo").at_us;
-    let (lat, lon) = s.fc.aircraft.position_e7(photo);
+    let (lat, lon) = s.fc.aircraft().position_e7(photo);
     assert!(
         (last.lat_e7 - lat).abs() < 50 && (last.lon_e7 - lon).abs() < 70,
         "{last:?} vs {lat} {lon}"
@@ -193,12 +167,9 @@ fn fc_silence_stops_the_pod() {
         pitch: PitchMotion::Stop,
         reserved: 0,
     });
-    s.run_for(S / 10);
-    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
-    s.fc_cut = true;
-    let cut = s.now_us;
-    s.run_for(2 * S);
-    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
+    let (cut, _) =
+        pod_stops_when_the_fc_falls_silent(&mut s, S / 10, 0.0, Silence::CableCut, 700 * MS, true);
+    // The FC's own motion stopped on the yaw axis it turned.
     let stop = s
         .pod
         .motions()
@@ -209,6 +180,5 @@ fn fc_silence_stops_the_pod() {
         })
         .expect("a stop")
         .at_us;
-    assert!(stop - cut <= 700_000, "{} ms", (stop - cut) / 1000);
-    assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);
+    assert!(stop - cut <= 700 * MS, "{} ms", (stop - cut) / MS);
 }

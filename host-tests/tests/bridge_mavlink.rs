@@ -1,17 +1,25 @@
 //! The bridge as a MAVLink gimbal device (154) and camera (100) between simulated
 //! autopilots (ArduPilot `MNT1_TYPE` 6 + `CAM1_TYPE` 6, PX4 gimbal v2 in mode Gimbal and
 //! Normal), a QGroundControl-like client and the simulated K40T pod: the engine scenarios
-//! of the MAVLink side, in simulated time. The simulators follow
-//! `shared/MAVLINK-TRAFFIC.md`; where it allows two readings both are run.
+//! of the MAVLink side, in simulated time. The simulators follow what
+//! docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md and
+//! docs/src/autopilots/qgroundcontrol.md describe; where a source allows two readings
+//! both are run. The scenarios every FC side runs are in `engine_scenarios/mod.rs`.
 
-use bridge_engine::{Config, Event, FcProtocol};
+mod engine_scenarios;
+
+use bridge_engine::Event;
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{
     ApMavlink, ApMavlinkConfig, ApMountTarget, ApVehicle, CameraTargets,
 };
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode, Px4Target};
 use gimbal::sim::qgc::{Qgc, QgcConfig};
 use gimbal::sim::scenario::Scenario;
+
+use engine_scenarios::{MS, S, Silence, healthy, pod_stops_when_the_fc_falls_silent};
 use protocol_core::k40t::{
     self, AckCode, ContinuousZoom, Focus, FocusMode, GimbalAngle, GimbalControl, GimbalFunction,
     HybridZoom, MessageData, PitchMotion, RecordAction, TakePhoto, YawMotion, ZoomControl,
@@ -22,21 +30,16 @@ use protocol_core::mavlink::dialect::{
     SYSTEM_TIME_DATA,
 };
 
-const S: u64 = 1_000_000;
-
-fn config() -> Config {
-    Config::for_fc(FcProtocol::Mavlink)
-}
-
 fn ap_scenario(ap: ApMavlinkConfig, pod: PodSimConfig) -> Scenario<ApMavlink> {
-    Scenario::new(config(), ApMavlink::new(ap), SimPod::new(pod), 25)
+    engine_scenarios::scenario(ApMavlink::new(ap), pod, 25)
 }
 
 /// ArduPilot (booted before the bridge, its drivers searching), the pod, healthy.
 fn healthy_ap() -> Scenario<ApMavlink> {
-    let mut s = ap_scenario(ApMavlinkConfig::default(), PodSimConfig::default());
-    s.run_until(3 * S);
-    assert!(s.fc.healthy(), "{:?}", s.fc.health_log);
+    let s = healthy(
+        ap_scenario(ApMavlinkConfig::default(), PodSimConfig::default()),
+        3 * S,
+    );
     assert!(s.fc.camera_info.is_some());
     s
 }
@@ -74,13 +77,18 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
         (10 * S..10 * S + 1_100_000).contains(&found),
         "found at {found}"
     );
-    let (t, up) = ap.health_log[0];
+    let (t, up) = ap.health_log()[0];
     assert!(
         up && t - found <= 2 * S,
         "healthy {} ms after discovery",
         (t - found) / 1000
     );
-    assert_eq!(ap.health_log.len(), 1, "stays healthy: {:?}", ap.health_log);
+    assert_eq!(
+        ap.health_log().len(),
+        1,
+        "stays healthy: {:?}",
+        ap.health_log()
+    );
     assert!(ap.mount_initialised && !ap.mount_refused);
     assert_eq!(ap.parse_errors(), 0);
     // Both components, 1 Hz each, with the autopilot's system id; nothing before its
@@ -244,12 +252,7 @@ fn an_earth_frame_yaw_becomes_the_vehicle_relative_yaw_of_the_pod() {
 fn rates_retract_and_neutral_reach_the_pod() {
     let mut s = healthy_ap();
     let t0 = s.now_us;
-    s.fc.set_target(ApMountTarget::Rate {
-        pitch_dps: 0.0,
-        yaw_dps: 20.0,
-        yaw_is_ef: false,
-        from_mavlink: false,
-    });
+    s.fc.turn(20.0, 0.0);
     s.run_for(2 * S);
     let set = &s.fc.set_attitudes.last().unwrap().1;
     assert!(set.q.iter().all(|c| c.is_nan()));
@@ -318,7 +321,7 @@ fn photos_carry_utc_and_the_geotag_the_pod_got_both_camera_target_readings() {
             assert_eq!(c.relative_alt, i32::from(reply.reply.rel_alt_dm) * 100);
             // And it is where the aircraft was at the photo's UTC.
             let photo = s.pod.photos()[i];
-            let (lat, lon) = s.fc.aircraft.position_e7(photo.at_us);
+            let (lat, lon) = s.fc.aircraft().position_e7(photo.at_us);
             assert!(
                 lat.abs_diff(c.lat) < 30 && lon.abs_diff(c.lon) < 30,
                 "{c:?}"
@@ -434,7 +437,7 @@ fn pod_lost_sets_failure_flags_and_ardupilot_calls_the_mount_unhealthy() {
     let cut = s.now_us;
     s.pull_pod_cable(4 * S);
     s.run_for(8 * S);
-    let log = &s.fc.health_log;
+    let log = &s.fc.health_log();
     assert_eq!(log.len(), 3, "{log:?}");
     let (down, up) = (log[1], log[2]);
     assert!(
@@ -453,19 +456,9 @@ fn pod_lost_sets_failure_flags_and_ardupilot_calls_the_mount_unhealthy() {
 #[test]
 fn fc_silence_stops_the_pod() {
     let mut s = healthy_ap();
-    s.fc.set_target(ApMountTarget::Rate {
-        pitch_dps: 0.0,
-        yaw_dps: 15.0,
-        yaw_is_ef: false,
-        from_mavlink: false,
-    });
-    s.run_for(2 * S);
-    assert!(s.pod.gimbal().yaw_rate_dps > 10.0);
-    let cut = s.now_us;
-    s.pull_fc_cable(3 * S);
-    s.run_for(2 * S);
-    let stopped = s.pod.first_stop_after(cut).expect("stopped");
-    assert!(stopped - cut <= 600_000, "{} ms", (stopped - cut) / 1000);
+    s.fc.turn(15.0, 0.0);
+    let pulled = Silence::CablePulled(3 * S);
+    let (cut, _) = pod_stops_when_the_fc_falls_silent(&mut s, 2 * S, 10.0, pulled, 600 * MS, false);
     assert!(
         s.events
             .iter()
@@ -496,7 +489,7 @@ fn ardupilot_old_gremsy_driver_and_timesync() {
     let mut s = ap_scenario(ap, PodSimConfig::default());
     s.run_until(25 * S);
     assert!(s.fc.healthy());
-    assert_eq!(s.fc.health_log.len(), 1);
+    assert_eq!(s.fc.health_log().len(), 1);
     // ArduPilot's TIMESYNC requests (every 10 s) are answered with the bridge's clock.
     let replies = &s.fc.timesync_replies;
     assert!(replies.len() >= 2, "{replies:?}");
@@ -538,12 +531,7 @@ fn a_plane_at_50_hz_refuses_the_autopilot_state_and_its_driver_never_moves_the_m
 }
 
 fn px4_scenario(px4: Px4Config) -> Scenario<Px4> {
-    Scenario::new(
-        config(),
-        Px4::new(px4),
-        SimPod::new(PodSimConfig::default()),
-        -30,
-    )
+    engine_scenarios::scenario(Px4::new(px4), PodSimConfig::default(), -30)
 }
 
 #[test]

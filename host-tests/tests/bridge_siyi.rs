@@ -1,33 +1,36 @@
 //! The bridge between a simulated ArduPilot SIYI driver and a simulated K40T pod: the
-//! scenarios of the bridge engine issue, in simulated time.
+//! scenarios of the bridge engine issue, in simulated time. The scenarios every FC side
+//! runs are in `engine_scenarios/mod.rs`; the bounds and the SIYI side's own are here.
 
-use bridge_engine::{Config, Event, FcProtocol, Level};
-use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
-use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod};
+mod engine_scenarios;
+
+use bridge_engine::{Event, Level};
+use gimbal::sim::Autopilot;
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
+use gimbal::sim::pilot::Pilot;
+use gimbal::sim::pod::{MotionCommand, PodSimConfig};
 use gimbal::sim::scenario::Scenario;
+
+use engine_scenarios::{
+    MS, Noise, S, damage_counted, figures, healthy, healthy_within, one_photo_geotagged,
+    one_sync_per_edge, pod_loss_then_recovery, stays_healthy, sync_errors_us, zoom_in_then_stop,
+};
 use protocol_core::k40t::{
-    self, AckCode, ContinuousZoom, DialSpeed, GimbalControl, HybridZoom, ImageModeSetting,
-    IrGainMode, IrPalette, LaserPeriodic, MessageData, PitchMotion, Record, RecordAction,
-    TakePhoto, YawMotion, ZoomControl,
+    self, AckCode, DialSpeed, GimbalControl, HybridZoom, ImageModeSetting, IrGainMode, IrPalette,
+    LaserPeriodic, MessageData, PitchMotion, Record, RecordAction, TakePhoto, YawMotion,
+    ZoomControl,
 };
 use protocol_core::siyi::FeedbackInfo;
 
-const S: u64 = 1_000_000;
-
 fn scenario(ap: ApSiyiConfig, pod: PodSimConfig, bridge_ppm: i64) -> Scenario<ApSiyi> {
-    Scenario::new(
-        Config::for_fc(FcProtocol::Siyi),
-        ApSiyi::new(ap),
-        SimPod::new(pod),
-        bridge_ppm,
-    )
+    engine_scenarios::scenario(ApSiyi::new(ap), pod, bridge_ppm)
 }
 
 fn healthy_scenario() -> Scenario<ApSiyi> {
-    let mut s = scenario(ApSiyiConfig::default(), PodSimConfig::default(), 30);
-    s.run_until(5 * S);
-    assert!(s.fc.healthy(), "health log {:?}", s.fc.health_log);
-    s
+    healthy(
+        scenario(ApSiyiConfig::default(), PodSimConfig::default(), 30),
+        5 * S,
+    )
 }
 
 #[test]
@@ -39,9 +42,7 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     assert!(ap.initialised());
     // Healthy within the start-up: hardware id (1 Hz), firmware (1 Hz), codec specs, then
     // attitude at 20 Hz.
-    let (t, up) = ap.health_log[0];
-    assert!(up);
-    assert!(t < 4 * S, "healthy at {t} us");
+    healthy_within(&s, 4 * S);
     assert!(ap.healthy());
     // Replies come in the order of the gates.
     let first = |id: u8| ap.received.iter().find(|r| r.id == id).map(|r| r.at_us);
@@ -69,20 +70,15 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     );
     // No reply longer than ArduPilot's 32 data bytes, none dropped by its parser.
     assert!(ap.received.iter().all(|r| r.data.len() <= 32));
-    assert_eq!(ap.parse_errors, 0);
+    assert_eq!(ap.parse_errors(), 0);
     // And it stays healthy.
-    s.run_until(60 * S);
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
+    stays_healthy(&mut s, 60 * S);
 }
 
 #[test]
 fn rates_reach_the_pod_as_direction_and_dial_speed_and_come_back_in_0x0d() {
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 18.0,
-        pitch_dps: -9.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(18.0, -9.0);
     s.run_for(S);
     // 18 deg/s -> SIYI 20 -> 18 deg/s = dial 90 (0.2 deg/s units); -9 -> -10 -> 9 deg/s.
     let dial = s.pod.received_of::<DialSpeed>();
@@ -105,11 +101,7 @@ fn rates_reach_the_pod_as_direction_and_dial_speed_and_come_back_in_0x0d() {
     let during = s.pod.received_count(GimbalControl::ID.to_u32()) - before;
     assert!(during <= 6, "{during} motion frames in 5 s");
     // Stop: the rates go to zero and the pod stops.
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 0.0,
-        pitch_dps: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(0.0, 0.0);
     s.run_for(S);
     let (_, _, c) = s
         .pod
@@ -123,10 +115,7 @@ fn rates_reach_the_pod_as_direction_and_dial_speed_and_come_back_in_0x0d() {
 #[test]
 fn an_angle_target_converges_through_ardupilots_p_controller() {
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Angle {
-        yaw_deg: 30.0,
-        pitch_deg: -45.0,
-    });
+    s.fc.point(30.0, -45.0);
     s.run_for(15 * S);
     let g = s.pod.gimbal();
     assert!(
@@ -137,26 +126,7 @@ fn an_angle_target_converges_through_ardupilots_p_controller() {
 
 #[test]
 fn fc_silence_stops_the_pod() {
-    let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 20.0,
-        pitch_dps: 0.0,
-        yaw_is_ef: false,
-    });
-    s.run_for(2 * S);
-    assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
-    // The FC cable is cut while the pod turns.
-    s.fc_cut = true;
-    let cut = s.now_us;
-    s.run_for(2 * S);
-    let stop = s.pod.first_stop_after(cut).expect("a stop");
-    assert!(
-        stop - cut <= 600_000,
-        "stopped {} ms after the cut",
-        (stop - cut) / 1000
-    );
-    assert_eq!(s.pod.gimbal().yaw_rate_dps, 0.0);
-    assert_eq!(s.events_where(|e| *e == Event::FcSilenceStop).len(), 1);
+    engine_scenarios::fc_silence_stops_the_turning_pod(&mut healthy_scenario());
 }
 
 #[test]
@@ -168,15 +138,15 @@ fn camera_commands_reach_the_pod_with_the_right_fields() {
     assert_eq!(photo.len(), 1);
     assert_eq!(photo[0].2.action, k40t::ShootAction::Start);
     // Record: ArduPilot toggles only after reading the state from 0x0A.
-    s.fc.record_video(true);
+    s.fc.record(true);
     s.run_for(3 * S);
     let rec = s.pod.received_of::<Record>();
     assert_eq!(rec.last().unwrap().2.action, RecordAction::Start);
     assert_eq!(s.fc.record_status, protocol_core::siyi::RecordStatus::On);
-    s.fc.record_video(true); // already on: no toggle
+    s.fc.record(true); // already on: no toggle
     s.run_for(2 * S);
     assert_eq!(s.pod.received_of::<Record>().len(), 1);
-    s.fc.record_video(false);
+    s.fc.record(false);
     s.run_for(3 * S);
     assert_eq!(
         s.pod.received_of::<Record>().last().unwrap().2.action,
@@ -184,16 +154,7 @@ fn camera_commands_reach_the_pod_with_the_right_fields() {
     );
     assert_eq!(s.fc.record_status, protocol_core::siyi::RecordStatus::Off);
     // Zoom rate, repeated by ArduPilot at 1 Hz: continuous zoom in, then stop.
-    s.fc.set_zoom_rate(1);
-    s.run_for(S + S / 2);
-    s.fc.set_zoom_rate(0);
-    s.run_for(S);
-    let z: Vec<_> = s
-        .pod
-        .received_of::<ContinuousZoom>()
-        .into_iter()
-        .map(|(_, _, z)| z.control)
-        .collect();
+    let z = zoom_in_then_stop(&mut s);
     assert_eq!(z.first(), Some(&ZoomControl::In));
     assert_eq!(z.last(), Some(&ZoomControl::Stop));
     assert!(
@@ -267,27 +228,7 @@ fn a_refused_photo_comes_back_as_function_feedback() {
 #[test]
 fn pod_loss_makes_ardupilot_unhealthy_and_recovery_healthy_again() {
     let mut s = healthy_scenario();
-    s.pod.set_silent(true);
-    let cut = s.now_us;
-    s.run_for(4 * S);
-    let down =
-        s.fc.health_log
-            .iter()
-            .find(|(t, h)| *t > cut && !h)
-            .expect("unhealthy")
-            .0;
-    assert!(down - cut <= 2_500_000, "{} ms", (down - cut) / 1000);
-    assert!(!s.engine.pod_state().link);
-    s.pod.set_silent(false);
-    let back = s.now_us;
-    s.run_for(4 * S);
-    let up =
-        s.fc.health_log
-            .iter()
-            .find(|(t, h)| *t > back && *h)
-            .expect("healthy again")
-            .0;
-    assert!(up - back <= 2 * S);
+    pod_loss_then_recovery(&mut s, 2_500 * MS, 4 * S, 2 * S, |_| {});
 }
 
 #[test]
@@ -301,32 +242,19 @@ fn time_syncs_follow_the_fc_utc_and_photos_are_geotagged() {
         -25,
     );
     s.run_until(120 * S);
+    // Every edge is on a whole 10 s of UTC, followed by its 0x00030E, applied by the pod.
+    let edges = one_sync_per_edge(&s);
+    assert!(edges >= 6, "{edges} edges");
+    for err_us in sync_errors_us(&s, 0) {
+        assert!(err_us.abs() < 20_000, "error {err_us} us");
+    }
+    // Pulses are 50 ms wide.
     let highs: Vec<_> = s
         .pin_edges
         .iter()
         .filter(|e| e.level == Level::High)
         .copied()
         .collect();
-    assert!(highs.len() >= 6, "{} edges", highs.len());
-    // Every edge is on a whole 10 s of UTC, followed by its 0x00030E, applied by the pod.
-    let syncs = s.pod.syncs();
-    assert_eq!(syncs.len(), highs.len());
-    for (edge, sync) in highs.iter().zip(syncs) {
-        assert_eq!(sync.unix_ms % 10_000, 0);
-        let truth_us = s.fc.fc_utc_us(edge.at_us) as i64;
-        let err_us = sync.unix_ms as i64 * 1000 - truth_us;
-        assert!(
-            err_us.abs() < 20_000,
-            "edge at {} us: error {err_us} us",
-            edge.at_us
-        );
-        assert_eq!(
-            sync.outcome,
-            gimbal::sim::pod::SyncOutcome::Applied,
-            "{sync:?}"
-        );
-    }
-    // Pulses are 50 ms wide.
     let lows: Vec<_> = s
         .pin_edges
         .iter()
@@ -339,31 +267,7 @@ fn time_syncs_follow_the_fc_utc_and_photos_are_geotagged() {
     // A photo: the pod asks for GPS at the photo's time of day; the answer is the
     // aircraft's position then.
     s.fc.take_picture();
-    s.run_for(2 * S);
-    let replies = s.pod.gps_replies();
-    assert_eq!(replies.len(), 1, "{replies:?}");
-    let r = &replies[0];
-    assert_eq!(r.reply.code.code(), AckCode::Ok);
-    let photo_t = s.pod.photos()[0].at_us;
-    let (lat, lon) = s.fc.aircraft.position_e7(photo_t);
-    // 8 m/s: 1e-7 deg ~ 1.1 cm; allow 0.5 m.
-    assert!(
-        (r.reply.lat_e7 - lat).abs() < 50,
-        "{} vs {lat}",
-        r.reply.lat_e7
-    );
-    assert!(
-        (r.reply.lon_e7 - lon).abs() < 70,
-        "{} vs {lon}",
-        r.reply.lon_e7
-    );
-    assert_eq!(r.reply.yaw_cdeg, 4500);
-    assert_eq!(s.engine.counters().geotags, 1);
-}
-
-/// Percentile of sorted values.
-fn pct(sorted: &[u64], p: f64) -> u64 {
-    sorted[((sorted.len() - 1) as f64 * p).round() as usize]
+    one_photo_geotagged(&mut s);
 }
 
 /// Time-sync accuracy through the whole engine, over one-hour flights: the FC's crystal
@@ -392,61 +296,16 @@ fn time_sync_accuracy_over_one_hour_flights() {
         };
         let mut s = scenario(ap, PodSimConfig::default(), bridge_ppm);
         s.run_until(3600 * S);
-        let highs: Vec<_> = s
-            .pin_edges
-            .iter()
-            .filter(|e| e.level == Level::High)
-            .copied()
-            .collect();
-        let syncs = s.pod.syncs();
-        assert_eq!(syncs.len(), highs.len());
         // One edge every 10 s once UTC is valid (about 50 s after start).
-        assert!(highs.len() >= 354, "seed {seed}: {} edges", highs.len());
-        let mut errs: Vec<u64> = highs
-            .iter()
-            .zip(syncs)
-            .filter(|(e, _)| e.at_us >= 60 * S)
-            .map(|(e, sync)| {
-                assert_eq!(sync.outcome, gimbal::sim::pod::SyncOutcome::Applied);
-                (sync.unix_ms * 1000).abs_diff(s.fc.fc_utc_us(e.at_us))
-            })
-            .collect();
-        errs.sort_unstable();
-        println!(
-            "SIYI seed {seed} (FC {fc_ppm:+} ppm, bridge {bridge_ppm:+} ppm): {} edges, p50 {} us, p99 {} us, max {} us",
-            errs.len(),
-            pct(&errs, 0.5),
-            pct(&errs, 0.99),
-            errs.last().unwrap()
-        );
+        let edges = one_sync_per_edge(&s);
+        assert!(edges >= 354, "seed {seed}: {edges} edges");
+        let label = format!("SIYI seed {seed} (FC {fc_ppm:+} ppm, bridge {bridge_ppm:+} ppm)");
+        let errs = figures(&label, &sync_errors_us(&s, 60 * S));
         // The bound the five start-up samples allow: the transport jitter (10 ms).
         assert!(*errs.last().unwrap() < 10_000);
-        all.extend(errs);
+        all.extend(errs.iter().map(|&e| e as i64));
     }
-    all.sort_unstable();
-    println!(
-        "SIYI, all flights: {} edges, p50 {} us, p99 {} us, max {} us",
-        all.len(),
-        pct(&all, 0.5),
-        pct(&all, 0.99),
-        all.last().unwrap()
-    );
-}
-
-/// A small deterministic generator for line faults.
-struct Noise(u64);
-
-impl Noise {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    /// True with probability `per_million` / 1 000 000.
-    fn chance(&mut self, per_million: u64) -> bool {
-        self.next() % 1_000_000 < per_million
-    }
+    figures("SIYI, all flights", &all);
 }
 
 /// Both lines damaged for a minute: the FC's bytes with one flipped bit per ~1000 bytes
@@ -458,44 +317,38 @@ impl Noise {
 fn damaged_lines_cost_frames_not_health_or_control() {
     let mut s = healthy_scenario();
     let mut noise = Noise(0x5eed_1234_abcd_0001);
-    s.fc_line.set_corrupter(Box::new(move |_, bytes: &[u8]| {
-        let mut out = Vec::with_capacity(bytes.len() + 8);
-        if noise.chance(10_000) {
-            let n = 1 + noise.next() % 12;
-            out.extend((0..n).map(|_| noise.next() as u8));
-        }
-        for &b in bytes {
-            let flip = if noise.chance(1_000) {
-                1 << (noise.next() % 8)
-            } else {
-                0
-            };
-            out.push(b ^ flip);
-        }
-        out
-    }));
+    s.fc_line
+        .damage
+        .set_corrupter(Box::new(move |_, bytes: &[u8]| {
+            let mut out = Vec::with_capacity(bytes.len() + 8);
+            if noise.chance(10_000) {
+                let n = 1 + noise.next() % 12;
+                out.extend((0..n).map(|_| noise.next() as u8));
+            }
+            for &b in bytes {
+                let flip = if noise.chance(1_000) {
+                    1 << (noise.next() % 8)
+                } else {
+                    0
+                };
+                out.push(b ^ flip);
+            }
+            out
+        }));
     s.pod.set_output_faults(gimbal::sim::pod::OutputFaults {
         seed: 77,
         garbage_probability: 0.05,
         max_garbage_len: 16,
         bit_flip_probability: 0.02,
     });
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 15.0,
-        pitch_dps: -5.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(15.0, -5.0);
     let before = s.engine.counters();
     s.run_for(8 * S);
     // The pod turns as asked (checked before the yaw reaches its limit).
     let g = s.pod.gimbal();
     assert!(g.yaw_rate_dps > 10.0 && g.pitch_rate_dps < -2.0, "{g:?}");
     // Then holds still when asked.
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 0.0,
-        pitch_dps: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(0.0, 0.0);
     s.run_for(52 * S);
     let g = s.pod.gimbal();
     assert!(g.yaw_rate_dps == 0.0 && g.pitch_rate_dps == 0.0, "{g:?}");
@@ -503,17 +356,15 @@ fn damaged_lines_cost_frames_not_health_or_control() {
     let (bursts, flips) = s.pod.faults_injected();
     assert!(bursts > 50 && flips > 20, "faults {bursts} {flips}");
     // Damage is seen and counted on both ports.
-    assert!(c.fc_rejected + c.fc_garbage_bytes > before.fc_rejected + before.fc_garbage_bytes);
-    assert!(c.pod_rejected > before.pod_rejected, "{c:?}");
-    assert!(c.pod_garbage_bytes > before.pod_garbage_bytes);
+    damage_counted(&before, &c);
     println!("{c:?} pod faults {bursts} bursts {flips} flips");
     // Valid frames keep flowing: at most a few percent lost.
     let fc_frames = c.fc_frames - before.fc_frames;
     let sent = s.fc.sent.iter().filter(|(t, _)| *t > 5 * S).count() as u32;
     assert!(fc_frames * 100 >= sent * 95, "{fc_frames} of {sent}");
     // ArduPilot stays healthy throughout, its parser never sees a bad frame from us.
-    assert_eq!(s.fc.health_log.len(), 1, "{:?}", s.fc.health_log);
-    assert_eq!(s.fc.parse_errors, 0);
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
+    assert_eq!(s.fc.parse_errors(), 0);
     // The pod got only well-formed frames.
     let rx = s.pod.rx_stats();
     assert_eq!(rx.deframer.checksum_errors, 0);
@@ -526,24 +377,22 @@ fn damaged_lines_cost_frames_not_health_or_control() {
 #[test]
 fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Rate {
-        yaw_dps: 20.0,
-        pitch_dps: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.turn(20.0, 0.0);
     s.run_for(2 * S);
     assert!(s.pod.gimbal().yaw_rate_dps > 0.0);
     let start = s.now_us;
     let end = start + 5 * S;
     let mut noise = Noise(0x0bad_cafe_0000_0001);
-    s.fc_line.set_corrupter(Box::new(move |at, bytes: &[u8]| {
-        if at < end {
-            // Every write replaced by twice as many random bytes: the line stays full.
-            (0..bytes.len() * 2).map(|_| noise.next() as u8).collect()
-        } else {
-            bytes.to_vec()
-        }
-    }));
+    s.fc_line
+        .damage
+        .set_corrupter(Box::new(move |at, bytes: &[u8]| {
+            if at < end {
+                // Every write replaced by twice as many random bytes: the line stays full.
+                (0..bytes.len() * 2).map(|_| noise.next() as u8).collect()
+            } else {
+                bytes.to_vec()
+            }
+        }));
     let garbage_before = s.engine.counters().fc_garbage_bytes;
     s.run_for(5 * S);
     assert!(s.engine.counters().fc_garbage_bytes - garbage_before > 5_000);
@@ -560,7 +409,7 @@ fn a_garbage_flood_from_the_fc_is_silence_and_stops_the_pod() {
             .all(|m| !matches!(m.command, MotionCommand::Control(c)
                 if c.yaw != YawMotion::Stop))
     );
-    s.fc_line.clear_corrupter();
+    s.fc_line.damage.clear_corrupter();
     s.run_for(3 * S);
     assert!(s.fc.healthy());
     assert!(s.pod.gimbal().yaw_rate_dps > 0.0, "moving again");
@@ -581,9 +430,9 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
     s.run_for(5 * S);
     assert!(!s.engine.pod_state().link);
     assert!(
-        s.fc.health_log.iter().any(|(t, h)| *t > start && !h),
+        s.fc.health_log().iter().any(|(t, h)| *t > start && !h),
         "{:?}",
-        s.fc.health_log
+        s.fc.health_log()
     );
     s.pod
         .set_output_faults(gimbal::sim::pod::OutputFaults::default());
@@ -591,7 +440,7 @@ fn a_garbage_flood_from_the_pod_is_pod_loss_then_recovery() {
     s.run_for(4 * S);
     assert!(s.engine.pod_state().link);
     let up =
-        s.fc.health_log
+        s.fc.health_log()
             .iter()
             .find(|(t, h)| *t > back && *h)
             .expect("healthy again")
@@ -606,7 +455,7 @@ fn assert_geotag_matches(s: &Scenario<ApSiyi>, photo: usize) {
     let r = &s.pod.gps_replies()[req.reply.expect("answered")];
     assert_eq!(r.reply.code.code(), AckCode::Ok, "photo {photo}: {r:?}");
     assert!(r.time_matches && !r.late);
-    let (lat, lon) = s.fc.aircraft.position_e7(p.at_us);
+    let (lat, lon) = s.fc.aircraft().position_e7(p.at_us);
     assert!(
         (r.reply.lat_e7 - lat).abs() < 50,
         "photo {photo}: lat {} vs {lat}",
@@ -769,11 +618,7 @@ fn link_budget_under_full_ardupilot_traffic() {
     for step in 0..400u64 {
         let yaw = (noise.next() % 61) as f64 - 30.0;
         let pitch = (noise.next() % 41) as f64 - 20.0;
-        s.fc.target = Some(MountTarget::Rate {
-            yaw_dps: yaw,
-            pitch_dps: pitch,
-            yaw_is_ef: false,
-        });
+        s.fc.turn(yaw, pitch);
         if step % 7 == 0 {
             s.fc.take_picture();
         }

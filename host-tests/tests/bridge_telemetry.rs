@@ -1,6 +1,7 @@
 //! The engine's MAVLink telemetry link (`Port::Telemetry`) beside a SIYI FC link, and the
-//! TIMESYNC + SYSTEM_TIME time path, against a small autopilot written from
-//! `shared/MAVLINK-TRAFFIC.md` §6: it answers TIMESYNC with its boot clock (in ns) at
+//! TIMESYNC + SYSTEM_TIME time path (docs/src/bridge/time.md), against a small autopilot
+//! that does what docs/src/autopilots/ardupilot.md and docs/src/autopilots/px4.md say
+//! of their time messages: it answers TIMESYNC with its boot clock (in ns) at
 //! the request's start (ArduPilot) or at its parse (PX4), sends SYSTEM_TIME with both
 //! fields read from one clock reading, and HEARTBEAT at 1 Hz. Serial time is modelled
 //! (115200 baud); each reply leaves after a loop latency. The full simulators run

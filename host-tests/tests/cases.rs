@@ -1,5 +1,5 @@
-//! Runs the shared codec cases (`host-tests/cases`) natively, one libtest test per case.
-//! The same cases run on Cortex-M under QEMU (`host-tests/qemu`).
+//! Runs the shared codec cases (`host-tests/codec-cases`) natively, one libtest test per case.
+//! The same cases run on Cortex-M under QEMU (`host-tests/qemu-cases`).
 
 use libtest_mimic::{Arguments, Failed, Trial};
 

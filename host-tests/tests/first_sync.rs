@@ -7,6 +7,7 @@
 //! different boot phases. Run with `--nocapture` for the figures.
 
 use bridge_engine::{Config, Event, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
@@ -151,8 +152,7 @@ fn k40t() {
     let r: Vec<_> = FLIGHTS
         .iter()
         .map(|&(seed, _, bridge)| {
-            let mut fc = FcK40t::default();
-            fc.utc_at_zero_us += phase(seed);
+            let fc = FcK40t::new(FcK40t::default().fc_utc_us(0) + phase(seed));
             first_sync(fc, bridge)
         })
         .collect();

@@ -31,7 +31,7 @@ const GIMBAL: Address = Address::GIMBAL;
 const POD: Address = Address::POD;
 const S: u64 = 1_000_000;
 const MS: u64 = 1_000;
-/// 2026-01-01T00:00:00Z (the SPEC-NOTES time sync reference frame).
+/// 2026-01-01T00:00:00Z (the reference time-sync frame of docs/src/protocols/k40t.md).
 const NEW_YEAR_2026_MS: u64 = 1_767_225_600_000;
 
 /// The bridge's side: builds requests, deframes what the pod sends, with the instant
@@ -296,7 +296,7 @@ fn reports_arrive_at_the_document_rates_with_incrementing_sequence_numbers() {
 fn acks_echo_the_sequence_number_and_carry_the_documented_data() {
     let (mut pod, mut fc) = default_pod();
 
-    // The SPEC-NOTES reference exchange, byte for byte.
+    // The reference ACK exchange of docs/src/protocols/k40t.md, byte for byte.
     fc.seq = 7;
     fc.send(&mut pod, 0, &zoom(45));
     let ack = fc.ack(0x0304, 7).unwrap();

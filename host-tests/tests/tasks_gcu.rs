@@ -6,8 +6,10 @@
 mod task_scenarios;
 
 use bridge_engine::{Event, Level};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_xfrobot::ApXfRobot;
 use gimbal::sim::pod::SyncOutcome;
+use gimbal::sim::tasks::Cable;
 use task_scenarios::{Bounds, S};
 
 const BOUNDS: Bounds = Bounds {
@@ -61,13 +63,13 @@ fn pod_loss_replies_are_short_with_the_hardware_error_bit() {
     let mut refused = None;
     let o = task_scenarios::bench::<ApXfRobot>().run(14 * S, task_scenarios::TICK, |b, t| {
         if t == 6 * S {
-            b.wires.cut_pod(true);
+            b.wires.cut(Cable::Pod, true);
         }
         if t == 10 * S {
             refused = Some(!b.fc.borrow_mut().take_picture());
         }
         if t == 12 * S {
-            b.wires.cut_pod(false);
+            b.wires.cut(Cable::Pod, false);
         }
     });
     assert_eq!(refused, Some(true));

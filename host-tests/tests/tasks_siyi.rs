@@ -11,8 +11,10 @@ use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either3, select, select3};
 use embassy_time::{Duration, Timer};
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig, MountTarget};
 use gimbal::sim::peer::{PodPin, run_peer};
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use task_scenarios::{Bounds, S};
 
@@ -81,10 +83,10 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
         }
     });
     // Healthy within the start-up, and stays so.
-    assert!(r.fc.healthy(), "{:?}", r.fc.health_log);
-    assert_eq!(r.fc.health_log.len(), 1);
-    assert!(r.fc.health_log[0].0 < 5_000_000);
-    assert_eq!(r.fc.parse_errors, 0);
+    assert!(r.fc.healthy(), "{:?}", r.fc.health_log());
+    assert_eq!(r.fc.health_log().len(), 1);
+    assert!(r.fc.health_log()[0].0 < 5_000_000);
+    assert_eq!(r.fc.parse_errors(), 0);
     // The rate turned the pod, and it stopped.
     assert!(r.pod.motions().len() >= 2, "{:?}", r.pod.motions());
     assert_eq!(r.pod.gimbal().yaw_rate_dps, 0.0);

@@ -6,10 +6,12 @@
 
 use bridge_engine::{Config, Event, FcProtocol};
 use bridge_fw::LogKind;
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
-use gimbal::sim::tasks::{Bench, Outcome};
+use gimbal::sim::tasks::{Bench, Cable, Outcome};
 use protocol_core::k40t::AckCode;
 
 const S: u64 = 1_000_000;
@@ -34,7 +36,7 @@ fn run(telemetry: bool) -> Outcome<ApSiyi, ApMavlink> {
     let pod = SimPod::new(PodSimConfig::default());
     let fc = ApSiyi::new(autopilot());
     // The same autopilot's MAVLink port: its clock and aircraft.
-    let peer = telemetry.then(|| ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1));
+    let peer = telemetry.then(|| ApMavlink::telemetry(fc.clock().clone(), *fc.aircraft(), 4, 1));
     let bench = Bench::of(config, fc, pod, peer);
     bench.wires.record_all();
     bench.run(75 * S, TICK, |b, t| {
@@ -65,7 +67,7 @@ fn syncs_and_geotag(o: &Outcome<ApSiyi, ApMavlink>) {
         o.events()
             .any(|(_, e)| matches!(e, Event::Geotag { answered: true, .. }))
     );
-    assert!(o.fc.healthy(), "{:?}", o.fc.health_log);
+    assert!(o.fc.healthy(), "{:?}", o.fc.health_log());
     assert_eq!(o.records_dropped, 0);
     // The watchdog task saw every supervised loop (the telemetry link's too) run.
     assert!(
@@ -133,7 +135,7 @@ fn without_a_3d_fix_on_the_telemetry_link_the_geotag_is_the_failure_code() {
     let config = Config::for_fc(FcProtocol::Siyi);
     let pod = SimPod::new(PodSimConfig::default());
     let fc = ApSiyi::new(autopilot());
-    let mut peer = ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1);
+    let mut peer = ApMavlink::telemetry(fc.clock().clone(), *fc.aircraft(), 4, 1);
     peer.config.gps_fix = false;
     let bench = Bench::of(config, fc, pod, Some(peer));
     let o = bench.run(75 * S, TICK, |b, t| {
@@ -161,11 +163,11 @@ fn a_pulled_telemetry_cable_gives_time_back_to_the_fc_link_and_takes_it_again() 
     let config = Config::for_fc(FcProtocol::Siyi);
     let pod = SimPod::new(PodSimConfig::default());
     let fc = ApSiyi::new(autopilot());
-    let peer = ApMavlink::telemetry(fc.clock().clone(), fc.aircraft, 4, 1);
+    let peer = ApMavlink::telemetry(fc.clock().clone(), *fc.aircraft(), 4, 1);
     let bench = Bench::of(config, fc, pod, Some(peer));
     let o = bench.run(120 * S, TICK, |b, t| {
         if t == 40 * S {
-            b.wires.pull_telemetry(t, 20 * S);
+            b.wires.pull(Cable::Telemetry, t, 20 * S);
         }
     });
     let sources: Vec<(u64, Event)> = o

@@ -1,22 +1,22 @@
 //! UTC at the RTC_IO edge through the firmware's tasks (virtual time, pipes), per FC
 //! side, with and without a MAVLink telemetry link: the first sync's delay after the
 //! autopilot's first valid UTC and its error, and the steady-state error (p50, p99,
-//! max). The simulated autopilots follow `shared/FC-TRAFFIC.md` and
-//! `shared/MAVLINK-TRAFFIC.md` (ArduPilot's 400 Hz loop on its IMU, TIMESYNC answered
+//! max). The simulated autopilots follow docs/src/autopilots/ardupilot.md and
+//! docs/src/autopilots/px4.md (ArduPilot's 400 Hz loop on its IMU, TIMESYNC answered
 //! from the UART's receive-time estimate, SYSTEM_TIME read in one call); FC crystals
 //! ±25 ppm against the bridge's, serial jitter 0–10 ms per burst. The error is the
 //! UTC the pod was given for an edge minus the autopilot's own UTC at that edge (the
 //! bridge cannot be better than the autopilot's clock). Run with `--nocapture` for the
-//! figures (the README's table).
+//! figures (docs/src/figures.md).
 //!
 //! Required (issue "Sub-millisecond UTC"): with MAVLink time (the MAVLink side, or a
 //! telemetry link) p99 < 1 ms and max < 2 ms in steady state, the first sync within
 //! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms.
 
 use bridge_engine::Config;
-use gimbal::sim::FcClock;
+use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
-use gimbal::sim::ap_siyi::{Aircraft, ApSiyi, ApSiyiConfig};
+use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
 use gimbal::sim::pilot::Pilot;
@@ -169,20 +169,16 @@ fn mavlink_side_with_px4() {
     report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 5_000);
 }
 
-/// The flights of a SIYI, Viewpro or XF Robot ArduPilot, with the same autopilot's
-/// MAVLink port on the telemetry link or without.
-fn legacy<P: Pilot>(
-    make: impl Fn(u64, f64, u64, u64) -> P,
-    board: impl Fn(&P) -> (FcClock, Aircraft),
-    telemetry: bool,
-) -> Vec<Flight> {
+/// The flights of ArduPilot with its SIYI, Viewpro or XFRobot mount driver, with the same
+/// autopilot's MAVLink port on the telemetry link or without.
+fn legacy<P: Pilot>(make: impl Fn(u64, f64, u64, u64) -> P, telemetry: bool) -> Vec<Flight> {
     FLIGHTS
         .iter()
         .map(|&(seed, ppm, phase, valid)| {
             let fc = make(seed, ppm, phase, valid);
             let peer = telemetry.then(|| {
-                let (clock, aircraft) = board(&fc);
-                let mut ap = ApMavlink::telemetry(clock, aircraft, seed + 100, 1);
+                let clock = fc.board_clock().expect("an ArduPilot with a MAVLink port");
+                let mut ap = ApMavlink::telemetry(clock.clone(), *fc.aircraft(), seed + 100, 1);
                 ap.config.jitter_us = 10_000;
                 ap
             });
@@ -233,39 +229,39 @@ fn xfrobot(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApXfRobot {
 
 #[test]
 fn siyi_with_telemetry() {
-    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(siyi, true);
     report("SIYI + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
 #[test]
 fn viewlink_with_telemetry() {
-    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(viewpro, true);
     report("Viewlink + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
 #[test]
 fn gcu_with_telemetry() {
-    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), true);
+    let f = legacy(xfrobot, true);
     report("GCU + telemetry", &f, 1_000, 2_000, 5_000);
 }
 
-// Without the telemetry link: the legacy protocols' own time, as before (the README's
-// bounds for these sides: what ArduPilot sends them is coarser).
+// Without the telemetry link: the legacy protocols' own time, as before (the bounds of
+// docs/src/figures.md for these sides: what ArduPilot sends them is coarser).
 
 #[test]
 fn siyi_alone() {
-    let f = legacy(siyi, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(siyi, false);
     report("SIYI alone", &f, 8_000, 10_000, 10_000);
 }
 
 #[test]
 fn viewlink_alone() {
-    let f = legacy(viewpro, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(viewpro, false);
     report("Viewlink alone", &f, 8_000, 10_000, 10_000);
 }
 
 #[test]
 fn gcu_alone() {
-    let f = legacy(xfrobot, |p| (p.clock().clone(), p.aircraft), false);
+    let f = legacy(xfrobot, false);
     report("GCU alone", &f, 15_000, 20_000, 15_000);
 }

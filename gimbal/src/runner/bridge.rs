@@ -285,10 +285,10 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     );
     let sim_wire = |f: Option<Faults>, index: u64| {
         let mut w = Wire::default();
-        w.set_faults(f.map(|f| f.derived(index)));
+        w.damage.set_faults(f.map(|f| f.derived(index)));
         RefCell::new(w)
     };
-    // Into the bridge: 0, out of it: 1 (as `CableFaults` and `Wires::set_fc_faults`).
+    // Into the bridge: 0, out of it: 1 (as `CableFaults` and `Wires::set_faults`).
     let (fc_in, fc_out) = (sim_wire(args.fc_faults, 0), sim_wire(args.fc_faults, 1));
     let (pod_in, pod_out) = (sim_wire(args.pod_faults, 0), sim_wire(args.pod_faults, 1));
     for (label, spec, baud, rx, tx, cable) in [
@@ -481,7 +481,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
         stopped[label] = match cable {
             Some(c) => c.stats_json(),
             None => {
-                let stats = |w: &RefCell<Wire>| w.borrow().fault_stats().unwrap_or_default();
+                let stats = |w: &RefCell<Wire>| w.borrow().damage.fault_stats().unwrap_or_default();
                 json!({"in": stats_json(&stats(wires.0)), "out": stats_json(&stats(wires.1))})
             }
         };

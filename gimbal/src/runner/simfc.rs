@@ -10,7 +10,8 @@ use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
 use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
 use crate::sim::fc_k40t::FcK40t;
-use crate::sim::scenario::FcSim;
+use crate::sim::pilot::Pilot;
+use crate::sim::{Autopilot, Peer};
 
 /// The K40T FC counts as healthy while frames from the bridge arrived this recently.
 const K40T_HEALTHY_US: u64 = 2_000_000;
@@ -57,11 +58,7 @@ impl AnyFc {
                 utc_at_zero_us,
                 ..ApXfRobotConfig::default()
             })),
-            Fc::K40t => {
-                let mut f = FcK40t::default();
-                f.utc_at_zero_us = utc_at_zero_us;
-                AnyFc::K40t(f)
-            }
+            Fc::K40t => AnyFc::K40t(FcK40t::new(utc_at_zero_us)),
             Fc::Mavlink => AnyFc::Mavlink(ApMavlink::new(ApMavlinkConfig {
                 utc_at_zero_us,
                 ..ApMavlinkConfig::default()
@@ -69,7 +66,7 @@ impl AnyFc {
         }
     }
 
-    fn sim(&mut self) -> &mut dyn FcSim {
+    fn sim(&mut self) -> &mut dyn Peer {
         match self {
             AnyFc::Siyi(f) => f,
             AnyFc::Viewlink(f) => f,
@@ -79,7 +76,7 @@ impl AnyFc {
         }
     }
 
-    fn sim_ref(&self) -> &dyn FcSim {
+    fn sim_ref(&self) -> &dyn Peer {
         match self {
             AnyFc::Siyi(f) => f,
             AnyFc::Viewlink(f) => f,
@@ -158,9 +155,9 @@ impl AnyFc {
     #[must_use]
     pub fn parse_errors(&self) -> u32 {
         match self {
-            AnyFc::Siyi(f) => f.parse_errors,
-            AnyFc::Viewlink(f) => f.parse_errors,
-            AnyFc::Gcu(f) => f.parse_errors,
+            AnyFc::Siyi(f) => f.parse_errors(),
+            AnyFc::Viewlink(f) => f.parse_errors(),
+            AnyFc::Gcu(f) => f.parse_errors(),
             AnyFc::Mavlink(f) => f.parse_errors(),
             AnyFc::K40t(_) => 0,
         }
@@ -176,7 +173,7 @@ impl AnyFc {
     }
 }
 
-impl FcSim for AnyFc {
+impl Peer for AnyFc {
     fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         self.sim().receive(now_us, bytes);
     }
@@ -186,7 +183,7 @@ impl FcSim for AnyFc {
     fn next_wakeup(&self) -> u64 {
         self.sim_ref().next_wakeup()
     }
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        self.sim().transmit()
+    fn transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)> {
+        self.sim().transmit(now_us)
     }
 }

@@ -1,5 +1,6 @@
 //! A simulated ArduPilot `AP_Mount_Siyi` driver: the flight controller as a SIYI gimbal
-//! sees it, following `../shared/FC-TRAFFIC.md` (SIYI section) and the driver's code.
+//! sees it, following the driver's code as docs/src/autopilots/ardupilot.md describes
+//! what it sends and reads.
 //!
 //! - **Loop.** `update()` runs at 50 Hz on the FC's own crystal ([`ApSiyiConfig::ppm`]),
 //!   each run a few hundred microseconds late ([`ApSiyiConfig::loop_jitter_us`]). Every
@@ -22,22 +23,22 @@
 //!   frame, reset to the header on failure (no rewind).
 //! - **Health.** Firmware received and a 0x0D reply within the last second.
 //!
-//! - **Reboot.** [`ApSiyi::reboot`]: the FC loses power for [`FcReboot::off_us`] (it
-//!   sends nothing, what arrives is lost, and the driver calls the mount unhealthy),
-//!   then boots: its boot clock (`time_boot_ms` of 0x22/0x3E) restarts at
-//!   [`FcReboot::boot_clock_us`], the driver starts again from scratch (sequence 0,
-//!   0x02, 0x01, 0x20 gating, config, a new mount target), and once its UTC is valid
-//!   ([`FcReboot::utc_valid_after_us`]) it sends 0x30 five times again, with a UTC that
-//!   differs from the previous boot's by [`FcReboot::utc_shift_us`].
+//! - **Reboot** ([`Autopilot::reboot`], on the [`Board`]): then the driver starts again
+//!   from scratch (sequence 0, 0x02, 0x01, 0x20 gating, config, a new mount target) on
+//!   the new boot clock (`time_boot_ms` of 0x22/0x3E), and once its UTC is valid it sends
+//!   0x30 five times again, with the new boot's UTC.
 //!
 //! Time is true time in µs. The FC's clock is `fc(t) = t·(1 + ppm) + boot`; its UTC is
 //! `fc + shift` (ArduPilot's `AP_RTC`: boot clock plus a shift set once from GPS), with
 //! the shift chosen so that the FC's UTC equals [`ApSiyiConfig::utc_at_zero_us`] at true
 //! time 0; after a reboot, both restart as [`FcClock`] says. The reference for the
-//! bridge's time sync is [`ApSiyi::fc_utc_us`], which follows the FC's UTC of the boot
-//! in effect.
+//! bridge's time sync is [`Autopilot::fc_utc_us`], which follows the FC's UTC of the
+//! boot in effect.
 
-use super::{FcBoot, FcClock, FcReboot, XorShift};
+use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::describe::SiyiFrames;
+use super::pilot::Pilot;
+use super::{FcClock, XorShift};
 use protocol_core::Direction;
 use protocol_core::siyi::{
     self, AbsoluteZoom, AutoFocus, CameraFunction, CameraFunctionType, Center, CenterPosition,
@@ -48,8 +49,6 @@ use protocol_core::siyi::{
     StitchingMode, StreamType, ThermalGain, ThermalPalette, UtcTime, ZoomDirection, ZoomLevel,
 };
 use protocol_core::wire::crc16_xmodem;
-
-use super::scenario::FcSim;
 
 /// Settings of the simulated driver.
 #[derive(Debug, Clone)]
@@ -118,52 +117,6 @@ pub enum MountTarget {
     },
 }
 
-/// The simulated aircraft: a straight line at constant speed and height.
-#[derive(Debug, Clone, Copy)]
-pub struct Aircraft {
-    /// Latitude at true time 0, degrees.
-    pub lat0_deg: f64,
-    /// Longitude at true time 0, degrees.
-    pub lon0_deg: f64,
-    /// Altitude above mean sea level, m.
-    pub alt_msl_m: f64,
-    /// Ground speed, m/s, heading north-east.
-    pub speed_m_s: f64,
-    /// Heading, degrees.
-    pub heading_deg: f64,
-}
-
-impl Default for Aircraft {
-    fn default() -> Self {
-        Aircraft {
-            lat0_deg: 47.397_742,
-            lon0_deg: 8.545_594,
-            alt_msl_m: 488.0,
-            speed_m_s: 8.0,
-            heading_deg: 45.0,
-        }
-    }
-}
-
-impl Aircraft {
-    /// Latitude, longitude (1e-7 deg) at true time `t_us`.
-    #[must_use]
-    pub fn position_e7(&self, t_us: u64) -> (i32, i32) {
-        let d = self.speed_m_s * t_us as f64 / 1e6;
-        let h = self.heading_deg.to_radians();
-        let lat = self.lat0_deg + d * h.cos() / 111_320.0;
-        let lon = self.lon0_deg + d * h.sin() / (111_320.0 * self.lat0_deg.to_radians().cos());
-        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
-    }
-
-    /// Roll, pitch, yaw (degrees) at true time `t_us`: a gentle roll oscillation.
-    #[must_use]
-    pub fn attitude_deg(&self, t_us: u64) -> (f64, f64, f64) {
-        let s = t_us as f64 / 1e6;
-        (5.0 * (s * 0.5).sin(), -3.0, self.heading_deg)
-    }
-}
-
 /// A reply the driver received, with the true time of its arrival.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Received {
@@ -175,23 +128,29 @@ pub struct Received {
     pub data: Vec<u8>,
 }
 
+/// When the driver last sent each of its periodic frames, FC ms.
+#[derive(Debug, Clone, Copy, Default)]
+struct LastSent {
+    /// The 1 Hz group: 0x02/0x01 until answered, then 0x0A, 0x30, 0x20.
+    config_ms: Option<u64>,
+    /// 0x0D.
+    attitude_req_ms: Option<u64>,
+    /// 0x15.
+    range_req_ms: Option<u64>,
+    /// 0x14.
+    thermal_req_ms: Option<u64>,
+    /// 0x22 and 0x3E.
+    attitude_sent_ms: Option<u64>,
+    /// 0x05 while zooming.
+    zoom_ms: Option<u64>,
+}
+
 /// The simulated `AP_Mount_Siyi`.
 #[derive(Debug)]
 pub struct ApSiyi {
     /// The simulated driver's settings (rates, camera model, seed).
     pub config: ApSiyiConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
-    rng: XorShift,
-    now_us: u64,
-    clock: FcClock,
-    /// Power-on instant while rebooting.
-    power_on_at: Option<u64>,
-    /// Bytes from the bridge lost while the FC was off.
-    pub lost_while_off: u64,
-    /// FC-clock ms of the next update run.
-    next_run_fc_ms: u64,
-    out: Vec<(u64, Vec<u8>)>,
+    board: Board,
     seq: u16,
     // Parser.
     buf: Vec<u8>,
@@ -202,12 +161,7 @@ pub struct ApSiyi {
     fw_received: bool,
     codec_record: bool,
     codec_main: bool,
-    last_send_ms: Option<u64>,
-    last_att_req_ms: Option<u64>,
-    last_range_req_ms: Option<u64>,
-    last_therm_req_ms: Option<u64>,
-    last_att_send_ms: Option<u64>,
-    last_zoom_ms: Option<u64>,
+    last: LastSent,
     sent_time_count: u8,
     /// `_config_info.motion_mode` as the driver believes it.
     motion_mode: Option<MotionMode>,
@@ -231,45 +185,26 @@ pub struct ApSiyi {
     /// The mount target.
     pub target: Option<MountTarget>,
     zoom_rate: i8,
-    /// Frames dropped by the parser (CRC or too long).
-    pub parse_errors: u32,
-    /// True times at which `healthy()` changed, with the new value.
-    pub health_log: Vec<(u64, bool)>,
-    healthy: bool,
 }
 
 impl ApSiyi {
-    /// True time of the first 0x30 (UTC) sent, µs.
-    #[must_use]
-    pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|(_, id)| *id == 0x30)
-            .map(|(t, _)| *t)
-    }
-
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApSiyiConfig) -> Self {
-        let rng = XorShift(config.seed.max(1));
-        // The first run on the FC's 20 ms grid after true time 0.
-        let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         let clock = FcClock::new(
             config.ppm,
             config.boot_us,
             config.utc_at_zero_us,
             config.utc_valid_at_us,
         );
+        let board = Board::new(
+            clock,
+            XorShift(config.seed.max(1)),
+            MainLoop::scheduler_50hz(config.loop_jitter_us),
+        );
         ApSiyi {
             config,
-            aircraft: Aircraft::default(),
-            rng,
-            now_us: 0,
-            clock,
-            power_on_at: None,
-            lost_while_off: 0,
-            next_run_fc_ms: first_run_fc_ms,
-            out: Vec::new(),
+            board,
             seq: 0,
             buf: Vec::new(),
             got_hardware_id: false,
@@ -277,12 +212,7 @@ impl ApSiyi {
             fw_received: false,
             codec_record: false,
             codec_main: false,
-            last_send_ms: None,
-            last_att_req_ms: None,
-            last_range_req_ms: None,
-            last_therm_req_ms: None,
-            last_att_send_ms: None,
-            last_zoom_ms: None,
+            last: LastSent::default(),
             sent_time_count: 0,
             motion_mode: None,
             record_status: RecordStatus::Off,
@@ -295,128 +225,13 @@ impl ApSiyi {
             sent: Vec::new(),
             target: None,
             zoom_rate: 0,
-            parse_errors: 0,
-            health_log: Vec::new(),
-            healthy: false,
         }
-    }
-
-    /// The FC's clock (boot clock, crystal, UTC, reboots), e.g. for a MAVLink
-    /// telemetry port of the same autopilot ([`super::ap_mavlink::ApMavlink::telemetry`],
-    /// with its `aircraft`).
-    #[must_use]
-    pub fn clock(&self) -> &FcClock {
-        &self.clock
-    }
-
-    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
-    #[must_use]
-    pub fn fc_us(&self, t_us: u64) -> u64 {
-        self.clock.clock_us(t_us)
-    }
-
-    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
-    #[must_use]
-    pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        self.clock.true_of_clock(fc_us)
-    }
-
-    /// The FC's UTC (µs) at true time `t_us` (of the boot in effect then).
-    #[must_use]
-    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.clock.utc_us(t_us)
-    }
-
-    /// Every boot of the FC (the first at true time 0).
-    #[must_use]
-    pub fn boots(&self) -> &[FcBoot] {
-        self.clock.boots()
-    }
-
-    /// The FC is without power (rebooting) at the latest instant processed.
-    #[must_use]
-    pub fn is_off(&self) -> bool {
-        self.power_on_at.is_some()
-    }
-
-    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
-    /// `now_us` is done first; frames not yet on the wire are lost).
-    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        self.poll(now_us);
-        let on = self.clock.reboot(self.now_us, reboot);
-        self.power_on_at = Some(on);
-        let now = self.now_us;
-        self.out.retain(|(at, _)| *at <= now);
-        if self.healthy {
-            self.healthy = false;
-            self.health_log.push((now, false));
-        }
-    }
-
-    /// Power-on: the driver as new, on the new boot's clock.
-    fn power_on(&mut self) {
-        self.power_on_at = None;
-        let boot_clock_us = self.clock.current().clock_us;
-        self.next_run_fc_ms = boot_clock_us.div_ceil(20_000) * 20;
-        self.seq = 0;
-        self.buf.clear();
-        self.got_hardware_id = false;
-        self.model = None;
-        self.fw_received = false;
-        self.codec_record = false;
-        self.codec_main = false;
-        self.last_send_ms = None;
-        self.last_att_req_ms = None;
-        self.last_range_req_ms = None;
-        self.last_therm_req_ms = None;
-        self.last_att_send_ms = None;
-        self.last_zoom_ms = None;
-        self.sent_time_count = 0;
-        self.motion_mode = None;
-        self.record_status = RecordStatus::Off;
-        self.attitude = None;
-        self.zoom_mult = None;
-        self.rangefinder = None;
-        self.thermal = None;
-        self.target = None;
-        self.zoom_rate = 0;
-    }
-
-    /// `healthy()` of the driver now.
-    #[must_use]
-    pub fn healthy(&self) -> bool {
-        self.healthy
     }
 
     /// The firmware reply has been accepted.
     #[must_use]
     pub fn initialised(&self) -> bool {
         self.fw_received
-    }
-
-    /// Take a picture (0x0C 0).
-    pub fn take_picture(&mut self) {
-        self.send(&CameraFunction {
-            function: CameraFunctionType::TakePhoto,
-        });
-    }
-
-    /// Start or stop recording: a toggle only when the last 0x0A says it is needed.
-    pub fn record_video(&mut self, start: bool) {
-        let on = self.record_status == RecordStatus::On;
-        if start != on && self.record_status != RecordStatus::NoCard {
-            self.send(&CameraFunction {
-                function: CameraFunctionType::RecordToggle,
-            });
-        }
-        self.send(&GimbalConfigQuery {});
-    }
-
-    /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
-    pub fn set_zoom_rate(&mut self, rate: i8) {
-        self.zoom_rate = rate.signum();
-        self.send_zoom_rate();
-        self.last_zoom_ms = Some(self.fc_ms());
     }
 
     fn send_zoom_rate(&mut self) {
@@ -493,13 +308,9 @@ impl ApSiyi {
         });
     }
 
-    fn fc_ms(&self) -> u64 {
-        self.fc_us(self.now_us) / 1000
-    }
-
     /// Queues one request frame for the current run.
     fn send<M: MessageData<Protocol = Siyi>>(&mut self, m: &M) {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return;
         }
         let mut buf = [0u8; 64];
@@ -507,102 +318,15 @@ impl ApSiyi {
             return;
         };
         self.seq = self.seq.wrapping_add(1);
-        self.sent.push((self.now_us, M::ID));
+        let now = self.board.now_us();
+        self.sent.push((now, M::ID));
         let frame = buf[..n].to_vec();
         if self.config.jitter_per_frame {
-            let at = self.now_us + self.rng.uniform(self.config.jitter_us);
-            self.out.push((at, frame));
+            let at = now + self.board.rng().uniform(self.config.jitter_us);
+            self.board.write_at(at, frame);
         } else {
-            match self.out.last_mut() {
-                Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
-                _ => {
-                    let at = self.now_us + self.rng.uniform(self.config.jitter_us);
-                    self.out.push((at, frame));
-                }
-            }
+            self.board.write_run(frame, self.config.jitter_us);
         }
-    }
-
-    /// One `update()` run.
-    fn update(&mut self) {
-        let now_ms = self.fc_ms();
-        let t = self.now_us;
-        if self.last_send_ms.is_none_or(|l| now_ms - l >= 1000) {
-            self.last_send_ms = Some(now_ms);
-            if !self.got_hardware_id {
-                self.send(&HardwareIdQuery {});
-                return;
-            } else if !self.fw_received {
-                self.send(&FirmwareVersionQuery {});
-                return;
-            }
-            self.send(&GimbalConfigQuery {});
-            if self.sent_time_count < 5 && self.clock.utc_valid(t) {
-                self.send(&UtcTime {
-                    unix_us: self.fc_utc_us(t),
-                });
-                self.sent_time_count += 1;
-            }
-            if self.config.codec_gate && !(self.codec_record && self.codec_main) {
-                for stream in [StreamType::Record, StreamType::Main] {
-                    self.send(&CodecQuery { stream });
-                }
-            }
-        }
-        if self.config.codec_gate && !(self.codec_record && self.codec_main) {
-            return;
-        }
-        if self.last_att_req_ms.is_none_or(|l| now_ms - l >= 50) {
-            self.last_att_req_ms = Some(now_ms);
-            self.send(&GimbalAttitudeQuery {});
-        }
-        let zt30 = self.model == Some(*b"7A");
-        if zt30 && self.last_range_req_ms.is_none_or(|l| now_ms - l > 100) {
-            self.last_range_req_ms = Some(now_ms);
-            self.send(&LaserDistanceQuery {});
-        }
-        if (zt30 || self.model == Some(*b"83"))
-            && self.last_therm_req_ms.is_none_or(|l| now_ms - l > 1000)
-        {
-            self.last_therm_req_ms = Some(now_ms);
-            self.send(&GlobalTemperatureRequest {
-                flag: siyi::MeasureFlag::from_value(2),
-            });
-        }
-        if self.last_att_send_ms.is_none_or(|l| now_ms - l > 100) {
-            self.last_att_send_ms = Some(now_ms);
-            let time_boot_ms = now_ms as u32;
-            let (r, p, y) = self.aircraft.attitude_deg(t);
-            self.send(&FcAttitude {
-                time_boot_ms,
-                roll_rad: r.to_radians() as f32,
-                pitch_rad: p.to_radians() as f32,
-                yaw_rad: y.to_radians() as f32,
-                roll_rate_rad_s: 0.0,
-                pitch_rate_rad_s: 0.0,
-                yaw_rate_rad_s: 0.0,
-            });
-            if self.config.position {
-                let (lat_e7, lon_e7) = self.aircraft.position_e7(t);
-                let alt = (self.aircraft.alt_msl_m * 100.0) as i32;
-                self.send(&FcPosition {
-                    time_boot_ms,
-                    lat_e7,
-                    lon_e7,
-                    alt_msl_cm: alt,
-                    alt_ellipsoid_cm: alt + 4_800,
-                    vel_north_mm_s: 5_657,
-                    vel_east_mm_s: 5_657,
-                    vel_down_mm_s: 0,
-                });
-            }
-        }
-        // Zoom control: a non-zero rate is repeated at 1 Hz.
-        if self.zoom_rate != 0 && self.last_zoom_ms.is_none_or(|l| now_ms - l >= 1000) {
-            self.last_zoom_ms = Some(now_ms);
-            self.send_zoom_rate();
-        }
-        self.send_target();
     }
 
     fn send_target(&mut self) {
@@ -620,9 +344,10 @@ impl ApSiyi {
                 yaw_is_ef,
             ),
             MountTarget::Angle { yaw_deg, pitch_deg } => {
+                let now = self.board.now_us();
                 let fresh = self
                     .attitude
-                    .is_some_and(|(at, ..)| self.now_us.saturating_sub(at) < 200_000);
+                    .is_some_and(|(at, ..)| now.saturating_sub(at) < 200_000);
                 match self.attitude.filter(|_| fresh) {
                     None => (0.0, 0.0, false),
                     Some((_, yaw, pitch, _)) => (
@@ -676,7 +401,7 @@ impl ApSiyi {
                             let data = self.buf[8..n - 2].to_vec();
                             self.process(now_us, id, &data);
                         } else {
-                            self.parse_errors += 1;
+                            self.board.parse_error();
                         }
                         true
                     } else {
@@ -687,7 +412,7 @@ impl ApSiyi {
             };
             if reset {
                 if n >= 5 && n != 10 + usize::from(u16::from_le_bytes([self.buf[3], self.buf[4]])) {
-                    self.parse_errors += 1;
+                    self.board.parse_error();
                 }
                 self.buf.clear();
             }
@@ -743,22 +468,6 @@ impl ApSiyi {
         }
     }
 
-    fn update_health(&mut self) {
-        let fresh = self
-            .attitude
-            .is_some_and(|(at, ..)| self.now_us.saturating_sub(at) <= 1_000_000);
-        let healthy = self.fw_received && fresh;
-        if healthy != self.healthy {
-            self.healthy = healthy;
-            self.health_log.push((self.now_us, healthy));
-        }
-    }
-
-    /// True time of the next update run.
-    fn next_run_us(&self) -> u64 {
-        self.true_of_fc(self.next_run_fc_ms * 1000)
-    }
-
     /// Decodes a reply as the bridge meant it (for assertions).
     #[must_use]
     pub fn decoded(frame: &[u8]) -> Option<Packet<'_>> {
@@ -766,53 +475,185 @@ impl ApSiyi {
     }
 }
 
-impl FcSim for ApSiyi {
-    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => {
-                self.lost_while_off += bytes.len() as u64;
+impl Autopilot for ApSiyi {
+    board_field!();
+
+    fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
+        self.parse(now_us, bytes);
+    }
+
+    /// One `update()` run.
+    fn run(&mut self) {
+        let now_ms = self.board.fc_ms();
+        let t = self.board.now_us();
+        if self.last.config_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last.config_ms = Some(now_ms);
+            if !self.got_hardware_id {
+                self.send(&HardwareIdQuery {});
+                return;
+            } else if !self.fw_received {
+                self.send(&FirmwareVersionQuery {});
                 return;
             }
-            Some(_) => self.power_on(),
-            None => {}
+            self.send(&GimbalConfigQuery {});
+            if self.sent_time_count < 5 && self.board.utc_valid() {
+                self.send(&UtcTime {
+                    unix_us: self.board.clock().utc_us(t),
+                });
+                self.sent_time_count += 1;
+            }
+            if self.config.codec_gate && !(self.codec_record && self.codec_main) {
+                for stream in [StreamType::Record, StreamType::Main] {
+                    self.send(&CodecQuery { stream });
+                }
+            }
         }
-        self.parse(now_us, bytes);
-        self.update_health();
+        if self.config.codec_gate && !(self.codec_record && self.codec_main) {
+            return;
+        }
+        if self.last.attitude_req_ms.is_none_or(|l| now_ms - l >= 50) {
+            self.last.attitude_req_ms = Some(now_ms);
+            self.send(&GimbalAttitudeQuery {});
+        }
+        let zt30 = self.model == Some(*b"7A");
+        if zt30 && self.last.range_req_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last.range_req_ms = Some(now_ms);
+            self.send(&LaserDistanceQuery {});
+        }
+        if (zt30 || self.model == Some(*b"83"))
+            && self.last.thermal_req_ms.is_none_or(|l| now_ms - l > 1000)
+        {
+            self.last.thermal_req_ms = Some(now_ms);
+            self.send(&GlobalTemperatureRequest {
+                flag: siyi::MeasureFlag::from_value(2),
+            });
+        }
+        if self.last.attitude_sent_ms.is_none_or(|l| now_ms - l > 100) {
+            self.last.attitude_sent_ms = Some(now_ms);
+            let time_boot_ms = now_ms as u32;
+            let (r, p, y) = self.board.aircraft().attitude_deg(t);
+            let [roll_rad, pitch_rad, yaw_rad] = [r, p, y].map(|deg| deg.to_radians() as f32);
+            self.send(&FcAttitude {
+                time_boot_ms,
+                roll_rad,
+                pitch_rad,
+                yaw_rad,
+                roll_rate_rad_s: 0.0,
+                pitch_rate_rad_s: 0.0,
+                yaw_rate_rad_s: 0.0,
+            });
+            if self.config.position {
+                let (lat_e7, lon_e7) = self.board.aircraft().position_e7(t);
+                let alt = (self.board.aircraft().alt_msl_m * 100.0) as i32;
+                self.send(&FcPosition {
+                    time_boot_ms,
+                    lat_e7,
+                    lon_e7,
+                    alt_msl_cm: alt,
+                    alt_ellipsoid_cm: alt + 4_800,
+                    vel_north_mm_s: 5_657,
+                    vel_east_mm_s: 5_657,
+                    vel_down_mm_s: 0,
+                });
+            }
+        }
+        // Zoom control: a non-zero rate is repeated at 1 Hz.
+        if self.zoom_rate != 0 && self.last.zoom_ms.is_none_or(|l| now_ms - l >= 1000) {
+            self.last.zoom_ms = Some(now_ms);
+            self.send_zoom_rate();
+        }
+        self.send_target();
     }
 
-    fn poll(&mut self, now_us: u64) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => return,
-            Some(_) => self.power_on(),
-            None => {}
-        }
-        while self.next_run_us() <= now_us {
-            let fc_ms = self.next_run_fc_ms;
-            // The run starts late by the loop jitter; what it reads and writes is stamped
-            // then.
-            let late = self.rng.uniform(self.config.loop_jitter_us);
-            self.now_us = self.true_of_fc(fc_ms * 1000) + late;
-            self.update();
-            self.next_run_fc_ms = fc_ms + 20;
-        }
-        self.now_us = now_us;
-        self.update_health();
+    fn update_health(&mut self) {
+        let now = self.board.now_us();
+        let fresh = self
+            .attitude
+            .is_some_and(|(at, ..)| now.saturating_sub(at) <= 1_000_000);
+        self.board.set_healthy(self.fw_received && fresh);
     }
 
-    fn next_wakeup(&self) -> u64 {
-        self.power_on_at.unwrap_or_else(|| self.next_run_us())
+    fn power_on(&mut self) {
+        self.seq = 0;
+        self.buf.clear();
+        self.got_hardware_id = false;
+        self.model = None;
+        self.fw_received = false;
+        self.codec_record = false;
+        self.codec_main = false;
+        self.last = LastSent::default();
+        self.sent_time_count = 0;
+        self.motion_mode = None;
+        self.record_status = RecordStatus::Off;
+        self.attitude = None;
+        self.zoom_mult = None;
+        self.rangefinder = None;
+        self.thermal = None;
+        self.target = None;
+        self.zoom_rate = 0;
+    }
+}
+
+impl Pilot for ApSiyi {
+    const DRIVER: &'static str = "ArduPilot AP_Mount_Siyi (simulated)";
+    const TELEMETRY_PORT: bool = true;
+    type Frames = SiyiFrames;
+
+    fn with_seed(seed: u64) -> Self {
+        ApSiyi::new(ApSiyiConfig {
+            seed,
+            ..ApSiyiConfig::default()
+        })
     }
 
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        std::mem::take(&mut self.out)
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|(_, id)| *id == 0x30)
+            .map(|(t, _)| *t)
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        self.attitude.map(|(_, yaw, pitch, _)| (yaw, pitch))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.target = Some(MountTarget::Angle { yaw_deg, pitch_deg });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.target = Some(MountTarget::Rate {
+            yaw_dps,
+            pitch_dps,
+            yaw_is_ef: false,
+        });
+    }
+    /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
+    fn zoom(&mut self, rate: i8) {
+        self.zoom_rate = rate.signum();
+        self.send_zoom_rate();
+        self.last.zoom_ms = Some(self.board.fc_ms());
+    }
+    /// Take a picture (0x0C 0).
+    fn take_picture(&mut self) {
+        self.send(&CameraFunction {
+            function: CameraFunctionType::TakePhoto,
+        });
+    }
+    /// Start or stop recording: a toggle only when the last 0x0A says it is needed.
+    fn record(&mut self, start: bool) {
+        let on = self.record_status == RecordStatus::On;
+        if start != on && self.record_status != RecordStatus::NoCard {
+            self.send(&CameraFunction {
+                function: CameraFunctionType::RecordToggle,
+            });
+        }
+        self.send(&GimbalConfigQuery {});
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::{FcReboot, Peer};
 
     /// A SIYI gimbal that answers what the driver waits for (0x02, 0x01, 0x20, 0x0D),
     /// 1 ms after each request, and logs the driver's frames: (true µs, id, data).
@@ -832,6 +673,14 @@ mod tests {
     }
 
     impl Gimbal {
+        /// The data of the driver's frames `id`, with their instants.
+        fn seen_of(&self, id: u8) -> impl Iterator<Item = (u64, &[u8])> {
+            self.seen
+                .iter()
+                .filter(move |(_, i, _)| *i == id)
+                .map(|(at, _, d)| (*at, d.as_slice()))
+        }
+
         fn take(&mut self, at: u64, mut bytes: &[u8]) {
             while bytes.len() >= 10 {
                 assert_eq!(bytes[..2], [0x55, 0x66]);
@@ -877,7 +726,7 @@ mod tests {
             if fc.next_wakeup() <= t {
                 fc.poll(t);
             }
-            for (at, bytes) in fc.transmit() {
+            for (at, bytes) in fc.transmit(0) {
                 g.take(at, &bytes);
             }
         }
@@ -901,10 +750,8 @@ mod tests {
         run(&mut fc, &mut g, 40_000_000, off, reboot);
 
         let times: Vec<(u64, u64)> = g
-            .seen
-            .iter()
-            .filter(|(_, id, _)| *id == 0x30)
-            .map(|(at, _, d)| (*at, u64::from_le_bytes(d[..8].try_into().unwrap())))
+            .seen_of(0x30)
+            .map(|(at, d)| (at, u64::from_le_bytes(d[..8].try_into().unwrap())))
             .collect();
         assert_eq!(times.len(), 10, "five per boot");
         let utc0 = ApSiyiConfig::default().utc_at_zero_us;
@@ -939,10 +786,8 @@ mod tests {
         assert!(after.contains(&0x20));
         // time_boot_ms in 0x22: tens of seconds before the reboot, near 0 after.
         let boot_ms: Vec<(u64, u32)> = g
-            .seen
-            .iter()
-            .filter(|(_, id, _)| *id == 0x22)
-            .map(|(at, _, d)| (*at, u32::from_le_bytes(d[..4].try_into().unwrap())))
+            .seen_of(0x22)
+            .map(|(at, d)| (at, u32::from_le_bytes(d[..4].try_into().unwrap())))
             .collect();
         let before = boot_ms.iter().rfind(|(at, _)| *at < off).unwrap().1;
         let first_after = boot_ms.iter().find(|(at, _)| *at >= on).unwrap();
@@ -951,9 +796,9 @@ mod tests {
         assert!(fc.fc_us(first_after.0) / 1000 - u64::from(first_after.1) <= 11);
 
         // Unhealthy from the power cut, healthy again after the start-up.
-        let log: Vec<bool> = fc.health_log.iter().map(|h| h.1).collect();
+        let log: Vec<bool> = fc.health_log().iter().map(|h| h.1).collect();
         assert_eq!(log, [true, false, true]);
-        assert_eq!(fc.health_log[1].0, off);
+        assert_eq!(fc.health_log()[1].0, off);
         assert!(fc.healthy());
         assert_eq!(fc.boots().len(), 2);
         assert_eq!(fc.boots()[1].at_us, on);
@@ -965,18 +810,18 @@ mod tests {
         fc.poll(1_000_000);
         fc.reboot(1_000_000, FcReboot::default());
         // What was written before the power cut is on the wire.
-        assert!(fc.transmit().iter().all(|(at, _)| *at <= 1_000_000));
+        assert!(fc.transmit(0).iter().all(|(at, _)| *at <= 1_000_000));
         assert!(fc.is_off());
         assert_eq!(fc.next_wakeup(), 4_000_000);
         fc.receive(2_000_000, &frame(0x02, b"7A0000000001"));
-        assert_eq!(fc.lost_while_off, 22);
+        assert_eq!(fc.lost_while_off(), 22);
         assert!(fc.received.is_empty());
         fc.take_picture();
         fc.poll(3_999_999);
-        assert!(fc.transmit().is_empty());
+        assert!(fc.transmit(0).is_empty());
         fc.poll(4_100_000);
         assert!(!fc.is_off());
-        let out = fc.transmit();
+        let out = fc.transmit(0);
         assert_eq!(out.len(), 1);
         assert_eq!(out[0].1[7], 0x02, "the hardware id query first");
     }

@@ -1,6 +1,7 @@
 //! A simulated ArduPilot `AP_Mount_Viewpro` driver: the flight controller as a Viewpro
-//! gimbal sees it, following `../shared/FC-TRAFFIC.md` (Viewlink section) and the
-//! driver's code (`libraries/AP_Mount/AP_Mount_Viewpro.cpp`).
+//! gimbal (the Viewlink protocol) sees it, following the driver's code
+//! (`libraries/AP_Mount/AP_Mount_Viewpro.cpp`) as docs/src/autopilots/ardupilot.md
+//! describes what it sends and reads.
 //!
 //! - **Loop.** `update()` is called at 50 Hz on the FC's own crystal
 //!   ([`ApViewproConfig::ppm`]), each call a few hundred microseconds late
@@ -32,32 +33,36 @@
 //! - **Health.** A 0x40 processed within the last second (the driver is initialised
 //!   from the start).
 //!
-//! - **Reboot.** [`ApViewpro::reboot`]: silent and deaf for [`FcReboot::off_us`], then
-//!   the driver starts from scratch (frame counter, model and firmware queries, follow
-//!   mode) on a boot clock restarted at [`FcReboot::boot_clock_us`]; M_AHRS carries a
-//!   zero date and time until the new boot's UTC is valid, then that UTC, which differs
-//!   from the previous boot's by [`FcReboot::utc_shift_us`].
+//! - **Reboot** ([`Autopilot::reboot`], on the [`Board`]): then the driver starts from
+//!   scratch (frame counter, model and firmware queries, follow mode) on the new boot
+//!   clock; M_AHRS carries a zero date and time until the new boot's UTC is valid, then
+//!   that UTC.
 //!
 //! Time is true time in µs. The FC's clock is `fc(t) = t·(1 + ppm) + boot`; its UTC is
 //! ArduPilot's `AP_RTC` (`fc + shift`, the shift frozen), equal to
 //! [`ApViewproConfig::utc_at_zero_us`] at true time 0 (after a reboot: as [`FcClock`]
-//! says): [`ApViewpro::fc_utc_us`] is the reference of the bridge's time sync. M_AHRS carries it as date and hundredths of a
-//! second since midnight, read when the run writes the frame (truncated to 10 ms), so
+//! says): [`Autopilot::fc_utc_us`] is the reference of the bridge's time sync. M_AHRS
+//! carries it as date and hundredths of a second since midnight, read when the run writes the frame (truncated to 10 ms), so
 //! its read phase is locked to the FC loop.
 //!
 //! Angles the driver converts from floats to 16-bit fields are written as two's
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
-use super::{FcBoot, FcClock, FcReboot, XorShift};
+use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::describe::ViewlinkFrames;
+use super::pilot::Pilot;
+use super::{FcClock, XorShift};
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
     MAttitude, MGps, ManualSpeed, MessageData, OperationCommand, Point, QueryParams, Sensor,
     ServoCommand, TimeCs, TrackingCommand, TrackingSource, U, Viewlink, Zoom,
 };
 
-use super::ap_siyi::{Aircraft, MountTarget};
-use super::scenario::FcSim;
+use super::ap_siyi::MountTarget;
+
+/// The frame header the driver's parser looks for.
+const HEADER: [u8; 3] = [0x55, 0xAA, 0xDC];
 
 /// Settings of the simulated driver.
 #[derive(Debug, Clone)]
@@ -155,19 +160,8 @@ pub enum Tracking {
 pub struct ApViewpro {
     /// The simulated driver's settings (rates, seed).
     pub config: ApViewproConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
-    rng: XorShift,
-    now_us: u64,
-    clock: FcClock,
-    /// Power-on instant while rebooting.
-    power_on_at: Option<u64>,
-    /// Bytes from the bridge lost while the FC was off.
-    pub lost_while_off: u64,
-    /// FC-clock ms of the next loop call.
-    next_call_fc_ms: u64,
+    board: Board,
     last_update_ms: Option<u64>,
-    out: Vec<(u64, Vec<u8>)>,
     counter: FrameCounter,
     // Parser.
     rx: Vec<u8>,
@@ -199,47 +193,29 @@ pub struct ApViewpro {
     pub sent: Vec<(u64, u8, Vec<u8>)>,
     /// The mount target.
     pub target: Option<MountTarget>,
-    /// Frames dropped by the parser (bad checksum).
-    pub parse_errors: u32,
     /// 0x40 frames with fewer than 41 data bytes.
     pub short_status: u32,
-    /// True times at which `healthy()` changed, with the new value.
-    pub health_log: Vec<(u64, bool)>,
-    healthy: bool,
 }
 
 impl ApViewpro {
-    /// True time of the first M_AHRS sent with a valid UTC, µs.
-    #[must_use]
-    pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|(t, id, _)| *id == 0xB1 && self.clock.utc_valid(*t))
-            .map(|(t, _, _)| *t)
-    }
-
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApViewproConfig) -> Self {
-        let rng = XorShift(config.seed.max(1));
-        let first_call_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         let clock = FcClock::new(
             config.ppm,
             config.boot_us,
             config.utc_at_zero_us,
             config.utc_valid_at_us,
         );
+        let board = Board::new(
+            clock,
+            XorShift(config.seed.max(1)),
+            MainLoop::scheduler_50hz(config.loop_jitter_us),
+        );
         ApViewpro {
             config,
-            aircraft: Aircraft::default(),
-            rng,
-            now_us: 0,
-            clock,
-            power_on_at: None,
-            lost_while_off: 0,
-            next_call_fc_ms: first_call_fc_ms,
+            board,
             last_update_ms: None,
-            out: Vec::new(),
             counter: FrameCounter::new(),
             rx: Vec::new(),
             state: 0,
@@ -258,101 +234,13 @@ impl ApViewpro {
             received: Vec::new(),
             sent: Vec::new(),
             target: None,
-            parse_errors: 0,
             short_status: 0,
-            health_log: Vec::new(),
-            healthy: false,
         }
-    }
-
-    /// The FC's clock (boot clock, crystal, UTC, reboots), e.g. for a MAVLink
-    /// telemetry port of the same autopilot ([`super::ap_mavlink::ApMavlink::telemetry`],
-    /// with its `aircraft`).
-    #[must_use]
-    pub fn clock(&self) -> &FcClock {
-        &self.clock
-    }
-
-    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
-    #[must_use]
-    pub fn fc_us(&self, t_us: u64) -> u64 {
-        self.clock.clock_us(t_us)
-    }
-
-    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
-    #[must_use]
-    pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        self.clock.true_of_clock(fc_us)
-    }
-
-    /// The FC's UTC (µs) at true time `t_us` (of the boot in effect then).
-    #[must_use]
-    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.clock.utc_us(t_us)
-    }
-
-    /// Every boot of the FC (the first at true time 0).
-    #[must_use]
-    pub fn boots(&self) -> &[FcBoot] {
-        self.clock.boots()
-    }
-
-    /// The FC is without power (rebooting).
-    #[must_use]
-    pub fn is_off(&self) -> bool {
-        self.power_on_at.is_some()
-    }
-
-    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
-    /// `now_us` is done first; frames not yet on the wire are lost).
-    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        self.poll(now_us);
-        let on = self.clock.reboot(self.now_us, reboot);
-        self.power_on_at = Some(on);
-        let now = self.now_us;
-        self.out.retain(|(at, _)| *at <= now);
-        if self.healthy {
-            self.healthy = false;
-            self.health_log.push((now, false));
-        }
-    }
-
-    /// Power-on: the driver as new, on the new boot's clock.
-    fn power_on(&mut self) {
-        self.power_on_at = None;
-        self.next_call_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
-        self.last_update_ms = None;
-        self.counter = FrameCounter::new();
-        self.rx.clear();
-        self.state = 0;
-        self.buf.clear();
-        self.data_len = 0;
-        self.data_received = 0;
-        self.model = None;
-        self.firmware = None;
-        self.last_lock = false;
-        self.image_sensor = 0;
-        self.recording = false;
-        self.zoom_times = 1.0;
-        self.rangefinder_m = 0.0;
-        self.tracking = TrackingStatus::Stopped;
-        self.attitude = None;
-        self.target = None;
-    }
-
-    /// `healthy()` of the driver now.
-    #[must_use]
-    pub fn healthy(&self) -> bool {
-        self.healthy
-    }
-
-    fn fc_ms(&self) -> u64 {
-        self.fc_us(self.now_us) / 1000
     }
 
     /// Queues one frame (id + data) in the current burst (`send_packet`).
     fn send_packet(&mut self, id: u8, data: &[u8]) {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return;
         }
         let mut frame = vec![0x55, 0xAA, 0xDC];
@@ -362,14 +250,8 @@ impl ApViewpro {
         frame.extend_from_slice(data);
         let x = frame[3..].iter().fold(0u8, |a, b| a ^ b);
         frame.push(x);
-        self.sent.push((self.now_us, id, data.to_vec()));
-        match self.out.last_mut() {
-            Some((at, bytes)) if *at >= self.now_us => bytes.extend_from_slice(&frame),
-            _ => {
-                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
-                self.out.push((at, frame));
-            }
-        }
+        self.sent.push((self.board.now_us(), id, data.to_vec()));
+        self.board.write_run(frame, self.config.jitter_us);
     }
 
     /// Sends a typed block as a frame of its own (any block: a console's frames too).
@@ -391,23 +273,6 @@ impl ApViewpro {
         self.send_raw(&c1);
     }
 
-    /// Take a picture.
-    pub fn take_picture(&mut self) {
-        let s = self.image_sensor;
-        self.camera_command(s, OperationCommand::TakePicture, 0, LrfCommand::NoAction);
-    }
-
-    /// Start or stop recording.
-    pub fn record_video(&mut self, start: bool) {
-        let s = self.image_sensor;
-        let op = if start {
-            OperationCommand::StartRecord
-        } else {
-            OperationCommand::StopRecord
-        };
-        self.camera_command(s, op, 0, LrfCommand::NoAction);
-    }
-
     /// Zoom rate: < 0 out, 0 stop, > 0 in (the EO or the IR zoom, by the sensor).
     pub fn set_zoom_rate(&mut self, rate: f64) {
         let s = self.image_sensor;
@@ -415,23 +280,11 @@ impl ApViewpro {
         let (op, speed) = if ir {
             // The driver's IR_ZOOM_OUT is 0x1B and IR_ZOOM_IN 0x1C, and it sends
             // IR_ZOOM_OUT for a positive rate: 0x1B ("IR digital zoom +") to zoom in.
-            let op = if rate < 0.0 {
-                OperationCommand::IrDzoomOut
-            } else if rate > 0.0 {
-                OperationCommand::IrDzoomIn
-            } else {
-                OperationCommand::StopZoomFocus
-            };
-            (op, 1)
+            use OperationCommand::{IrDzoomIn, IrDzoomOut};
+            (by_sign(rate, [IrDzoomOut, IrDzoomIn]), 1)
         } else {
-            let op = if rate < 0.0 {
-                OperationCommand::ZoomOut
-            } else if rate > 0.0 {
-                OperationCommand::ZoomIn
-            } else {
-                OperationCommand::StopZoomFocus
-            };
-            (op, 7)
+            use OperationCommand::{ZoomIn, ZoomOut};
+            (by_sign(rate, [ZoomOut, ZoomIn]), 7)
         };
         self.camera_command(s, op, speed, LrfCommand::NoAction);
     }
@@ -445,13 +298,10 @@ impl ApViewpro {
     /// Focus rate: < 0 focus −, 0 stop, > 0 focus +.
     pub fn set_focus_rate(&mut self, rate: f64) {
         let s = self.image_sensor;
-        let op = if rate < 0.0 {
-            OperationCommand::FocusDown
-        } else if rate > 0.0 {
-            OperationCommand::FocusUp
-        } else {
-            OperationCommand::StopZoomFocus
-        };
+        let op = by_sign(
+            rate,
+            [OperationCommand::FocusDown, OperationCommand::FocusUp],
+        );
         self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 
@@ -551,9 +401,9 @@ impl ApViewpro {
         if !self.config.position {
             return;
         }
-        let t = self.now_us;
-        let (date, cs) = if self.clock.utc_valid(t) {
-            let utc_us = self.fc_utc_us(t);
+        let t = self.board.now_us();
+        let (date, cs) = if self.board.utc_valid() {
+            let utc_us = self.board.clock().utc_us(t);
             let days = utc_us / 86_400_000_000;
             let (y, m, d) = civil_from_days(days as i64);
             let tod_ms = (utc_us / 1000) % 86_400_000;
@@ -565,11 +415,11 @@ impl ApViewpro {
             // AP_RTC without time: all zero, month + 1.
             (48 | (1 << 7), 0)
         };
-        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
+        let (roll, pitch, yaw) = self.board.aircraft().attitude_deg(t);
         let bam = |deg: f64| (deg * 65536.0 / 360.0) as i32 as i16;
-        let (lat_e7, lon_e7) = self.aircraft.position_e7(t);
-        let h = self.aircraft.heading_deg.to_radians();
-        let v = self.aircraft.speed_m_s;
+        let (lat_e7, lon_e7) = self.board.aircraft().position_e7(t);
+        let h = self.board.aircraft().heading_deg.to_radians();
+        let v = self.board.aircraft().speed_m_s;
         let m = M::new(
             Some(MAttitude {
                 roll_bam16: bam(roll),
@@ -581,11 +431,11 @@ impl ApViewpro {
             Some(MGps {
                 date: Date(date),
                 time: TimeCs(cs),
-                gps_yaw_bam16: bam(self.aircraft.heading_deg.rem_euclid(360.0)),
+                gps_yaw_bam16: bam(self.board.aircraft().heading_deg.rem_euclid(360.0)),
                 position_mark: 0x0F,
                 lat_e7,
                 lon_e7,
-                height_mm: (self.aircraft.alt_msl_m * 1000.0) as i32,
+                height_mm: (self.board.aircraft().alt_msl_m * 1000.0) as i32,
                 vel_north_cm_s: (v * h.cos() * 100.0) as i16,
                 vel_east_cm_s: (v * h.sin() * 100.0) as i16,
                 vdop_x100: 120,
@@ -627,7 +477,7 @@ impl ApViewpro {
 
     /// The gated body of `update()`.
     fn update(&mut self) {
-        let now_ms = self.fc_ms();
+        let now_ms = self.board.fc_ms();
         if self
             .last_update_ms
             .is_some_and(|l| now_ms.saturating_sub(l) < 100)
@@ -660,26 +510,11 @@ impl ApViewpro {
             self.buf.push(b);
             let mut reset = self.buf.len() > 63;
             match self.state {
-                0 => {
-                    if b == 0x55 {
+                // The header `55 AA DC`, one byte a state; the buffer starts after it.
+                0..=2 => {
+                    if HEADER.get(usize::from(self.state)) == Some(&b) {
                         self.buf.clear();
-                        self.state = 1;
-                    } else {
-                        reset = true;
-                    }
-                }
-                1 => {
-                    if b == 0xAA {
-                        self.buf.clear();
-                        self.state = 2;
-                    } else {
-                        reset = true;
-                    }
-                }
-                2 => {
-                    if b == 0xDC {
-                        self.buf.clear();
-                        self.state = 3;
+                        self.state += 1;
                     } else {
                         reset = true;
                     }
@@ -707,7 +542,7 @@ impl ApViewpro {
                         let data = self.buf[2..n - 1].to_vec();
                         self.process(counter, id, data);
                     } else {
-                        self.parse_errors += 1;
+                        self.board.parse_error();
                     }
                     reset = true;
                 }
@@ -720,7 +555,7 @@ impl ApViewpro {
     }
 
     fn process(&mut self, counter: u8, id: u8, data: Vec<u8>) {
-        let at_us = self.now_us;
+        let at_us = self.board.now_us();
         let byte = |i: usize| data.get(i).copied().unwrap_or(0);
         match id {
             0x02 => match byte(0) {
@@ -781,25 +616,21 @@ impl ApViewpro {
         });
     }
 
-    fn update_health(&mut self) {
-        let fresh = self
-            .attitude
-            .is_some_and(|a| self.fc_us(self.now_us) / 1000 <= self.fc_us(a.at_us) / 1000 + 1000);
-        if fresh != self.healthy {
-            self.healthy = fresh;
-            self.health_log.push((self.now_us, fresh));
-        }
-    }
-
-    /// True time of the next loop call.
-    fn next_call_us(&self) -> u64 {
-        self.true_of_fc(self.next_call_fc_ms * 1000)
-    }
-
     /// The last 0x40 data bytes processed.
     #[must_use]
     pub fn last_status(&self) -> Option<&Received> {
         self.received.iter().rev().find(|r| r.id == 0x40)
+    }
+}
+
+/// The operation for a rate: `[negative, positive]`, or stop when it is 0.
+fn by_sign(rate: f64, [negative, positive]: [OperationCommand; 2]) -> OperationCommand {
+    if rate < 0.0 {
+        negative
+    } else if rate > 0.0 {
+        positive
+    } else {
+        OperationCommand::StopZoomFocus
     }
 }
 
@@ -818,52 +649,108 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
     (if m <= 2 { y + 1 } else { y }, m, d)
 }
 
-impl FcSim for ApViewpro {
-    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => {
-                self.lost_while_off += bytes.len() as u64;
-                return;
-            }
-            Some(_) => self.power_on(),
-            None => {}
-        }
+impl Autopilot for ApViewpro {
+    board_field!();
+
+    /// Its health only at its runs (the bytes wait for them).
+    const HEALTH_ON_RECEIVE: bool = false;
+
+    fn take_bytes(&mut self, _now_us: u64, bytes: &[u8]) {
         // The driver reads its UART at its next run.
         self.rx.extend_from_slice(bytes);
     }
 
-    fn poll(&mut self, now_us: u64) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => return,
-            Some(_) => self.power_on(),
-            None => {}
-        }
-        while self.next_call_us() <= now_us {
-            let fc_ms = self.next_call_fc_ms;
-            let late = self.rng.uniform(self.config.loop_jitter_us);
-            self.now_us = self.true_of_fc(fc_ms * 1000) + late;
-            self.update();
-            self.update_health();
-            self.next_call_fc_ms = fc_ms + 20;
-        }
-        self.now_us = now_us;
+    /// A call of `update()`; the driver's health is taken after each.
+    fn run(&mut self) {
+        self.update();
         self.update_health();
     }
 
-    fn next_wakeup(&self) -> u64 {
-        self.power_on_at.unwrap_or_else(|| self.next_call_us())
+    fn update_health(&mut self) {
+        let b = &self.board;
+        let fresh = self
+            .attitude
+            .is_some_and(|a| b.fc_ms() <= b.fc_us(a.at_us) / 1000 + 1000);
+        self.board.set_healthy(fresh);
     }
 
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        std::mem::take(&mut self.out)
+    fn power_on(&mut self) {
+        self.last_update_ms = None;
+        self.counter = FrameCounter::new();
+        self.rx.clear();
+        self.state = 0;
+        self.buf.clear();
+        self.data_len = 0;
+        self.data_received = 0;
+        self.model = None;
+        self.firmware = None;
+        self.last_lock = false;
+        self.image_sensor = 0;
+        self.recording = false;
+        self.zoom_times = 1.0;
+        self.rangefinder_m = 0.0;
+        self.tracking = TrackingStatus::Stopped;
+        self.attitude = None;
+        self.target = None;
+    }
+}
+
+impl Pilot for ApViewpro {
+    const DRIVER: &'static str = "ArduPilot AP_Mount_Viewpro (simulated)";
+    const TELEMETRY_PORT: bool = true;
+    type Frames = ViewlinkFrames;
+
+    fn with_seed(seed: u64) -> Self {
+        ApViewpro::new(ApViewproConfig {
+            seed,
+            ..ApViewproConfig::default()
+        })
+    }
+
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|(t, id, _)| *id == 0xB1 && self.board.clock().utc_valid(*t))
+            .map(|(t, _, _)| *t)
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        self.attitude.map(|a| (a.yaw_deg, a.pitch_deg))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.target = Some(MountTarget::Angle { yaw_deg, pitch_deg });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.target = Some(MountTarget::Rate {
+            yaw_dps,
+            pitch_dps,
+            yaw_is_ef: false,
+        });
+    }
+    fn zoom(&mut self, rate: i8) {
+        self.set_zoom_rate(f64::from(rate));
+    }
+    /// Take a picture.
+    fn take_picture(&mut self) {
+        let s = self.image_sensor;
+        self.camera_command(s, OperationCommand::TakePicture, 0, LrfCommand::NoAction);
+    }
+    /// Start or stop recording.
+    fn record(&mut self, start: bool) {
+        let s = self.image_sensor;
+        let op = if start {
+            OperationCommand::StartRecord
+        } else {
+            OperationCommand::StopRecord
+        };
+        self.camera_command(s, op, 0, LrfCommand::NoAction);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::{FcReboot, Peer};
 
     #[test]
     fn dates() {
@@ -886,7 +773,7 @@ mod tests {
         ap.poll(1);
         let ids: Vec<u8> = ap.sent.iter().map(|(_, id, _)| *id).collect();
         assert_eq!(ids, vec![0x01, 0x01, 0x00, 0xB1, 0x1A, 0x1A]);
-        let frames = ap.transmit();
+        let frames = ap.transmit(0);
         assert_eq!(frames.len(), 1, "one burst");
         let bytes = &frames[0].1;
         // Frame counter 1, 2, 3, ...; every frame decodes with the crate's codec.
@@ -926,7 +813,7 @@ mod tests {
             },
         );
         ap.receive(11_000_000, &[0x55, 0xAA, 0xDC]);
-        assert_eq!(ap.lost_while_off, 3);
+        assert_eq!(ap.lost_while_off(), 3);
         assert_eq!(ap.next_wakeup(), 13_005_000);
         ap.poll(20_000_000);
         // M_AHRS time: 3 bytes, 0.01 s since UTC midnight, read at the run.

@@ -1,5 +1,6 @@
 //! A simulated ArduPilot `AP_Mount_XFRobot` driver: the flight controller as an XF Robot
-//! GCU sees it, following `../shared/FC-TRAFFIC.md` (GCU section) and the driver's code.
+//! GCU sees it, following the driver's code as docs/src/autopilots/ardupilot.md describes
+//! what it sends and reads.
 //!
 //! - **Loop.** `update()` runs at 50 Hz on the FC's own crystal ([`ApXfRobotConfig::ppm`]),
 //!   each run a few hundred microseconds late ([`ApXfRobotConfig::loop_jitter_us`]), and
@@ -32,23 +33,22 @@
 //!   the order (69) and its execution state (70) for shutter and record.
 //! - **Health.** A reply of at least 73 bytes within the last second.
 //!
-//! - **Reboot.** [`ApXfRobot::reboot`]: silent and deaf for [`FcReboot::off_us`], then the
-//!   driver starts from scratch on a boot clock restarted at [`FcReboot::boot_clock_us`]
-//!   (neutral target, no attitude, unhealthy until the first reply); the GPS has no fix
-//!   (week and time of week 0) until [`FcReboot::utc_valid_after_us`] after power-on,
-//!   and its UTC then differs from the previous boot's by [`FcReboot::utc_shift_us`].
+//! - **Reboot** ([`Autopilot::reboot`], on the [`Board`]): then the driver starts from
+//!   scratch on the new boot clock (neutral target, no attitude, unhealthy until the
+//!   first reply); the GPS has no fix (week and time of week 0) until the new boot's UTC
+//!   is valid, and its UTC is shifted as the boot's ([`super::FcReboot::utc_shift_us`]).
 //!
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
-use super::{FcBoot, FcClock, FcReboot, XorShift};
+use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::describe::GcuFrames;
+use super::pilot::Pilot;
+use super::{FcClock, XorShift};
 use protocol_core::gcu::{
     self, Header, HostFrames, HostMain, HostPacket, HostStatus, HostSub, Message, Raw,
 };
 use protocol_core::wire::crc16_xmodem;
-
-use super::ap_siyi::Aircraft;
-use super::scenario::FcSim;
 
 /// Unix time of the GPS epoch, µs.
 const GPS_EPOCH_UNIX_US: u64 = 315_964_800_000_000;
@@ -174,6 +174,10 @@ impl Reply {
         i16::from_le_bytes([self.bytes[at], self.bytes[at + 1]])
     }
 
+    fn u16_at(&self, at: usize) -> u16 {
+        u16::from_le_bytes([self.bytes[at], self.bytes[at + 1]])
+    }
+
     /// Earth-frame roll, 0.01° (bytes 18..19).
     #[must_use]
     pub fn roll_cdeg(&self) -> i16 {
@@ -201,31 +205,31 @@ impl Reply {
     /// Zoom ratio of the visible camera, 0.1x (bytes 59..60).
     #[must_use]
     pub fn zoom_rgb_x10(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[59], self.bytes[60]])
+        self.u16_at(59)
     }
 
     /// Zoom ratio of the thermal camera, 0.1x (bytes 61..62).
     #[must_use]
     pub fn zoom_thermal_x10(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[61], self.bytes[62]])
+        self.u16_at(61)
     }
 
     /// Camera status of ArduPilot's revision (bytes 64..65).
     #[must_use]
     pub fn camera_status(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[64], self.bytes[65]])
+        self.u16_at(64)
     }
 
     /// Main-frame camera status (bytes 6..7).
     #[must_use]
     pub fn main_status(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[6], self.bytes[7]])
+        self.u16_at(6)
     }
 
     /// Error code (bytes 41..42).
     #[must_use]
     pub fn error_code(&self) -> u16 {
-        u16::from_le_bytes([self.bytes[41], self.bytes[42]])
+        self.u16_at(41)
     }
 
     /// The order answered (byte 69).
@@ -258,23 +262,11 @@ enum ParseState {
 pub struct ApXfRobot {
     /// The simulated driver's settings (rates, GPS, seed).
     pub config: ApXfRobotConfig,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// The mount target (none: neutral, 0/0/0).
     pub target: Option<MountTarget>,
     /// A document host's control in place of ArduPilot's set attitude.
     pub host_control: Option<HostControl>,
-    rng: XorShift,
-    now_us: u64,
-    clock: FcClock,
-    /// (power-on instant, UTC shift since the first boot, µs), per boot after the first.
-    utc_shifts: Vec<(u64, i64)>,
-    /// Power-on instant while rebooting.
-    power_on_at: Option<u64>,
-    /// Bytes from the bridge lost while the FC was off.
-    pub lost_while_off: u64,
-    next_run_fc_ms: u64,
-    out: Vec<(u64, Vec<u8>)>,
+    board: Board,
     /// The angle target: roll, pitch, yaw (deg), yaw in the earth frame.
     angle: (f64, f64, f64, bool),
     // Parser.
@@ -293,47 +285,28 @@ pub struct ApXfRobot {
     pub sent: Vec<Sent>,
     /// Every package the parser accepted.
     pub replies: Vec<Reply>,
-    /// Candidates that failed the CRC.
-    pub parse_errors: u32,
-    /// True times at which `healthy()` changed, with the new value.
-    pub health_log: Vec<(u64, bool)>,
-    healthy: bool,
 }
 
 impl ApXfRobot {
-    /// True time of the first set-attitude package sent with a valid GPS time, µs.
-    #[must_use]
-    pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|s| s.order == 0x10 && self.clock.utc_valid(s.at_us))
-            .map(|s| s.at_us)
-    }
-
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApXfRobotConfig) -> Self {
-        let rng = XorShift(config.seed.max(1));
-        let first_run_fc_ms = config.boot_us.div_ceil(20_000) * 20;
         let clock = FcClock::new(
             config.ppm,
             config.boot_us,
             config.utc_at_zero_us,
             config.gps_valid_at_us,
         );
+        let board = Board::new(
+            clock,
+            XorShift(config.seed.max(1)),
+            MainLoop::scheduler_50hz(config.loop_jitter_us),
+        );
         ApXfRobot {
             config,
-            aircraft: Aircraft::default(),
             target: None,
             host_control: None,
-            rng,
-            now_us: 0,
-            clock,
-            utc_shifts: Vec::new(),
-            power_on_at: None,
-            lost_while_off: 0,
-            next_run_fc_ms: first_run_fc_ms,
-            out: Vec::new(),
+            board,
             angle: (0.0, 0.0, 0.0, false),
             buf: Vec::new(),
             state: ParseState::Header1,
@@ -345,96 +318,23 @@ impl ApXfRobot {
             texts: Vec::new(),
             sent: Vec::new(),
             replies: Vec::new(),
-            parse_errors: 0,
-            health_log: Vec::new(),
-            healthy: false,
         }
-    }
-
-    /// The FC's clock (boot clock, crystal, UTC, reboots), e.g. for a MAVLink
-    /// telemetry port of the same autopilot ([`super::ap_mavlink::ApMavlink::telemetry`],
-    /// with its `aircraft`). Its UTC is the boot clock plus a shift per boot; this
-    /// driver's own time reference ([`Self::gps_utc_us`]) is the GPS's, which differs
-    /// from it by the crystal's error.
-    #[must_use]
-    pub fn clock(&self) -> &FcClock {
-        &self.clock
-    }
-
-    /// The FC's clock (µs) at true time `t_us` (of the boot in effect then).
-    #[must_use]
-    pub fn fc_us(&self, t_us: u64) -> u64 {
-        self.clock.clock_us(t_us)
-    }
-
-    /// True time at which the FC's clock (of the latest boot) reads `fc_us`.
-    #[must_use]
-    pub fn true_of_fc(&self, fc_us: u64) -> u64 {
-        self.clock.true_of_clock(fc_us)
     }
 
     /// UTC as the GPS keeps it (µs since the Unix epoch) at true time `t_us`: the
-    /// reference of the time sync (shifted by the reboots before `t_us`).
+    /// reference of the time sync (shifted by the reboots before `t_us`). The FC's own
+    /// UTC ([`Autopilot::fc_utc_us`], what a MAVLink telemetry port of the same autopilot
+    /// tells) differs from it by the crystal's error.
     #[must_use]
     pub fn gps_utc_us(&self, t_us: u64) -> u64 {
-        let shift = self
-            .utc_shifts
-            .iter()
-            .rev()
-            .find(|(at, _)| *at <= t_us)
-            .map_or(0, |(_, s)| *s);
-        let utc = i128::from(self.config.utc_at_zero_us) + i128::from(t_us) + i128::from(shift);
-        u64::try_from(utc.max(0)).unwrap_or(0)
-    }
-
-    /// Every boot of the FC (the first at true time 0).
-    #[must_use]
-    pub fn boots(&self) -> &[FcBoot] {
-        self.clock.boots()
-    }
-
-    /// The FC is without power (rebooting).
-    #[must_use]
-    pub fn is_off(&self) -> bool {
-        self.power_on_at.is_some()
-    }
-
-    /// The FC loses power at `now_us` and boots as [`FcReboot`] says (work due up to
-    /// `now_us` is done first; packages not yet on the wire are lost).
-    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        self.poll(now_us);
-        let on = self.clock.reboot(self.now_us, reboot);
-        let shift = self.utc_shifts.last().map_or(0, |(_, s)| *s) + reboot.utc_shift_us;
-        self.utc_shifts.push((on, shift));
-        self.power_on_at = Some(on);
-        let now = self.now_us;
-        self.out.retain(|(at, _)| *at <= now);
-        if self.healthy {
-            self.healthy = false;
-            self.health_log.push((now, false));
-        }
-    }
-
-    /// Power-on: the driver as new, on the new boot's clock.
-    fn power_on(&mut self) {
-        self.power_on_at = None;
-        self.next_run_fc_ms = self.clock.current().clock_us.div_ceil(20_000) * 20;
-        self.target = None;
-        self.angle = (0.0, 0.0, 0.0, false);
-        self.buf.clear();
-        self.state = ParseState::Header1;
-        self.len_expected = 0;
-        self.crc = 0;
-        self.attitude = None;
-        self.got_firmware_version = false;
-        self.record_request = None;
+        self.board.clock().gps_utc_us(t_us)
     }
 
     /// GPS week and time of week (ms) of the last fix the FC knows at true time `t_us`
     /// (zeros before the first fix of the boot in effect).
     #[must_use]
     pub fn gps_time(&self, t_us: u64) -> (u16, u32) {
-        if !self.clock.utc_valid(t_us) {
+        if !self.board.clock().utc_valid(t_us) {
             return (0, 0);
         }
         let gps_us = self.gps_utc_us(t_us) + u64::from(self.config.leap_seconds) * 1_000_000
@@ -444,19 +344,13 @@ impl ApXfRobot {
         ((epoch / WEEK_US) as u16, ((epoch % WEEK_US) / 1000) as u32)
     }
 
-    /// `healthy()` of the driver now.
-    #[must_use]
-    pub fn healthy(&self) -> bool {
-        self.healthy
-    }
-
     /// Queues a package for the current run (one burst per run).
     fn write(&mut self, order: u8, bytes: Vec<u8>) {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return;
         }
         self.sent.push(Sent {
-            at_us: self.now_us,
+            at_us: self.board.now_us(),
             order,
             bytes: bytes.clone(),
         });
@@ -465,16 +359,10 @@ impl ApXfRobot {
 
     /// Writes bytes now, in the current burst (garbage, vectors).
     pub fn write_raw(&mut self, bytes: Vec<u8>) {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return;
         }
-        match self.out.last_mut() {
-            Some((at, b)) if *at >= self.now_us => b.extend_from_slice(&bytes),
-            _ => {
-                let at = self.now_us + self.rng.uniform(self.config.jitter_us);
-                self.out.push((at, bytes));
-            }
-        }
+        self.board.write_run(bytes, self.config.jitter_us);
     }
 
     /// A package with order `order`, parameters `params`, and the data frames of a
@@ -502,7 +390,7 @@ impl ApXfRobot {
 
     /// `send_simple_command`: only while healthy.
     fn simple_command(&mut self, order: u8, param: u8) -> bool {
-        if !self.healthy {
+        if !self.board.healthy() {
             return false;
         }
         self.send_command(order, &[param]);
@@ -510,7 +398,7 @@ impl ApXfRobot {
     }
 
     fn text(&mut self, s: String) {
-        self.texts.push((self.now_us, s));
+        self.texts.push((self.board.now_us(), s));
     }
 
     /// `take_picture()`.
@@ -525,7 +413,7 @@ impl ApXfRobot {
             return false;
         }
         if self.simple_command(0x21, u8::from(start)) {
-            self.record_request = Some((self.now_us, start));
+            self.record_request = Some((self.board.now_us(), start));
             return true;
         }
         false
@@ -559,7 +447,7 @@ impl ApXfRobot {
 
     /// The vehicle's yaw, degrees.
     fn vehicle_yaw_deg(&self) -> f64 {
-        self.aircraft.attitude_deg(self.now_us).2
+        self.board.aircraft().attitude_deg(self.board.now_us()).2
     }
 
     /// `update_mnt_target` + `update_angle_target_from_rate`.
@@ -616,8 +504,8 @@ impl ApXfRobot {
 
     /// `send_target_angles` (or the document host's package).
     fn send_attitude(&mut self) {
-        let t = self.now_us;
-        let (r, p, y) = self.aircraft.attitude_deg(t);
+        let t = self.board.now_us();
+        let (r, p, y) = self.board.aircraft().attitude_deg(t);
         let (troll, tpitch, tyaw, ef) = self.angle;
         let yaw_bf = if ef { wrap180(tyaw - y) } else { tyaw };
         let cd = |deg: f64, lim: f64| (deg * 100.0).clamp(-lim, lim) as i16;
@@ -630,8 +518,8 @@ impl ApXfRobot {
                 cd(yaw_bf, 18000.0),
             ),
         };
-        let v = self.aircraft.speed_m_s;
-        let h = self.aircraft.heading_deg.to_radians();
+        let v = self.board.aircraft().speed_m_s;
+        let h = self.board.aircraft().heading_deg.to_radians();
         let main = HostMain {
             roll_control: roll_c,
             pitch_control: pitch_c,
@@ -650,9 +538,9 @@ impl ApXfRobot {
             sub_request: 0x01,
             reserved: [0; 6],
         };
-        let gps = self.clock.utc_valid(t);
+        let gps = self.board.utc_valid();
         let (lat, lon) = if gps {
-            self.aircraft.position_e7(t)
+            self.board.aircraft().position_e7(t)
         } else {
             (0, 0)
         };
@@ -662,7 +550,7 @@ impl ApXfRobot {
             lon_e7: lon,
             lat_e7: lat,
             alt_mm: if gps {
-                (self.aircraft.alt_msl_m * 1000.0) as i32
+                (self.board.aircraft().alt_msl_m * 1000.0) as i32
             } else {
                 0
             },
@@ -683,21 +571,6 @@ impl ApXfRobot {
         let mut buf = [0u8; gcu::MAX_FRAME_LEN];
         let n = p.emit(&mut buf).unwrap();
         self.write(order, buf[..n].to_vec());
-    }
-
-    /// One `update()` run.
-    fn update(&mut self) {
-        if let Some((at, start)) = self.record_request
-            && self.now_us.saturating_sub(at) > 1_000_000
-        {
-            let what = if start { "start" } else { "stop" };
-            self.text(format!("XFRobot: failed to {what} recording"));
-            self.record_request = None;
-        }
-        self.update_target();
-        if self.config.send_attitude {
-            self.send_attitude();
-        }
     }
 
     /// ArduPilot's byte parser.
@@ -747,7 +620,7 @@ impl ApXfRobot {
                     if crc16_xmodem(&self.buf[..n - 2]) == self.crc {
                         self.process(now_us);
                     } else {
-                        self.parse_errors += 1;
+                        self.board.parse_error();
                     }
                     reset = true;
                 }
@@ -800,20 +673,6 @@ impl ApXfRobot {
         }
     }
 
-    fn update_health(&mut self) {
-        let fresh = self
-            .attitude
-            .is_some_and(|(at, ..)| self.now_us.saturating_sub(at) < 1_000_000);
-        if fresh != self.healthy {
-            self.healthy = fresh;
-            self.health_log.push((self.now_us, fresh));
-        }
-    }
-
-    fn next_run_us(&self) -> u64 {
-        self.true_of_fc(self.next_run_fc_ms * 1000)
-    }
-
     /// The replies with an execution state, with the order they answer.
     #[must_use]
     pub fn feedback(&self) -> Vec<(u64, u8, u8)> {
@@ -840,51 +699,104 @@ fn wrap180(d: f64) -> f64 {
     if w == -180.0 { 180.0 } else { w }
 }
 
-impl FcSim for ApXfRobot {
-    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => {
-                self.lost_while_off += bytes.len() as u64;
-                return;
-            }
-            Some(_) => self.power_on(),
-            None => {}
-        }
+impl Autopilot for ApXfRobot {
+    board_field!();
+
+    fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
         self.parse(now_us, bytes);
-        self.update_health();
     }
 
-    fn poll(&mut self, now_us: u64) {
-        self.now_us = self.now_us.max(now_us);
-        match self.power_on_at {
-            Some(on) if now_us < on => return,
-            Some(_) => self.power_on(),
-            None => {}
+    /// One `update()` run.
+    fn run(&mut self) {
+        if let Some((at, start)) = self.record_request
+            && self.board.now_us().saturating_sub(at) > 1_000_000
+        {
+            let what = if start { "start" } else { "stop" };
+            self.text(format!("XFRobot: failed to {what} recording"));
+            self.record_request = None;
         }
-        while self.next_run_us() <= now_us {
-            let fc_ms = self.next_run_fc_ms;
-            let late = self.rng.uniform(self.config.loop_jitter_us);
-            self.now_us = self.true_of_fc(fc_ms * 1000) + late;
-            self.update();
-            self.next_run_fc_ms = fc_ms + 20;
+        self.update_target();
+        if self.config.send_attitude {
+            self.send_attitude();
         }
-        self.now_us = now_us;
-        self.update_health();
     }
 
-    fn next_wakeup(&self) -> u64 {
-        self.power_on_at.unwrap_or_else(|| self.next_run_us())
+    fn update_health(&mut self) {
+        let now = self.board.now_us();
+        let fresh = self
+            .attitude
+            .is_some_and(|(at, ..)| now.saturating_sub(at) < 1_000_000);
+        self.board.set_healthy(fresh);
     }
 
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        std::mem::take(&mut self.out)
+    fn power_on(&mut self) {
+        self.target = None;
+        self.angle = (0.0, 0.0, 0.0, false);
+        self.buf.clear();
+        self.state = ParseState::Header1;
+        self.len_expected = 0;
+        self.crc = 0;
+        self.attitude = None;
+        self.got_firmware_version = false;
+        self.record_request = None;
+    }
+}
+
+impl Pilot for ApXfRobot {
+    const DRIVER: &'static str = "ArduPilot AP_Mount_XFRobot (simulated)";
+    const TELEMETRY_PORT: bool = true;
+    type Frames = GcuFrames;
+
+    fn with_seed(seed: u64) -> Self {
+        ApXfRobot::new(ApXfRobotConfig {
+            seed,
+            ..ApXfRobotConfig::default()
+        })
+    }
+
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.gps_utc_us(t_us)
+    }
+    fn first_utc_sent_us(&self) -> Option<u64> {
+        self.sent
+            .iter()
+            .find(|s| s.order == 0x10 && self.board.clock().utc_valid(s.at_us))
+            .map(|s| s.at_us)
+    }
+    fn mount_angles(&self) -> Option<(f64, f64)> {
+        self.attitude.map(|(_, _, pitch, yaw)| (yaw, pitch))
+    }
+
+    fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.target = Some(MountTarget::Angle {
+            roll_deg: 0.0,
+            pitch_deg,
+            yaw_deg,
+            yaw_is_ef: false,
+        });
+    }
+    fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
+        self.target = Some(MountTarget::Rate {
+            pitch_dps,
+            yaw_dps,
+            yaw_is_ef: false,
+        });
+    }
+    fn zoom(&mut self, rate: i8) {
+        self.set_zoom_rate(f64::from(rate));
+    }
+    fn take_picture(&mut self) {
+        ApXfRobot::take_picture(self);
+    }
+    fn record(&mut self, on: bool) {
+        self.record_video(on);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::{FcReboot, Peer};
 
     #[test]
     fn a_reboot_silences_the_fc_and_its_gps_time_comes_back_shifted() {

@@ -23,7 +23,64 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::XorShift;
-use super::line::Corrupter;
+
+/// Changes bytes as they go on a cable (garbage, bit flips), for fault scenarios:
+/// `f(now_us, bytes) -> bytes passed`.
+pub type Corrupter = dyn FnMut(u64, &[u8]) -> Vec<u8> + Send;
+
+/// What a faulty cable does to the bytes of one direction ([`super::line::Line`] and
+/// [`super::tasks::Wire`]): a scenario's own [`Corrupter`], then a seeded [`Faults`]
+/// model; neither by default.
+#[derive(Default)]
+pub struct Damage {
+    corrupt: Option<Box<Corrupter>>,
+    faults: Option<FaultStage>,
+}
+
+impl fmt::Debug for Damage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Damage")
+            .field("corrupter", &self.corrupt.is_some())
+            .field("faults", &self.faults)
+            .finish()
+    }
+}
+
+impl Damage {
+    /// Changes every write with `f(now_us, bytes) -> bytes passed`.
+    pub fn set_corrupter(&mut self, f: Box<Corrupter>) {
+        self.corrupt = Some(f);
+    }
+
+    /// Stops the corrupter.
+    pub fn clear_corrupter(&mut self) {
+        self.corrupt = None;
+    }
+
+    /// Applies `faults` from now on, after any corrupter (`None`, or a model whose rates
+    /// are all 0: no fault model). The stage starts afresh from its seed.
+    pub fn set_faults(&mut self, faults: Option<Faults>) {
+        self.faults = faults.filter(|f| !f.is_none()).map(FaultStage::new);
+    }
+
+    /// What the fault model did so far (`None`: no model set).
+    #[must_use]
+    pub fn fault_stats(&self) -> Option<FaultStats> {
+        self.faults.as_ref().map(FaultStage::stats)
+    }
+
+    /// What goes on for `bytes` written at `now_us`.
+    pub fn apply(&mut self, now_us: u64, bytes: &[u8]) -> Vec<u8> {
+        let mut out = match self.corrupt.as_mut() {
+            Some(f) => f(now_us, bytes),
+            None => bytes.to_vec(),
+        };
+        if let Some(stage) = self.faults.as_mut() {
+            out = stage.apply(&out);
+        }
+        out
+    }
+}
 
 /// The fault model of one direction of a cable.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,8 +143,7 @@ impl Faults {
         FaultStage::new(*self)
     }
 
-    /// This model as a [`Corrupter`] (for [`Line::set_corrupter`](super::line::Line::set_corrupter)
-    /// and [`Wire::set_corrupter`](super::tasks::Wire::set_corrupter)).
+    /// This model as a [`Corrupter`] (for [`Damage::set_corrupter`]).
     #[must_use]
     pub fn corrupter(&self) -> Box<Corrupter> {
         let mut stage = self.stage();

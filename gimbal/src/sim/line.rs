@@ -3,13 +3,13 @@
 //! already on their way, and are delivered to the receiver in chunks, as a UART with a
 //! small receive FIFO and an idle interrupt delivers them.
 //!
-//! A line can be faulty: a [`Corrupter`] changes each write as it goes on the line, and
-//! a [`Faults`] model ([`Line::set_faults`]) flips bits, loses bytes and inserts garbage
-//! after it, reproducibly (see [`super::faults`]).
+//! A line can be faulty ([`Line::damage`]): a [`super::faults::Corrupter`] changes each
+//! write as it goes on the line, and a [`super::faults::Faults`] model flips bits, loses
+//! bytes and inserts garbage after it, reproducibly (see [`super::faults`]).
 
 use std::collections::VecDeque;
 
-use super::faults::{FaultStage, FaultStats, Faults};
+use super::faults::Damage;
 
 /// Bytes a receiver is handed at most at once (a UART FIFO / DMA half-buffer).
 pub const CHUNK: usize = 16;
@@ -25,14 +25,9 @@ pub struct Line {
     idle_owed_from: Option<u64>,
     /// Bytes written so far.
     pub bytes_sent: u64,
-    /// Optional corruption of the bytes as they are written.
-    corrupt: Option<Box<Corrupter>>,
-    /// Optional fault model, after the corrupter.
-    faults: Option<FaultStage>,
+    /// What the line does to the bytes as they are written (nothing by default).
+    pub damage: Damage,
 }
-
-/// Changes bytes as they go on the line (garbage, bit flips), for fault scenarios.
-pub type Corrupter = dyn FnMut(u64, &[u8]) -> Vec<u8> + Send;
 
 impl std::fmt::Debug for Line {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -55,8 +50,7 @@ impl Line {
             in_flight: VecDeque::new(),
             idle_owed_from: None,
             bytes_sent: 0,
-            corrupt: None,
-            faults: None,
+            damage: Damage::default(),
         }
     }
 
@@ -66,37 +60,9 @@ impl Line {
         (10_000_000 + u64::from(self.baud) / 2) / u64::from(self.baud.max(1))
     }
 
-    /// Corrupts every write with `f(now_us, bytes) -> bytes sent`.
-    pub fn set_corrupter(&mut self, f: Box<Corrupter>) {
-        self.corrupt = Some(f);
-    }
-
-    /// Stops corrupting.
-    pub fn clear_corrupter(&mut self) {
-        self.corrupt = None;
-    }
-
-    /// Makes the line faulty with `faults` from now on (`None`, or a model whose rates
-    /// are all 0: a good line again). The stage starts afresh from its seed.
-    pub fn set_faults(&mut self, faults: Option<Faults>) {
-        self.faults = faults.filter(|f| !f.is_none()).map(FaultStage::new);
-    }
-
-    /// What the fault model did so far (`None`: no model set).
-    #[must_use]
-    pub fn fault_stats(&self) -> Option<FaultStats> {
-        self.faults.as_ref().map(FaultStage::stats)
-    }
-
     /// Writes `bytes` at `at_us` (or when the line is free).
     pub fn send(&mut self, at_us: u64, bytes: &[u8]) {
-        let mut bytes = match self.corrupt.as_mut() {
-            Some(f) => f(at_us, bytes),
-            None => bytes.to_vec(),
-        };
-        if let Some(stage) = self.faults.as_mut() {
-            bytes = stage.apply(&bytes);
-        }
+        let bytes = self.damage.apply(at_us, bytes);
         let per = self.byte_us();
         let mut t = at_us.max(self.busy_until_us);
         for b in bytes {
@@ -173,6 +139,7 @@ impl Line {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::faults::Faults;
 
     #[test]
     fn bytes_arrive_after_their_serial_time_in_chunks_then_idle() {
@@ -208,12 +175,12 @@ mod tests {
         let data: Vec<u8> = (0..=255).cycle().take(20_000).collect();
         let run = || {
             let mut l = Line::new(1_000_000);
-            l.set_faults(Some(faults));
+            l.damage.set_faults(Some(faults));
             for (i, chunk) in data.chunks(100).enumerate() {
                 l.send(i as u64 * 10_000, chunk);
             }
             let (bytes, _) = l.deliver(u64::MAX / 2);
-            (bytes, l.fault_stats().unwrap())
+            (bytes, l.damage.fault_stats().unwrap())
         };
         let (a, stats) = run();
         assert_eq!(run().0, a, "same seed, same faults");
@@ -221,7 +188,7 @@ mod tests {
         assert!((150..=250).contains(&stats.bytes_dropped), "{stats:?}");
         assert!((1_300..=1_900).contains(&stats.bits_flipped), "{stats:?}");
         let mut l = Line::new(1_000_000);
-        l.set_faults(Some(Faults::NONE));
-        assert_eq!(l.fault_stats(), None, "no rates: no stage");
+        l.damage.set_faults(Some(Faults::NONE));
+        assert_eq!(l.damage.fault_stats(), None, "no rates: no stage");
     }
 }

@@ -2,13 +2,21 @@
 //! [`super::px4`]) and the QGroundControl-like client ([`super::qgc`]): an endpoint that
 //! numbers its frames, a receiver, command and angle helpers. The simulators use the
 //! project's MAVLink 2 codec for bytes (tested on its own against the spec's frames)
-//! and decide everything else from `shared/MAVLINK-TRAFFIC.md`, not from the bridge.
+//! and decide everything else from what the autopilots and the ground station do
+//! (docs/src/autopilots/ardupilot.md, docs/src/autopilots/px4.md,
+//! docs/src/autopilots/qgroundcontrol.md), not from the bridge.
 
-use protocol_core::mavlink::dialect::{COMMAND_LONG_DATA, MavCmd, Message as _, MessageData as _};
+use protocol_core::mavlink::dialect::{
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, COMMAND_LONG_DATA,
+    EstimatorStatusFlags, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, MavAutopilot, MavCmd,
+    MavLandedState, MavModeFlag, MavResult, MavState, MavType, Message as _, MessageData as _,
+};
 use protocol_core::mavlink::{
     self, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
 };
 use protocol_core::wire::{Deframer, Event};
+
+use super::board::Aircraft;
 
 /// MAV_COMP_ID_AUTOPILOT1.
 pub const AUTOPILOT: u8 = 1;
@@ -185,6 +193,150 @@ pub fn command_long(
     })
 }
 
+/// A camera command of four parameters (the other three 0), unconfirmed.
+#[must_use]
+pub fn camera_command(command: MavCmd, p: [f32; 4], target: (u8, u8)) -> MavMessage {
+    command_long(command, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0)
+}
+
+/// MAV_CMD_VIDEO_START_CAPTURE (`on`) or MAV_CMD_VIDEO_STOP_CAPTURE.
+#[must_use]
+pub fn video_capture(on: bool) -> MavCmd {
+    if on {
+        MavCmd::MAV_CMD_VIDEO_START_CAPTURE
+    } else {
+        MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
+    }
+}
+
+/// MAV_CMD_REQUEST_MESSAGE for message `id`, to `target`.
+#[must_use]
+pub fn request_message(id: u32, target: (u8, u8)) -> MavMessage {
+    let p = [id as f32, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, p, target, 0)
+}
+
+/// The COMMAND_ACK of `command` with `result`, to the sender `to`.
+#[must_use]
+pub fn command_ack(command: MavCmd, result: MavResult, to: &Header) -> MavMessage {
+    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+        command,
+        result,
+        progress: 0,
+        result_param2: 0,
+        target_system: to.system_id,
+        target_component: to.component_id,
+    })
+}
+
+/// An autopilot's HEARTBEAT (custom mode, standby).
+#[must_use]
+pub fn autopilot_heartbeat(mavtype: MavType, autopilot: MavAutopilot) -> MavMessage {
+    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype,
+        autopilot,
+        base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+        system_status: MavState::MAV_STATE_STANDBY,
+        mavlink_version: 3,
+    })
+}
+
+/// A message of no target, or with target system 0 or `sysid`: routed to system `sysid`.
+#[must_use]
+pub fn routed_to(msg: &MavMessage, sysid: u8) -> bool {
+    target_of(msg).is_none_or(|(sys, _)| sys == 0 || sys == sysid)
+}
+
+/// The aircraft as an autopilot's streams tell it at one instant.
+#[derive(Debug, Clone, Copy)]
+pub struct AircraftState {
+    /// The boot clock, ms (truncated).
+    pub boot_ms: u32,
+    /// Latitude, longitude, 1e-7 degrees.
+    pub lat_lon_e7: (i32, i32),
+    /// Altitude above mean sea level, mm.
+    pub alt_mm: i32,
+    /// Roll, pitch, yaw, degrees.
+    pub attitude_deg: (f64, f64, f64),
+    /// North and east velocity, m/s.
+    pub velocity_m_s: (f64, f64),
+}
+
+impl AircraftState {
+    /// `aircraft` at true time `t_us`, the boot clock reading `boot_us`.
+    #[must_use]
+    pub fn of(aircraft: &Aircraft, t_us: u64, boot_us: u64) -> Self {
+        AircraftState {
+            boot_ms: (boot_us / 1000) as u32,
+            lat_lon_e7: aircraft.position_e7(t_us),
+            alt_mm: (aircraft.alt_msl_m * 1000.0) as i32,
+            attitude_deg: aircraft.attitude_deg(t_us),
+            velocity_m_s: aircraft.velocity_m_s(),
+        }
+    }
+
+    /// ATTITUDE (no rotation rates).
+    #[must_use]
+    pub fn attitude(&self) -> MavMessage {
+        let (roll, pitch, yaw) = self.attitude_deg;
+        MavMessage::ATTITUDE(ATTITUDE_DATA {
+            time_boot_ms: self.boot_ms,
+            roll: roll.to_radians() as f32,
+            pitch: pitch.to_radians() as f32,
+            yaw: yaw.to_radians() as f32,
+            rollspeed: 0.0,
+            pitchspeed: 0.0,
+            yawspeed: 0.0,
+        })
+    }
+
+    /// GLOBAL_POSITION_INT with this relative altitude (mm).
+    #[must_use]
+    pub fn global_position(&self, relative_alt_mm: i32) -> MavMessage {
+        let (vn, ve) = self.velocity_m_s;
+        MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+            time_boot_ms: self.boot_ms,
+            lat: self.lat_lon_e7.0,
+            lon: self.lat_lon_e7.1,
+            alt: self.alt_mm,
+            relative_alt: relative_alt_mm,
+            vx: (vn * 100.0) as i16,
+            vy: (ve * 100.0) as i16,
+            vz: 0,
+            hdg: (self.attitude_deg.2.rem_euclid(360.0) * 100.0) as u16,
+        })
+    }
+
+    /// AUTOPILOT_STATE_FOR_GIMBAL_DEVICE stamped `time_boot_us`, to `target_system`.
+    #[must_use]
+    pub fn autopilot_state(
+        &self,
+        time_boot_us: u64,
+        estimator_status: u16,
+        target_system: u8,
+        landed_state: MavLandedState,
+    ) -> MavMessage {
+        let (roll, pitch, yaw) = self.attitude_deg;
+        let (vn, ve) = self.velocity_m_s;
+        MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
+            time_boot_us,
+            q: quat_deg(roll, pitch, yaw),
+            q_estimated_delay_us: 0,
+            vx: vn as f32,
+            vy: ve as f32,
+            vz: 0.0,
+            v_estimated_delay_us: 0,
+            feed_forward_angular_velocity_z: 0.0,
+            estimator_status: EstimatorStatusFlags::from_bits_retain(estimator_status),
+            target_system,
+            target_component: 0,
+            landed_state,
+            angular_velocity_z: 0.0,
+        })
+    }
+}
+
 /// A message's target (system, component), for messages that have one.
 #[must_use]
 pub fn target_of(msg: &MavMessage) -> Option<(u8, u8)> {
@@ -235,28 +387,6 @@ pub fn euler_deg(q: [f32; 4]) -> Option<(f64, f64, f64)> {
     Some((roll.to_degrees(), pitch.to_degrees(), yaw.to_degrees()))
 }
 
-/// A MAVLink frame decoded for display (the demo and traces).
-#[must_use]
-pub fn describe(frame: &[u8]) -> Option<super::pilot::Described> {
-    let p = Packet::decode(frame).ok()?;
-    let Message::Known(m) = &p.message else {
-        return None;
-    };
-    let id = m.message_id();
-    Some(super::pilot::Described {
-        protocol: "MAVLink",
-        id,
-        digits: 0,
-        name: m.message_name().to_string(),
-        fields: format!(
-            "from {}/{} {}",
-            p.header.system_id,
-            p.header.component_id,
-            super::pilot::fields_text(m)
-        ),
-    })
-}
-
 /// A message-id check for tests: `M::ID == id`.
 #[must_use]
 pub fn is<M: protocol_core::mavlink::MessageData>(id: u32) -> bool {
@@ -269,7 +399,9 @@ pub const COMMAND_LONG_ID: u32 = COMMAND_LONG_DATA::ID;
 /// Test helpers: bytes as a UART hands them over, a driver that records every loop.
 #[cfg(test)]
 pub(crate) mod testing {
-    use super::super::scenario::FcSim;
+    use super::super::peer::Peer;
+    use super::Endpoint;
+    use protocol_core::mavlink::dialect::{MavCmd, TIMESYNC_DATA};
 
     /// µs of one byte (10 bits) at `baud`.
     pub(crate) fn byte_us(baud: u32) -> f64 {
@@ -287,6 +419,26 @@ pub(crate) mod testing {
                 Some((at, c.to_vec()))
             })
             .collect()
+    }
+
+    /// A TIMESYNC request (tc1 0) with `ts1`, to `target`.
+    pub(crate) fn timesync_request(ts1: i64, target: (u8, u8)) -> super::MavMessage {
+        super::MavMessage::TIMESYNC(TIMESYNC_DATA {
+            tc1: 0,
+            ts1,
+            target_system: target.0,
+            target_component: target.1,
+        })
+    }
+
+    /// MAV_CMD_SET_MESSAGE_INTERVAL of message `id` to system 1's autopilot.
+    pub(crate) fn set_interval(id: u32, interval_us: f32) -> super::MavMessage {
+        super::command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
+            (1, super::AUTOPILOT),
+            0,
+        )
     }
 
     /// Drives a simulated FC in true time as the scenario does: each wakeup polled at
@@ -307,22 +459,33 @@ pub(crate) mod testing {
         }
 
         /// Polls every wakeup up to `t_us` included.
-        pub(crate) fn run_until(&mut self, fc: &mut impl FcSim, t_us: u64) {
+        pub(crate) fn run_until(&mut self, fc: &mut impl Peer, t_us: u64) {
             while fc.next_wakeup() <= t_us {
                 let w = fc.next_wakeup();
                 self.wakeups.push(w);
                 fc.poll(w);
-                self.bursts.extend(fc.transmit());
+                self.bursts.extend(fc.transmit(w));
             }
         }
 
         /// Hands `chunks` over, each at its instant.
-        pub(crate) fn deliver(&mut self, fc: &mut impl FcSim, chunks: &[(u64, Vec<u8>)]) {
+        pub(crate) fn deliver(&mut self, fc: &mut impl Peer, chunks: &[(u64, Vec<u8>)]) {
             for (at, c) in chunks {
                 self.run_until(fc, at - 1);
                 fc.receive(*at, c);
-                self.bursts.extend(fc.transmit());
+                self.bursts.extend(fc.transmit(*at));
             }
+        }
+
+        /// `msg` from `dev`, its first start bit at `t0_us` on a 115 200 baud line.
+        pub(crate) fn send(
+            &mut self,
+            fc: &mut impl Peer,
+            t0_us: u64,
+            dev: &mut Endpoint,
+            msg: &super::MavMessage,
+        ) {
+            self.deliver(fc, &uart_chunks(t0_us, 115_200, &dev.frame(msg)));
         }
 
         /// Every frame sent, with the start of its burst.

@@ -5,6 +5,9 @@ pub mod ap_mavlink;
 pub mod ap_siyi;
 pub mod ap_viewpro;
 pub mod ap_xfrobot;
+pub mod board;
+pub mod clock;
+pub mod describe;
 pub mod faults;
 pub mod fc_k40t;
 pub mod line;
@@ -16,6 +19,10 @@ pub mod px4;
 pub mod qgc;
 pub mod scenario;
 pub mod tasks;
+
+pub use board::{Aircraft, Autopilot, Board, MainLoop};
+pub use clock::{FcBoot, FcClock, FcReboot};
+pub use peer::Peer;
 
 /// xorshift64* (Vigna): the simulators' reproducible noise (fault injection, jitter).
 #[derive(Debug, Clone)]
@@ -56,209 +63,5 @@ impl XorShift {
         } else {
             self.next_u64() % bound
         }
-    }
-}
-
-/// A simulated crystal clock (µs) at true time `t_us`: `ppm` fast, reading `boot_us` at
-/// true time 0.
-#[must_use]
-pub(crate) fn crystal_us(t_us: u64, ppm: f64, boot_us: u64) -> u64 {
-    (t_us as f64 * (1.0 + ppm * 1e-6)) as u64 + boot_us
-}
-
-/// True time at which the crystal clock of [`crystal_us`] reads `clock_us` (rounded up).
-#[must_use]
-pub(crate) fn true_of_crystal(clock_us: u64, ppm: f64, boot_us: u64) -> u64 {
-    ((clock_us.saturating_sub(boot_us)) as f64 / (1.0 + ppm * 1e-6)).ceil() as u64
-}
-
-/// How a simulated flight controller reboots ([`ap_siyi::ApSiyi::reboot`] and the other
-/// FC simulators): it is dead for [`FcReboot::off_us`], then boots with its boot clock
-/// near 0 and a UTC that may differ from the previous boot's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct FcReboot {
-    /// Without power (silent, deaf) this long, µs.
-    pub off_us: u64,
-    /// The FC's boot clock (`time_boot_ms`) reads this at power-on, µs.
-    pub boot_clock_us: u64,
-    /// The new boot's UTC minus the previous boot's UTC carried on, µs: a GPS or RTC
-    /// that was wrong before the reboot and right after it, or the reverse.
-    pub utc_shift_us: i64,
-    /// The FC's UTC becomes valid this long after power-on (GPS fix), µs.
-    pub utc_valid_after_us: u64,
-}
-
-impl Default for FcReboot {
-    fn default() -> Self {
-        FcReboot {
-            off_us: 3_000_000,
-            boot_clock_us: 0,
-            utc_shift_us: 0,
-            utc_valid_after_us: 0,
-        }
-    }
-}
-
-/// One power-on of a simulated FC.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct FcBoot {
-    /// True time the power went off before it (the first boot: its own instant).
-    pub off_at_us: u64,
-    /// True time of power-on.
-    pub at_us: u64,
-    /// The boot clock at power-on, µs.
-    pub clock_us: u64,
-    /// The FC's UTC at power-on, µs since the Unix epoch.
-    pub utc_us: u64,
-    /// True time from which the UTC is valid.
-    pub utc_valid_at_us: u64,
-}
-
-/// The clock of a simulated FC across reboots: a crystal `ppm` fast, restarted at each
-/// power-on, and its UTC (ArduPilot's `AP_RTC`: the boot clock plus a shift fixed once
-/// per boot).
-#[derive(Debug, Clone, PartialEq)]
-pub struct FcClock {
-    ppm: f64,
-    boots: Vec<FcBoot>,
-}
-
-impl FcClock {
-    /// A clock powered on at true time 0, reading `clock_us` then, with UTC `utc_us`
-    /// then, valid from true time `utc_valid_at_us`.
-    #[must_use]
-    pub fn new(ppm: f64, clock_us: u64, utc_us: u64, utc_valid_at_us: u64) -> Self {
-        FcClock {
-            ppm,
-            boots: vec![FcBoot {
-                off_at_us: 0,
-                at_us: 0,
-                clock_us,
-                utc_us,
-                utc_valid_at_us,
-            }],
-        }
-    }
-
-    /// The crystal's error, ppm.
-    #[must_use]
-    pub fn ppm(&self) -> f64 {
-        self.ppm
-    }
-
-    /// Every boot, the first at true time 0.
-    #[must_use]
-    pub fn boots(&self) -> &[FcBoot] {
-        &self.boots
-    }
-
-    /// The boot in effect at true time `t_us` (before a power-on: the previous one).
-    #[must_use]
-    pub fn boot_at(&self, t_us: u64) -> &FcBoot {
-        let i = self
-            .boots
-            .iter()
-            .rposition(|b| b.at_us <= t_us)
-            .unwrap_or(0);
-        // Never empty: `new` puts the first boot.
-        &self.boots[i]
-    }
-
-    /// The latest boot (possibly still to come).
-    #[must_use]
-    pub fn current(&self) -> &FcBoot {
-        &self.boots[self.boots.len() - 1]
-    }
-
-    /// The boot clock (µs) at true time `t_us`.
-    #[must_use]
-    pub fn clock_us(&self, t_us: u64) -> u64 {
-        let b = self.boot_at(t_us);
-        crystal_us(t_us.saturating_sub(b.at_us), self.ppm, b.clock_us)
-    }
-
-    /// True time at which the latest boot's clock reads `clock_us`.
-    #[must_use]
-    pub fn true_of_clock(&self, clock_us: u64) -> u64 {
-        let b = self.current();
-        b.at_us + true_of_crystal(clock_us, self.ppm, b.clock_us)
-    }
-
-    /// The FC's UTC (µs) at true time `t_us`.
-    #[must_use]
-    pub fn utc_us(&self, t_us: u64) -> u64 {
-        let b = self.boot_at(t_us);
-        (self.clock_us(t_us) - b.clock_us) + b.utc_us
-    }
-
-    /// The FC knows UTC at true time `t_us`.
-    #[must_use]
-    pub fn utc_valid(&self, t_us: u64) -> bool {
-        t_us >= self.boot_at(t_us).utc_valid_at_us
-    }
-
-    /// The FC is without power at true time `t_us`.
-    #[must_use]
-    pub fn is_off(&self, t_us: u64) -> bool {
-        self.boots
-            .iter()
-            .any(|b| b.off_at_us <= t_us && t_us < b.at_us)
-    }
-
-    /// The power goes off at `now_us`; returns the instant of power-on.
-    pub fn reboot(&mut self, now_us: u64, r: FcReboot) -> u64 {
-        let at_us = now_us.saturating_add(r.off_us);
-        let carried = i128::from(self.utc_us(at_us));
-        let utc_us = u64::try_from((carried + i128::from(r.utc_shift_us)).max(0)).unwrap_or(0);
-        self.boots.push(FcBoot {
-            off_at_us: now_us,
-            at_us,
-            clock_us: r.boot_clock_us,
-            utc_us,
-            utc_valid_at_us: at_us.saturating_add(r.utc_valid_after_us),
-        });
-        at_us
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn an_fc_clock_restarts_at_each_boot_with_its_utc_shifted() {
-        let mut c = FcClock::new(0.0, 3_000_000, 1_000_000_000_000, 500_000);
-        assert_eq!(c.clock_us(1_000_000), 4_000_000);
-        assert_eq!(c.utc_us(1_000_000), 1_000_001_000_000);
-        assert!(!c.utc_valid(0) && c.utc_valid(500_000));
-        assert_eq!(c.true_of_clock(4_000_000), 1_000_000);
-        let on = c.reboot(
-            10_000_000,
-            FcReboot {
-                off_us: 3_000_000,
-                boot_clock_us: 2_000,
-                utc_shift_us: -250_000,
-                utc_valid_after_us: 1_000_000,
-            },
-        );
-        assert_eq!(on, 13_000_000);
-        assert!(c.is_off(10_000_000) && c.is_off(12_999_999) && !c.is_off(on));
-        // Before power-on the old boot's clock goes on (nobody reads it).
-        assert_eq!(c.clock_us(12_000_000), 15_000_000);
-        assert_eq!(c.clock_us(on), 2_000);
-        assert_eq!(c.clock_us(on + 1_000_000), 1_002_000);
-        // The old boot's UTC carried on to the power-on, shifted.
-        let carried = 1_000_000_000_000 + 13_000_000;
-        assert_eq!(c.utc_us(on), carried - 250_000);
-        assert_eq!(c.utc_us(on + 1_000_000), carried - 250_000 + 1_000_000);
-        assert!(!c.utc_valid(on + 999_999) && c.utc_valid(on + 1_000_000));
-        assert_eq!(c.true_of_clock(1_002_000), on + 1_000_000);
-        assert_eq!(c.boots().len(), 2);
-
-        // A fast crystal runs fast in every boot.
-        let mut c = FcClock::new(100.0, 0, 0, 0);
-        let on = c.reboot(5_000_000, FcReboot::default());
-        assert!(c.clock_us(on + 10_000_000).abs_diff(10_001_000) <= 1);
-        assert!(c.true_of_clock(10_001_000).abs_diff(on + 10_000_000) <= 1);
     }
 }

@@ -1,5 +1,5 @@
-//! The simulated peers as async tasks on byte streams: a simulated FC ([`FcSim`]) or the
-//! simulated pod ([`SimPod`]) talking to the bridge's tasks through any
+//! The simulated peers ([`Peer`]) and how they run as async tasks on byte streams: a
+//! simulated FC or the simulated pod ([`SimPod`]) talking to the bridge's tasks through any
 //! `embedded_io_async` reader and writer (the host harness's pipes, a TCP socket, a
 //! serial port), on `embassy_time`'s clock: virtual time for tests and the demo, real
 //! time for the Linux runner's `sim` ports.
@@ -23,7 +23,6 @@ use embedded_io_async::{Read, Write};
 
 use super::line::CHUNK;
 use super::pod::SimPod;
-use super::scenario::FcSim;
 
 /// Simulated true time now, µs (the task clock).
 #[must_use]
@@ -31,45 +30,34 @@ pub fn now_us() -> u64 {
     EmbassyInstant::now().as_micros()
 }
 
-/// A sans-IO peer the task loop drives.
+/// A simulated peer of the bridge, sans-IO, true time in microseconds: a flight
+/// controller (every [`super::Autopilot`], [`super::scenario::SilentFc`]), the telemetry
+/// link's autopilot port or the pod ([`SimPod`]). [`super::scenario::Scenario`] and
+/// [`run_peer`] drive it.
 pub trait Peer {
     /// Bytes from the bridge, the last of them arriving at `now_us`.
-    fn peer_receive(&mut self, now_us: u64, bytes: &[u8]);
-    /// Work due at `now_us`.
-    fn peer_poll(&mut self, now_us: u64);
-    /// When the next work is due (`u64::MAX`: never).
-    fn peer_next_wakeup(&self) -> u64;
-    /// Bytes to send, each batch with the instant it may start.
-    fn peer_transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)>;
-}
-
-impl<F: FcSim> Peer for F {
-    fn peer_receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.receive(now_us, bytes);
-    }
-    fn peer_poll(&mut self, now_us: u64) {
-        self.poll(now_us);
-    }
-    fn peer_next_wakeup(&self) -> u64 {
-        self.next_wakeup()
-    }
-    fn peer_transmit(&mut self, _now_us: u64) -> Vec<(u64, Vec<u8>)> {
-        self.transmit()
-    }
+    fn receive(&mut self, now_us: u64, bytes: &[u8]);
+    /// The work due up to `now_us`.
+    fn poll(&mut self, now_us: u64);
+    /// When [`Peer::poll`] is next due (`u64::MAX`: never).
+    fn next_wakeup(&self) -> u64;
+    /// Bytes to send, each batch with the instant it starts on the wire (not before
+    /// the poll that produced it; the pod's: `now_us`).
+    fn transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)>;
 }
 
 impl Peer for SimPod {
-    fn peer_receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.receive(now_us, bytes);
+    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
+        SimPod::receive(self, now_us, bytes);
     }
-    fn peer_poll(&mut self, now_us: u64) {
-        self.poll(now_us);
+    fn poll(&mut self, now_us: u64) {
+        SimPod::poll(self, now_us);
     }
-    fn peer_next_wakeup(&self) -> u64 {
-        self.next_wakeup()
+    fn next_wakeup(&self) -> u64 {
+        SimPod::next_wakeup(self)
     }
-    fn peer_transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)> {
-        let bytes = self.transmit();
+    fn transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)> {
+        let bytes = SimPod::transmit(self);
         if bytes.is_empty() {
             Vec::new()
         } else {
@@ -114,13 +102,13 @@ where
             while let Some((due, bytes)) = incoming.front()
                 && *due <= now
             {
-                p.peer_receive(*due, bytes);
+                p.receive(*due, bytes);
                 incoming.pop_front();
             }
-            if p.peer_next_wakeup() <= now {
-                p.peer_poll(now);
+            if p.next_wakeup() <= now {
+                p.poll(now);
             }
-            out.extend(p.peer_transmit(now));
+            out.extend(p.transmit(now));
         }
         // A chunk is handed over when its last byte has arrived, as a UART receiver
         // delivers it; the next one starts on the wire then.
@@ -153,7 +141,7 @@ where
             None => out.front().map(|(at, _)| *at),
         };
         let next_in = incoming.front().map(|(due, _)| *due);
-        let next = [Some(peer.borrow().peer_next_wakeup()), next_out, next_in]
+        let next = [Some(peer.borrow().next_wakeup()), next_out, next_in]
             .into_iter()
             .flatten()
             .min()
@@ -226,7 +214,6 @@ impl OutputPin for PodPin<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::scenario::FcSim;
     use bridge_fw::host::{self, Clock, HostPipe};
     use embassy_futures::select::select;
 
@@ -237,13 +224,13 @@ mod tests {
         sent: bool,
     }
 
-    impl FcSim for Burst {
+    impl Peer for Burst {
         fn receive(&mut self, _now_us: u64, _bytes: &[u8]) {}
         fn poll(&mut self, _now_us: u64) {}
         fn next_wakeup(&self) -> u64 {
             u64::MAX
         }
-        fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+        fn transmit(&mut self, _now_us: u64) -> Vec<(u64, Vec<u8>)> {
             if core::mem::replace(&mut self.sent, true) {
                 Vec::new()
             } else {

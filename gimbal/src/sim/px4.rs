@@ -1,6 +1,6 @@
 //! A simulated PX4 with the gimbal v2 output (`MNT_MODE_OUT` 2) on a MAVLink port in mode
-//! Gimbal (10), Normal (0) or Onboard (2), written from `shared/MAVLINK-TRAFFIC.md` §1,
-//! §4–§7:
+//! Gimbal (10), Normal (0) or Onboard (2), as docs/src/autopilots/px4.md describes what
+//! PX4 sends and reads:
 //!
 //! - HEARTBEAT (QUADROTOR, autopilot PX4) at 1 Hz.
 //! - **Discovery**: COMMAND_LONG REQUEST_MESSAGE(GIMBAL_DEVICE_INFORMATION) to 0/0 every
@@ -41,19 +41,20 @@
 use std::collections::BTreeMap;
 
 use protocol_core::mavlink::dialect::{
-    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, EstimatorStatusFlags,
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA,
     GIMBAL_DEVICE_ATTITUDE_STATUS_DATA, GIMBAL_DEVICE_INFORMATION_DATA,
     GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
-    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavLandedState, MavModeFlag, MavResult,
-    MavState, MavType, MessageData as _, SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    GpsFixType, MavAutopilot, MavCmd, MavLandedState, MavResult, MavType, MessageData as _,
+    SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::ap_siyi::Aircraft;
-use super::mav::{self, AUTOPILOT, Endpoint, Rx, TimesyncAnswer};
+use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::describe::MavlinkFrames;
+use super::mav::{self, AUTOPILOT, AircraftState, Endpoint, Rx, TimesyncAnswer};
+use super::pilot::Pilot;
 use super::qgc::Qgc;
-use super::scenario::FcSim;
-use super::{FcClock, FcReboot, XorShift};
+use super::{FcClock, XorShift};
 
 /// The port's mode (`MAV_n_MODE`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,21 +145,14 @@ pub enum Px4Target {
 pub struct Px4 {
     /// Settings.
     pub config: Px4Config,
-    /// The aircraft.
-    pub aircraft: Aircraft,
     /// A ground station the port forwards to.
     pub gcs: Option<Qgc>,
-    rng: XorShift,
-    now_us: u64,
-    clock: FcClock,
-    power_on_at: Option<u64>,
+    board: Board,
     me: Endpoint,
     rx: Rx,
-    out: Vec<(u64, Vec<u8>)>,
     /// Stream intervals (µs) by message id.
     pub intervals: BTreeMap<u32, u64>,
     next_due: BTreeMap<u32, u64>,
-    next_tick_us: u64,
     last_heartbeat_us: Option<u64>,
     last_info_req_us: Option<u64>,
     /// The gimbal's component id (the source of GIMBAL_DEVICE_INFORMATION).
@@ -183,9 +177,6 @@ pub struct Px4 {
     pub sent: Vec<(u64, MavMessage)>,
     /// Every frame received: (true µs, header, id).
     pub received: Vec<(u64, Header, u32)>,
-    /// Health changes.
-    pub health_log: Vec<(u64, bool)>,
-    healthy: bool,
     /// The TIMESYNC requests answered.
     pub timesync_answers: Vec<TimesyncAnswer>,
     /// Replies to this PX4's own TIMESYNC requests: (true time, tc1).
@@ -198,24 +189,19 @@ impl Px4 {
     /// A PX4 that starts at true time 0.
     #[must_use]
     pub fn new(config: Px4Config) -> Self {
+        let clock = FcClock::new(
+            config.ppm,
+            config.boot_us,
+            config.utc_at_zero_us,
+            config.utc_valid_at_us,
+        );
         let mut p = Px4 {
-            rng: XorShift::new(config.seed),
-            aircraft: Aircraft::default(),
             gcs: None,
-            now_us: 0,
-            clock: FcClock::new(
-                config.ppm,
-                config.boot_us,
-                config.utc_at_zero_us,
-                config.utc_valid_at_us,
-            ),
-            power_on_at: None,
+            board: Board::new(clock, XorShift::new(config.seed), MainLoop::ticks(5_000)),
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
-            out: Vec::new(),
             intervals: BTreeMap::new(),
             next_due: BTreeMap::new(),
-            next_tick_us: 0,
             last_heartbeat_us: None,
             last_info_req_us: None,
             gimbal_compid: None,
@@ -230,8 +216,6 @@ impl Px4 {
             set_attitudes: Vec::new(),
             sent: Vec::new(),
             received: Vec::new(),
-            health_log: Vec::new(),
-            healthy: false,
             timesync_answers: Vec::new(),
             timesync_replies: Vec::new(),
             own_ts1: std::collections::VecDeque::new(),
@@ -268,45 +252,6 @@ impl Px4 {
         }
     }
 
-    /// The FC's boot clock (hrt, µs) at true time `t_us`.
-    #[must_use]
-    pub fn fc_us(&self, t_us: u64) -> u64 {
-        self.clock.clock_us(t_us)
-    }
-
-    /// The FC's clock.
-    #[must_use]
-    pub fn clock(&self) -> &FcClock {
-        &self.clock
-    }
-
-    /// The FC's UTC at true time `t_us`.
-    #[must_use]
-    pub fn fc_utc_us(&self, t_us: u64) -> u64 {
-        self.clock.utc_us(t_us)
-    }
-
-    /// True time of the first SYSTEM_TIME sent.
-    #[must_use]
-    pub fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent.iter().find_map(|(t, m)| match m {
-            MavMessage::SYSTEM_TIME(_) => Some(*t),
-            _ => None,
-        })
-    }
-
-    /// This simulator's health rule (see the module documentation).
-    #[must_use]
-    pub fn healthy(&self) -> bool {
-        self.healthy
-    }
-
-    /// Frames dropped by the parser.
-    #[must_use]
-    pub fn parse_errors(&self) -> u32 {
-        self.rx.errors()
-    }
-
     /// The gimbal's attitude as forwarded (roll, pitch, yaw from the nose), degrees.
     #[must_use]
     pub fn mount_angles(&self) -> Option<(f64, f64, f64)> {
@@ -314,43 +259,19 @@ impl Px4 {
         mav::euler_deg(s.q)
     }
 
-    /// Takes one picture (a re-emitted camera command).
-    pub fn take_picture(&mut self) {
-        self.image_seq += 1;
-        let n = self.image_seq as f32;
-        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
-    }
-
-    /// Starts or stops recording.
-    pub fn record_video(&mut self, on: bool) {
-        let cmd = if on {
-            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
-        } else {
-            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
-        };
-        self.camera_command(cmd, [0.0; 4]);
-    }
-
-    /// Continuous zoom.
-    pub fn zoom_rate(&mut self, rate: i8) {
-        let r = f32::from(rate.signum());
-        self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
-    }
-
     fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
         let target = (self.config.sysid, self.config.camera_target_component);
-        let msg = mav::command_long(cmd, [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0], target, 0);
-        self.send(&msg);
+        self.send(&mav::camera_command(cmd, p, target));
     }
 
     fn send(&mut self, msg: &MavMessage) {
-        self.send_at(self.now_us, msg);
+        self.send_at(self.board.now_us(), msg);
     }
 
     /// Sends `msg` written at true time `t` (its own burst, after the transport
     /// jitter); returns the burst's start.
     fn send_at(&mut self, t: u64, msg: &MavMessage) -> u64 {
-        if self.power_on_at.is_some() {
+        if self.board.is_off() {
             return t;
         }
         if let MavMessage::TIMESYNC(s) = msg
@@ -363,15 +284,16 @@ impl Px4 {
         }
         let f = self.me.frame(msg);
         self.sent.push((t, msg.clone()));
-        let at = t + self.rng.uniform(self.config.jitter_us);
-        self.out.push((at, f));
+        let at = t + self.board.rng().uniform(self.config.jitter_us);
+        self.board.write_in_order(at, f);
         at
     }
 
     /// Integrates a rate input into the angle setpoint, within the limits.
     fn integrate(&mut self) {
-        let dt = (self.now_us - self.last_integrate_us) as f64 / 1e6;
-        self.last_integrate_us = self.now_us;
+        let now = self.board.now_us();
+        let dt = (now - self.last_integrate_us) as f64 / 1e6;
+        self.last_integrate_us = now;
         match self.target {
             Some(Px4Target::Rate { pitch_dps, yaw_dps }) => {
                 let [pmin, pmax, ymin, ymax] = self.limits.unwrap_or([-90.0, 90.0, -180.0, 180.0]);
@@ -418,45 +340,22 @@ impl Px4 {
     }
 
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
-        let t = self.now_us;
-        let us = self.clock.clock_us(t);
-        let boot_ms = (us / 1000) as u32;
-        let (lat, lon) = self.aircraft.position_e7(t);
-        let alt = (self.aircraft.alt_msl_m * 1000.0) as i32;
-        let (roll, pitch, yaw) = self.aircraft.attitude_deg(t);
-        let h = self.aircraft.heading_deg.to_radians();
-        let (vn, ve) = (
-            self.aircraft.speed_m_s * h.cos(),
-            self.aircraft.speed_m_s * h.sin(),
-        );
+        let t = self.board.now_us();
+        let us = self.board.fc_us(t);
+        let a = AircraftState::of(self.board.aircraft(), t, us);
+        let (lat, lon) = a.lat_lon_e7;
         Some(match id {
             GIMBAL_DEVICE_SET_ATTITUDE_DATA::ID => {
                 MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(self.set_attitude()?)
             }
             AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA::ID => {
-                MavMessage::AUTOPILOT_STATE_FOR_GIMBAL_DEVICE(
-                    AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA {
-                        time_boot_us: us,
-                        q: mav::quat_deg(roll, pitch, yaw),
-                        q_estimated_delay_us: 0,
-                        vx: vn as f32,
-                        vy: ve as f32,
-                        vz: 0.0,
-                        v_estimated_delay_us: 0,
-                        feed_forward_angular_velocity_z: 0.0,
-                        estimator_status: EstimatorStatusFlags::from_bits_retain(0x3F),
-                        target_system: 0,
-                        target_component: 0,
-                        landed_state: MavLandedState::MAV_LANDED_STATE_IN_AIR,
-                        angular_velocity_z: 0.0,
-                    },
-                )
+                a.autopilot_state(us, 0x3F, 0, MavLandedState::MAV_LANDED_STATE_IN_AIR)
             }
             // Not sent at all while the clock is invalid.
-            SYSTEM_TIME_DATA::ID if !self.clock.utc_valid(t) => return None,
+            SYSTEM_TIME_DATA::ID if !self.board.utc_valid() => return None,
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
                 time_unix_usec: self.fc_utc_us(t),
-                time_boot_ms: boot_ms,
+                time_boot_ms: a.boot_ms,
             }),
             TIMESYNC_DATA::ID => MavMessage::TIMESYNC(TIMESYNC_DATA {
                 tc1: 0,
@@ -464,104 +363,29 @@ impl Px4 {
                 target_system: 0,
                 target_component: 0,
             }),
-            GLOBAL_POSITION_INT_DATA::ID => {
-                MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
-                    time_boot_ms: boot_ms,
-                    lat,
-                    lon,
-                    alt,
-                    relative_alt: 58_000,
-                    vx: (vn * 100.0) as i16,
-                    vy: (ve * 100.0) as i16,
-                    vz: 0,
-                    hdg: (yaw.rem_euclid(360.0) * 100.0) as u16,
-                })
-            }
+            GLOBAL_POSITION_INT_DATA::ID => a.global_position(58_000),
             GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 time_usec: self.fc_utc_us(t),
                 lat,
                 lon,
-                alt,
+                alt: a.alt_mm,
                 fix_type: GpsFixType::GPS_FIX_TYPE_3D_FIX,
                 satellites_visible: 12,
                 ..GPS_RAW_INT_DATA::default()
             }),
-            ATTITUDE_DATA::ID => MavMessage::ATTITUDE(ATTITUDE_DATA {
-                time_boot_ms: boot_ms,
-                roll: roll.to_radians() as f32,
-                pitch: pitch.to_radians() as f32,
-                yaw: yaw.to_radians() as f32,
-                ..ATTITUDE_DATA::default()
-            }),
+            ATTITUDE_DATA::ID => a.attitude(),
             _ => return None,
         })
-    }
-
-    /// One 5 ms tick of the MAVLink threads.
-    fn tick(&mut self) {
-        let now = self.now_us;
-        if self.last_heartbeat_us.is_none_or(|l| now - l >= 1_000_000) {
-            self.last_heartbeat_us = Some(now);
-            self.send(&MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-                custom_mode: 0,
-                mavtype: MavType::MAV_TYPE_QUADROTOR,
-                autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
-                base_mode: MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
-                system_status: MavState::MAV_STATE_STANDBY,
-                mavlink_version: 3,
-            }));
-        }
-        if self.info.is_none() && self.last_info_req_us.is_none_or(|l| now - l >= 1_000_000) {
-            self.last_info_req_us = Some(now);
-            self.send(&mav::command_long(
-                MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                [
-                    GIMBAL_DEVICE_INFORMATION_DATA::ID as f32,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                ],
-                (0, 0),
-                0,
-            ));
-        }
-        self.integrate();
-        let ids: Vec<(u32, u64)> = self.intervals.iter().map(|(k, v)| (*k, *v)).collect();
-        for (id, interval) in ids {
-            let due = self.next_due.get(&id).copied().unwrap_or(now);
-            if now >= due {
-                self.next_due.insert(id, (due + interval).max(now));
-                if let Some(m) = self.stream_message(id) {
-                    if let MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) = &m {
-                        self.set_attitudes.push((now, s.clone()));
-                    }
-                    self.send(&m);
-                }
-            }
-        }
-        if let Some(mut gcs) = self.gcs.take() {
-            gcs.poll(now);
-            for f in gcs.transmit() {
-                let at = now;
-                self.out.push((at, f));
-            }
-            self.gcs = Some(gcs);
-        }
     }
 
     /// A frame delivered at `now` whose last byte arrived at `end`.
     fn process(&mut self, now: u64, end: u64, r: mav::Received) {
         let h = r.header;
         self.received.push((now, h, mav::id_of(&r.message)));
-        if let Some(gcs) = self.gcs.as_mut() {
-            let to_gcs = mav::target_of(&r.message)
-                .is_none_or(|(sys, _)| sys == 0 || sys == gcs.config.sysid);
-            if to_gcs {
-                gcs.receive(now, h, &r.message);
-            }
+        if let Some(gcs) = self.gcs.as_mut()
+            && mav::routed_to(&r.message, gcs.config.sysid)
+        {
+            gcs.receive(now, h, &r.message);
         }
         match r.message {
             MavMessage::GIMBAL_DEVICE_INFORMATION(i) if self.info.is_none() => {
@@ -580,8 +404,8 @@ impl Px4 {
                 if t.tc1 == 0 && (t.target_system == 0 || t.target_system == self.config.sysid) =>
             {
                 // The receive thread parses it, reads hrt and answers at once.
-                let parse = end + self.rng.uniform(self.config.parse_latency_us);
-                let tc1 = (self.clock.clock_us(parse) * 1000) as i64;
+                let parse = end + self.board.rng().uniform(self.config.parse_latency_us);
+                let tc1 = (self.board.fc_us(parse) * 1000) as i64;
                 let target = (h.system_id, h.component_id);
                 let at = parse.max(now);
                 let msg = MavMessage::TIMESYNC(TIMESYNC_DATA {
@@ -618,43 +442,81 @@ impl Px4 {
                     self.intervals.remove(&(c.param1 as u32));
                     MavResult::MAV_RESULT_ACCEPTED
                 };
-                self.send(&MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
-                    command: c.command,
-                    result,
-                    progress: 0,
-                    result_param2: 0,
-                    target_system: h.system_id,
-                    target_component: h.component_id,
-                }));
+                self.send(&mav::command_ack(c.command, result, &h));
             }
             _ => {}
         }
     }
+}
 
-    fn update_health(&mut self) {
-        let fresh = self
-            .statuses
-            .last()
-            .is_some_and(|(t, ..)| self.now_us.saturating_sub(*t) < 1_000_000);
-        let healthy = self.info.is_some() && fresh && self.power_on_at.is_none();
-        if healthy != self.healthy {
-            self.healthy = healthy;
-            self.health_log.push((self.now_us, healthy));
+impl Autopilot for Px4 {
+    board_field!();
+
+    /// Frames the MAVLink receiver dropped for a bad checksum or length.
+    fn parse_errors(&self) -> u32 {
+        self.rx.errors()
+    }
+
+    fn take_bytes(&mut self, now_us: u64, bytes: &[u8]) {
+        let byte_us = 1e7 / f64::from(self.config.baud.max(1));
+        for (r, after) in self.rx.push_counting(bytes) {
+            // The frame's last byte came `after` bytes before the chunk's last.
+            let end = now_us.saturating_sub((after as f64 * byte_us).round() as u64);
+            self.process(now_us, end, r);
         }
     }
 
-    /// Power cut at `now_us`, boot as `reboot` says.
-    pub fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        self.poll(now_us);
-        let on = self.clock.reboot(self.now_us, reboot);
-        self.power_on_at = Some(on);
-        let now = self.now_us;
-        self.out.retain(|(at, _)| *at <= now);
-        self.update_health();
+    /// One 5 ms tick of the MAVLink threads.
+    fn run(&mut self) {
+        let now = self.board.now_us();
+        if self.last_heartbeat_us.is_none_or(|l| now - l >= 1_000_000) {
+            self.last_heartbeat_us = Some(now);
+            self.send(&mav::autopilot_heartbeat(
+                MavType::MAV_TYPE_QUADROTOR,
+                MavAutopilot::MAV_AUTOPILOT_PX4,
+            ));
+        }
+        if self.info.is_none() && self.last_info_req_us.is_none_or(|l| now - l >= 1_000_000) {
+            self.last_info_req_us = Some(now);
+            self.send(&mav::request_message(
+                GIMBAL_DEVICE_INFORMATION_DATA::ID,
+                (0, 0),
+            ));
+        }
+        self.integrate();
+        let ids: Vec<(u32, u64)> = self.intervals.iter().map(|(k, v)| (*k, *v)).collect();
+        for (id, interval) in ids {
+            let due = self.next_due.get(&id).copied().unwrap_or(now);
+            if now >= due {
+                self.next_due.insert(id, (due + interval).max(now));
+                if let Some(m) = self.stream_message(id) {
+                    if let MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) = &m {
+                        self.set_attitudes.push((now, s.clone()));
+                    }
+                    self.send(&m);
+                }
+            }
+        }
+        if let Some(mut gcs) = self.gcs.take() {
+            gcs.poll(now);
+            for f in gcs.transmit() {
+                self.board.write_in_order(now, f);
+            }
+            self.gcs = Some(gcs);
+        }
+    }
+
+    fn update_health(&mut self) {
+        let now = self.board.now_us();
+        let fresh = self
+            .statuses
+            .last()
+            .is_some_and(|(t, ..)| now.saturating_sub(*t) < 1_000_000);
+        let healthy = self.info.is_some() && fresh && !self.board.is_off();
+        self.board.set_healthy(healthy);
     }
 
     fn power_on(&mut self) {
-        self.power_on_at = None;
         self.me = Endpoint::new(self.config.sysid, AUTOPILOT);
         self.rx = Rx::default();
         self.mode_streams();
@@ -667,57 +529,9 @@ impl Px4 {
     }
 }
 
-impl FcSim for Px4 {
-    fn receive(&mut self, now_us: u64, bytes: &[u8]) {
-        self.now_us = self.now_us.max(now_us);
-        if let Some(on) = self.power_on_at {
-            if now_us < on {
-                return;
-            }
-            self.power_on();
-        }
-        let byte_us = 1e7 / f64::from(self.config.baud.max(1));
-        for (r, after) in self.rx.push_counting(bytes) {
-            // The frame's last byte came `after` bytes before the chunk's last.
-            let end = now_us.saturating_sub((after as f64 * byte_us).round() as u64);
-            self.process(now_us, end, r);
-        }
-        self.update_health();
-    }
-
-    fn poll(&mut self, now_us: u64) {
-        self.now_us = self.now_us.max(now_us);
-        if let Some(on) = self.power_on_at {
-            if now_us < on {
-                self.update_health();
-                return;
-            }
-            self.power_on();
-        }
-        while self.next_tick_us <= now_us {
-            self.now_us = self.next_tick_us;
-            self.tick();
-            self.next_tick_us += 5_000;
-        }
-        self.now_us = now_us;
-        self.update_health();
-    }
-
-    fn next_wakeup(&self) -> u64 {
-        self.power_on_at.unwrap_or(self.next_tick_us)
-    }
-
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
-        let mut out = std::mem::take(&mut self.out);
-        out.sort_by_key(|(at, _)| *at);
-        out
-    }
-}
-
-impl super::pilot::Pilot for Px4 {
-    const PROTOCOL: bridge_engine::FcProtocol = bridge_engine::FcProtocol::Mavlink;
+impl Pilot for Px4 {
     const DRIVER: &'static str = "PX4 gimbal v2 output (simulated)";
-    type Framing = protocol_core::mavlink::MavlinkFraming;
+    type Frames = MavlinkFrames;
 
     fn with_seed(seed: u64) -> Self {
         Px4::new(Px4Config {
@@ -726,39 +540,11 @@ impl super::pilot::Pilot for Px4 {
         })
     }
 
-    fn framing(_from_fc: bool) -> Self::Framing {
-        protocol_core::mavlink::MavlinkFraming::new()
-    }
-
-    fn describe(frame: &[u8], _from_fc: bool) -> Option<super::pilot::Described> {
-        mav::describe(frame)
-    }
-
-    fn routine(id: u32, from_fc: bool) -> bool {
-        super::ap_mavlink::mavlink_routine(id, from_fc)
-    }
-
-    fn command_name(fc_id: u16) -> String {
-        super::ap_mavlink::mavlink_command_name(fc_id)
-    }
-
-    fn healthy(&self) -> bool {
-        Px4::healthy(self)
-    }
-    fn health_log(&self) -> &[(u64, bool)] {
-        &self.health_log
-    }
-    fn true_utc_us(&self, t_us: u64) -> u64 {
-        self.fc_utc_us(t_us)
-    }
     fn first_utc_sent_us(&self) -> Option<u64> {
-        Px4::first_utc_sent_us(self)
-    }
-    fn aircraft(&self) -> &Aircraft {
-        &self.aircraft
-    }
-    fn parse_errors(&self) -> u32 {
-        Px4::parse_errors(self)
+        self.sent.iter().find_map(|(t, m)| match m {
+            MavMessage::SYSTEM_TIME(_) => Some(*t),
+            _ => None,
+        })
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         Px4::mount_angles(self).map(|(_, pitch, yaw)| (yaw, pitch))
@@ -774,43 +560,29 @@ impl super::pilot::Pilot for Px4 {
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
         self.target = Some(Px4Target::Rate { pitch_dps, yaw_dps });
     }
+    /// Continuous zoom.
     fn zoom(&mut self, rate: i8) {
-        self.zoom_rate(rate);
+        let r = f32::from(rate.signum());
+        self.camera_command(MavCmd::MAV_CMD_SET_CAMERA_ZOOM, [1.0, r, 0.0, 0.0]);
     }
+    /// Takes one picture (a re-emitted camera command).
     fn take_picture(&mut self) {
-        Px4::take_picture(self);
+        self.image_seq += 1;
+        let n = self.image_seq as f32;
+        self.camera_command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, n]);
     }
+    /// Starts or stops recording.
     fn record(&mut self, on: bool) {
-        self.record_video(on);
-    }
-    fn reboot(&mut self, now_us: u64, reboot: FcReboot) {
-        Px4::reboot(self, now_us, reboot);
+        self.camera_command(mav::video_capture(on), [0.0; 4]);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::mav::testing::{Driver, byte_us, uart_chunks};
+    use crate::sim::mav::testing::{Driver, byte_us, set_interval, timesync_request, uart_chunks};
+    use protocol_core::mavlink::dialect::HEARTBEAT_DATA;
     use protocol_core::mavlink::dialect::TIMESYNC_DATA;
-
-    fn request(ts1: i64, target: (u8, u8)) -> MavMessage {
-        MavMessage::TIMESYNC(TIMESYNC_DATA {
-            tc1: 0,
-            ts1,
-            target_system: target.0,
-            target_component: target.1,
-        })
-    }
-
-    fn set_interval(id: u32, interval_us: f32) -> MavMessage {
-        mav::command_long(
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            [id as f32, interval_us, 0.0, 0.0, 0.0, 0.0, 0.0],
-            (1, AUTOPILOT),
-            0,
-        )
-    }
 
     fn system_times(d: &Driver) -> Vec<(u64, SYSTEM_TIME_DATA)> {
         d.frames()
@@ -836,7 +608,7 @@ mod tests {
         for i in 0..40u64 {
             let t0 = 1_000_000 + i * 98_765;
             let ts1 = 9_000_000_000 + i as i64;
-            let req = dev.frame(&request(ts1, (if i % 3 == 0 { 0 } else { 1 }, 1)));
+            let req = dev.frame(&timesync_request(ts1, (if i % 3 == 0 { 0 } else { 1 }, 1)));
             let mut wire = req.clone();
             if i % 2 == 1 {
                 // Bytes behind it in the same chunks.
@@ -887,8 +659,7 @@ mod tests {
         assert!(min < 60.0 && max > 240.0, "{min}..{max}");
         // A request for another system is not answered.
         let n = px4.timesync_answers.len();
-        let req = dev.frame(&request(1, (7, 1)));
-        d.deliver(&mut px4, &uart_chunks(6_000_000, 115_200, &req));
+        d.send(&mut px4, 6_000_000, &mut dev, &timesync_request(1, (7, 1)));
         d.run_until(&mut px4, 6_100_000);
         assert_eq!(px4.timesync_answers.len(), n);
     }
@@ -910,8 +681,8 @@ mod tests {
             d.run_until(&mut px4, 3_000_000);
             assert!(system_times(&d).is_empty(), "{mode:?}");
             let mut dev = Endpoint::new(1, mav::GIMBAL);
-            let cmd = dev.frame(&set_interval(SYSTEM_TIME_DATA::ID, 100_000.0));
-            d.deliver(&mut px4, &uart_chunks(3_000_000, 115_200, &cmd));
+            let cmd = set_interval(SYSTEM_TIME_DATA::ID, 100_000.0);
+            d.send(&mut px4, 3_000_000, &mut dev, &cmd);
             d.run_until(&mut px4, 6_000_000);
             let expected = if honours {
                 MavResult::MAV_RESULT_ACCEPTED
@@ -968,13 +739,13 @@ mod tests {
             .unwrap();
         assert_eq!(ts1, (px4.fc_us(sent_at) * 1000) as i64);
         let mut dev = Endpoint::new(1, mav::GIMBAL);
-        let reply = dev.frame(&MavMessage::TIMESYNC(TIMESYNC_DATA {
+        let reply = MavMessage::TIMESYNC(TIMESYNC_DATA {
             tc1: 42,
             ts1,
             target_system: 1,
             target_component: 1,
-        }));
-        d.deliver(&mut px4, &uart_chunks(10_000_000, 115_200, &reply));
+        });
+        d.send(&mut px4, 10_000_000, &mut dev, &reply);
         assert_eq!(px4.timesync_replies.len(), 1);
         assert_eq!(px4.timesync_replies[0].1, 42);
     }

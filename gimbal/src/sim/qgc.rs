@@ -1,5 +1,6 @@
-//! A QGroundControl-like ground station (camera and gimbal client), written from
-//! `shared/MAVLINK-TRAFFIC.md` §0 and §5. It talks to the device through an autopilot's
+//! A QGroundControl-like ground station (camera and gimbal client), as
+//! docs/src/autopilots/qgroundcontrol.md describes what QGroundControl sends and reads. It
+//! talks to the device through an autopilot's
 //! routing ([`super::ap_mavlink::ApMavlink::gcs`], [`super::px4::Px4::gcs`]): it gets
 //! the device's messages the autopilot forwards and hands it frames to forward.
 //!
@@ -218,12 +219,7 @@ impl Qgc {
 
     /// Video start (all streams, no status stream) or stop.
     pub fn record(&mut self, on: bool) {
-        let cmd = if on {
-            MavCmd::MAV_CMD_VIDEO_START_CAPTURE
-        } else {
-            MavCmd::MAV_CMD_VIDEO_STOP_CAPTURE
-        };
-        self.command(cmd, [0.0; 4]);
+        self.command(mav::video_capture(on), [0.0; 4]);
     }
 
     /// The photo/video switch (only with HAS_MODES).

@@ -17,20 +17,8 @@ use bridge_engine::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
 use super::line::Line;
+use super::peer::Peer;
 use super::pod::SimPod;
-
-/// A simulated flight controller: sans-IO, true time in microseconds.
-pub trait FcSim {
-    /// Bytes from the bridge, the last of them arriving at `now_us`.
-    fn receive(&mut self, now_us: u64, bytes: &[u8]);
-    /// Periodic work due at `now_us`.
-    fn poll(&mut self, now_us: u64);
-    /// When [`FcSim::poll`] is next due (`u64::MAX`: never).
-    fn next_wakeup(&self) -> u64;
-    /// Bytes to send, each batch with the instant it starts on the wire (not before
-    /// the poll that produced it).
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)>;
-}
 
 /// A flight controller that says nothing.
 #[derive(Debug, Default)]
@@ -39,7 +27,7 @@ pub struct SilentFc {
     pub received: Vec<u8>,
 }
 
-impl FcSim for SilentFc {
+impl Peer for SilentFc {
     fn receive(&mut self, _now_us: u64, bytes: &[u8]) {
         self.received.extend_from_slice(bytes);
     }
@@ -47,7 +35,7 @@ impl FcSim for SilentFc {
     fn next_wakeup(&self) -> u64 {
         u64::MAX
     }
-    fn transmit(&mut self) -> Vec<(u64, Vec<u8>)> {
+    fn transmit(&mut self, _now_us: u64) -> Vec<(u64, Vec<u8>)> {
         Vec::new()
     }
 }
@@ -62,7 +50,7 @@ pub struct PinEdge {
 }
 
 /// The engine, its peers and the four lines.
-pub struct Scenario<F: FcSim> {
+pub struct Scenario<F: Peer> {
     /// True time now.
     pub now_us: u64,
     /// The bridge's clock error against true time, parts per million.
@@ -96,7 +84,7 @@ pub struct Scenario<F: FcSim> {
     pub fc_idle_off: bool,
 }
 
-impl<F: FcSim> Scenario<F> {
+impl<F: Peer> Scenario<F> {
     /// A scenario at true time 0 with a bridge clock `bridge_ppm` off.
     pub fn new(config: Config, fc: F, pod: SimPod, bridge_ppm: i64) -> Self {
         Scenario {
@@ -176,14 +164,20 @@ impl<F: FcSim> Scenario<F> {
     /// A noisy FC cable from now on: `faults` in both directions, each with its own seed
     /// ([`Faults::derived`]: 0 into the bridge, 1 out of it); `None`: a good cable.
     pub fn set_fc_faults(&mut self, faults: Option<Faults>) {
-        self.fc_line.set_faults(faults.map(|f| f.derived(0)));
-        self.to_fc_line.set_faults(faults.map(|f| f.derived(1)));
+        self.fc_line.damage.set_faults(faults.map(|f| f.derived(0)));
+        self.to_fc_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(1)));
     }
 
     /// A noisy pod cable, as [`Scenario::set_fc_faults`].
     pub fn set_pod_faults(&mut self, faults: Option<Faults>) {
-        self.pod_line.set_faults(faults.map(|f| f.derived(0)));
-        self.to_pod_line.set_faults(faults.map(|f| f.derived(1)));
+        self.pod_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(0)));
+        self.to_pod_line
+            .damage
+            .set_faults(faults.map(|f| f.derived(1)));
     }
 
     fn fc_is_cut(&self) -> bool {
@@ -266,7 +260,7 @@ impl<F: FcSim> Scenario<F> {
             self.pod.poll(now);
         }
         self.drain_engine();
-        for (at, bytes) in self.fc.transmit() {
+        for (at, bytes) in self.fc.transmit(now) {
             if !self.fc_is_cut() {
                 self.fc_line.send(at.max(now), &bytes);
             }
@@ -311,14 +305,15 @@ mod tests {
     use crate::sim::pod::PodSimConfig;
     use protocol_core::k40t::{CameraVersionQuery, GimbalVersionQuery, MessageData};
 
+    /// The engine between a silent FC and the default pod, the bridge `bridge_ppm` fast.
+    fn silent_fc(bridge_ppm: i64) -> Scenario<SilentFc> {
+        let pod = SimPod::new(PodSimConfig::default());
+        Scenario::new(Config::default(), SilentFc::default(), pod, bridge_ppm)
+    }
+
     #[test]
     fn the_pod_link_comes_up_and_versions_are_asked_once_connected() {
-        let mut s = Scenario::new(
-            Config::default(),
-            SilentFc::default(),
-            SimPod::new(PodSimConfig::default()),
-            40,
-        );
+        let mut s = silent_fc(40);
         s.run_until(3_000_000);
         assert!(s.engine.pod_state().link);
         assert!(s.engine.pod_state().gimbal_version.is_some());
@@ -343,12 +338,7 @@ mod tests {
 
     #[test]
     fn a_pulled_pod_cable_carries_nothing_until_it_is_back() {
-        let mut s = Scenario::new(
-            Config::default(),
-            SilentFc::default(),
-            SimPod::new(PodSimConfig::default()),
-            0,
-        );
+        let mut s = silent_fc(0);
         s.run_until(3_000_000);
         let (pod_rx, pod_tx) = (s.pod.rx_stats().bytes, s.pod_line.bytes_sent);
         let edges = s.pod.rtc_edges().len();
@@ -364,11 +354,14 @@ mod tests {
         // A noisy cable: both directions through their own fault stage.
         s.set_pod_faults(Some(Faults::bit_errors(1e-3, 4)));
         s.run_for(2_000_000);
-        let (a, b) = (s.pod_line.fault_stats(), s.to_pod_line.fault_stats());
+        let (a, b) = (
+            s.pod_line.damage.fault_stats(),
+            s.to_pod_line.damage.fault_stats(),
+        );
         assert!(a.is_some_and(|a| a.bytes_in > 1_000), "{a:?}");
         assert!(b.is_some());
-        assert_eq!(s.fc_line.fault_stats(), None);
+        assert_eq!(s.fc_line.damage.fault_stats(), None);
         s.set_pod_faults(None);
-        assert_eq!(s.pod_line.fault_stats(), None);
+        assert_eq!(s.pod_line.damage.fault_stats(), None);
     }
 }

@@ -7,16 +7,16 @@
 //!        ◀─(fc_out)── task    ─┴─ engine task, RTC_IO ┴─ task    ◀──(pod_in)───
 //! ```
 //!
-//! With [`Bench::with_telemetry`], a third peer (any [`FcSim`]: an autopilot's MAVLink 2
+//! With [`Bench::with_telemetry`], a third peer (any [`Peer`]: an autopilot's MAVLink 2
 //! port, `ap_mavlink::ApMavlink`) is on the bridge's telemetry link
 //! ([`Port::Telemetry`](bridge_engine::Port::Telemetry)), through the same kind of
 //! wire at `telemetry_baud` ([`Wires::tel_in`], [`Wires::tel_out`]).
 //!
 //! Each of the four directions passes through a [`Wire`] on the peer's side: it counts
 //! the bytes, can record them (the demo decodes them), cut them (a cable pulled out, for
-//! good or for a while: [`Wires::pull_fc`], [`Wires::pull_pod`]) or change them (a
-//! [`Corrupter`], or a seeded [`Faults`] model: [`Wires::set_fc_faults`],
-//! [`Wires::set_pod_faults`]), in both directions, and can trickle them one byte at a
+//! good or for a while: [`Wires::cut`], [`Wires::pull`]) or change them (a
+//! [`super::faults::Corrupter`], or a seeded [`Faults`] model: [`Wires::set_faults`]), in
+//! both directions, and can trickle them one byte at a
 //! time at the line's pace or hold them up for a while (into the bridge). RTC_IO goes
 //! to the pod through [`PodPin`]; every record of the tasks' log (engine events, pin
 //! changes, edge-to-frame delays) is kept.
@@ -34,12 +34,11 @@ use embassy_futures::select::{Either3, select3};
 use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
 
-use super::faults::{FaultStage, FaultStats, Faults};
-use super::line::Corrupter;
-use super::peer::{PodPin, now_us, run_peer};
+use super::faults::{Damage, Faults};
+use super::peer::{Peer, PodPin, now_us, run_peer};
 use super::pilot::Pilot;
 use super::pod::{PodSimConfig, SimPod};
-use super::scenario::{FcSim, SilentFc};
+use super::scenario::SilentFc;
 
 /// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
 #[derive(Default)]
@@ -61,8 +60,8 @@ pub struct Wire {
     /// Hold every byte written before this instant (µs) until then (into the bridge
     /// only; [`Wire::hold_for`]).
     pub hold_until_us: u64,
-    corrupt: Option<Box<Corrupter>>,
-    faults: Option<FaultStage>,
+    /// What the wire does to the bytes (nothing by default).
+    pub damage: Damage,
 }
 
 impl core::fmt::Debug for Wire {
@@ -77,28 +76,6 @@ impl core::fmt::Debug for Wire {
 }
 
 impl Wire {
-    /// Changes every chunk with `f(now_us, bytes) -> bytes passed` (either direction).
-    pub fn set_corrupter(&mut self, f: Box<Corrupter>) {
-        self.corrupt = Some(f);
-    }
-
-    /// Stops changing bytes.
-    pub fn clear_corrupter(&mut self) {
-        self.corrupt = None;
-    }
-
-    /// Makes this direction faulty with `faults` from now on (after any corrupter;
-    /// `None` or zero rates: a good wire again). The stage starts afresh from its seed.
-    pub fn set_faults(&mut self, faults: Option<Faults>) {
-        self.faults = faults.filter(|f| !f.is_none()).map(FaultStage::new);
-    }
-
-    /// What the fault model did so far (`None`: no model set).
-    #[must_use]
-    pub fn fault_stats(&self) -> Option<FaultStats> {
-        self.faults.as_ref().map(FaultStage::stats)
-    }
-
     /// Pulls the cable out for `duration_us` from `now_us`: bytes are lost until then.
     pub fn pull_for(&mut self, now_us: u64, duration_us: u64) {
         self.cut_until_us = now_us.saturating_add(duration_us);
@@ -124,13 +101,7 @@ impl Wire {
             self.lost += bytes.len() as u64;
             return None;
         }
-        let mut out = match self.corrupt.as_mut() {
-            Some(f) => f(now_us(), bytes),
-            None => bytes.to_vec(),
-        };
-        if let Some(stage) = self.faults.as_mut() {
-            out = stage.apply(&out);
-        }
+        let out = self.damage.apply(now_us(), bytes);
         self.bytes += out.len() as u64;
         if self.recording && !out.is_empty() {
             self.log.push((now_us(), out.clone()));
@@ -234,6 +205,17 @@ impl<R: Read> Read for WireRx<'_, R> {
     }
 }
 
+/// A cable between the bridge and a peer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cable {
+    /// To the flight controller.
+    Fc,
+    /// To the pod (its UART; RTC_IO is apart).
+    Pod,
+    /// To the autopilot's MAVLink port on the telemetry link.
+    Telemetry,
+}
+
 /// The four directions (six with a telemetry link), named from the bridge's side as
 /// [`HostLinks`] is.
 #[derive(Debug, Default)]
@@ -267,73 +249,40 @@ impl Wires {
         }
     }
 
-    /// Cuts (or mends) both directions of the FC cable.
-    pub fn cut_fc(&self, cut: bool) {
-        self.fc_in.borrow_mut().cut = cut;
-        self.fc_out.borrow_mut().cut = cut;
+    /// Both directions of `cable`: (into the bridge, out of it).
+    #[must_use]
+    pub fn cable(&self, cable: Cable) -> [&RefCell<Wire>; 2] {
+        match cable {
+            Cable::Fc => [&self.fc_in, &self.fc_out],
+            Cable::Pod => [&self.pod_in, &self.pod_out],
+            Cable::Telemetry => [&self.tel_in, &self.tel_out],
+        }
     }
 
-    /// Cuts (or mends) both directions of the pod cable.
-    pub fn cut_pod(&self, cut: bool) {
-        self.pod_in.borrow_mut().cut = cut;
-        self.pod_out.borrow_mut().cut = cut;
+    /// Cuts (or mends) both directions of `cable` (for the pod: not RTC_IO, use
+    /// [`SimPod::set_silent`] for the whole cable).
+    pub fn cut(&self, cable: Cable, cut: bool) {
+        for w in self.cable(cable) {
+            w.borrow_mut().cut = cut;
+        }
     }
 
-    /// Pulls the FC cable out for `duration_us` from `now_us` (both directions; it is
-    /// back by itself then).
-    pub fn pull_fc(&self, now_us: u64, duration_us: u64) {
-        self.fc_in.borrow_mut().pull_for(now_us, duration_us);
-        self.fc_out.borrow_mut().pull_for(now_us, duration_us);
+    /// Pulls `cable` out for `duration_us` from `now_us` (both directions; it is back by
+    /// itself then).
+    pub fn pull(&self, cable: Cable, now_us: u64, duration_us: u64) {
+        for w in self.cable(cable) {
+            w.borrow_mut().pull_for(now_us, duration_us);
+        }
     }
 
-    /// Pulls the pod cable out for `duration_us` from `now_us` (both directions; not
-    /// RTC_IO: use [`SimPod::set_silent`] for the whole cable).
-    pub fn pull_pod(&self, now_us: u64, duration_us: u64) {
-        self.pod_in.borrow_mut().pull_for(now_us, duration_us);
-        self.pod_out.borrow_mut().pull_for(now_us, duration_us);
-    }
-
-    /// A faulty FC cable: `faults` in both directions, each with its own seed derived
-    /// from `faults.seed` ([`Faults::derived`]: 0 into the bridge, 1 out of it).
-    pub fn set_fc_faults(&self, faults: Option<Faults>) {
-        self.fc_in
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(0)));
-        self.fc_out
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(1)));
-    }
-
-    /// A faulty pod cable, as [`Wires::set_fc_faults`].
-    pub fn set_pod_faults(&self, faults: Option<Faults>) {
-        self.pod_in
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(0)));
-        self.pod_out
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(1)));
-    }
-
-    /// Cuts (or mends) both directions of the telemetry cable.
-    pub fn cut_telemetry(&self, cut: bool) {
-        self.tel_in.borrow_mut().cut = cut;
-        self.tel_out.borrow_mut().cut = cut;
-    }
-
-    /// Pulls the telemetry cable out for `duration_us` from `now_us` (both directions).
-    pub fn pull_telemetry(&self, now_us: u64, duration_us: u64) {
-        self.tel_in.borrow_mut().pull_for(now_us, duration_us);
-        self.tel_out.borrow_mut().pull_for(now_us, duration_us);
-    }
-
-    /// A faulty telemetry cable, as [`Wires::set_fc_faults`].
-    pub fn set_telemetry_faults(&self, faults: Option<Faults>) {
-        self.tel_in
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(0)));
-        self.tel_out
-            .borrow_mut()
-            .set_faults(faults.map(|f| f.derived(1)));
+    /// A faulty `cable`: `faults` in both directions, each with its own seed derived from
+    /// `faults.seed` ([`Faults::derived`]: 0 into the bridge, 1 out of it).
+    pub fn set_faults(&self, cable: Cable, faults: Option<Faults>) {
+        for (i, w) in (0..).zip(self.cable(cable)) {
+            w.borrow_mut()
+                .damage
+                .set_faults(faults.map(|f| f.derived(i)));
+        }
     }
 
     fn into_inner(self) -> Wires<Wire> {
@@ -350,7 +299,7 @@ impl Wires {
 
 /// The bridge's tasks, a simulated FC and the simulated pod (and optionally a telemetry
 /// peer `T`), ready to run.
-pub struct Bench<P: Pilot, T: FcSim = SilentFc> {
+pub struct Bench<P: Pilot, T: Peer = SilentFc> {
     /// The bridge's configuration.
     pub config: Config,
     /// The flight controller.
@@ -403,7 +352,7 @@ impl<P: Pilot> Bench<P> {
     }
 }
 
-impl<P: Pilot, T: FcSim> Bench<P, T> {
+impl<P: Pilot, T: Peer> Bench<P, T> {
     /// A bench of these parts with `telemetry` on the bridge's telemetry link (at
     /// `config.telemetry_baud`): an autopilot's MAVLink 2 port beside its FC port.
     pub fn with_telemetry(config: Config, fc: P, pod: SimPod, telemetry: T) -> Self {
@@ -574,8 +523,10 @@ mod tests {
         let (rx, tx) = (RefCell::new(Wire::default()), RefCell::new(Wire::default()));
         // Every bit flipped on the way from the bridge, one garbage byte before each
         // byte on the way to it.
-        rx.borrow_mut().set_faults(Some(Faults::bit_errors(1.0, 1)));
-        tx.borrow_mut().set_faults(Some(Faults {
+        rx.borrow_mut()
+            .damage
+            .set_faults(Some(Faults::bit_errors(1.0, 1)));
+        tx.borrow_mut().damage.set_faults(Some(Faults {
             garbage_rate: 1.0,
             ..Faults::NONE
         }));
@@ -614,8 +565,8 @@ mod tests {
         assert_eq!((sent[1], sent[3]), (1, 2));
         let (r, t) = (rx.into_inner(), tx.into_inner());
         assert_eq!(r.lost, 1);
-        assert_eq!(r.fault_stats().unwrap().bits_flipped, 32);
-        assert_eq!(t.fault_stats().unwrap().garbage_bytes, 2);
+        assert_eq!(r.damage.fault_stats().unwrap().bits_flipped, 32);
+        assert_eq!(t.damage.fault_stats().unwrap().garbage_bytes, 2);
         assert_eq!(t.bytes, 4);
     }
 }

@@ -1,4 +1,4 @@
-//! `gimbal` adapter for the XF Robot GCU protocol.
+//! `gimbal` adapter for the GCU protocol (XF Robot gimbals).
 //!
 //! A capture may hold both directions (host `A8 E5` and GCU `8A 5E` packages). The codec
 //! deframes one direction per framing, so the capture is scanned once per direction and
@@ -13,7 +13,7 @@ use serde_json::{Map, Value, json};
 
 use super::{Decoded, Item, Protocol, as_object, hex, scan_with, untag};
 
-/// The XF Robot GCU protocol.
+/// The GCU protocol.
 pub struct Gcu;
 
 fn to_value<T: serde::Serialize>(v: &T) -> Result<Value, String> {

@@ -1,4 +1,4 @@
-//! `gimbal` adapter for the Viewlink (Viewpro) protocol: serial frames (`55 AA DC`, and
+//! `gimbal` adapter for the Viewlink protocol (Viewpro gimbals): serial frames (`55 AA DC`, and
 //! `AA 55 DC` as the document prints its ACK) and TCP envelopes (`EB 90`).
 
 use protocol_core::viewlink::tcp::{Envelope, TcpFraming};

@@ -13,7 +13,7 @@ use gimbal::sim::FcReboot;
 use gimbal::sim::faults::Faults;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{AckSeq, PodSimConfig, SimPod, SyncOutcome};
-use gimbal::sim::tasks::{Bench, Outcome};
+use gimbal::sim::tasks::{Bench, Cable, Outcome};
 use protocol_core::k40t::{self, AckCode, Address, CrcCoverage, Header, TakePhoto};
 
 use super::{S, TICK, events};
@@ -173,8 +173,8 @@ pub fn faulty_cables<P: Pilot>(ber: f64, drop: f64, seed: u64) -> [usize; 5] {
     let presses: Vec<u64> = (3..=11).map(|i| i * 10 * S + 3 * S).collect();
     let o = bench_with::<P>(PodSimConfig::default()).run(120 * S, TICK, |b, t| {
         if t == 0 {
-            b.wires.set_fc_faults(Some(faults));
-            b.wires.set_pod_faults(Some(faults.derived(7)));
+            b.wires.set_faults(Cable::Fc, Some(faults));
+            b.wires.set_faults(Cable::Pod, Some(faults.derived(7)));
         }
         if t == 15 * S {
             b.fc.borrow_mut().turn(10.0, 0.0);
@@ -207,7 +207,7 @@ pub fn pod_cable_pulled<P: Pilot>(grace_us: u64, back_us: u64) -> (u64, u64) {
     const BACK: u64 = 43 * S;
     let o = bench_with::<P>(PodSimConfig::default()).run(70 * S, TICK, |b, t| {
         if t == PULL {
-            b.wires.pull_pod(t, BACK - PULL);
+            b.wires.pull(Cable::Pod, t, BACK - PULL);
         }
         if t == 55 * S {
             b.fc.borrow_mut().take_picture();
@@ -316,7 +316,7 @@ pub fn fc_cable_pulled<P: Pilot>(stops: bool) {
             b.fc.borrow_mut().turn(15.0, 0.0);
         }
         if t == PULL {
-            b.wires.pull_fc(t, BACK - PULL);
+            b.wires.pull(Cable::Fc, t, BACK - PULL);
         }
         if t == PULL + 800_000 || t == PULL + 2 * S {
             app_photo(&mut b.pod.borrow_mut(), t);

@@ -10,9 +10,10 @@ pub mod faults;
 
 use bridge_engine::{Event, Level};
 use bridge_fw::LogKind;
-use gimbal::sim::pilot::{Pilot, describe_k40t};
+use gimbal::sim::describe::describe_k40t;
+use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::SyncOutcome;
-use gimbal::sim::tasks::{Bench, Outcome};
+use gimbal::sim::tasks::{Bench, Cable, Outcome};
 use protocol_core::k40t::{self, AckCode, K40tFraming, MessageData};
 use protocol_core::wire::{Deframer, Event as WireEvent};
 
@@ -318,7 +319,7 @@ pub fn fc_silence_stops_motion<P: Pilot>(b: Bounds) -> u64 {
             bench.fc.borrow_mut().turn(20.0, 0.0);
         }
         if t == CUT {
-            bench.wires.cut_fc(true);
+            bench.wires.cut(Cable::Fc, true);
         }
         if t >= CUT - S {
             samples.push(sample(bench, t));
@@ -352,10 +353,10 @@ pub fn pod_loss<P: Pilot>(b: Bounds) {
     const BACK: u64 = 15 * S;
     let o = bench::<P>().run(20 * S, TICK, |bench, t| {
         if t == CUT {
-            bench.wires.cut_pod(true);
+            bench.wires.cut(Cable::Pod, true);
         }
         if t == BACK {
-            bench.wires.cut_pod(false);
+            bench.wires.cut(Cable::Pod, false);
         }
     });
     let log = o.fc.health_log();
@@ -390,7 +391,7 @@ pub fn pod_loss<P: Pilot>(b: Bounds) {
 }
 
 /// A pseudo-random garbage maker: every `every`-th write gets `n` bytes in front.
-fn garbage(seed: u64, every: u32, n: usize) -> Box<gimbal::sim::line::Corrupter> {
+fn garbage(seed: u64, every: u32, n: usize) -> Box<gimbal::sim::faults::Corrupter> {
     let mut x = seed | 1;
     let mut count = 0u32;
     Box::new(move |_t, bytes: &[u8]| {
@@ -415,10 +416,15 @@ fn garbage(seed: u64, every: u32, n: usize) -> Box<gimbal::sim::line::Corrupter>
 pub fn garbage_on_both_lines<P: Pilot>() {
     let o = bench::<P>().run(65 * S, TICK, |b, t| {
         if t == 2 * S {
-            b.wires.fc_in.borrow_mut().set_corrupter(garbage(11, 10, 5));
+            b.wires
+                .fc_in
+                .borrow_mut()
+                .damage
+                .set_corrupter(garbage(11, 10, 5));
             b.wires
                 .pod_in
                 .borrow_mut()
+                .damage
                 .set_corrupter(garbage(29, 20, 5));
         }
         if t == 10 * S {

@@ -1,7 +1,7 @@
 //! `qemu-e2e`: the real firmware binary (the `qemu` flavour of bridge-fw) on QEMU's
 //! `b-l475e-iot01a`, one scenario per FC side, between the simulated ArduPilot drivers
-//! (or the K40T FC) and the simulated pod, on wall-clock time. See
-//! `host_tests::emulated`; `scripts/qemu-e2e` builds the firmware and runs this.
+//! (or the K40T FC) and the simulated pod, on wall-clock time. See the `emulated_board`
+//! crate; `scripts/qemu-e2e` builds the firmware and runs this.
 //!
 //! ```text
 //! qemu-e2e --elf PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [SIDE...]
@@ -17,7 +17,7 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
-use host_tests::emulated::{self, Options, Side};
+use emulated_board::{self as emulated, Options, Side};
 
 const USAGE: &str = "usage: qemu-e2e --elf PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [siyi|viewlink|gcu|k40t ...]";
 
@@ -92,43 +92,6 @@ fn parse(args: &[String]) -> Result<Args, String> {
         jobs,
         single,
     })
-}
-
-/// Prints the report of one scenario; true when it passed.
-fn report(o: &emulated::Outcome) -> bool {
-    let ok = o.passed();
-    let figures: Vec<String> = o
-        .checks
-        .iter()
-        .map(|c| format!("{}: {}", c.name, c.detail))
-        .collect();
-    println!(
-        "{} {:<8} ({:.0} s) {}",
-        if ok { "PASS" } else { "FAIL" },
-        o.side.name(),
-        o.wall.as_secs_f64(),
-        figures.join(" | ")
-    );
-    if !ok {
-        for c in o.checks.iter().filter(|c| !c.ok) {
-            println!("    failed: {}: {}", c.name, c.detail);
-        }
-        if o.checks.len() < o.side.checks() {
-            println!(
-                "    {} of {} checks reached",
-                o.checks.len(),
-                o.side.checks()
-            );
-        }
-        println!(
-            "    --- QEMU output ({}), last lines:",
-            o.qemu_out.display()
-        );
-        println!("{}", emulated::tail(&o.qemu_out, 20));
-        println!("    --- GPIO trace ({}), last lines:", o.trace.display());
-        println!("{}", emulated::tail(&o.trace, 10));
-    }
-    ok
 }
 
 /// Runs the scenario of `side` in a child process (this program with `--single`): the
@@ -212,7 +175,7 @@ fn main() -> ExitCode {
                 work: args.options.work.join(side.name()),
                 ..args.options.clone()
             };
-            ok &= report(&emulated::run(side, &options));
+            ok &= emulated::run(side, &options).print();
         }
         return if ok {
             ExitCode::SUCCESS
