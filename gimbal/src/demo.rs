@@ -26,6 +26,7 @@
 //! - a summary: healthy at, commands translated, syncs and their error (p50, max),
 //!   geotags answered, bytes per link direction, frames and records dropped.
 
+use crate::runner::output::time_of_day_text;
 use std::io::{self, Write};
 use std::time::Instant as WallInstant;
 
@@ -381,33 +382,7 @@ fn short(s: &str, max: usize) -> String {
 /// UTC (ms since the Unix epoch) as `2026-11-23T10:00:40.000Z`.
 #[must_use]
 pub fn utc_text(unix_ms: u64) -> String {
-    let days = unix_ms / 86_400_000;
-    let ms_of_day = unix_ms % 86_400_000;
-    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
-    let z = days as i64 + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}-{m:02}-{d:02}T{}Z",
-        time_of_day_text(u32::try_from(ms_of_day).unwrap_or_default())
-    )
-}
-
-/// A time of day in ms as `10:00:40.000`.
-fn time_of_day_text(ms: u32) -> String {
-    format!(
-        "{:02}:{:02}:{:02}.{:03}",
-        ms / 3_600_000,
-        ms / 60_000 % 60,
-        ms / 1000 % 60,
-        ms % 1000
-    )
+    crate::runner::output::iso_utc(unix_ms)
 }
 
 /// Distance between two positions in 1e-7 degrees, m (flat earth: metres apart).

@@ -1,7 +1,7 @@
 //! The bridge's log records as events: one name and a flat set of fields per engine
-//! [`Event`] and per task record ([`What`]). The match is exhaustive on purpose: a new
-//! event of the engine does not compile until it has a name here (and in the README's
-//! table).
+//! [`Event`] and per task record ([`LogKind`]). The match is exhaustive on purpose: a new
+//! event of the engine does not compile until it has a name here (and in the event table
+//! of docs/src/linux-bridge.md).
 
 use bridge_engine::{Counters, Event};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};

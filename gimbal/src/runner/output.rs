@@ -3,7 +3,7 @@
 //!
 //! Every event is an object whose first two keys are `"t_us"` (the local monotonic
 //! clock, µs since the process started: the bridge tasks' own clock) and `"event"` (a
-//! snake_case name); the rest depends on the event (README, "JSON events").
+//! snake_case name); the rest depends on the event (docs/src/linux-bridge.md, the JSON event table).
 
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -58,9 +58,7 @@ pub fn human_line(obj: &Map<String, Value>) -> String {
     let mut rest = if let Some(Value::String(text)) = obj.get("text") {
         text.clone()
     } else {
-        let mut pairs = Vec::new();
-        flatten("", &Value::Object(fields), &mut pairs);
-        pairs.join(" ")
+        crate::tool::flat_pairs(&Value::Object(fields), false).join(" ")
     };
     if let Some(utc) = obj.get("utc_ms").and_then(Value::as_u64) {
         rest.push_str(&format!(" ({})", iso_utc(utc)));
@@ -72,27 +70,6 @@ pub fn human_line(obj: &Map<String, Value>) -> String {
     )
     .trim_end()
     .to_string()
-}
-
-fn flatten(prefix: &str, v: &Value, out: &mut Vec<String>) {
-    if let Some(text) = crate::tool::enum_text(v) {
-        out.push(format!("{prefix}={text}"));
-        return;
-    }
-    match v {
-        Value::Object(m) => {
-            for (k, v) in m {
-                let key = if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                };
-                flatten(&key, v, out);
-            }
-        }
-        Value::String(s) => out.push(format!("{prefix}={s}")),
-        other => out.push(format!("{prefix}={other}")),
-    }
 }
 
 /// `2026-11-23T10:00:40.000Z` for ms since the Unix epoch.
@@ -111,11 +88,20 @@ pub fn iso_utc(unix_ms: u64) -> String {
     let month = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = yoe + era * 400 + i64::from(month <= 2);
     format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z",
-        ms_of_day / 3_600_000,
-        ms_of_day / 60_000 % 60,
-        ms_of_day / 1000 % 60,
-        ms_of_day % 1000
+        "{year:04}-{month:02}-{day:02}T{}Z",
+        time_of_day_text(u32::try_from(ms_of_day).unwrap_or_default())
+    )
+}
+
+/// A time of day in ms as `10:00:40.000`.
+#[must_use]
+pub fn time_of_day_text(ms: u32) -> String {
+    format!(
+        "{:02}:{:02}:{:02}.{:03}",
+        ms / 3_600_000,
+        ms / 60_000 % 60,
+        ms / 1000 % 60,
+        ms % 1000
     )
 }
 

@@ -601,13 +601,7 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                                     host::block_on(pipe.write_all(&bytes));
                                 }
                             }
-                            Err(e)
-                                if matches!(
-                                    e.kind(),
-                                    io::ErrorKind::TimedOut
-                                        | io::ErrorKind::WouldBlock
-                                        | io::ErrorKind::Interrupted
-                                ) => {}
+                            Err(e) if is_transient(&e) => {}
                             Err(e) => break e.to_string(),
                         }
                     };
@@ -655,20 +649,21 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
 
 /// Writes all of `bytes`; a serial device that does not take them within its time-out
 /// is given up to a second.
+/// A read or write that may simply be tried again (a time-out, no data yet, a signal).
+fn is_transient(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+    )
+}
+
 fn write_patiently(w: &mut Conn, mut bytes: &[u8]) -> io::Result<()> {
     let mut stalls = 0;
     while !bytes.is_empty() {
         match w.write(bytes) {
             Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
             Ok(n) => bytes = bytes.get(n..).unwrap_or_default(),
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    io::ErrorKind::TimedOut
-                        | io::ErrorKind::WouldBlock
-                        | io::ErrorKind::Interrupted
-                ) =>
-            {
+            Err(e) if is_transient(&e) => {
                 stalls += 1;
                 if stalls > 20 {
                     return Err(e);
@@ -683,6 +678,65 @@ fn write_patiently(w: &mut Conn, mut bytes: &[u8]) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A host pipe that lives as long as the pump threads.
+    fn pipe() -> &'static HostPipe {
+        Box::leak(Box::new(HostPipe::new()))
+    }
+
+    /// A pump with no taps.
+    fn pump(
+        label: &'static str,
+        spec: &str,
+        baud: u32,
+        out: &Output,
+        pipes: (Option<&'static HostPipe>, Option<&'static HostPipe>),
+        faults: Option<CableFaults>,
+    ) -> Pump {
+        Pump {
+            label,
+            spec: spec.parse().unwrap(),
+            baud,
+            out: out.clone(),
+            incoming: pipes.0,
+            outgoing: pipes.1,
+            tap_in: None,
+            tap_out: None,
+            faults,
+        }
+    }
+
+    /// Waits (up to `tries` times `step_ms`) until at least `count` events named `name`
+    /// were output, and returns those there are.
+    fn wait_for_events(
+        out: &Output,
+        name: &str,
+        count: usize,
+        tries: u32,
+        step_ms: u64,
+    ) -> Vec<serde_json::Map<String, serde_json::Value>> {
+        let mut found = Vec::new();
+        for _ in 0..tries {
+            found = out
+                .captured()
+                .into_iter()
+                .filter(|e| e["event"] == name)
+                .collect();
+            if found.len() >= count {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(step_ms));
+        }
+        found
+    }
+
+    /// Reads exactly `buf.len()` bytes from a pipe.
+    fn read_all(pipe: &HostPipe, buf: &mut [u8]) {
+        let mut n = 0;
+        while n < buf.len() {
+            n += host::block_on(pipe.read(&mut buf[n..]));
+        }
+    }
 
     #[test]
     fn port_specs() {
@@ -814,19 +868,16 @@ mod tests {
     #[test]
     fn tcp_ports_pump_both_ways_and_accept_again() {
         let out = Output::capture();
-        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        let outgoing: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        start(Pump {
-            label: "fc",
-            spec: "tcp-listen:127.0.0.1:0".parse().unwrap(),
-            baud: 115_200,
-            out: out.clone(),
-            incoming: Some(incoming),
-            outgoing: Some(outgoing),
-            tap_in: None,
-            tap_out: None,
-            faults: None,
-        })
+        let (incoming, outgoing) = (pipe(), pipe());
+        let pipes = (Some(incoming), Some(outgoing));
+        start(pump(
+            "fc",
+            "tcp-listen:127.0.0.1:0",
+            115_200,
+            &out,
+            pipes,
+            None,
+        ))
         .unwrap();
         let listening = out.captured();
         assert_eq!(listening[0]["event"], "port_listening");
@@ -835,24 +886,11 @@ mod tests {
             let mut client = TcpStream::connect(&address).unwrap();
             client.write_all(&[round, 1, 2]).unwrap();
             let mut got = [0u8; 3];
-            let mut n = 0;
-            while n < 3 {
-                n += host::block_on(incoming.read(&mut got[n..]));
-            }
+            read_all(incoming, &mut got);
             assert_eq!(got, [round, 1, 2]);
             // The writer needs the connection registered: wait for it.
-            for _ in 0..200 {
-                if out
-                    .captured()
-                    .iter()
-                    .filter(|e| e["event"] == "port_connected")
-                    .count()
-                    > usize::from(round)
-                {
-                    break;
-                }
-                std::thread::sleep(Duration::from_millis(5));
-            }
+            let round_events = usize::from(round) + 1;
+            wait_for_events(&out, "port_connected", round_events, 200, 5);
             host::block_on(outgoing.write_all(&[9, round]));
             let mut back = [0u8; 2];
             client
@@ -862,18 +900,7 @@ mod tests {
             assert_eq!(back, [9, round]);
             drop(client);
             // The close is seen before the next connection is accepted.
-            for _ in 0..400 {
-                if out
-                    .captured()
-                    .iter()
-                    .filter(|e| e["event"] == "port_closed")
-                    .count()
-                    > usize::from(round)
-                {
-                    break;
-                }
-                std::thread::sleep(Duration::from_millis(5));
-            }
+            wait_for_events(&out, "port_closed", round_events, 400, 5);
         }
         let events: Vec<String> = out
             .captured()
@@ -896,40 +923,25 @@ mod tests {
     fn a_faulty_cable_changes_the_bytes_both_ways() {
         // Every bit flipped: what arrives and what leaves is inverted.
         let out = Output::capture();
-        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        let outgoing: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
+        let (incoming, outgoing) = (pipe(), pipe());
         let cable = CableFaults::new(Faults::bit_errors(1.0, 9));
-        start(Pump {
-            label: "pod",
-            spec: "tcp-listen:127.0.0.1:0".parse().unwrap(),
-            baud: 115_200,
-            out: out.clone(),
-            incoming: Some(incoming),
-            outgoing: Some(outgoing),
-            tap_in: None,
-            tap_out: None,
-            faults: Some(cable.clone()),
-        })
+        let (pipes, faults) = ((Some(incoming), Some(outgoing)), Some(cable.clone()));
+        start(pump(
+            "pod",
+            "tcp-listen:127.0.0.1:0",
+            115_200,
+            &out,
+            pipes,
+            faults,
+        ))
         .unwrap();
         let address = out.captured()[0]["address"].as_str().unwrap().to_string();
         let mut client = TcpStream::connect(&address).unwrap();
         client.write_all(&[0x00, 0x0F]).unwrap();
         let mut got = [0u8; 2];
-        let mut n = 0;
-        while n < 2 {
-            n += host::block_on(incoming.read(&mut got[n..]));
-        }
+        read_all(incoming, &mut got);
         assert_eq!(got, [0xFF, 0xF0]);
-        for _ in 0..200 {
-            if out
-                .captured()
-                .iter()
-                .any(|e| e["event"] == "port_connected")
-            {
-                break;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
+        wait_for_events(&out, "port_connected", 1, 200, 5);
         host::block_on(outgoing.write_all(&[0xAA]));
         client
             .set_read_timeout(Some(Duration::from_secs(10)))
@@ -952,19 +964,16 @@ mod tests {
         let path = slave.name().expect("the pty's path");
         drop(slave);
         let out = Output::capture();
-        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        let outgoing: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        start(Pump {
-            label: "pod",
-            spec: format!("{path}:57600").parse().unwrap(),
-            baud: 57_600,
-            out: out.clone(),
-            incoming: Some(incoming),
-            outgoing: Some(outgoing),
-            tap_in: None,
-            tap_out: None,
-            faults: None,
-        })
+        let (incoming, outgoing) = (pipe(), pipe());
+        let pipes = (Some(incoming), Some(outgoing));
+        start(pump(
+            "pod",
+            &format!("{path}:57600"),
+            57_600,
+            &out,
+            pipes,
+            None,
+        ))
         .unwrap();
         let opened = out.captured();
         assert_eq!(opened[0]["event"], "port_opened");
@@ -973,10 +982,7 @@ mod tests {
         let frame = [0xfd, 0x03, 0x04, 0x01, 0x07, 0x00, 0x0a, 0x0d];
         master.write_all(&frame).unwrap();
         let mut got = [0u8; 8];
-        let mut n = 0;
-        while n < got.len() {
-            n += host::block_on(incoming.read(&mut got[n..]));
-        }
+        read_all(incoming, &mut got);
         assert_eq!(
             got, frame,
             "bytes arrive unchanged (raw mode: no CR/LF mapping)"
@@ -997,31 +1003,18 @@ mod tests {
             .unwrap()
             .port();
         let out = Output::capture();
-        let incoming: &'static HostPipe = Box::leak(Box::new(HostPipe::new()));
-        start(Pump {
-            label: "pod",
-            spec: format!("tcp:127.0.0.1:{port}").parse().unwrap(),
-            baud: 115_200,
-            out: out.clone(),
-            incoming: Some(incoming),
-            outgoing: None,
-            tap_in: None,
-            tap_out: None,
-            faults: None,
-        })
+        let incoming = pipe();
+        let spec = format!("tcp:127.0.0.1:{port}");
+        start(pump(
+            "pod",
+            &spec,
+            115_200,
+            &out,
+            (Some(incoming), None),
+            None,
+        ))
         .unwrap();
-        let mut errors = Vec::new();
-        for _ in 0..400 {
-            errors = out
-                .captured()
-                .into_iter()
-                .filter(|e| e["event"] == "port_error")
-                .collect();
-            if errors.len() >= 2 {
-                break;
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        }
+        let errors = wait_for_events(&out, "port_error", 2, 400, 10);
         assert!(errors.len() >= 2, "{errors:?}");
         assert_eq!(errors[0]["port"], "pod");
         assert!(
@@ -1039,10 +1032,7 @@ mod tests {
         let (mut s, _) = listener.accept().unwrap();
         s.write_all(b"hi").unwrap();
         let mut got = [0u8; 2];
-        let mut n = 0;
-        while n < 2 {
-            n += host::block_on(incoming.read(&mut got[n..]));
-        }
+        read_all(incoming, &mut got);
         assert_eq!(&got, b"hi");
     }
 }

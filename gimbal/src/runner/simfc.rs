@@ -39,6 +39,19 @@ pub fn system_utc_us() -> u64 {
         .map_or(0, |d| u64::try_from(d.as_micros()).unwrap_or(u64::MAX))
 }
 
+/// `$body` with `$f` bound to the simulator inside `$fc`, whichever it is.
+macro_rules! each_fc {
+    ($fc:expr, $f:ident => $body:expr) => {
+        match $fc {
+            AnyFc::Siyi($f) => $body,
+            AnyFc::Viewlink($f) => $body,
+            AnyFc::Gcu($f) => $body,
+            AnyFc::K40t($f) => $body,
+            AnyFc::Mavlink($f) => $body,
+        }
+    };
+}
+
 impl AnyFc {
     /// The simulator of `fc` whose UTC is the host's: at task time `now_us` it reads
     /// `utc_now_us`.
@@ -67,23 +80,11 @@ impl AnyFc {
     }
 
     fn sim(&mut self) -> &mut dyn Peer {
-        match self {
-            AnyFc::Siyi(f) => f,
-            AnyFc::Viewlink(f) => f,
-            AnyFc::Gcu(f) => f,
-            AnyFc::K40t(f) => f,
-            AnyFc::Mavlink(f) => f,
-        }
+        each_fc!(self, f => f)
     }
 
     fn sim_ref(&self) -> &dyn Peer {
-        match self {
-            AnyFc::Siyi(f) => f,
-            AnyFc::Viewlink(f) => f,
-            AnyFc::Gcu(f) => f,
-            AnyFc::K40t(f) => f,
-            AnyFc::Mavlink(f) => f,
-        }
+        each_fc!(self, f => f)
     }
 
     /// The driver's `healthy()` (K40T: a frame from the bridge within 2 s).

@@ -1,7 +1,7 @@
 //! `gimbal` adapter for the K40T pod protocol.
 
 use protocol_core::k40t::{CATALOG, CrcCoverage, Frame, K40tFraming, Kind, Message, Packet};
-use serde_json::{Value, json};
+use serde_json::json;
 
 use super::{Decoded, Item, Protocol, scan_with, untag};
 
@@ -26,7 +26,7 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
         Message::Raw(r) => json!({ "payload": super::hex(r.payload) }),
     };
     let h = packet.header;
-    let mut fields = json!({
+    let header = json!({
         "kind": kind,
         "src": format!("{:02x}:{:02x}", h.src.system, h.src.component),
         "dst": format!("{:02x}:{:02x}", h.dst.system, h.dst.component),
@@ -36,14 +36,8 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
             CrcCoverage::ExcludeStx => "exclude-stx",
         },
     });
-    if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
-        f.extend(p);
-    }
-    Ok(Decoded {
-        msg_id: u64::from(id.to_u32()),
-        name: packet.message.name().to_string(),
-        fields,
-    })
+    let name = packet.message.name().to_string();
+    Ok(Decoded::new(u64::from(id.to_u32()), name, header, payload))
 }
 
 impl Protocol for K40t {

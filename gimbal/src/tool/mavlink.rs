@@ -27,21 +27,18 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
         ),
     };
     let h = packet.header;
-    let mut fields = json!({
+    let header = json!({
         "sys": h.system_id,
         "comp": h.component_id,
         "seq": h.sequence,
         "signed": packet.signature.is_some(),
     });
-    if let (Value::Object(f), Value::Object(mut p)) = (&mut fields, payload) {
+    let mut payload = payload;
+    if let Value::Object(p) = &mut payload {
+        // The message's own name is the item's name already.
         p.remove("type");
-        f.extend(p);
     }
-    Ok(Decoded {
-        msg_id: u64::from(id),
-        name,
-        fields,
-    })
+    Ok(Decoded::new(u64::from(id), name, header, payload))
 }
 
 impl Protocol for Mavlink {

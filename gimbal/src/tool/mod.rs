@@ -26,6 +26,22 @@ pub struct Decoded {
     pub fields: Value,
 }
 
+impl Decoded {
+    /// A message: the header's fields first, then the payload's (both JSON objects).
+    #[must_use]
+    pub fn new(msg_id: u64, name: String, header: Value, payload: Value) -> Self {
+        let mut fields = header;
+        if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
+            f.extend(p);
+        }
+        Decoded {
+            msg_id,
+            name,
+            fields,
+        }
+    }
+}
+
 /// One item of a capture.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Item {
@@ -230,40 +246,42 @@ pub fn enum_text(v: &Value) -> Option<String> {
 
 /// Flattens fields to `key=value` pairs for the human-readable line.
 pub fn flat_fields(v: &Value) -> String {
-    fn walk(prefix: &str, v: &Value, out: &mut Vec<String>) {
-        if let Some(text) = enum_text(v) {
-            out.push(if prefix.is_empty() {
-                text
-            } else {
-                format!("{prefix}={text}")
-            });
-            return;
-        }
-        match v {
-            Value::Object(m) => {
+    flat_pairs(v, true).join(" ")
+}
+
+/// Flattens a JSON value to `key=value` pairs, nested keys joined with dots, the
+/// enumerations as [`enum_text`], arrays of numbers compact; strings quoted or not.
+pub fn flat_pairs(v: &Value, quote_strings: bool) -> Vec<String> {
+    fn walk(prefix: &str, v: &Value, quote: bool, out: &mut Vec<String>) {
+        let text = match (enum_text(v), v) {
+            (Some(text), _) => text,
+            (None, Value::Object(m)) => {
                 for (k, v) in m {
                     let key = if prefix.is_empty() {
                         k.clone()
                     } else {
                         format!("{prefix}.{k}")
                     };
-                    walk(&key, v, out);
+                    walk(&key, v, quote, out);
                 }
+                return;
             }
-            Value::Array(a) if a.iter().all(Value::is_number) => {
+            (None, Value::Array(a)) if a.iter().all(Value::is_number) => {
                 let s = a.iter().map(Value::to_string).collect::<Vec<_>>().join(",");
-                out.push(format!("{prefix}=[{s}]"));
+                format!("[{s}]")
             }
-            other => out.push(if prefix.is_empty() {
-                other.to_string()
-            } else {
-                format!("{prefix}={other}")
-            }),
-        }
+            (None, Value::String(s)) if !quote => s.clone(),
+            (None, other) => other.to_string(),
+        };
+        out.push(if prefix.is_empty() {
+            text
+        } else {
+            format!("{prefix}={text}")
+        });
     }
     let mut out = Vec::new();
-    walk("", v, &mut out);
-    out.join(" ")
+    walk("", v, quote_strings, &mut out);
+    out
 }
 
 /// One output line for an item.

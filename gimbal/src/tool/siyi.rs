@@ -6,7 +6,7 @@
 
 use protocol_core::Direction;
 use protocol_core::siyi::{CATALOG, MAX_PAYLOAD_LEN, Message, Packet, SiyiFraming};
-use serde_json::{Value, json};
+use serde_json::json;
 
 use super::{Decoded, Item, Protocol, scan_with, untag};
 
@@ -27,21 +27,15 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
         Direction::FromGimbal => "reply",
     };
     let h = packet.header;
-    let mut fields = json!({
+    let header = json!({
         "direction": direction,
         "ctrl": h.ctrl.0,
         "need_ack": h.ctrl.need_ack(),
         "is_ack": h.ctrl.is_ack(),
         "seq": h.seq,
     });
-    if let (Value::Object(f), Value::Object(p)) = (&mut fields, payload) {
-        f.extend(p);
-    }
-    Ok(Decoded {
-        msg_id: u64::from(message.id()),
-        name: message.name().to_string(),
-        fields,
-    })
+    let name = message.name().to_string();
+    Ok(Decoded::new(u64::from(message.id()), name, header, payload))
 }
 
 impl Protocol for Siyi {
