@@ -106,6 +106,13 @@ protocol_core::wire_derive! {
             /// The telemetry link is the source.
             telemetry: bool,
         },
+        /// A command that erases (MAVLink MAV_CMD_STORAGE_FORMAT 526, MAV_CMD_RESET_CAMERA_SETTINGS
+        /// 529) was DENIED: the configuration does not allow destructive commands
+        /// (`mavlink.allow_destructive`).
+        DestructiveDenied {
+            /// The FC protocol's command id.
+            command: u16,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.

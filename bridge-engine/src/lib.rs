@@ -74,7 +74,9 @@ pub mod queue;
 pub mod sync;
 pub mod time;
 
-pub use config::{Config, FcProtocol, GcuIdentity, PodConfig, SiyiIdentity, ViewlinkIdentity};
+pub use config::{
+    Config, FcProtocol, GcuIdentity, MavlinkConfig, PodConfig, SiyiIdentity, ViewlinkIdentity,
+};
 pub use event::{Counters, Event, Port};
 pub use pod::PodState;
 pub use time::{Duration, Instant, UtcTime};

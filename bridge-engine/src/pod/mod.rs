@@ -32,6 +32,7 @@
 mod ack;
 mod command;
 mod motion;
+mod settings;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -46,10 +47,10 @@ use super::time::{Duration, Instant};
 use ack::{Outstanding, PENDING, Pending, SUPERSEDED};
 use motion::{MotionState, MotionTarget};
 use protocol_core::k40t::{
-    self, AckCode, Address, CameraVersionQuery, CrcCoverage, Frame, GimbalAttitude, GimbalStatus,
-    GimbalVersionQuery, GpsReply, GpsRequest, Header, IrStatus, Kind, LaserPeriodicStatus,
-    MessageData, PhotoStatus, RecordStatus, Request, SystemStatus, TimeSync, UpgradeStatus,
-    VisibleStatus, ZoomStatus,
+    self, AckCode, Address, CameraVersionQuery, CrcCoverage, FormatStatus, Frame, GimbalAttitude,
+    GimbalStatus, GimbalVersionQuery, GpsReply, GpsRequest, Header, IrStatus, Kind,
+    LaserPeriodicStatus, MessageData, PhotoStatus, RecordStatus, Request, SystemStatus, TimeSync,
+    UpgradeStatus, VisibleStatus, ZoomStatus,
 };
 
 /// Something the engine acts on, from the pod side.
@@ -131,6 +132,9 @@ impl PodDriver {
                 mode: None,
                 ranging: false,
                 ai: false,
+                ir_params: None,
+                visible_params: None,
+                format: None,
             },
             last_report: None,
             next_probe: None,
@@ -341,6 +345,8 @@ impl PodDriver {
             self.state.zoom = Some(z.state);
         } else if let Some(d) = typed::<LaserPeriodicStatus>(frame) {
             self.state.laser_dm = Some((d.0.distance_dm, now));
+        } else if let Some(f) = typed::<FormatStatus>(frame) {
+            self.state.format = Some(f.state);
         }
     }
 

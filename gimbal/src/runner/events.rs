@@ -91,6 +91,10 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
                 CrcCoverage::ExcludeStx => "exclude-stx",
             }}),
         ),
+        Event::DestructiveDenied { command } => (
+            "destructive_denied",
+            json!({"command": command, "key": "mavlink.allow_destructive"}),
+        ),
         Event::Dropped { port, frames } => (
             "dropped",
             json!({"port": port_name(port), "frames": frames}),

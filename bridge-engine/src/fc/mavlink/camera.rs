@@ -670,11 +670,11 @@ impl MavlinkSide {
             flags,
             resolution_h: 0,
             resolution_v: 0,
-            cam_definition_version: 0,
+            cam_definition_version: super::ftp::DEFINITION_VERSION,
             vendor_name: name::<32>(VENDOR),
             model_name: name::<32>(MODEL),
             lens_id: 0,
-            cam_definition_uri: CharArray::from([0u8; 140]),
+            cam_definition_uri: CharArray::from(name::<140>(super::ftp::DEFINITION_URI)),
             gimbal_device_id: Comp::Gimbal.id(),
             camera_device_id: 0,
         });
@@ -698,7 +698,7 @@ impl MavlinkSide {
     }
 
     /// STORAGE_INFORMATION from the pod's SD card (capacities in units of 10 MB).
-    fn storage_information(&mut self, ctx: &mut Ctx<'_>) {
+    pub(super) fn storage_information(&mut self, ctx: &mut Ctx<'_>) {
         let system = ctx.pod().system;
         let status = match system.map(|s| s.sd) {
             None => StorageStatus::STORAGE_STATUS_NOT_SUPPORTED,
