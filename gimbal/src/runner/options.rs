@@ -287,6 +287,12 @@ pub struct ConfigArgs {
     #[arg(long)]
     #[serde(rename = "pod.pitch_positive_down", skip_serializing_if = "is_false")]
     pub pod_pitch_positive_down: bool,
+    /// MAVLink side: carry out the commands that erase (storage format: the pod's SD card;
+    /// camera reset: the pod's factory reset, its IP address included); without it they
+    /// are refused (DENIED).
+    #[arg(long)]
+    #[serde(rename = "mavlink.allow_destructive", skip_serializing_if = "is_false")]
+    pub mavlink_allow_destructive: bool,
     /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
     /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",

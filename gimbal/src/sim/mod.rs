@@ -6,6 +6,7 @@ pub mod ap_siyi;
 pub mod ap_viewpro;
 pub mod ap_xfrobot;
 pub mod board;
+pub mod camera_settings;
 pub mod clock;
 pub mod describe;
 pub mod faults;

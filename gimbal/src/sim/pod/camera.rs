@@ -43,6 +43,7 @@ pub(super) fn initial_camera(
         track: None,
         ev: Ev::Auto,
         ae_lock: AeLock::Off,
+        settings: PodSettings::default(),
     }
 }
 

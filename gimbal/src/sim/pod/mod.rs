@@ -150,7 +150,10 @@
 //! - Settings that show in the reports: capture mode 0x000300, photo parameters 0x000301,
 //!   bitrate 0x000308, codec 0x00030B, image mode 0x000318 (the stream field of
 //!   0x000003), EV 0x000205, AE lock 0x00020A; palette 0x000106 and measurement switch
-//!   0x000108 show in the 0x000100 ACK.
+//!   0x000108 show in the 0x000100 ACK. Every other set command of 3.2.2 and 3.2.3, the
+//!   watermark 0x000314, the format 0x00030D and the factory reset 0x00030F: see
+//!   `settings.rs` ([`PodSettings`]); the all-settings ACKs 0x000100 and 0x000200 report
+//!   them all.
 //! - Laser: 0x000400 single ranging answers the configured distance
 //!   ([`SimPod::set_laser_distance_dm`]; 0 when the command is "disable"); 0x000406
 //!   sends 0x020406 with the distance at once and every second until disabled.
@@ -208,7 +211,8 @@
 //! `photos().len() == photo_requests()` and one request per press.
 //!
 //! **Not modelled.** Serial line timing (the caller delivers bytes when it wants;
-//! [`SimPod::transmit`] returns everything generated so far), SD card space and errors,
+//! [`SimPod::transmit`] returns everything generated so far), SD card space and errors
+//! (a fixed card, emptied by a format),
 //! upgrades, the soft restart command (0x00002F: ACKed, nothing restarts; a power
 //! cycle is [`SimPod::reboot`]), a boot time before the first report (the pod reports at
 //! the instant it is powered), IR image content, electronic zoom of the wide and IR
@@ -221,6 +225,7 @@ mod frames;
 mod motion;
 mod records;
 mod schedule;
+mod settings;
 mod time;
 
 use camera::{PhotoJob, initial_camera, record_status};
@@ -233,6 +238,7 @@ pub use records::{
     TxRecord,
 };
 use schedule::{ONE_SECOND_US, ZOOM_STATUS_PERIOD_US};
+pub use settings::{FORMAT_US, PodSettings};
 use time::PodClock;
 
 use super::XorShift;
@@ -240,14 +246,14 @@ use std::collections::{BTreeMap, VecDeque};
 
 use protocol_core::k40t::{
     self, Ack, AckCode, Address, AeLock, CameraVersionAck, CaptureMode, CrcCoverage, Ev, FocusMode,
-    FocusState, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction, GimbalStatus,
-    GimbalVersionAck, GpsReply, GpsRequest, Header, ImageMode, IpConfigAck, IrGain, IrParams,
-    IrStatus, K40t, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus, Lens, Links,
-    MAX_FRAME_LEN, MeasureConfig, MeasureSwitch, Message, MessageData, Metering, MsgId, OnOff,
-    Packet, Palette, PhotoMode, PhotoResolution, PhotoSensors, PhotoState, PhotoStatus,
-    PitchMotion, PointToAim, PreviewResolution, Raw, RecordAction, RecordSensors, RecordState,
-    RecordStatus, Request, ResponseCode, SbusChannelMap, SbusConfig, SdState, SelfTest,
-    ShootAction, Shutter, StabilizationState, StreamBitrate, SwitchLevel, SystemStatus,
+    FocusState, FormatStatus, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction,
+    GimbalStatus, GimbalVersionAck, GpsReply, GpsRequest, Header, ImageMode, IpConfigAck, IrGain,
+    IrParams, IrStatus, K40t, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus,
+    Lens, Links, MAX_FRAME_LEN, MeasureConfig, MeasureSwitch, Message, MessageData, Metering,
+    MsgId, OnOff, Packet, Palette, PhotoMode, PhotoResolution, PhotoSensors, PhotoState,
+    PhotoStatus, PitchMotion, PointToAim, PreviewResolution, Raw, RecordAction, RecordSensors,
+    RecordState, RecordStatus, Request, ResponseCode, SbusChannelMap, SbusConfig, SdState,
+    SelfTest, ShootAction, Shutter, StabilizationState, StreamBitrate, SwitchLevel, SystemStatus,
     TargetGpsAck, TargetGpsRequest, Toggle, TrackBox, UpgradeState, Version, VideoCodec,
     VideoResolution, VisibleParams, VisibleStatus, WhiteBalance, YawMotion, ZoomControl, ZoomState,
     ZoomStatus,

@@ -170,6 +170,8 @@ pub struct CameraState {
     pub ev: Ev,
     /// AE lock (0x00020A).
     pub ae_lock: AeLock,
+    /// The other settings of 0x000100 and 0x000200, and the card's format.
+    pub settings: PodSettings,
 }
 
 /// A level change of RTC_IO.
