@@ -251,6 +251,17 @@ impl SettingsClient {
         !self.params.is_empty() && self.params.values().all(|p| p.value.is_some())
     }
 
+    /// Asks for every parameter again (QGroundControl's PARAM_EXT_REQUEST_LIST, as after
+    /// a camera reset).
+    pub fn request_list(&mut self) {
+        self.out.push(MavMessage::PARAM_EXT_REQUEST_LIST(
+            PARAM_EXT_REQUEST_LIST_DATA {
+                target_system: self.target.0,
+                target_component: self.target.1,
+            },
+        ));
+    }
+
     /// Sets `name` to `value` (queued behind a set in progress).
     pub fn set(&mut self, name: &str, value: u64) {
         self.sets.push_back((name.to_owned(), value));

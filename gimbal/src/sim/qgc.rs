@@ -203,6 +203,11 @@ impl Qgc {
         self.send(&msg);
     }
 
+    /// Sends `msg` as it is (tests: what no ground station sends).
+    pub fn send_message(&mut self, msg: &MavMessage) {
+        self.send(msg);
+    }
+
     /// Queues a camera command (sent when the one before it is answered).
     pub fn command(&mut self, cmd: MavCmd, p: [f32; 4]) {
         let Some(compid) = self.camera.as_ref().map(|c| c.compid) else {
