@@ -136,6 +136,13 @@ impl Params {
         send.into_iter().chain(pending).chain(recent).min()
     }
 
+    /// The clients were told `value` for `s`.
+    fn told(&mut self, s: Setting, value: u8) {
+        if let Some(r) = self.reported.get_mut(s.index()) {
+            *r = value;
+        }
+    }
+
     fn mark(&mut self, s: Setting) {
         self.to_send |= 1u64 << (s.index() % 64);
     }
@@ -277,7 +284,7 @@ impl MavlinkSide {
         };
         if self.known_value(ctx, s) == Some(value) {
             self.param_ack(ctx, s, value, ack::ACCEPTED);
-            self.params.reported[s.index() % COUNT] = value;
+            self.params.told(s, value);
             return;
         }
         if !ctx.pod().link {
@@ -370,7 +377,7 @@ impl MavlinkSide {
         if let Some(slot) = slot.and_then(|i| recent.get_mut(i)) {
             *slot = Some(held);
         }
-        self.params.reported[s.index() % COUNT] = set.value;
+        self.params.told(s, set.value);
         self.param_ack(ctx, s, set.value, ack::ACCEPTED);
         // Read the pod's settings back.
         match s.source() {
@@ -381,6 +388,7 @@ impl MavlinkSide {
     }
 
     /// The pod came back: its settings are asked for.
+    #[allow(clippy::unused_self)] // with the side's other reactions to the pod
     pub(super) fn params_pod_up(&mut self, ctx: &mut Ctx<'_>) {
         ctx.pod.query_settings(ctx.now, true, true, ctx.out);
     }
@@ -436,9 +444,7 @@ impl MavlinkSide {
     /// PARAM_EXT_VALUE of `s`, from the camera.
     fn param_value_message(&mut self, ctx: &mut Ctx<'_>, s: Setting) {
         let value = self.param_value(ctx, s);
-        if let Some(r) = self.params.reported.get_mut(s.index()) {
-            *r = value;
-        }
+        self.params.told(s, value);
         let mut p = [0u8; 149];
         let count = u16::try_from(COUNT).unwrap_or(0).to_le_bytes();
         let index = u16::try_from(s.index()).unwrap_or(0).to_le_bytes();
