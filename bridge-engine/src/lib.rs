@@ -781,7 +781,7 @@ impl EngineState {
         match n {
             PodNotice::LinkUp => self.out.event(Event::PodLinkUp),
             PodNotice::LinkDown => self.out.event(Event::PodLinkDown),
-            PodNotice::Acked { .. } | PodNotice::TimedOut { .. } => {}
+            PodNotice::Acked { .. } | PodNotice::TimedOut { .. } | PodNotice::Photo(_) => {}
             PodNotice::GpsRequest { header, request } => {
                 let (fc, mut ctx) = self.ctx(now);
                 if !fc.gps_request(&mut ctx, header, request) {

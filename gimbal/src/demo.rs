@@ -703,7 +703,10 @@ fn story<P: Pilot>(
             Some(r) if r.reply.code.code() == protocol_core::k40t::AckCode::Ok => {
                 answered += 1;
                 let fix = (r.reply.lat_e7, r.reply.lon_e7);
-                let at = o.pod.photos().get(req.photo).map_or(req.at_us, |p| p.at_us);
+                let at = req
+                    .photo
+                    .and_then(|i| o.pod.photos().get(i))
+                    .map_or(req.at_us, |p| p.at_us);
                 let off = metres_apart(fix, o.fc.aircraft().position_e7(at));
                 geotag_error_max_m = Some(geotag_error_max_m.map_or(off, |m| m.max(off)));
                 format!(

@@ -43,6 +43,7 @@
 
 mod autopilot;
 mod camera;
+mod capture;
 mod gimbal;
 mod math;
 #[cfg(feature = "telemetry")]
@@ -281,6 +282,7 @@ impl FcHandler for MavlinkSide {
                 self.camera_pod_answer(ctx, base, code == protocol_core::k40t::AckCode::Ok);
             }
             PodNotice::TimedOut { base } => self.camera_pod_answer(ctx, base, false),
+            PodNotice::Photo(state) => self.capture_photo_status(ctx, state),
             PodNotice::GpsRequest { .. } => {}
         }
     }
@@ -289,7 +291,7 @@ impl FcHandler for MavlinkSide {
     /// the engine answers it from the fix history.
     fn gps_request(&mut self, ctx: &mut Ctx<'_>, header: PodHeader, request: GpsRequest) -> bool {
         let _ = header;
-        self.camera_gps_request(ctx, request);
+        self.capture_gps_request(ctx, request);
         false
     }
 }
