@@ -675,6 +675,10 @@ fn story<P: Pilot>(
             Event::FcSilenceStop => {
                 "the FC went silent while the pod turned: pod stopped".to_string()
             }
+            Event::NoTimeOrFixes { .. } => "the autopilot's link gives no time and no \
+                position (PX4 1.16 in mode Gimbal): no time syncs, no geotags; set it to mode \
+                Normal or connect the telemetry link"
+                .to_string(),
             other => format!("{other:?}"),
         };
         lines.push(Line {

@@ -121,9 +121,10 @@ pub struct BridgeArgs {
     #[arg(long, value_name = "PORT", value_parser = parse_port)]
     pub pod_port: PortSpec,
     /// The autopilot's MAVLink 2 telemetry port (ArduPilot `SERIALn_PROTOCOL 2`, PX4
-    /// `MAV_n_CONFIG`), beside the FC link of any --fc but mavlink: time (TIMESYNC,
-    /// SYSTEM_TIME) and fixes come from it while it gives them. A serial device or TCP
-    /// port (not `sim`). Default: no telemetry link.
+    /// `MAV_n_CONFIG`), beside the FC link of any --fc (with mavlink: when the FC link
+    /// gives no time, as PX4 1.16's in mode Gimbal): time (TIMESYNC, SYSTEM_TIME) and
+    /// fixes come from it while it gives them. A serial device or TCP port (not `sim`).
+    /// Default: no telemetry link.
     #[arg(long, value_name = "PORT", value_parser = parse_telemetry_port)]
     pub telemetry_port: Option<PortSpec>,
     /// The RTC_IO output: `gpiochip0:LINE[:active-low]` (a GPIO line through the

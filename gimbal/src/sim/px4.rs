@@ -611,6 +611,10 @@ impl Pilot for Px4 {
             _ => None,
         })
     }
+    /// The UTC PX4 reports (with SITL in lockstep: the host's).
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.utc_us(t_us)
+    }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         Px4::mount_angles(self).map(|(_, pitch, yaw)| (yaw, pitch))
     }
