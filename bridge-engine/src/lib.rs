@@ -427,7 +427,7 @@ impl Engine {
                 fc_last: None,
                 fc_link: false,
                 #[cfg(feature = "telemetry")]
-                tel: fc::TelemetryLink::for_config(&config),
+                tel: Some(fc::TelemetryLink::telemetry()),
                 tel_source: false,
                 config,
             },

@@ -1,7 +1,10 @@
 """The real-client rig: the bridge (`gimbal bridge --fc mavlink`, the real runner on the
 host's clock, the simulated pod in its process) on a TCP port of a simulated autopilot
 (`gimbal sim-fc mavlink`: PX4 or ArduPilot, routing as they route), whose ground link is
-a UDP port MAVSDK listens on, as a ground app on a GCS link (see docs/src/testing.md).
+a UDP port the ground app listens on: MAVSDK (`Rig.start()`), or pymavlink where MAVSDK
+has no API (`Rig.start(client="pymavlink")`, then `rig.mav`). The simulated autopilot
+answers where the ground app's datagrams come from: one client per rig (see
+docs/src/testing.md).
 
 One rig per test module (`Rig.start()` in `setUpModule`); every wait is bounded.
 """
@@ -16,6 +19,10 @@ from pathlib import Path
 
 import mavsdk
 from mavsdk import ComponentType, Configuration, Mavsdk
+
+# pymavlink: MAVLink 2 and the common dialect (camera and gimbal ids are above 255).
+os.environ.setdefault("MAVLINK20", "1")
+os.environ.setdefault("MAVLINK_DIALECT", "common")
 
 ROOT = Path(__file__).resolve().parents[2]
 GIMBAL = Path(os.environ.get("GIMBAL_BIN", ROOT / "target" / "debug" / "gimbal"))
@@ -113,8 +120,9 @@ class Rig:
         self.bridge = None
         self.mavsdk = None
         self.system = None
+        self.mav = None
 
-    def start(self, timeout_s=20):
+    def start(self, timeout_s=20, client="mavsdk"):
         if not GIMBAL.exists():
             raise RuntimeError(f"{GIMBAL} missing: build it (cargo build -p gimbal)")
         fc_port = free_port()
@@ -131,6 +139,16 @@ class Rig:
              "--fc-port", f"tcp:127.0.0.1:{fc_port}", "--pod-port", "sim",
              "--events", "json", *self.bridge_args],
         )
+        if client == "pymavlink":
+            from pymavlink import mavutil
+
+            # As a ground station: system 255, component 190.
+            self.mav = mavutil.mavlink_connection(
+                f"udpin:127.0.0.1:{self.gcs_port}", source_system=255, source_component=190)
+            hb = self.mav.wait_heartbeat(timeout=timeout_s)
+            if hb is None:
+                raise AssertionError(self.report("no HEARTBEAT within the time-out"))
+            return self
         config = Configuration.create_with_component_type(ComponentType.GROUND_STATION)
         self.mavsdk = Mavsdk(config)
         result = self.mavsdk.add_any_connection(f"udpin://127.0.0.1:{self.gcs_port}")
@@ -156,6 +174,18 @@ class Rig:
         if self.mavsdk is not None:
             self.mavsdk.destroy()
             self.mavsdk = None
+        if self.mav is not None:
+            self.mav.close()
+            self.mav = None
+
+    def recv(self, msg_type, predicate=lambda m: True, timeout_s=10):
+        """pymavlink: the next message of `msg_type` that `predicate` accepts (bounded)."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            m = self.mav.recv_match(type=msg_type, blocking=True, timeout=0.2)
+            if m is not None and predicate(m):
+                return m
+        raise AssertionError(self.report(f"no {msg_type} within {timeout_s} s"))
 
     def pod_photos(self):
         """Photos the simulated pod took (its `sim_pod_photo` events)."""

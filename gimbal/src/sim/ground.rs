@@ -17,7 +17,7 @@
 //!   another system goes nowhere (no such system on the device link). A message whose
 //!   targets cannot be read (an id outside the dialect) is forwarded.
 //! - **Towards the ground app**: the device's messages without a target, or for system
-//!   0 or the ground app's system (learnt from its HEARTBEAT), as they came; and the
+//!   0 or the ground app's system (learnt from any of its messages), as they came; and the
 //!   autopilot's own messages on this link, numbered by this link's endpoint.
 
 use std::collections::VecDeque;
@@ -140,7 +140,7 @@ pub struct GroundLink {
     pipe: GroundPipe,
     deframer: Deframer<MavlinkFraming, MAX_FRAME_LEN>,
     me: Endpoint,
-    /// The ground app's system and component, from its HEARTBEAT.
+    /// The ground app's system and component, from its messages.
     pub app: Option<(u8, u8)>,
     /// Frames received from the ground app.
     pub received: u64,
@@ -195,10 +195,9 @@ impl GroundLink {
                 });
             });
         }
-        for f in &out {
-            if let Some(MavMessage::HEARTBEAT(_)) = f.message {
-                self.app = Some((f.header.system_id, f.header.component_id));
-            }
+        // A route is learnt from any message, as the autopilots learn theirs.
+        if let Some(f) = out.last() {
+            self.app = Some((f.header.system_id, f.header.component_id));
         }
         self.received += out.len() as u64;
         out
