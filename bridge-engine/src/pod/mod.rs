@@ -49,8 +49,8 @@ use motion::{MotionState, MotionTarget};
 use protocol_core::k40t::{
     self, AckCode, Address, CameraVersionQuery, CrcCoverage, FormatStatus, Frame, GimbalAttitude,
     GimbalStatus, GimbalVersionQuery, GpsReply, GpsRequest, Header, IrStatus, Kind,
-    LaserPeriodicStatus, MessageData, PhotoStatus, RecordStatus, Request, SystemStatus, TimeSync,
-    UpgradeStatus, VisibleStatus, ZoomStatus,
+    LaserPeriodicStatus, MessageData, PhotoState, PhotoStatus, RecordStatus, Request, SystemStatus,
+    TimeSync, UpgradeStatus, VisibleStatus, ZoomStatus,
 };
 
 /// Something the engine acts on, from the pod side.
@@ -66,6 +66,8 @@ pub(crate) enum PodNotice {
     TimedOut { base: u16 },
     /// The pod asks for GPS at a time of day.
     GpsRequest { header: Header, request: GpsRequest },
+    /// A photo status frame (0x020302: a series in progress, a photo taken or failed).
+    Photo(PhotoState),
 }
 
 /// Up to a few notices from one call.
@@ -229,7 +231,9 @@ impl PodDriver {
                 false
             }
             Kind::Status => {
-                self.on_status(now, frame);
+                if let Some(state) = self.on_status(now, frame) {
+                    notices.push(PodNotice::Photo(state));
+                }
                 false
             }
             Kind::Other(_) => false,
@@ -336,9 +340,12 @@ impl PodDriver {
         a
     }
 
-    fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) {
+    /// A status frame into the state; a photo status is also returned (the camera
+    /// counts photos by them).
+    fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) -> Option<PhotoState> {
         if let Some(p) = typed::<PhotoStatus>(frame) {
             self.state.photo = Some(p.state);
+            return Some(p.state);
         } else if let Some(r) = typed::<RecordStatus>(frame) {
             self.state.recording = Some(r.state);
         } else if let Some(z) = typed::<ZoomStatus>(frame) {
@@ -348,6 +355,7 @@ impl PodDriver {
         } else if let Some(f) = typed::<FormatStatus>(frame) {
             self.state.format = Some(f.state);
         }
+        None
     }
 
     /// Periodic duties: retries and time-outs, the link, motion refresh and the FC

@@ -11,6 +11,7 @@ pub mod clock;
 pub mod describe;
 pub mod faults;
 pub mod fc_k40t;
+pub mod ground;
 pub mod line;
 pub mod mav;
 pub mod peer;

@@ -43,6 +43,7 @@
 
 mod autopilot;
 mod camera;
+mod capture;
 #[cfg(test)]
 mod definition_tests;
 mod destructive;
@@ -332,6 +333,7 @@ impl FcHandler for MavlinkSide {
                 self.params_pod_answer(ctx, base, false);
                 self.destructive_pod_answer(ctx, base, false);
             }
+            PodNotice::Photo(state) => self.capture_photo_status(ctx, state),
             PodNotice::GpsRequest { .. } => {}
         }
     }
@@ -340,7 +342,7 @@ impl FcHandler for MavlinkSide {
     /// the engine answers it from the fix history.
     fn gps_request(&mut self, ctx: &mut Ctx<'_>, header: PodHeader, request: GpsRequest) -> bool {
         let _ = header;
-        self.camera_gps_request(ctx, request);
+        self.capture_gps_request(ctx, request);
         false
     }
 }

@@ -174,7 +174,10 @@
 //! of the last applied sync, with [`PodSimConfig::gps_local_time`]). An unsynchronised pod still asks, with its free-running
 //! time, unless [`PodSimConfig::gps_when_unsynced`] is off.
 //!
-//! **GPS.** Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
+//! **GPS.** A request precedes each photo (the document's note); with
+//! [`PodSimConfig::gps_periodic`] the pod also asks periodically, or while recording, with
+//! [`PodSimConfig::gps_periodic_lens_enable`] (0) as its lens byte, as a real pod
+//! plausibly does. Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
 //! is recorded ([`SimPod::gps_replies`]) and matched to a request of the current boot as
 //! the bridge matches ACKs (docs/src/bridge/engine.md; the reply is the FC's message, so it may carry the FC's own
 //! counter rather than the request's SEQ): a pending request with the same sequence
@@ -229,7 +232,7 @@ mod settings;
 mod time;
 
 use camera::{PhotoJob, initial_camera, record_status};
-pub use config::{AckSeq, IR_STATUS, OutputFaults, PodSimConfig, ReportPeriods};
+pub use config::{AckSeq, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods};
 use frames::{Queued, framing_of, message, payload};
 use motion::{Axis, AxisMotion, OPTICAL_MAX_X10, ZoomMotion};
 pub use records::{
@@ -304,6 +307,7 @@ pub struct SimPod {
     zoom_status_due: Option<u64>,
     record_status_due: Option<u64>,
     laser_due: Option<u64>,
+    gps_periodic_due: Option<u64>,
 
     model_us: u64,
     yaw: Axis,
@@ -363,6 +367,7 @@ impl SimPod {
             report_due: [None; 5],
             zoom_status_due: None,
             record_status_due: None,
+            gps_periodic_due: None,
             laser_due: None,
             model_us: 0,
             yaw: Axis::new(config.yaw_limits_deg),
@@ -567,6 +572,10 @@ impl SimPod {
         self.zoom_status_due = None;
         self.record_status_due = None;
         self.laser_due = None;
+        self.gps_periodic_due = match self.config.gps_periodic {
+            PeriodicGps::Always { period_us } => Some(t.saturating_add(period_us.max(1))),
+            _ => None,
+        };
         self.model_us = t;
         for (due, period) in self
             .report_due
@@ -610,5 +619,30 @@ impl SimPod {
     /// Sets the distance the laser measures, 0.1 m.
     pub fn set_laser_distance_dm(&mut self, distance_dm: u16) {
         self.camera.laser_distance_dm = distance_dm;
+    }
+
+    /// Sets the photo mode (as a 0x000003 photo-parameter command would): single,
+    /// burst of `burst_count`, or time-lapse every `timelapse_s`.
+    pub fn set_photo_mode(&mut self, mode: PhotoMode, burst_count: u8, timelapse_s: u8) {
+        self.camera.photo_mode = mode;
+        self.camera.burst_count = burst_count;
+        self.camera.timelapse_s = timelapse_s;
+    }
+
+    /// The pod shoots by itself at `now_us` (its own shutter, another app on its LAN),
+    /// as its photo mode says: the bridge sent no command. `stop` ends a series.
+    pub fn shoot_by_itself(&mut self, now_us: u64, stop: bool) {
+        let t = self.enter(now_us);
+        let p = k40t::TakePhoto {
+            sensors: PhotoSensors::Default,
+            action: if stop {
+                ShootAction::Stop
+            } else {
+                ShootAction::Start
+            },
+            folder: Default::default(),
+            name: Default::default(),
+        };
+        let _ = self.take_photo(t, p);
     }
 }
