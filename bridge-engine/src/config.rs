@@ -33,6 +33,7 @@
 //! | `[gcu] resync_mark` | [`GcuIdentity::resync_mark`] | `true`, `false` |
 //! | `[pod] yaw_positive_left`, `pitch_positive_down` | [`PodConfig`] | `true`, `false` |
 //! | `[discipline] bin_ms`, `min_bins`, `min_span_ms` | [`DisciplineConfig`] | [`Limit::DISCIPLINE_BIN_MS`], [`Limit::DISCIPLINE_MIN_BINS`], [`Limit::DISCIPLINE_MIN_SPAN_MS`] |
+//! | `[mavlink] allow_destructive` | [`MavlinkConfig::allow_destructive`] | `true`, `false` |
 //!
 //! Deserializing checks types, texts and versions; [`Config::validate`] checks the
 //! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
@@ -356,6 +357,36 @@ impl Default for PodConfig {
 
 protocol_core::wire_derive! {
     custom_serde [Eq]
+    /// The MAVLink side's choices.
+    #[cfg_attr(
+        feature = "serde",
+        derive(serde::Deserialize),
+        serde(default, deny_unknown_fields)
+    )]
+    #[cfg_attr(feature = "bake", derive(databake::Bake), databake(path = bridge_engine))]
+    pub struct MavlinkConfig {
+        /// Carry out the commands that erase (MAV_CMD_STORAGE_FORMAT: the pod's SD card;
+        /// MAV_CMD_RESET_CAMERA_SETTINGS: the pod's factory reset, which also resets its IP
+        /// address). Default false: they are DENIED, with an event.
+        pub allow_destructive: bool,
+    }
+}
+
+impl MavlinkConfig {
+    /// Destructive commands refused.
+    pub const DEFAULT: Self = Self {
+        allow_destructive: false,
+    };
+}
+
+impl Default for MavlinkConfig {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+protocol_core::wire_derive! {
+    custom_serde [Eq]
     /// Everything the bridge can be told.
     #[cfg_attr(
         feature = "serde",
@@ -388,6 +419,8 @@ protocol_core::wire_derive! {
         pub sync: SyncConfig,
         /// The UTC discipline.
         pub discipline: DisciplineConfig,
+        /// The MAVLink side.
+        pub mavlink: MavlinkConfig,
         /// The fix history (no key in the configuration file).
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub fixes: FixConfig,
@@ -437,6 +470,7 @@ impl Config {
         pod: PodConfig::DEFAULT,
         sync: SyncConfig::DEFAULT,
         discipline: DisciplineConfig::DEFAULT,
+        mavlink: MavlinkConfig::DEFAULT,
         fixes: FixConfig::DEFAULT,
         leap_seconds: 18,
         fc_silence_stop: Duration::from_millis(500),

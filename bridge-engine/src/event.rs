@@ -106,6 +106,24 @@ protocol_core::wire_derive! {
             /// The telemetry link is the source.
             telemetry: bool,
         },
+        /// A command that erases (MAVLink MAV_CMD_STORAGE_FORMAT 526, MAV_CMD_RESET_CAMERA_SETTINGS
+        /// 529) was DENIED: the configuration does not allow destructive commands
+        /// (`mavlink.allow_destructive`).
+        DestructiveDenied {
+            /// The FC protocol's command id.
+            command: u16,
+        },
+        /// The autopilot on this MAVLink link answered none of the bridge's requests for
+        /// time and position (no ACK of SET_MESSAGE_INTERVAL, no TIMESYNC reply) and sent
+        /// no SYSTEM_TIME or position within 10 s of its first HEARTBEAT, as PX4 1.16's
+        /// link in mode Gimbal does (it handles only the gimbal messages): no UTC, so no
+        /// time syncs, and no geotags come from it. Set the link to mode Normal (PX4
+        /// `MAV_n_MODE` 0), or give the bridge the autopilot's telemetry link
+        /// (docs/src/autopilots/px4.md). Said once per autopilot learnt.
+        NoTimeOrFixes {
+            /// The link.
+            port: Port,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.

@@ -167,7 +167,8 @@ async fn pod_link(
     bridge_fw::link(shared, Port::Pod, rx, tx).await
 }
 
-/// The MAVLink telemetry link (LPUART1): the engine ignores it with the MAVLink FC side.
+/// The MAVLink telemetry link (LPUART1), beside any FC side (beside the MAVLink side:
+/// when its link gives no time, as PX4 1.16's in mode Gimbal).
 #[cfg(feature = "telemetry")]
 #[embassy_executor::task]
 async fn telemetry_link(

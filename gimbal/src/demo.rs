@@ -650,6 +650,10 @@ fn story<P: Pilot>(
             Event::FcSilenceStop => {
                 "the FC went silent while the pod turned: pod stopped".to_string()
             }
+            Event::NoTimeOrFixes { .. } => "the autopilot's link gives no time and no \
+                position (PX4 1.16 in mode Gimbal): no time syncs, no geotags; set it to mode \
+                Normal or connect the telemetry link"
+                .to_string(),
             other => format!("{other:?}"),
         };
         lines.push(Line {
@@ -678,7 +682,10 @@ fn story<P: Pilot>(
             Some(r) if r.reply.code.code() == protocol_core::k40t::AckCode::Ok => {
                 answered += 1;
                 let fix = (r.reply.lat_e7, r.reply.lon_e7);
-                let at = o.pod.photos().get(req.photo).map_or(req.at_us, |p| p.at_us);
+                let at = req
+                    .photo
+                    .and_then(|i| o.pod.photos().get(i))
+                    .map_or(req.at_us, |p| p.at_us);
                 let off = metres_apart(fix, o.fc.aircraft().position_e7(at));
                 geotag_error_max_m = Some(geotag_error_max_m.map_or(off, |m| m.max(off)));
                 format!(

@@ -177,6 +177,8 @@ fn every_key_is_read_and_checked() {
         bin_ms = 1000
         min_bins = 3
         min_span_ms = 2000
+        [mavlink]
+        allow_destructive = true
         "#,
     )
     .unwrap();
@@ -206,6 +208,7 @@ fn every_key_is_read_and_checked() {
     want.discipline.bin_len = Duration::from_millis(1000);
     want.discipline.min_bins = 3;
     want.discipline.min_span = Duration::from_millis(2000);
+    want.mavlink.allow_destructive = true;
     assert_eq!(c, want);
     assert_eq!(
         load("k40t_geotag_fallback_ms = 350")

@@ -127,7 +127,8 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     assert!(!cap.contains(GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_ROLL_AXIS));
     assert_eq!(u32::from(info.cap_flags.bits()), cap.bits() & 0xFFFF);
     assert_eq!(&info.vendor_name[..4], b"K40T");
-    // The camera too: a basic camera, photo, video, modes, zoom, focus; not streaming.
+    // The camera too: photo, video, modes, zoom, focus; not streaming; its definition
+    // file served over MAVLink FTP.
     let cam = &ap.camera_info.as_ref().expect("camera information").data;
     let f = cam.flags;
     for flag in [
@@ -141,7 +142,8 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     }
     assert!(!f.contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM));
     assert_eq!(cam.firmware_version.to_le_bytes(), [2, 0, 1, 0]);
-    assert_eq!(cam.cam_definition_uri[0], 0);
+    assert_eq!(&cam.cam_definition_uri[..19], b"mftp://k40t.xml.xz\0");
+    assert_eq!(cam.cam_definition_version, 1);
     assert_eq!(cam.gimbal_device_id, 154);
 }
 
@@ -761,12 +763,13 @@ fn qgroundcontrol_photo_interval_mode_and_zoom() {
         qgc(&mut s).ack_of(MavCmd::MAV_CMD_SET_CAMERA_MODE),
         Some(MavResult::MAV_RESULT_ACCEPTED)
     );
-    // Storage format is not the bridge's: UNSUPPORTED, not retried.
+    // Storage format erases: DENIED unless the configuration allows it, not retried
+    // (bridge_mavlink_settings.rs has the rest).
     qgc(&mut s).format_storage();
     s.run_for(3 * S);
     assert_eq!(
         qgc(&mut s).ack_of(MavCmd::MAV_CMD_STORAGE_FORMAT),
-        Some(MavResult::MAV_RESULT_UNSUPPORTED)
+        Some(MavResult::MAV_RESULT_DENIED)
     );
     // A retransmitted capture (same sequence number) is one photo.
     let before = s.pod.photo_requests();

@@ -21,6 +21,7 @@ const MESSAGES: &[&str] = &[
     "COMMAND_LONG",
     "COMMAND_ACK",
     "TIMESYNC",
+    "FILE_TRANSFER_PROTOCOL",
     "CAMERA_TRIGGER",
     "MESSAGE_INTERVAL",
     "STATUSTEXT",
@@ -36,6 +37,11 @@ const MESSAGES: &[&str] = &[
     "GIMBAL_DEVICE_SET_ATTITUDE",
     "GIMBAL_DEVICE_ATTITUDE_STATUS",
     "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE",
+    "PARAM_EXT_REQUEST_READ",
+    "PARAM_EXT_REQUEST_LIST",
+    "PARAM_EXT_VALUE",
+    "PARAM_EXT_SET",
+    "PARAM_EXT_ACK",
 ];
 
 /// Enumerations no field names but the bridge needs (component ids, result and command

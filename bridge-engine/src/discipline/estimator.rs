@@ -15,7 +15,7 @@ pub(super) struct Line {
 }
 
 impl Line {
-    const fn flat(x0: i64, y0: i64) -> Self {
+    pub(super) const fn flat(x0: i64, y0: i64) -> Self {
         Self {
             x0,
             y0,
@@ -64,6 +64,7 @@ impl Line {
     }
 
     /// The same line shifted down by `c` (offset − c).
+    #[cfg(test)]
     pub(super) fn shifted(&self, c: i64) -> Option<Self> {
         Some(Self {
             y0: self.y0.checked_sub(c)?,
@@ -71,8 +72,32 @@ impl Line {
         })
     }
 
+    /// The local → UTC offset line of this local → FC-clock offset line (`x − fc(x)`)
+    /// and `c`, the FC's UTC − FC clock as a line of the FC clock (`C(b)`):
+    /// `utc(x) = fc(x) + C(fc(x))`, a straight line again. A flat `c` is [`Line::shifted`].
+    pub(super) fn then_utc(&self, c: &Line) -> Option<Self> {
+        // At x0 the FC clock reads x0 − y0.
+        let fc0 = self.x0.checked_sub(self.y0)?;
+        let y0 = self.y0.checked_sub(c.offset_at(fc0)?)?;
+        // Slope: dy/dx − (cdy/cdx)·(1 − dy/dx), over dx·cdx.
+        let dx = self.dx.checked_mul(c.dx)?;
+        let dy = self
+            .dy
+            .checked_mul(c.dx.checked_add(c.dy)?)?
+            .checked_sub(self.dx.checked_mul(c.dy)?)?;
+        if dx <= 0 {
+            return None;
+        }
+        Some(Self {
+            x0: self.x0,
+            y0,
+            dy,
+            dx,
+        })
+    }
+
     /// |slope| ≤ `ppm` parts per million.
-    fn rate_within(&self, ppm: u32) -> bool {
+    pub(super) fn rate_within(&self, ppm: u32) -> bool {
         let lhs = i128::from(self.dy).unsigned_abs().saturating_mul(1_000_000);
         let rhs = i128::from(self.dx)
             .unsigned_abs()
@@ -96,6 +121,8 @@ struct StepCandidate {
 }
 
 /// Minimum-delay, lower-hull clock estimator over a fixed window of bins.
+// Independent properties of the estimator's state, each its own flag.
+#[allow(clippy::struct_excessive_bools)]
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(super) struct ClockEstimator {
     bins: [Point; BINS],
@@ -121,7 +148,14 @@ pub(super) struct ClockEstimator {
     /// are kept negated (so that the least-advanced are the minima) and the line is
     /// negated back when given.
     pub(super) negated: bool,
+    /// The remote clock may run at any rate ([`Sample::any_rate`](super::Sample::any_rate)):
+    /// a fit up to [`ANY_RATE_MAX_PPM`] converges, and a rate beyond
+    /// [`DisciplineConfig::max_drift_ppm`] is followed (see [`ClockEstimator::fast`]).
+    pub(super) any_rate: bool,
 }
+
+/// The largest rate of a clock that may run at any rate, ppm: a simulator in lockstep.
+const ANY_RATE_MAX_PPM: u32 = 50_000;
 
 /// A mapping an estimator can give, and what is believed of its error.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -160,13 +194,25 @@ impl ClockEstimator {
             suspect: false,
             resolution: 0,
             negated: false,
+            any_rate: false,
         }
     }
 
     pub(super) fn reset(&mut self) {
-        let negated = self.negated;
+        let (negated, any_rate) = (self.negated, self.any_rate);
         *self = Self::new();
         self.negated = negated;
+        self.any_rate = any_rate;
+    }
+
+    /// The remote clock runs at a rate no crystal has (a simulator's, [`Self::any_rate`]),
+    /// as two bins or more say: a bin keeps its least point *against the line* (the rate
+    /// removed, else it would keep the newest point whatever its delay), and the first
+    /// mapping follows the fitted line rather than assuming equal rates.
+    fn fast(&self, cfg: &DisciplineConfig) -> bool {
+        self.any_rate
+            && self.len >= 2
+            && self.line.is_some_and(|l| !l.rate_within(cfg.max_drift_ppm))
     }
 
     pub(super) fn is_empty(&self) -> bool {
@@ -188,7 +234,12 @@ impl ClockEstimator {
         let Some(line) = self.line else {
             return false;
         };
-        if self.len < cfg.min_bins.max(2) || !line.rate_within(cfg.max_drift_ppm) {
+        let max_ppm = if self.any_rate {
+            ANY_RATE_MAX_PPM
+        } else {
+            cfg.max_drift_ppm
+        };
+        if self.len < cfg.min_bins.max(2) || !line.rate_within(max_ppm) {
             return false;
         }
         let (Some(first), Some(last)) = (self.bin(0), self.bin(self.len.saturating_sub(1))) else {
@@ -206,7 +257,8 @@ impl ClockEstimator {
             return None;
         }
         let converged = self.converged(cfg);
-        let line = if converged {
+        let line = if converged || (self.fast(cfg) && self.accepted >= u16::from(cfg.quick_samples))
+        {
             self.line?
         } else if self.prompt || self.accepted >= u16::from(cfg.quick_samples.max(1)) {
             let first = self.bin(0)?;
@@ -336,9 +388,22 @@ impl ClockEstimator {
         if new_bin {
             self.push_bin(p);
             self.refit(cfg);
-        } else if let Some(last) = self.bin_mut(self.len.saturating_sub(1))
-            && p.y < last.y
-        {
+            return;
+        }
+        let fast = self.fast(cfg);
+        let line = self.line;
+        let Some(last) = self.bin_mut(self.len.saturating_sub(1)) else {
+            return;
+        };
+        let lower = match line.filter(|_| fast) {
+            // The least against the line (the rate removed).
+            Some(l) => match (l.offset_at(p.x), l.offset_at(last.x)) {
+                (Some(a), Some(b)) => p.y.saturating_sub(a) < last.y.saturating_sub(b),
+                _ => p.y < last.y,
+            },
+            None => p.y < last.y,
+        };
+        if lower {
             *last = p;
             self.refit(cfg);
         }
@@ -373,63 +438,69 @@ impl ClockEstimator {
         })
     }
 
-    // The names are those of the fit's formulas (x, y, n, a, b).
-    #[allow(clippy::many_single_char_names)]
     fn fit(&self) -> Option<Line> {
-        let n = self.len;
-        if n == 0 {
-            return None;
-        }
-        let first = self.bin(0)?;
-        if n == 1 {
-            return Some(Line::flat(first.x, first.y));
-        }
-        // Lower convex hull (Andrew's monotone chain; bins are in increasing x).
-        let mut hull = [0u8; BINS];
-        let mut h: usize = 0;
-        let mut sum_x: i128 = 0;
-        for i in 0..n {
-            let p = self.bin(i)?;
-            sum_x = sum_x.checked_add(i128::from(p.x))?;
-            while h >= 2 {
-                let a = self.bin(*hull.get(h.checked_sub(2)?)?)?;
-                let b = self.bin(*hull.get(h.checked_sub(1)?)?)?;
-                if cross(a, b, p)? <= 0 {
-                    h = h.checked_sub(1)?;
-                } else {
-                    break;
-                }
-            }
-            *hull.get_mut(h)? = i;
-            h = h.checked_add(1)?;
-        }
-        if h < 2 {
-            let p = self.bin(*hull.first()?)?;
-            return Some(Line::flat(p.x, p.y));
-        }
-        let mean_x = i64::try_from(sum_x.checked_div(i128::from(n))?).ok()?;
-        // The hull edge whose span contains the mean (first or last edge outside).
-        let mut k = 0usize;
-        while k.checked_add(2)? < h {
-            let right = self.bin(*hull.get(k.checked_add(1)?)?)?;
-            if right.x >= mean_x {
+        lower_hull_fit(self.len, |i| self.bin(i))
+    }
+}
+
+/// Moon's LP over `n` points in increasing x (`point(0..n)`): the line under all of them
+/// that minimises the summed distance to them, i.e. the edge of their lower convex hull
+/// above their mean x (one point, or all on a vertical: a flat line).
+// The names are those of the fit's formulas (x, y, n, a, b).
+#[allow(clippy::many_single_char_names)]
+pub(super) fn lower_hull_fit(n: u8, point: impl Fn(u8) -> Option<Point>) -> Option<Line> {
+    if n == 0 {
+        return None;
+    }
+    let first = point(0)?;
+    if n == 1 {
+        return Some(Line::flat(first.x, first.y));
+    }
+    // Lower convex hull (Andrew's monotone chain; the points are in increasing x).
+    let mut hull = [0u8; BINS];
+    let mut h: usize = 0;
+    let mut sum_x: i128 = 0;
+    for i in 0..n.min(u8::try_from(BINS).unwrap_or(u8::MAX)) {
+        let p = point(i)?;
+        sum_x = sum_x.checked_add(i128::from(p.x))?;
+        while h >= 2 {
+            let a = point(*hull.get(h.checked_sub(2)?)?)?;
+            let b = point(*hull.get(h.checked_sub(1)?)?)?;
+            if cross(a, b, p)? <= 0 {
+                h = h.checked_sub(1)?;
+            } else {
                 break;
             }
-            k = k.checked_add(1)?;
         }
-        let a = self.bin(*hull.get(k)?)?;
-        let b = self.bin(*hull.get(k.checked_add(1)?)?)?;
-        let dx = b.x.checked_sub(a.x)?;
-        if dx <= 0 {
-            return Some(Line::flat(a.x, a.y));
-        }
-        Some(Line {
-            x0: a.x,
-            y0: a.y,
-            dy: b.y.checked_sub(a.y)?,
-            dx,
-        })
+        *hull.get_mut(h)? = i;
+        h = h.checked_add(1)?;
     }
+    if h < 2 {
+        let p = point(*hull.first()?)?;
+        return Some(Line::flat(p.x, p.y));
+    }
+    let mean_x = i64::try_from(sum_x.checked_div(i128::from(n))?).ok()?;
+    // The hull edge whose span contains the mean (first or last edge outside).
+    let mut k = 0usize;
+    while k.checked_add(2)? < h {
+        let right = point(*hull.get(k.checked_add(1)?)?)?;
+        if right.x >= mean_x {
+            break;
+        }
+        k = k.checked_add(1)?;
+    }
+    let a = point(*hull.get(k)?)?;
+    let b = point(*hull.get(k.checked_add(1)?)?)?;
+    let dx = b.x.checked_sub(a.x)?;
+    if dx <= 0 {
+        return Some(Line::flat(a.x, a.y));
+    }
+    Some(Line {
+        x0: a.x,
+        y0: a.y,
+        dy: b.y.checked_sub(a.y)?,
+        dx,
+    })
 }
 
 /// Cross product `(a − o) × (b − o)`: positive when o → a → b turns left.
@@ -460,5 +531,40 @@ mod tests {
         }
         assert!(l.rate_within(37));
         assert!(!l.rate_within(36));
+    }
+
+    #[test]
+    fn a_clock_line_then_a_shift_line_is_the_utc_line() {
+        // The FC clock runs 1.2 % slow against local: x − fc(x) grows 12 ms/s; UTC runs
+        // 1.2 % fast against the FC clock (C grows by 12 000/988 000 of the FC clock):
+        // UTC runs at the local rate.
+        let fc = Line {
+            x0: 5_000_000,
+            y0: 1_000_000,
+            dy: 12_000,
+            dx: 1_000_000,
+        };
+        let c = Line {
+            x0: 4_000_000,
+            y0: 1_700_000_000_000_000,
+            dy: 12_000,
+            dx: 988_000,
+        };
+        let utc = fc.then_utc(&c).unwrap();
+        for x in [5_000_000i64, 65_000_000, 3_605_000_000] {
+            let f = fc.remote_at(x).unwrap();
+            let want = f + c.offset_at(f).unwrap();
+            let got = utc.remote_at(x).unwrap();
+            assert!((got - want).abs() <= 1, "{x}: {got} vs {want}");
+        }
+        assert!(utc.rate_within(1));
+        // A flat C is a shift.
+        let flat = Line::flat(0, 1_700_000_000_000_000);
+        assert_eq!(
+            fc.then_utc(&flat).unwrap().offset_at(9_000_000),
+            fc.shifted(1_700_000_000_000_000)
+                .unwrap()
+                .offset_at(9_000_000)
+        );
     }
 }

@@ -4,7 +4,7 @@
 //! "Sources").
 
 use super::MAX_UTC_VIA_FC;
-use super::estimator::{Fed, Line, Point};
+use super::estimator::{Fed, Line, Point, lower_hull_fit};
 
 /// What is known of `C` = UTC − FC clock: SIYI's 0x30 frames (unpaired, and paired with
 /// an FC clock value), or MAVLink SYSTEM_TIME ([`Shift`]).
@@ -20,99 +20,229 @@ pub(super) struct FcOffset {
     pub(super) shift: Shift,
 }
 
-/// Bins of [`Shift`].
-const SHIFT_BINS: usize = 4;
-/// Local time of one [`Shift`] bin, µs.
-const SHIFT_BIN_US: i64 = 4_000_000;
-/// Samples above the shift's band in a row that make it a step.
+/// Bins of [`Shift`] (at most the estimator's [`BINS`](super::BINS)).
+const SHIFT_BINS: u8 = 16;
+/// FC clock time of one [`Shift`] bin, µs.
+const SHIFT_BIN_US: i64 = 1_000_000;
+/// The newest bins the line is moved to touch.
+const SHIFT_ANCHOR_BINS: u8 = 4;
+/// Samples above the band in a row that make a step.
 const SHIFT_STEP_CONFIRM: u8 = 3;
+/// Rate of `C` against the FC clock believed possible before the line has a rate, ppm:
+/// the clock of a simulator in lockstep (PX4 SITL's runs about 1.2 % slow against its
+/// UTC, the host's) with a wide margin.
+const SHIFT_MAX_RATE_PPM: i64 = 50_000;
+/// The truncation of `time_boot_ms`: `d` lies up to this above the line, µs.
+const SHIFT_TRUNCATION: i64 = 1_000;
 
-/// `C` = UTC − FC clock from samples `d = utc − fc_ms·1000` read from one clock in one
-/// call (MAVLink SYSTEM_TIME): `d ∈ [C, C + 1000)` µs, the excess being the FC clock's
-/// sub-millisecond phase when it was read, so the least `d` is `C`. The least `d` of
-/// each [`SHIFT_BIN_US`] bin, over the last [`SHIFT_BINS`] bins (16 s: a shift the FC
-/// slews slowly is followed). A `d` below the least by more than the tolerance, or
-/// [`SHIFT_STEP_CONFIRM`] in a row above its band, are a step of the FC's UTC: the
-/// shift restarts from them; the first contradicting sample makes it suspect (no UTC)
-/// until the step is confirmed or a consistent sample comes.
+/// `C` = UTC − FC clock, **a line of the FC clock** `C(b)`, from samples `d = utc −
+/// fc_ms·1000` read from one clock in one call (MAVLink SYSTEM_TIME): `d ∈ [C(b), C(b) +
+/// 1000)` µs at `b = fc_ms·1000`, the excess being the FC clock's sub-millisecond phase
+/// when it was read, so the line under the samples is `C`. A real autopilot's UTC drifts
+/// against its boot clock by its crystal's ppm (when GPS keeps it), a simulator's in
+/// lockstep by a percent or so (PX4 SITL: UTC follows the host, the boot clock the
+/// simulation); a constant `C` is the line of rate 0.
+///
+/// The least `d` of each [`SHIFT_BIN_US`] bin of FC time (least against the current line:
+/// a bin's points are compared with the rate removed), over the last [`SHIFT_BINS`] bins
+/// (16 s); the line is flat through the least of them while they all lie within the
+/// truncation of it (a constant `C` as far as 16 s tell: the least `d`, as before lines),
+/// else the lower-hull fit of the estimator (Moon's LP) over them, moved to touch the
+/// lowest of the newest [`SHIFT_ANCHOR_BINS`]. A sample is on the line
+/// when within `[−tolerance, 1000 + tolerance]` of it, widened by what the rate's
+/// uncertainty makes of the distance to the anchor (before a second bin, the rate can be
+/// anything up to [`SHIFT_MAX_RATE_PPM`]; then the truncation over the bins' span). A
+/// sample below that band, or [`SHIFT_STEP_CONFIRM`] in a row above it, are a step of the
+/// FC's UTC: the line restarts from them; the first contradicting sample makes it suspect
+/// (no UTC) until the step is confirmed or a consistent sample comes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct Shift {
-    /// (bin index, least `d`) per bin, newest last.
-    bins: [Option<(i64, i64)>; SHIFT_BINS],
+    /// Bin minima `(b, d)`, oldest first from `start` (a ring of `len`).
+    bins: [Point; SHIFT_BINS as usize],
+    start: u8,
+    len: u8,
+    /// The line through them.
+    line: Option<Line>,
     /// Consecutive samples above the band, and the least of them.
     above: u8,
-    above_min: i64,
+    above_min: Point,
     pub(super) suspect: bool,
 }
 
 impl Shift {
     const fn new() -> Self {
         Shift {
-            bins: [None; SHIFT_BINS],
+            bins: [Point { x: 0, y: 0 }; SHIFT_BINS as usize],
+            start: 0,
+            len: 0,
+            line: None,
             above: 0,
-            above_min: i64::MAX,
+            above_min: Point { x: 0, y: i64::MAX },
             suspect: false,
         }
     }
 
-    /// The shift: the least `d` of the window.
-    fn value(&self) -> Option<i64> {
-        self.bins.iter().flatten().map(|(_, d)| *d).min()
+    fn bin(&self, i: u8) -> Option<Point> {
+        let idx = usize::from(self.start)
+            .checked_add(usize::from(i))?
+            .checked_rem(usize::from(SHIFT_BINS))?;
+        self.bins.get(idx).copied()
     }
 
-    fn put(&mut self, x: i64, d: i64) {
-        let bin = x.div_euclid(SHIFT_BIN_US);
-        let newest = self.bins.iter().flatten().map(|(b, _)| *b).max();
-        match newest {
-            Some(b) if b == bin => {
-                for (b, m) in self.bins.iter_mut().flatten() {
-                    if *b == bin {
-                        *m = (*m).min(d);
-                    }
-                }
-            }
-            Some(b) if bin < b => {}
-            _ => {
-                self.bins.rotate_left(1);
-                if let Some(last) = self.bins.last_mut() {
-                    *last = Some((bin, d));
-                }
-                // Bins older than the window go.
-                let oldest = bin.saturating_sub(i64::try_from(SHIFT_BINS).unwrap_or(0));
-                for slot in &mut self.bins {
-                    if slot.is_some_and(|(b, _)| b <= oldest) {
-                        *slot = None;
-                    }
-                }
-            }
+    fn bin_mut(&mut self, i: u8) -> Option<&mut Point> {
+        let idx = usize::from(self.start)
+            .checked_add(usize::from(i))?
+            .checked_rem(usize::from(SHIFT_BINS))?;
+        self.bins.get_mut(idx)
+    }
+
+    /// `C` as a line of the FC clock.
+    pub(super) fn line(&self) -> Option<Line> {
+        self.line
+    }
+
+    /// How far `d` at `b` lies above the line (`None`: no line).
+    fn residual(&self, p: Point) -> Option<i64> {
+        p.y.checked_sub(self.line?.offset_at(p.x)?)
+    }
+
+    /// What the rate's uncertainty makes of the distance from the anchor to `b`, µs.
+    fn allowance(&self, b: i64) -> i64 {
+        let Some(line) = self.line else {
+            return 0;
+        };
+        let far = b.saturating_sub(line.x0).saturating_abs();
+        let span = match (self.bin(0), self.bin(self.len.saturating_sub(1))) {
+            (Some(first), Some(last)) if self.len >= 2 => last.x.saturating_sub(first.x),
+            _ => 0,
+        };
+        if span > 0 {
+            far.saturating_mul(SHIFT_TRUNCATION)
+                .checked_div(span)
+                .unwrap_or(i64::MAX)
+        } else {
+            far.saturating_mul(SHIFT_MAX_RATE_PPM) / 1_000_000
         }
     }
 
-    /// Takes `d` at local `x`; returns whether the shift restarted (a step).
-    pub(super) fn push(&mut self, x: i64, d: i64, tolerance: i64) -> Fed {
-        let Some(c) = self.value() else {
-            self.put(x, d);
+    fn put(&mut self, p: Point) {
+        let bin = p.x.div_euclid(SHIFT_BIN_US);
+        let newest = self
+            .bin(self.len.saturating_sub(1))
+            .filter(|_| self.len > 0);
+        match newest.map(|n| n.x.div_euclid(SHIFT_BIN_US)) {
+            Some(b) if b == bin => {
+                // The least in the bin, with the rate removed.
+                let lower = match (self.residual(p), newest.and_then(|n| self.residual(n))) {
+                    (Some(r), Some(n)) => r < n,
+                    _ => newest.is_some_and(|n| p.y < n.y),
+                };
+                if lower && let Some(slot) = self.bin_mut(self.len.saturating_sub(1)) {
+                    *slot = p;
+                }
+            }
+            Some(b) if bin < b => return,
+            _ => {
+                // Bins older than the window go.
+                let oldest = bin.saturating_sub(i64::from(SHIFT_BINS));
+                while self.len > 0
+                    && self
+                        .bin(0)
+                        .is_some_and(|f| f.x.div_euclid(SHIFT_BIN_US) <= oldest)
+                {
+                    self.start = self
+                        .start
+                        .saturating_add(1)
+                        .checked_rem(SHIFT_BINS)
+                        .unwrap_or(0);
+                    self.len = self.len.saturating_sub(1);
+                }
+                if self.len >= SHIFT_BINS {
+                    self.start = self
+                        .start
+                        .saturating_add(1)
+                        .checked_rem(SHIFT_BINS)
+                        .unwrap_or(0);
+                } else {
+                    self.len = self.len.saturating_add(1);
+                }
+                if let Some(slot) = self.bin_mut(self.len.saturating_sub(1)) {
+                    *slot = p;
+                }
+            }
+        }
+        self.refit();
+    }
+
+    /// The line through the bin minima: flat through the least when every minimum lies
+    /// within the truncation of it (a constant `C`, as far as the window tells: a rate
+    /// from noise alone would only add error), else the hull fit, moved to touch the
+    /// lowest of the newest bins.
+    fn refit(&mut self) {
+        let least = (0..self.len)
+            .filter_map(|i| self.bin(i))
+            .min_by_key(|p| p.y);
+        if let Some(least) = least
+            && (0..self.len)
+                .filter_map(|i| self.bin(i))
+                .all(|p| p.y.saturating_sub(least.y) <= SHIFT_TRUNCATION)
+        {
+            self.line = Some(Line::flat(least.x, least.y));
+            return;
+        }
+        let Some(line) = lower_hull_fit(self.len, |i| self.bin(i)) else {
+            self.line = None;
+            return;
+        };
+        let from = self.len.saturating_sub(SHIFT_ANCHOR_BINS);
+        let anchor = (from..self.len)
+            .filter_map(|i| {
+                let p = self.bin(i)?;
+                Some((p.y.checked_sub(line.offset_at(p.x)?)?, p))
+            })
+            .min_by_key(|(r, _)| *r)
+            .map(|(_, p)| p);
+        self.line = Some(match anchor {
+            Some(p) => Line {
+                x0: p.x,
+                y0: p.y,
+                ..line
+            },
+            None => line,
+        });
+    }
+
+    /// Takes `d` at FC clock `b`; returns whether it was on the line, an outlier or a
+    /// step (the line restarted).
+    pub(super) fn push(&mut self, b: i64, d: i64, tolerance: i64) -> Fed {
+        let p = Point { x: b, y: d };
+        let Some(r) = self.residual(p) else {
+            self.put(p);
             return Fed::Accepted;
         };
-        let band_top = c.saturating_add(1_000).saturating_add(tolerance);
-        if d < c.saturating_sub(tolerance) || d > band_top {
+        let slack = tolerance.saturating_add(self.allowance(b));
+        let below = r < slack.saturating_neg();
+        let above = r > SHIFT_TRUNCATION.saturating_add(slack);
+        if below || above {
             self.suspect = true;
-            if d > band_top {
+            if above {
                 self.above = self.above.saturating_add(1);
-                self.above_min = self.above_min.min(d);
+                if self.above_min.y == i64::MAX || p.y < self.above_min.y {
+                    self.above_min = p;
+                }
             }
-            if d < c.saturating_sub(tolerance) || self.above >= SHIFT_STEP_CONFIRM {
-                let start = if d > band_top { self.above_min } else { d };
+            if below || self.above >= SHIFT_STEP_CONFIRM {
+                let start = if below { p } else { self.above_min };
                 *self = Shift::new();
-                self.put(x, start);
+                self.put(start);
                 return Fed::Step;
             }
             return Fed::Outlier;
         }
         self.above = 0;
-        self.above_min = i64::MAX;
+        self.above_min = Point { x: 0, y: i64::MAX };
         self.suspect = false;
-        self.put(x, d);
+        self.put(p);
         Fed::Accepted
     }
 }
@@ -162,10 +292,11 @@ impl FcOffset {
             .max()
     }
 
-    /// `C`: the SYSTEM_TIME shift when there is one; else the least pair consistent
-    /// with the unpaired bound (`true`), else the bound (`false`).
-    pub(super) fn value(&self, fc: Option<&Line>, tolerance: i64) -> Option<(i64, bool)> {
-        if let Some(c) = self.shift.value() {
+    /// `C` as a line of the FC clock: the SYSTEM_TIME shift when there is one; else
+    /// (constant) the least pair consistent with the unpaired bound (`true`), else the
+    /// bound (`false`).
+    pub(super) fn value(&self, fc: Option<&Line>, tolerance: i64) -> Option<(Line, bool)> {
+        if let Some(c) = self.shift.line() {
             return Some((c, true));
         }
         let bound = fc.and_then(|l| self.lower_bound(l));
@@ -176,6 +307,8 @@ impl FcOffset {
             .copied()
             .filter(|m| floor.is_none_or(|f| *m >= f))
             .min();
-        best_pair.map(|c| (c, true)).or(bound.map(|c| (c, false)))
+        best_pair
+            .map(|c| (Line::flat(0, c), true))
+            .or(bound.map(|c| (Line::flat(0, c), false)))
     }
 }

@@ -374,6 +374,7 @@ impl TimeDiscipline {
         // The first sample sets the kind of the estimator's points.
         if self.clock.is_empty() && self.clock.accepted == 0 {
             self.clock.negated = s.lower;
+            self.clock.any_rate = s.any_rate;
         }
         if s.lower != self.clock.negated {
             return Verdict::Rejected;
@@ -451,8 +452,9 @@ impl TimeDiscipline {
     }
 
     /// A MAVLink SYSTEM_TIME received at `local`: `utc_us` (`time_unix_usec`) and
-    /// `fc_ms` (`time_boot_ms`) read from one clock in one call, so `C` is the least
-    /// `utc − fc_ms·1000` (see `Shift`); the FC clock comes from
+    /// `fc_ms` (`time_boot_ms`) read from one clock in one call, so `C` is the line under
+    /// the points `(fc_ms·1000, utc − fc_ms·1000)` (see `Shift`: a line with a rate, since
+    /// an FC's UTC drifts against its boot clock); the FC clock comes from
     /// [`fc_clock_sample`](Self::fc_clock_sample) (TIMESYNC). `utc_us` 0 or before
     /// [`DisciplineConfig::min_utc`] is rejected; a step of the FC's UTC makes UTC
     /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
@@ -467,11 +469,9 @@ impl TimeDiscipline {
         else {
             return Verdict::Rejected;
         };
-        let Ok(x) = i64::try_from(local.as_micros()) else {
-            return Verdict::Rejected;
-        };
+        let b = i64::from(fc_ms).saturating_mul(1000);
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
-        let verdict = match self.fc_offset.shift.push(x, d, tol) {
+        let verdict = match self.fc_offset.shift.push(b, d, tol) {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => Verdict::Step,
             Fed::Accepted => Verdict::Accepted,
@@ -509,7 +509,7 @@ impl TimeDiscipline {
         let Some((c, paired)) = self.fc_offset.value(Some(&fc.line), tol) else {
             return;
         };
-        let Some(line) = fc.line.shifted(c) else {
+        let Some(line) = fc.line.then_utc(&c) else {
             return;
         };
         // C from a pair is known to the FC clock's millisecond; from the unpaired bound

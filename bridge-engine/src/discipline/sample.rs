@@ -7,6 +7,8 @@ use crate::time::{Duration, Instant};
 protocol_core::wire_derive! {
     [Eq]
     /// One time value received from the flight controller.
+    // Independent properties of one time value, each its own flag.
+    #[allow(clippy::struct_excessive_bools)]
     pub struct Sample {
         /// Local instant at which the frame's last byte arrived.
         pub local: Instant,
@@ -38,6 +40,10 @@ protocol_core::wire_derive! {
         /// before it: the point lies on or under the offset line, and the least-advanced
         /// samples are the tight ones. An estimator takes one kind (the first sample's).
         pub lower: bool,
+        /// The remote clock may run at any rate against the local one, not only a
+        /// crystal's ppm: a MAVLink autopilot's boot clock may be a simulator's (PX4 SITL
+        /// in lockstep runs about 1.2 % slow). An estimator takes it from its first sample.
+        pub any_rate: bool,
     }
 }
 
@@ -53,7 +59,15 @@ impl Sample {
             transit: Duration::ZERO,
             prompt: false,
             lower: false,
+            any_rate: false,
         }
+    }
+
+    /// The same sample, of a clock that may run at any rate ([`Sample::any_rate`]).
+    #[must_use]
+    pub const fn any_rate(mut self) -> Self {
+        self.any_rate = true;
+        self
     }
 
     /// The same sample, read by the remote at or after `local` ([`Sample::lower`]).

@@ -375,14 +375,13 @@ pub(crate) type TelemetryLink = FcLink<mavlink::TelemetrySide, { mavlink::BUF }>
 
 #[cfg(feature = "telemetry")]
 impl TelemetryLink {
-    /// The link for `config`: none when the FC side is MAVLink itself.
-    pub(crate) fn for_config(config: &Config) -> Option<Self> {
-        (config.fc != super::FcProtocol::Mavlink).then(|| {
-            FcLink::new(
-                protocol_core::mavlink::MavlinkFraming::new(),
-                mavlink::TelemetrySide::new(),
-            )
-        })
+    /// The link, beside any FC side: beside the MAVLink side too, whose own link may give
+    /// no time or fixes (PX4 1.16 in mode Gimbal).
+    pub(crate) fn telemetry() -> Self {
+        FcLink::new(
+            protocol_core::mavlink::MavlinkFraming::new(),
+            mavlink::TelemetrySide::new(),
+        )
     }
 }
 

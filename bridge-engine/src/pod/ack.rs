@@ -7,12 +7,12 @@ use crate::Outputs;
 use crate::event::Event;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{
-    AckCode, CameraVersionAck, Frame, GimbalVersionAck, LaserDistance, RecordAction, RecordState,
-    Request, ResponseCode, ShootAction, Toggle,
+    AckCode, CameraVersionAck, Frame, GimbalVersionAck, IrParams, LaserDistance, RecordAction,
+    RecordState, Request, ResponseCode, ShootAction, Toggle, VisibleParams,
 };
 
 /// Commands tracked for their ACK at once.
-pub(super) const PENDING: usize = 4;
+pub(super) const PENDING: usize = 6;
 /// Superseded commands whose ACK may still come (absorbed, so that a late ACK is not
 /// taken for the command that superseded them).
 pub(super) const SUPERSEDED: usize = 4;
@@ -213,6 +213,10 @@ impl PodDriver {
             self.state.camera_version = Some(v.version);
         } else if let Some(d) = typed::<LaserDistance>(frame) {
             self.state.laser_dm = Some((d.distance_dm, now));
+        } else if let Some(p) = typed::<IrParams>(frame).filter(|_| code == AckCode::Ok) {
+            self.state.ir_params = Some(p);
+        } else if let Some(p) = typed::<VisibleParams>(frame).filter(|_| code == AckCode::Ok) {
+            self.state.visible_params = Some(p);
         }
         let acked = if claimed {
             self.take_outstanding(now, base, seq)

@@ -32,6 +32,7 @@
 mod ack;
 mod command;
 mod motion;
+mod settings;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -46,10 +47,10 @@ use super::time::{Duration, Instant};
 use ack::{Outstanding, PENDING, Pending, SUPERSEDED};
 use motion::{MotionState, MotionTarget};
 use protocol_core::k40t::{
-    self, AckCode, Address, CameraVersionQuery, CrcCoverage, Frame, GimbalAttitude, GimbalStatus,
-    GimbalVersionQuery, GpsReply, GpsRequest, Header, IrStatus, Kind, LaserPeriodicStatus,
-    MessageData, PhotoStatus, RecordStatus, Request, SystemStatus, TimeSync, UpgradeStatus,
-    VisibleStatus, ZoomStatus,
+    self, AckCode, Address, CameraVersionQuery, CrcCoverage, FormatStatus, Frame, GimbalAttitude,
+    GimbalStatus, GimbalVersionQuery, GpsReply, GpsRequest, Header, IrStatus, Kind,
+    LaserPeriodicStatus, MessageData, PhotoState, PhotoStatus, RecordStatus, Request, SystemStatus,
+    TimeSync, UpgradeStatus, VisibleStatus, ZoomStatus,
 };
 
 /// Something the engine acts on, from the pod side.
@@ -65,6 +66,8 @@ pub(crate) enum PodNotice {
     TimedOut { base: u16 },
     /// The pod asks for GPS at a time of day.
     GpsRequest { header: Header, request: GpsRequest },
+    /// A photo status frame (0x020302: a series in progress, a photo taken or failed).
+    Photo(PhotoState),
 }
 
 /// Up to a few notices from one call.
@@ -131,6 +134,9 @@ impl PodDriver {
                 mode: None,
                 ranging: false,
                 ai: false,
+                ir_params: None,
+                visible_params: None,
+                format: None,
             },
             last_report: None,
             next_probe: None,
@@ -225,7 +231,9 @@ impl PodDriver {
                 false
             }
             Kind::Status => {
-                self.on_status(now, frame);
+                if let Some(state) = self.on_status(now, frame) {
+                    notices.push(PodNotice::Photo(state));
+                }
                 false
             }
             Kind::Other(_) => false,
@@ -332,16 +340,22 @@ impl PodDriver {
         a
     }
 
-    fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) {
+    /// A status frame into the state; a photo status is also returned (the camera
+    /// counts photos by them).
+    fn on_status(&mut self, now: Instant, frame: &Frame<&[u8]>) -> Option<PhotoState> {
         if let Some(p) = typed::<PhotoStatus>(frame) {
             self.state.photo = Some(p.state);
+            return Some(p.state);
         } else if let Some(r) = typed::<RecordStatus>(frame) {
             self.state.recording = Some(r.state);
         } else if let Some(z) = typed::<ZoomStatus>(frame) {
             self.state.zoom = Some(z.state);
         } else if let Some(d) = typed::<LaserPeriodicStatus>(frame) {
             self.state.laser_dm = Some((d.0.distance_dm, now));
+        } else if let Some(f) = typed::<FormatStatus>(frame) {
+            self.state.format = Some(f.state);
         }
+        None
     }
 
     /// Periodic duties: retries and time-outs, the link, motion refresh and the FC

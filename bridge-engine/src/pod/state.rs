@@ -4,8 +4,8 @@
 use crate::gimbal::{GimbalMode, View};
 use crate::time::Instant;
 use protocol_core::k40t::{
-    GimbalAttitude, GimbalStatus, GimbalVersionAck, ImageMode, IrStatus, PhotoState, RecordState,
-    SystemStatus, Version, VisibleStatus, ZoomState,
+    FormatState, GimbalAttitude, GimbalStatus, GimbalVersionAck, ImageMode, IrParams, IrStatus,
+    PhotoState, RecordState, SystemStatus, Version, VisibleParams, VisibleStatus, ZoomState,
 };
 
 protocol_core::wire_derive! {
@@ -44,6 +44,12 @@ protocol_core::wire_derive! {
         pub ranging: bool,
         /// The pod acknowledged AI recognition on (0x000319), which its box tracking needs.
         pub ai: bool,
+        /// Every infrared setting: the last OK ACK of 0x000100 (asked by the MAVLink side).
+        pub ir_params: Option<IrParams>,
+        /// Every visible-camera setting: the last OK ACK of 0x000200.
+        pub visible_params: Option<VisibleParams>,
+        /// The last SD card formatting progress (0x02030D status frames).
+        pub format: Option<FormatState>,
     }
 }
 

@@ -76,6 +76,11 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
         ),
         Event::PodTimeout { base } => ("pod_timeout", json!({"pod_id": format!("0x{base:06x}")})),
         Event::FcSilenceStop => ("fc_silence_stop", json!({})),
+        Event::NoTimeOrFixes { port } => (
+            "no_time_or_fixes",
+            json!({"port": port_name(port),
+                   "remedy": "the autopilot's link gives no time and no position (PX4 1.16 in mode Gimbal): set it to mode Normal (PX4 MAV_n_MODE 0) or connect the autopilot's telemetry link"}),
+        ),
         Event::RateClamped { requested_cdeg_s } => (
             "rate_clamped",
             json!({"requested_cdeg_s": requested_cdeg_s}),
@@ -90,6 +95,10 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
                 CrcCoverage::IncludeStx => "include-stx",
                 CrcCoverage::ExcludeStx => "exclude-stx",
             }}),
+        ),
+        Event::DestructiveDenied { command } => (
+            "destructive_denied",
+            json!({"command": command, "key": "mavlink.allow_destructive"}),
         ),
         Event::Dropped { port, frames } => (
             "dropped",

@@ -121,9 +121,10 @@ pub struct BridgeArgs {
     #[arg(long, value_name = "PORT", value_parser = parse_port)]
     pub pod_port: PortSpec,
     /// The autopilot's MAVLink 2 telemetry port (ArduPilot `SERIALn_PROTOCOL 2`, PX4
-    /// `MAV_n_CONFIG`), beside the FC link of any --fc but mavlink: time (TIMESYNC,
-    /// SYSTEM_TIME) and fixes come from it while it gives them. A serial device or TCP
-    /// port (not `sim`). Default: no telemetry link.
+    /// `MAV_n_CONFIG`), beside the FC link of any --fc (with mavlink: when the FC link
+    /// gives no time, as PX4 1.16's in mode Gimbal): time (TIMESYNC, SYSTEM_TIME) and
+    /// fixes come from it while it gives them. A serial device or TCP port (not `sim`).
+    /// Default: no telemetry link.
     #[arg(long, value_name = "PORT", value_parser = parse_telemetry_port)]
     pub telemetry_port: Option<PortSpec>,
     /// The RTC_IO output: `gpiochip0:LINE[:active-low]` (a GPIO line through the
@@ -287,6 +288,12 @@ pub struct ConfigArgs {
     #[arg(long)]
     #[serde(rename = "pod.pitch_positive_down", skip_serializing_if = "is_false")]
     pub pod_pitch_positive_down: bool,
+    /// MAVLink side: carry out the commands that erase (storage format: the pod's SD card;
+    /// camera reset: the pod's factory reset, its IP address included); without it they
+    /// are refused (DENIED).
+    #[arg(long)]
+    #[serde(rename = "mavlink.allow_destructive", skip_serializing_if = "is_false")]
+    pub mavlink_allow_destructive: bool,
     /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
     /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
@@ -388,6 +395,57 @@ pub struct SimFcArgs {
     /// Output format (JSON lines by default).
     #[arg(long, value_enum, default_value_t = EventFormat::Json)]
     pub events: EventFormat,
+    /// MAVLink: the autopilot behind the port.
+    #[arg(long, value_enum, default_value_t = AutopilotArg::Ardupilot)]
+    pub autopilot: AutopilotArg,
+    /// MAVLink, PX4: the port's mode (`MAV_n_MODE`); `gimbal` is PX4 1.16's, whose link
+    /// answers no SET_MESSAGE_INTERVAL and no TIMESYNC.
+    #[arg(long, value_enum, default_value_t = Px4ModeArg::Normal)]
+    pub px4_mode: Px4ModeArg,
+    /// MAVLink, PX4: SITL in lockstep (its boot clock 1.2 % slow against UTC, which
+    /// follows the host's clock).
+    #[arg(long)]
+    pub px4_lockstep: bool,
+    /// MAVLink: a ground app's link on UDP, `udp:HOST:PORT` (the app listens there, e.g.
+    /// MAVSDK `udpin://HOST:PORT`; the simulator answers where the app's datagrams come
+    /// from). The autopilot routes between it and the bridge as it does, and (PX4) is
+    /// the gimbal manager of the bridge's gimbal.
+    #[arg(long, value_name = "udp:HOST:PORT", value_parser = parse_udp)]
+    pub gcs: Option<std::net::SocketAddr>,
+}
+
+/// The autopilot of `gimbal sim-fc mavlink`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum AutopilotArg {
+    /// ArduPilot: `AP_Mount_MAVLink` and `AP_Camera_MAVLinkCamV2` (Copter).
+    #[default]
+    Ardupilot,
+    /// PX4: the gimbal v2 output, and the gimbal manager towards a ground app.
+    Px4,
+}
+
+/// The mode of the simulated PX4's port.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum Px4ModeArg {
+    /// 0: Normal (positions streamed; SYSTEM_TIME on request).
+    #[default]
+    Normal,
+    /// 2: Onboard (time and positions streamed, TIMESYNC requests).
+    Onboard,
+    /// 10: Gimbal as PX4 1.16 runs it (only the gimbal messages: no time, no position).
+    Gimbal,
+}
+
+/// `udp:HOST:PORT`.
+fn parse_udp(s: &str) -> Result<std::net::SocketAddr, String> {
+    use std::net::ToSocketAddrs;
+    let rest = s
+        .strip_prefix("udp:")
+        .ok_or_else(|| format!("`{s}`: expected udp:HOST:PORT"))?;
+    rest.to_socket_addrs()
+        .ok()
+        .and_then(|mut a| a.next())
+        .ok_or_else(|| format!("`{s}`: expected udp:HOST:PORT"))
 }
 
 /// `gimbal sim-pod`.

@@ -10,7 +10,9 @@ use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
 use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
 use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
 use crate::sim::fc_k40t::FcK40t;
+use crate::sim::ground::{GroundLink, GroundPipe};
 use crate::sim::pilot::Pilot;
+use crate::sim::px4::{Px4, Px4Config};
 use crate::sim::{Autopilot, Peer};
 
 /// The K40T FC counts as healthy while frames from the bridge arrived this recently.
@@ -29,6 +31,8 @@ pub enum AnyFc {
     K40t(FcK40t),
     /// ArduPilot `AP_Mount_MAVLink` + `AP_Camera_MAVLinkCamV2`.
     Mavlink(ApMavlink),
+    /// PX4's gimbal v2 output (and, towards a ground app, its gimbal manager).
+    Px4(Px4),
 }
 
 /// The host's UTC now, µs since the Unix epoch.
@@ -48,6 +52,7 @@ macro_rules! each_fc {
             AnyFc::Gcu($f) => $body,
             AnyFc::K40t($f) => $body,
             AnyFc::Mavlink($f) => $body,
+            AnyFc::Px4($f) => $body,
         }
     };
 }
@@ -79,6 +84,31 @@ impl AnyFc {
         }
     }
 
+    /// A simulated PX4 (`config`'s clock settings but UTC: the host's) whose UTC is the
+    /// host's: at task time `now_us` it reads `utc_now_us`.
+    #[must_use]
+    pub fn px4(config: Px4Config, now_us: u64, utc_now_us: u64) -> Self {
+        AnyFc::Px4(Px4::new(Px4Config {
+            utc_at_zero_us: utc_now_us.saturating_sub(now_us),
+            ..config
+        }))
+    }
+
+    /// Attaches a ground app's link (MAVLink autopilots only); false for the others.
+    pub fn attach_ground(&mut self, pipe: GroundPipe) -> bool {
+        match self {
+            AnyFc::Mavlink(f) => {
+                f.ground = Some(GroundLink::new(pipe, f.config.sysid));
+                true
+            }
+            AnyFc::Px4(f) => {
+                f.ground = Some(GroundLink::new(pipe, f.config.sysid));
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn sim(&mut self) -> &mut dyn Peer {
         each_fc!(self, f => f)
     }
@@ -95,6 +125,7 @@ impl AnyFc {
             AnyFc::Viewlink(f) => f.healthy(),
             AnyFc::Gcu(f) => f.healthy(),
             AnyFc::Mavlink(f) => f.healthy(),
+            AnyFc::Px4(f) => f.healthy(),
             AnyFc::K40t(f) => f
                 .received
                 .last()
@@ -117,6 +148,10 @@ impl AnyFc {
             AnyFc::Gcu(f) => f.take_picture(),
             AnyFc::Mavlink(f) => {
                 f.take_picture();
+                true
+            }
+            AnyFc::Px4(f) => {
+                Pilot::take_picture(f);
                 true
             }
             AnyFc::K40t(_) => false,
@@ -147,6 +182,7 @@ impl AnyFc {
                 yaw_is_ef: false,
                 from_mavlink: false,
             }),
+            AnyFc::Px4(f) => f.turn(yaw_dps, pitch_dps),
             AnyFc::K40t(_) => return false,
         }
         true
@@ -160,6 +196,7 @@ impl AnyFc {
             AnyFc::Viewlink(f) => f.parse_errors(),
             AnyFc::Gcu(f) => f.parse_errors(),
             AnyFc::Mavlink(f) => f.parse_errors(),
+            AnyFc::Px4(f) => f.parse_errors(),
             AnyFc::K40t(_) => 0,
         }
     }

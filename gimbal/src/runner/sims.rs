@@ -15,9 +15,11 @@ use super::output::{Output, now_us};
 use super::port::{self, CableFaults, PortSpec, Pump, link_baud};
 use super::simfc::{AnyFc, system_utc_us};
 use super::watch::{FcWatcher, PodWatcher};
-use crate::runner::options::{SimFcArgs, SimPodArgs};
+use crate::runner::options::{AutopilotArg, Fc, Px4ModeArg, SimFcArgs, SimPodArgs};
+use crate::sim::ground::GroundPipe;
 use crate::sim::peer::{PeerError, run_peer};
 use crate::sim::pod::{PodSimConfig, SimPod};
+use crate::sim::px4::{Px4Config, Px4Mode};
 
 fn pipe() -> &'static HostPipe {
     Box::leak(Box::new(HostPipe::new()))
@@ -65,6 +67,74 @@ fn finish(
     Ok(summary)
 }
 
+/// The simulated flight controller of `args`.
+fn new_fc(args: &SimFcArgs, start_us: u64) -> Result<AnyFc, String> {
+    let utc = system_utc_us();
+    let px4 = args.autopilot == AutopilotArg::Px4;
+    if args.fc != Fc::Mavlink && (px4 || args.px4_lockstep) {
+        return Err("--autopilot px4 and --px4-lockstep are for `sim-fc mavlink`".into());
+    }
+    if !px4 {
+        return Ok(AnyFc::new(args.fc, start_us, utc));
+    }
+    let mut config = match args.px4_mode {
+        Px4ModeArg::Normal => Px4Config {
+            mode: Px4Mode::Normal,
+            ..Px4Config::default()
+        },
+        Px4ModeArg::Onboard => Px4Config {
+            mode: Px4Mode::Onboard,
+            ..Px4Config::default()
+        },
+        Px4ModeArg::Gimbal => Px4Config::px4_1_16_gimbal_mode(),
+    };
+    if args.px4_lockstep {
+        let lockstep = Px4Config::sitl_lockstep();
+        config.ppm = lockstep.ppm;
+        config.sitl_lockstep = true;
+    }
+    Ok(AnyFc::px4(config, start_us, utc))
+}
+
+/// A thread between the ground app at `addr` (UDP) and `pipe`: datagrams from the app
+/// into the pipe, the pipe's frames to where the app's last datagram came from (else to
+/// `addr`). Returns the local address.
+fn start_ground(
+    addr: std::net::SocketAddr,
+    pipe: GroundPipe,
+) -> Result<std::net::SocketAddr, String> {
+    use std::net::UdpSocket;
+    let local = match (addr.ip().is_loopback(), addr.is_ipv4()) {
+        (true, true) => "127.0.0.1:0",
+        (true, false) => "[::1]:0",
+        (false, true) => "0.0.0.0:0",
+        (false, false) => "[::]:0",
+    };
+    let socket = UdpSocket::bind(local).map_err(|e| format!("--gcs: {e}"))?;
+    socket
+        .set_read_timeout(Some(std::time::Duration::from_millis(5)))
+        .map_err(|e| format!("--gcs: {e}"))?;
+    let bound = socket.local_addr().map_err(|e| format!("--gcs: {e}"))?;
+    std::thread::Builder::new()
+        .name("gcs".into())
+        .spawn(move || {
+            let mut peer = addr;
+            let mut buf = [0u8; 2048];
+            loop {
+                if let Ok((n, from)) = socket.recv_from(&mut buf) {
+                    peer = from;
+                    pipe.push_from_ground(buf.get(..n).unwrap_or_default());
+                }
+                for frame in pipe.take_for_ground() {
+                    // A ground app not listening yet: the datagram is lost, as on a radio.
+                    let _ = socket.send_to(&frame, peer);
+                }
+            }
+        })
+        .map_err(|e| format!("--gcs: {e}"))?;
+    Ok(bound)
+}
+
 /// Runs a simulated flight controller. Returns the summary and whether the
 /// expectations (`--expect-healthy`) were met.
 ///
@@ -75,11 +145,25 @@ pub fn run_fc(args: &SimFcArgs, out: &Output, stop: &AtomicBool) -> Result<(Valu
     let cable = args.faults.filter(|f| !f.is_none()).map(CableFaults::new);
     let (to_sim, from_sim) = open(&args.port, baud, out, cable.as_ref())?;
     let start_us = now_us();
-    let fc = RefCell::new(AnyFc::new(args.fc, start_us, system_utc_us()));
+    let fc = RefCell::new(new_fc(args, start_us)?);
+    let gcs = match args.gcs {
+        Some(addr) => {
+            let pipe = GroundPipe::default();
+            if !fc.borrow_mut().attach_ground(pipe.clone()) {
+                return Err("--gcs: only a MAVLink autopilot has a ground link".into());
+            }
+            Some(start_ground(addr, pipe)?)
+        }
+        None => None,
+    };
     out.emit(
         "sim_fc_started",
         json!({"fc": args.fc.name(), "port": args.port.to_string(), "baud": baud,
-               "faults": args.faults.map(|f| f.to_string())}),
+               "faults": args.faults.map(|f| f.to_string()),
+               "autopilot": (args.fc == Fc::Mavlink)
+                   .then(|| format!("{:?}", args.autopilot).to_lowercase()),
+               "gcs": args.gcs.map(|a| a.to_string()),
+               "gcs_local": gcs.map(|a| a.to_string())}),
     );
     if args.yaw_rate.is_some() || args.pitch_rate.is_some() {
         let turned = fc

@@ -34,7 +34,15 @@
 //!   PX4's own requests are recorded too ([`Px4::timesync_replies`]).
 //! - **Camera** (`TRIG_INTERFACE` 3): camera commands re-emitted as COMMAND_LONG to the
 //!   camera ([`Px4Config::camera_target_component`]).
-//! - **Forwarding** (`MAV_1_FORWARD` 1) to an attached ground station ([`Qgc`]).
+//! - **Forwarding** (`MAV_1_FORWARD` 1) to an attached ground station ([`Qgc`]), and
+//!   to and from a ground app on another link ([`Px4::ground`], where PX4 is the gimbal
+//!   manager: `manager.rs`).
+//! - **PX4 1.16 in mode Gimbal** ([`Px4Config::gimbal_link_only`]): the link handles
+//!   only the gimbal messages: no answer to SET_MESSAGE_INTERVAL (not even an ACK) or to
+//!   TIMESYNC, so a device there has neither time nor position.
+//! - **SITL in lockstep** ([`Px4Config::sitl_lockstep`]): the boot clock (`time_boot_ms`,
+//!   TIMESYNC) is the simulation's, here [`Px4Config::ppm`] (−12 000: 1.2 % slow), while
+//!   `time_unix_usec` follows the host's clock (the true rate).
 //! - **Health** (this simulator's own rule; PX4 has none found): the information came and
 //!   an attitude status within the last second.
 
@@ -51,10 +59,13 @@ use protocol_core::mavlink::{Header, MavMessage};
 
 use super::board::{Autopilot, Board, MainLoop, board_field};
 use super::describe::MavlinkFrames;
+use super::ground::GroundLink;
 use super::mav::{self, AUTOPILOT, AircraftState, Endpoint, Rx, TimesyncAnswer};
 use super::pilot::Pilot;
 use super::qgc::Qgc;
 use super::{FcClock, XorShift};
+
+mod manager;
 
 /// The port's mode (`MAV_n_MODE`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,6 +108,36 @@ pub struct Px4Config {
     pub parse_latency_us: u64,
     /// The port's baud rate (places a frame's end inside a chunk the UART delivered).
     pub baud: u32,
+    /// PX4 1.16's link in mode Gimbal: only the gimbal messages are handled (no answer
+    /// to SET_MESSAGE_INTERVAL or TIMESYNC).
+    pub gimbal_link_only: bool,
+    /// SITL in lockstep: the boot clock runs at [`Px4Config::ppm`], UTC at the true rate.
+    pub sitl_lockstep: bool,
+}
+
+impl Px4Config {
+    /// PX4 1.16 with the port in mode Gimbal as its users run it: the link answers no
+    /// SET_MESSAGE_INTERVAL and no TIMESYNC, and streams no time or position.
+    #[must_use]
+    pub fn px4_1_16_gimbal_mode() -> Self {
+        Px4Config {
+            mode: Px4Mode::Gimbal,
+            gimbal_link_only: true,
+            ..Px4Config::default()
+        }
+    }
+
+    /// PX4 SITL in lockstep with the port in mode Normal: its boot clock 1.2 % slow
+    /// against UTC, which follows the host's clock.
+    #[must_use]
+    pub fn sitl_lockstep() -> Self {
+        Px4Config {
+            mode: Px4Mode::Normal,
+            ppm: -12_000.0,
+            sitl_lockstep: true,
+            ..Px4Config::default()
+        }
+    }
 }
 
 impl Default for Px4Config {
@@ -115,6 +156,8 @@ impl Default for Px4Config {
             utc_valid_at_us: 0,
             parse_latency_us: 300,
             baud: 115_200,
+            gimbal_link_only: false,
+            sitl_lockstep: false,
         }
     }
 }
@@ -147,6 +190,9 @@ pub struct Px4 {
     pub config: Px4Config,
     /// A ground station the port forwards to.
     pub gcs: Option<Qgc>,
+    /// A ground app on another of PX4's links (PX4 is its gimbal manager).
+    pub ground: Option<GroundLink>,
+    manager: manager::Manager,
     board: Board,
     me: Endpoint,
     rx: Rx,
@@ -197,6 +243,8 @@ impl Px4 {
         );
         let mut p = Px4 {
             gcs: None,
+            ground: None,
+            manager: manager::Manager::default(),
             board: Board::new(clock, XorShift::new(config.seed), MainLoop::ticks(5_000)),
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
@@ -257,6 +305,16 @@ impl Px4 {
     pub fn mount_angles(&self) -> Option<(f64, f64, f64)> {
         let (_, _, s) = self.statuses.last()?;
         mav::euler_deg(s.q)
+    }
+
+    /// The UTC PX4 reports at true time `t`: its clock's, or with SITL in lockstep the
+    /// host's (the true rate).
+    fn utc_us(&self, t: u64) -> u64 {
+        if self.config.sitl_lockstep {
+            self.board.clock().gps_utc_us(t)
+        } else {
+            self.fc_utc_us(t)
+        }
     }
 
     fn camera_command(&mut self, cmd: MavCmd, p: [f32; 4]) {
@@ -354,7 +412,7 @@ impl Px4 {
             // Not sent at all while the clock is invalid.
             SYSTEM_TIME_DATA::ID if !self.board.utc_valid() => return None,
             SYSTEM_TIME_DATA::ID => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
-                time_unix_usec: self.fc_utc_us(t),
+                time_unix_usec: self.utc_us(t),
                 time_boot_ms: a.boot_ms,
             }),
             TIMESYNC_DATA::ID => MavMessage::TIMESYNC(TIMESYNC_DATA {
@@ -365,7 +423,7 @@ impl Px4 {
             }),
             GLOBAL_POSITION_INT_DATA::ID => a.global_position(58_000),
             GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
-                time_usec: self.fc_utc_us(t),
+                time_usec: self.utc_us(t),
                 lat,
                 lon,
                 alt: a.alt_mm,
@@ -387,6 +445,9 @@ impl Px4 {
         {
             gcs.receive(now, h, &r.message);
         }
+        if let Some(g) = self.ground.as_mut() {
+            g.forward(&r.message, &r.bytes);
+        }
         match r.message {
             MavMessage::GIMBAL_DEVICE_INFORMATION(i) if self.info.is_none() => {
                 self.gimbal_compid = Some(h.component_id);
@@ -401,7 +462,9 @@ impl Px4 {
             MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s) => self.statuses.push((now, h, s)),
             MavMessage::COMMAND_ACK(a) => self.acks.push((now, h, a)),
             MavMessage::TIMESYNC(t)
-                if t.tc1 == 0 && (t.target_system == 0 || t.target_system == self.config.sysid) =>
+                if t.tc1 == 0
+                    && !self.config.gimbal_link_only
+                    && (t.target_system == 0 || t.target_system == self.config.sysid) =>
             {
                 // The receive thread parses it, reads hrt and answers at once.
                 let parse = end + self.board.rng().uniform(self.config.parse_latency_us);
@@ -430,7 +493,8 @@ impl Px4 {
             MavMessage::COMMAND_LONG(c)
                 if c.command == MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
                     && c.target_system == self.config.sysid
-                    && (c.target_component == AUTOPILOT || c.target_component == 0) =>
+                    && (c.target_component == AUTOPILOT || c.target_component == 0)
+                    && !self.config.gimbal_link_only =>
             {
                 let result = if !self.config.honours_interval {
                     MavResult::MAV_RESULT_UNSUPPORTED
@@ -504,6 +568,7 @@ impl Autopilot for Px4 {
             }
             self.gcs = Some(gcs);
         }
+        self.ground_run(now);
     }
 
     fn update_health(&mut self) {
@@ -545,6 +610,10 @@ impl Pilot for Px4 {
             MavMessage::SYSTEM_TIME(_) => Some(*t),
             _ => None,
         })
+    }
+    /// The UTC PX4 reports (with SITL in lockstep: the host's).
+    fn true_utc_us(&self, t_us: u64) -> u64 {
+        self.utc_us(t_us)
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         Px4::mount_angles(self).map(|(_, pitch, yaw)| (yaw, pitch))

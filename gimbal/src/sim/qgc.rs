@@ -21,6 +21,12 @@
 //!   FAILED (3 tries at most); after an ACCEPTED IMAGE_START_CAPTURE the capture status
 //!   is polled (527, every 0.5 s) until `image_status` is 0 again (the shutter stays
 //!   busy until then); the video state flips on the ACCEPTED ACK of 2500/2501.
+//! - **Camera definition**: a `cam_definition_uri` of `mftp://` is downloaded over MAVLink
+//!   FTP and its parameters read ([`SettingsClient`], in QGroundControl's style or, with
+//!   [`QgcConfig::client`], MAVSDK's); only once it is in are the camera's settings,
+//!   streams, capture status and storage asked (REQUEST_LIST at once, then after 0.5, 1,
+//!   1.5 and 2 s); a failed download leaves the camera there, asked nothing more (what
+//!   QGroundControl's code read does).
 //! - CAMERA_SETTINGS' mode, zoom and focus level (non-finite ignored), the storage's
 //!   capacity only when READY, CAMERA_IMAGE_CAPTURED plotted as a map point only when
 //!   `capture_result` is 1 (lat/lon degE7; alt kept in mm; `time_utc` unused).
@@ -38,6 +44,7 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
+use super::camera_settings::{ClientStyle, SettingsClient};
 use super::mav::{self, Endpoint, GCS};
 
 /// Settings of the client.
@@ -51,6 +58,11 @@ pub struct QgcConfig {
     pub retry_us: u64,
     /// Tries of a command.
     pub command_tries: u8,
+    /// How the camera definition and settings are handled (QGroundControl's way, or
+    /// MAVSDK's).
+    pub client: ClientStyle,
+    /// Burst replies of the definition's download lost on the way (by number, from 0).
+    pub drop_burst_replies: Vec<usize>,
 }
 
 impl Default for QgcConfig {
@@ -60,6 +72,8 @@ impl Default for QgcConfig {
             vehicle: 1,
             retry_us: 1_500_000,
             command_tries: 3,
+            client: ClientStyle::Qgc,
+            drop_burst_replies: Vec::new(),
         }
     }
 }
@@ -95,6 +109,10 @@ pub struct QgcCamera {
     pub recording: bool,
     /// The shutter is busy (after an accepted photo, until the status says idle).
     pub shutter_busy: bool,
+    /// The camera definition and its settings (a camera with an `mftp://` definition).
+    pub definition: Option<SettingsClient>,
+    /// The requests that follow the definition's download are scheduled.
+    initialised: bool,
     next_try: [u64; 4],
     tries: [u8; 4],
 }
@@ -185,6 +203,11 @@ impl Qgc {
         self.send(&msg);
     }
 
+    /// Sends `msg` as it is (tests: what no ground station sends).
+    pub fn send_message(&mut self, msg: &MavMessage) {
+        self.send(msg);
+    }
+
     /// Queues a camera command (sent when the one before it is answered).
     pub fn command(&mut self, cmd: MavCmd, p: [f32; 4]) {
         let Some(compid) = self.camera.as_ref().map(|c| c.compid) else {
@@ -272,13 +295,23 @@ impl Qgc {
         if h.system_id != self.config.vehicle {
             return;
         }
+        if let Some(client) = self.camera_of(h).and_then(|c| c.definition.as_mut()) {
+            client.receive(now_us, h, msg);
+        }
         match msg {
             MavMessage::HEARTBEAT(hb) => self.heartbeat(now_us, h, hb),
             MavMessage::CAMERA_INFORMATION(i) => {
+                let (style, drop) = (self.config.client, self.config.drop_burst_replies.clone());
                 if let Some(c) = self.camera_of(h) {
                     c.info = Some(i.clone());
                     let basic = i.cam_definition_uri.first().is_none_or(|b| *b == 0);
-                    if basic {
+                    let uri = String::from_utf8_lossy(&i.cam_definition_uri[..])
+                        .trim_end_matches('\0')
+                        .to_owned();
+                    if uri.starts_with("mftp://") && c.definition.is_none() {
+                        let target = (h.system_id, h.component_id);
+                        c.definition = Some(SettingsClient::new(style, target, &uri, drop));
+                    } else if basic {
                         c.next_try = [now_us, now_us + 2_500_000, now_us + 2_750_000, u64::MAX];
                         if i.flags
                             .contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM)
@@ -348,6 +381,11 @@ impl Qgc {
             }
             _ => {}
         }
+    }
+
+    /// The camera's definition and settings client.
+    pub fn definition(&mut self) -> Option<&mut SettingsClient> {
+        self.camera.as_mut().and_then(|c| c.definition.as_mut())
     }
 
     fn camera_of(&mut self, h: Header) -> Option<&mut QgcCamera> {
@@ -471,6 +509,26 @@ impl Qgc {
         let Some(mut c) = self.camera.take() else {
             return;
         };
+        if let Some(client) = c.definition.as_mut() {
+            client.poll(now);
+            for m in client.transmit() {
+                self.send(&m);
+            }
+            if !c.initialised && client.loaded() {
+                c.initialised = true;
+                // QGroundControl's initialisation once the definition is in.
+                let video = c.info.as_ref().is_some_and(|i| {
+                    i.flags
+                        .contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM)
+                });
+                c.next_try = [
+                    now + 500_000,
+                    now + 2_000_000,
+                    now + 1_500_000,
+                    if video { now + 1_000_000 } else { u64::MAX },
+                ];
+            }
+        }
         let retry = 3_000_000;
         if c.info.is_none() {
             let due = c.found_us + u64::from(c.info_tries) * retry;

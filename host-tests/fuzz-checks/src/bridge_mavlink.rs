@@ -8,17 +8,22 @@
 //! The frame op picks from what ArduPilot, PX4 and QGroundControl send a gimbal device and
 //! camera (docs/src/bridge/mavlink.md): the autopilot's heartbeat and streams, every form
 //! of GIMBAL_DEVICE_SET_ATTITUDE, the requests (new and deprecated, servable or not), the
-//! camera commands, a MAV_CMD the dialect does not list, TIMESYNC, and the catalogue's
-//! frames with arbitrary contents.
+//! camera commands, a MAV_CMD the dialect does not list, TIMESYNC, the camera
+//! definition's download (MAVLink FTP in QGroundControl's and MAVSDK's sequences, and
+//! opcodes neither sends), the extended parameters (list, read by name and index, sets of
+//! good and bad names, types and values), and the catalogue's frames with arbitrary
+//! contents.
 
 use std::sync::OnceLock;
 
 use bridge_engine::FcProtocol;
 use protocol_core::mavlink::dialect::{
     ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
-    GIMBAL_DEVICE_SET_ATTITUDE_DATA, GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags,
-    GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavFrame, MavModeFlag, MavState, MavType,
-    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    CharArray, FILE_TRANSFER_PROTOCOL_DATA, GIMBAL_DEVICE_SET_ATTITUDE_DATA,
+    GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GimbalDeviceFlags, GpsFixType, HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavFrame, MavModeFlag, MavParamExtType, MavState, MavType,
+    PARAM_EXT_REQUEST_LIST_DATA, PARAM_EXT_REQUEST_READ_DATA, PARAM_EXT_SET_DATA, SYSTEM_TIME_DATA,
+    TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, encode};
 
@@ -114,6 +119,102 @@ fn unknown_command() -> Vec<u8> {
     let mut buf = [0u8; MAX_FRAME_LEN];
     let n = p.emit(&mut buf).expect("emit");
     buf[..n].to_vec()
+}
+
+/// A FILE_TRANSFER_PROTOCOL request from QGroundControl (255/190) to 1/100.
+fn ftp(seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
+    let mut payload = [0u8; 251];
+    payload[..2].copy_from_slice(&seq.to_le_bytes());
+    payload[3] = opcode;
+    payload[4] = size;
+    payload[8..12].copy_from_slice(&offset.to_le_bytes());
+    payload[12..12 + data.len()].copy_from_slice(data);
+    let msg = MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
+        target_network: 0,
+        target_system: 1,
+        target_component: 100,
+        payload,
+    });
+    frame(255, 190, 11, &msg)
+}
+
+/// A PARAM_EXT_SET of `name` with `value` typed `ty`, to 1/100.
+fn param_set(name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
+    let mut id = [0u8; 16];
+    id[..name.len()].copy_from_slice(name.as_bytes());
+    let mut v = [0u8; 128];
+    v[..4].copy_from_slice(&value.to_le_bytes());
+    let msg = MavMessage::PARAM_EXT_SET(PARAM_EXT_SET_DATA {
+        target_system: 1,
+        target_component: 100,
+        param_id: CharArray::from(id),
+        param_value: CharArray::from(v),
+        param_type: ty,
+    });
+    frame(255, 190, 12, &msg)
+}
+
+/// The camera definition's download and the extended parameters, as QGroundControl and
+/// MAVSDK send them, and what neither sends.
+fn settings_frames() -> Vec<Vec<u8>> {
+    let mut out = vec![
+        // QGroundControl: open (no NUL), bursts, a hole, reset.
+        ftp(1, 4, 12, 0, b"/k40t.xml.xz"),
+        ftp(3, 15, 239, 0, &[]),
+        ftp(13, 15, 239, 1912, &[]),
+        ftp(15, 15, 239, 9999, &[]),
+        ftp(17, 5, 239, 478, &[]),
+        ftp(19, 2, 0, 0, &[]),
+        // MAVSDK: open (with its NUL), reads, terminate.
+        ftp(0, 4, 12, 0, b"k40t.xml.xz\0"),
+        ftp(1, 5, 239, 239, &[]),
+        ftp(2, 5, 100, 2100, &[]),
+        ftp(3, 1, 0, 0, &[]),
+        // A wrong path, listing, writing, a reply routed onto the link.
+        ftp(5, 4, 9, 0, b"/etc/none"),
+        ftp(6, 3, 1, 0, b"/"),
+        ftp(7, 7, 4, 0, b"data"),
+        ftp(8, 128, 0, 0, &[]),
+    ];
+    let gcs = |msg: MavMessage| frame(255, 190, 13, &msg);
+    out.push(gcs(MavMessage::PARAM_EXT_REQUEST_LIST(
+        PARAM_EXT_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 100,
+        },
+    )));
+    for (name, index) in [("CAM_EV", -1), ("", 7), ("", 200), ("NO_SUCH", -1)] {
+        let mut id = [0u8; 16];
+        id[..name.len()].copy_from_slice(name.as_bytes());
+        out.push(gcs(MavMessage::PARAM_EXT_REQUEST_READ(
+            PARAM_EXT_REQUEST_READ_DATA {
+                param_index: index,
+                target_system: 1,
+                target_component: 100,
+                param_id: CharArray::from(id),
+            },
+        )));
+    }
+    let u8t = MavParamExtType::MAV_PARAM_EXT_TYPE_UINT8;
+    let u32t = MavParamExtType::MAV_PARAM_EXT_TYPE_UINT32;
+    for (name, value, ty) in [
+        ("CAM_ISO", 3, u8t),
+        ("CAM_ISO", 0, u8t),
+        ("CAM_MODE", 1, u32t),
+        ("CAM_PHOTOMODE", 1, u8t),
+        ("CAM_BURST", 5, u8t),
+        ("IR_DENOISE_LV", 70, u8t),
+        ("CAM_HLSUPP", 1, u8t),
+        ("CAM_BACKLIGHT", 1, u8t),
+        ("IR_TEMP_OSD", 1, u8t),
+        ("CAM_ISO", 3, u32t),
+        ("CAM_ISO", 99, u8t),
+        ("NO_SUCH", 1, u8t),
+        ("CAM_MODE", 0x1_0000, u32t),
+    ] {
+        out.push(param_set(name, value, ty));
+    }
+    out
 }
 
 /// The FC frames the frame op picks from.
@@ -232,6 +333,7 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
             MavCmd::MAV_CMD_REQUEST_CAMERA_IMAGE_CAPTURE,
             MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION,
             MavCmd::MAV_CMD_STORAGE_FORMAT,
+            MavCmd::MAV_CMD_RESET_CAMERA_SETTINGS,
             MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
         ];
         for cmd in old {
@@ -285,6 +387,7 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
             autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
             ..HEARTBEAT_DATA::default()
         })));
+        out.extend(settings_frames());
         let fill: Vec<u8> = (0..=255u8).map(|i| i.wrapping_mul(151) ^ 0x5A).collect();
         out.extend(
             crate::mavlink::catalogue_frames(&fill)

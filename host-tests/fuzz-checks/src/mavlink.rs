@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 31] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -28,6 +28,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
     (75, 158),
     (76, 152),
     (77, 143),
+    (110, 84),
     (111, 34),
     (112, 174),
     (244, 95),
@@ -44,6 +45,11 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
     (284, 99),
     (285, 137),
     (286, 210),
+    (320, 243),
+    (321, 88),
+    (322, 243),
+    (323, 78),
+    (324, 132),
 ];
 
 fn spec_crc_extra(id: u32) -> Option<u8> {

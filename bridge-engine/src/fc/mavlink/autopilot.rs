@@ -40,11 +40,12 @@
 //!   TIMESYNC path.
 
 use crate::discipline::{Sample, serial_time};
+use crate::event::Event;
 use crate::fixes::{Fix, Velocity};
 use crate::time::{Duration, Instant};
 use protocol_core::mavlink::dialect::{
-    GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavType,
-    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd,
+    MavType, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
 use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
 
@@ -84,6 +85,10 @@ const TIMESYNC_QUICK_SPREAD_US: u32 = 50_000;
 const TIMESYNC_QUEUE_WAIT: Duration = Duration::from_millis(3);
 /// SYSTEM_TIME is used alone when no TIMESYNC reply came this long after the first.
 pub(crate) const TIMESYNC_GRACE: Duration = Duration::from_secs(5);
+/// An autopilot that answered none of the device's requests for time and position and
+/// sent none this long after it was learnt gives neither (PX4 1.16's link in mode
+/// Gimbal): [`Event::NoTimeOrFixes`], once.
+const SILENT_WAIT: Duration = Duration::from_secs(10);
 
 /// MAV_CMD_SET_MESSAGE_INTERVAL.
 pub(super) const SET_MESSAGE_INTERVAL: u16 = 511;
@@ -205,6 +210,9 @@ pub(super) struct Autopilot {
     /// The first SYSTEM_TIME with a set clock since the autopilot was learnt.
     first_time: Option<Instant>,
     sync: Timesync,
+    /// When the autopilot was learnt, until it answers a request for time or position or
+    /// sends either (then `None`), or [`Event::NoTimeOrFixes`] has been said.
+    silent_since: Option<Instant>,
 }
 
 impl Autopilot {
@@ -224,6 +232,7 @@ impl Autopilot {
             vehicle: None,
             gps_fix_at: None,
             first_time: None,
+            silent_since: None,
             sync: Timesync {
                 next: Instant::ZERO,
                 outstanding: None,
@@ -342,6 +351,7 @@ impl Autopilot {
             s.next_try = ctx.now;
         }
         self.first_time = None;
+        self.silent_since = Some(ctx.now);
         self.sync.next = ctx.now;
         self.sync.outstanding = None;
         self.sync.answered = false;
@@ -353,8 +363,25 @@ impl Autopilot {
     /// TIMESYNC); see [`Took`].
     pub(super) fn message(&mut self, ctx: &mut Ctx<'_>, h: Header, m: &MavMessage) -> Took {
         let autopilot = self.is_autopilot(h);
+        if autopilot
+            && matches!(
+                m,
+                MavMessage::SYSTEM_TIME(_)
+                    | MavMessage::GPS_RAW_INT(_)
+                    | MavMessage::GLOBAL_POSITION_INT(_)
+            )
+        {
+            self.silent_since = None;
+        }
         match m {
             MavMessage::TIMESYNC(t) => self.timesync(ctx, h, t),
+            MavMessage::COMMAND_ACK(a)
+                if autopilot && a.command == MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL =>
+            {
+                // Answered (whatever the result): the link handles the device's requests.
+                self.silent_since = None;
+                Took::Yes
+            }
             MavMessage::SYSTEM_TIME(t) if autopilot => {
                 self.stream_seen(ctx, stream::SYSTEM_TIME);
                 self.system_time(ctx, t);
@@ -397,6 +424,13 @@ impl Autopilot {
         if self.sysid.is_none() {
             return;
         }
+        if self
+            .silent_since
+            .is_some_and(|t| ctx.now >= t.saturating_add(SILENT_WAIT))
+        {
+            self.silent_since = None;
+            ctx.out.event(Event::NoTimeOrFixes { port: ctx.to });
+        }
         self.request_streams(ctx);
         if ctx.now >= self.sync.next {
             self.request_timesync(ctx);
@@ -411,7 +445,8 @@ impl Autopilot {
     pub(super) fn poll_at(&self) -> Option<Instant> {
         self.sysid?;
         let streams = self.streams.iter().map(Stream::due);
-        streams.chain([self.sync.next]).min()
+        let silent = self.silent_since.map(|t| t.saturating_add(SILENT_WAIT));
+        streams.chain([self.sync.next]).chain(silent).min()
     }
 
     /// The aircraft's attitude now, when fresh.
@@ -560,6 +595,7 @@ impl Autopilot {
             return Took::No;
         }
         self.sync.outstanding = None;
+        self.silent_since = None;
         if ctx.now.saturating_duration_since(req.sent) > TIMESYNC_MAX_RTT {
             return Took::Yes;
         }
@@ -586,7 +622,10 @@ impl Autopilot {
                 AutopilotKind::Px4 => serial_time(req.len, ctx.baud).as_micros(),
                 AutopilotKind::ArduPilot | AutopilotKind::Other => 0,
             };
-            let s = Sample::new(req.sent, tc1_us.saturating_sub(read_after), 1).lower_bound();
+            // The boot clock may be a simulator's (PX4 SITL in lockstep: 1.2 % slow).
+            let s = Sample::new(req.sent, tc1_us.saturating_sub(read_after), 1)
+                .lower_bound()
+                .any_rate();
             ctx.time.fc_clock_sample(s);
         }
         Took::Yes

@@ -19,12 +19,11 @@
 //! - **Their COMMAND_ACK** waits for the pod's ACK (ACCEPTED, or FAILED on a refusal or
 //!   time-out); a command while the pod does not report is TEMPORARILY_REJECTED; an
 //!   interval start or stop is the bridge's own and ACCEPTED at once.
-//! - **CAMERA_IMAGE_CAPTURED** after each photo, broadcast: the photo's UTC and the
-//!   position the pod was given for its geotag (the engine's answer to its 0x000310,
-//!   from the same fix history, at the instant the pod named), the pod's attitude, the
-//!   image index; `capture_result` 0 when the pod refused or did not answer. A photo the
-//!   pod asks no position for within 1 s gets the fix of its ACK's instant. Photos the
-//!   pod takes on its own (a GPS request with no photo pending) are reported too.
+//! - **CAMERA_IMAGE_CAPTURED** once per photo the pod takes, broadcast: the photo's UTC
+//!   and the position the pod was given for its geotag (the engine's answer to its
+//!   0x000310, from the same fix history, at the instant the pod named), the pod's
+//!   attitude, the image index; which GPS requests are photos', and what a photo without
+//!   a geotag reports: [`capture`](super::capture).
 //! - **CAMERA_CAPTURE_STATUS** on request and, unasked, whenever the image or video
 //!   status changes (QGroundControl keeps the shutter busy until it reads idle).
 //! - **CAMERA_SETTINGS** (mode from the pod's status, zoom level in %, focus level
@@ -32,31 +31,22 @@
 
 use crate::fc::Ctx;
 use crate::gimbal::{Command, Motion};
-use crate::time::{Duration, Instant, TimeOfDay};
-use protocol_core::k40t::{CaptureMode, GpsRequest, SdState};
+use crate::time::{Duration, Instant};
+use protocol_core::k40t::{CaptureMode, SdState};
 use protocol_core::mavlink::MavMessage;
 use protocol_core::mavlink::dialect::{
-    CAMERA_CAPTURE_STATUS_DATA, CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA,
-    CAMERA_SETTINGS_DATA, CameraCapFlags, CameraMode, CharArray, MavBool, STORAGE_INFORMATION_DATA,
-    StorageStatus, StorageType, StorageUsageFlag,
+    CAMERA_CAPTURE_STATUS_DATA, CAMERA_INFORMATION_DATA, CAMERA_SETTINGS_DATA, CameraCapFlags,
+    CameraMode, CharArray, STORAGE_INFORMATION_DATA, StorageStatus, StorageType, StorageUsageFlag,
 };
 
-use super::gimbal::{MODEL, PITCH_SHOWN, VENDOR, boot_ms, name, version};
-use super::{Cmd, Comp, MavlinkSide, cmd, id, math, result};
+use super::capture::Captures;
+use super::gimbal::{MODEL, VENDOR, boot_ms, name, version};
+use super::{Cmd, Comp, MavlinkSide, cmd, id, result};
 
-/// Photos in flight at once (ACK and geotag pending).
-const SHOTS: usize = 3;
 /// Commands waiting for the pod's ACK.
 const ACKS: usize = 4;
 /// A pod ACK not come after this: the command failed.
 const ACK_WAIT: Duration = Duration::from_millis(1500);
-/// A photo the pod asks no position for within this of its ACK is reported with the
-/// fix of the ACK's instant.
-const GPS_WAIT: Duration = Duration::from_secs(1);
-/// Beyond the engine's wait for the next fix (250 ms): the geotag has been answered.
-const GEOTAG_WAIT: Duration = Duration::from_millis(300);
-/// A photo whose ACK never comes is given up after this.
-const SHOT_WAIT: Duration = Duration::from_secs(2);
 /// Shortest photo interval.
 const MIN_INTERVAL: Duration = Duration::from_secs(1);
 /// One focus step: continuous focus for this long.
@@ -68,17 +58,6 @@ const ZOOM_MAX_X10: u16 = 1600;
 /// K40T base ids the camera waits on.
 const PHOTO: u16 = 0x0302;
 const RECORD: u16 = 0x0303;
-
-/// A photo on its way.
-#[derive(Debug, Clone, Copy)]
-struct Shot {
-    sent: Instant,
-    /// The pod's ACK: when, and OK.
-    acked: Option<(Instant, bool)>,
-    /// The pod's GPS request: the instant it named (`None`: not mappable, no UTC) and
-    /// when it came.
-    asked: Option<(Option<Instant>, Instant)>,
-}
 
 /// A command whose COMMAND_ACK waits for the pod.
 #[derive(Debug, Clone, Copy)]
@@ -98,29 +77,16 @@ struct Interval {
     next: Instant,
 }
 
-/// The last CAMERA_IMAGE_CAPTURED, for a request of it again.
-#[derive(Debug, Clone, Copy)]
-struct Captured {
-    index: i32,
-    time_utc: u64,
-    time_boot_ms: u32,
-    /// Latitude, longitude (degE7), MSL and relative altitude (mm); zeros: unknown.
-    position: [i32; 4],
-    q: [f32; 4],
-    ok: bool,
-}
-
 /// The camera's own state.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Camera {
     /// The mode SET_CAMERA_MODE asked last (video: true).
     video_mode: Option<bool>,
-    /// Photos captured (the next image index).
-    image_count: i32,
     /// The capture sequence number (param4) of the last single capture.
     last_seq: Option<u32>,
     interval: Option<Interval>,
-    shots: [Option<Shot>; SHOTS],
+    /// The photos the pod takes.
+    pub(super) captures: Captures,
     /// The recording the bridge started, since when (the pod ACKed it).
     recording_since: Option<Instant>,
     /// The last record command: start (true) or stop.
@@ -129,7 +95,6 @@ pub(super) struct Camera {
     waiting: [Option<Waiting>; ACKS],
     /// Image and video status last sent.
     reported: Option<(u8, u8)>,
-    last: Option<Captured>,
 }
 
 /// A camera command this component acts on.
@@ -313,18 +278,7 @@ impl MavlinkSide {
             ctx.command(fc_id, Command::VideoMode(false));
         }
         let base = ctx.command(fc_id, Command::TakePhoto)?;
-        let shot = Shot {
-            sent: ctx.now,
-            acked: None,
-            asked: None,
-        };
-        if self.camera.shots.iter().all(Option::is_some) {
-            // Three photos in flight: the oldest is reported with what it has.
-            self.finish_shot(ctx, 0);
-        }
-        if let Some(slot) = self.camera.shots.iter_mut().find(|s| s.is_none()) {
-            *slot = Some(shot);
-        }
+        self.capture_commanded(ctx);
         self.capture_status_changed(ctx);
         Some(base)
     }
@@ -350,19 +304,8 @@ impl MavlinkSide {
         }
         match base {
             PHOTO => {
-                let first = self
-                    .camera
-                    .shots
-                    .iter()
-                    .position(|s| s.is_some_and(|s| s.acked.is_none()));
-                if let Some(i) = first {
-                    if let Some(Some(s)) = self.camera.shots.get_mut(i) {
-                        s.acked = Some((ctx.now, ok));
-                    }
-                    if !ok {
-                        self.finish_shot(ctx, i);
-                    }
-                }
+                self.capture_acked(ctx, ok);
+                self.capture_status_changed(ctx);
             }
             RECORD if ok => {
                 self.camera.recording_since = match self.camera.record_asked {
@@ -372,42 +315,6 @@ impl MavlinkSide {
                 self.capture_status_changed(ctx);
             }
             _ => {}
-        }
-    }
-
-    /// The pod asks for the position of a photo: the photo's instant is noted.
-    pub(super) fn camera_gps_request(&mut self, ctx: &mut Ctx<'_>, r: GpsRequest) {
-        let at = TimeOfDay::new(r.hour, r.minute, r.second, r.millisecond)
-            .and_then(|tod| ctx.time.utc(ctx.now)?.nearest_with_time_of_day(tod))
-            .and_then(|utc| ctx.time.local_of(utc));
-        let asked = Some((at, ctx.now));
-        let shots = &mut self.camera.shots;
-        // The oldest photo the pod took and has not asked about; else the oldest not yet
-        // ACKed (its ACK was lost); else one the pod took by itself.
-        let pick = shots
-            .iter()
-            .position(|s| s.is_some_and(|s| s.asked.is_none() && s.acked.is_some_and(|a| a.1)))
-            .or_else(|| {
-                shots
-                    .iter()
-                    .position(|s| s.is_some_and(|s| s.asked.is_none() && s.acked.is_none()))
-            });
-        if let Some(i) = pick {
-            if let Some(Some(s)) = shots.get_mut(i) {
-                s.asked = asked;
-                s.acked = s.acked.or(Some((ctx.now, true)));
-            }
-            return;
-        }
-        if shots.iter().all(Option::is_some) {
-            self.finish_shot(ctx, 0);
-        }
-        if let Some(slot) = self.camera.shots.iter_mut().find(|s| s.is_none()) {
-            *slot = Some(Shot {
-                sent: ctx.now,
-                acked: Some((ctx.now, true)),
-                asked,
-            });
         }
     }
 
@@ -428,7 +335,7 @@ impl MavlinkSide {
             }
             self.capture_status_changed(ctx);
         }
-        self.finish_shots(ctx);
+        self.capture_poll(ctx);
         for i in 0..ACKS {
             let stale = self
                 .camera
@@ -447,110 +354,9 @@ impl MavlinkSide {
         self.capture_status_changed(ctx);
     }
 
-    /// Reports every photo whose position is known (or no longer expected).
-    pub(super) fn finish_shots(&mut self, ctx: &mut Ctx<'_>) {
-        for i in 0..SHOTS {
-            let Some(s) = self.camera.shots.get(i).copied().flatten() else {
-                continue;
-            };
-            let done = match (s.acked, s.asked) {
-                (_, Some((Some(at), when))) => {
-                    ctx.fixes.latest().is_some_and(|f| f.at >= at)
-                        || ctx.now.saturating_duration_since(when) >= GEOTAG_WAIT
-                }
-                (_, Some((None, _))) => true,
-                (Some((at, _)), None) => ctx.now.saturating_duration_since(at) >= GPS_WAIT,
-                (None, None) => ctx.now.saturating_duration_since(s.sent) >= SHOT_WAIT,
-            };
-            if done {
-                self.finish_shot(ctx, i);
-            }
-        }
-    }
-
-    /// Sends CAMERA_IMAGE_CAPTURED for shot `i` and forgets it.
-    fn finish_shot(&mut self, ctx: &mut Ctx<'_>, i: usize) {
-        let Some(s) = self.camera.shots.get_mut(i).and_then(Option::take) else {
-            return;
-        };
-        let ok = s.acked.is_some_and(|a| a.1);
-        // The photo's instant: the one the pod named, else its ACK's.
-        let at = match s.asked {
-            Some((at, _)) => at,
-            None => s.acked.map(|a| a.0),
-        };
-        let fix = at.filter(|_| ok).and_then(|at| ctx.fixes.at(at).ok());
-        let time_utc = at
-            .filter(|_| ok)
-            .and_then(|at| ctx.time.utc(at))
-            .map_or(0, crate::time::UtcTime::as_unix_micros);
-        let q = self.camera_attitude(ctx);
-        let index = self.camera.image_count;
-        if ok {
-            self.camera.image_count = index.saturating_add(1);
-        }
-        let captured = Captured {
-            index,
-            time_utc,
-            time_boot_ms: at.map_or_else(
-                || boot_ms(ctx),
-                |t| u32::try_from(t.as_millis() % (1u64 << 32)).unwrap_or(0),
-            ),
-            position: fix.map_or([0; 4], |f| {
-                let mm = |dm: i16| i32::from(dm).saturating_mul(100);
-                [f.lat_e7, f.lon_e7, mm(f.alt_msl_dm), mm(f.rel_alt_dm)]
-            }),
-            q,
-            ok,
-        };
-        self.camera.last = Some(captured);
-        self.send_captured(ctx, &captured);
-        self.capture_status_changed(ctx);
-    }
-
-    /// The camera's attitude: the pod's roll and pitch, its yaw from north when the
-    /// aircraft's heading is known (else NaN: unknown).
-    fn camera_attitude(&self, ctx: &Ctx<'_>) -> [f32; 4] {
-        let Some(a) = ctx.fresh_attitude() else {
-            return [f32::NAN; 4];
-        };
-        let Some(v) = self.vehicle(ctx.now) else {
-            return [f32::NAN; 4];
-        };
-        let yaw = math::wrap_cdeg(v.yaw.saturating_add(i32::from(a.yaw_joint_cdeg)));
-        let pitch = i32::from(a.pitch_cdeg).clamp(-PITCH_SHOWN, PITCH_SHOWN);
-        math::quaternion([
-            math::rad(i32::from(a.roll_cdeg)),
-            math::rad(pitch),
-            math::rad(yaw),
-        ])
-    }
-
-    fn send_captured(&mut self, ctx: &mut Ctx<'_>, c: &Captured) {
-        let [lat, lon, alt, relative_alt] = c.position;
-        let msg = MavMessage::CAMERA_IMAGE_CAPTURED(CAMERA_IMAGE_CAPTURED_DATA {
-            time_utc: c.time_utc,
-            time_boot_ms: c.time_boot_ms,
-            lat,
-            lon,
-            alt,
-            relative_alt,
-            q: c.q,
-            image_index: c.index,
-            camera_id: 0,
-            capture_result: if c.ok {
-                MavBool::MAV_BOOL_TRUE
-            } else {
-                MavBool::MAV_BOOL_FALSE
-            },
-            file_url: CharArray::from([0u8; 205]),
-        });
-        self.send(ctx, Comp::Camera, &msg);
-    }
-
     /// The image and video status (CAMERA_CAPTURE_STATUS).
     fn capture_state(&self, ctx: &Ctx<'_>) -> (u8, u8) {
-        let busy = self.camera.shots.iter().any(Option::is_some);
+        let busy = self.camera.captures.busy();
         let image = match (self.camera.interval.is_some(), busy) {
             (false, false) => 0,
             (false, true) => 1,
@@ -592,7 +398,7 @@ impl MavlinkSide {
                 .map_or(f32::NAN, |s| f32::from(s.sd_free_10mb) * 10.0),
             image_status,
             video_status,
-            image_count: self.camera.image_count,
+            image_count: self.camera.captures.image_count,
             camera_device_id: 0,
         });
         self.send(ctx, Comp::Camera, &msg);
@@ -627,7 +433,7 @@ impl MavlinkSide {
             // Storage 0 (all) or 1 (the SD card).
             id::STORAGE_INFORMATION if !matches!(whole(arg).unwrap_or(0), 0 | 1) => result::DENIED,
             id::CAMERA_IMAGE_CAPTURED => {
-                let held = self.camera.last.map(|l| l.index);
+                let held = self.camera.captures.last.map(|l| l.index);
                 if whole(arg).and_then(|i| i32::try_from(i).ok()) == held && held.is_some() {
                     result::ACCEPTED
                 } else {
@@ -646,7 +452,7 @@ impl MavlinkSide {
             id::STORAGE_INFORMATION => self.storage_information(ctx),
             id::CAMERA_CAPTURE_STATUS => self.capture_status(ctx),
             id::CAMERA_IMAGE_CAPTURED => {
-                if let Some(last) = self.camera.last {
+                if let Some(last) = self.camera.captures.last {
                     self.send_captured(ctx, &last);
                 }
             }
@@ -670,11 +476,11 @@ impl MavlinkSide {
             flags,
             resolution_h: 0,
             resolution_v: 0,
-            cam_definition_version: 0,
+            cam_definition_version: super::ftp::DEFINITION_VERSION,
             vendor_name: name::<32>(VENDOR),
             model_name: name::<32>(MODEL),
             lens_id: 0,
-            cam_definition_uri: CharArray::from([0u8; 140]),
+            cam_definition_uri: CharArray::from(name::<140>(super::ftp::DEFINITION_URI)),
             gimbal_device_id: Comp::Gimbal.id(),
             camera_device_id: 0,
         });
@@ -698,7 +504,7 @@ impl MavlinkSide {
     }
 
     /// STORAGE_INFORMATION from the pod's SD card (capacities in units of 10 MB).
-    fn storage_information(&mut self, ctx: &mut Ctx<'_>) {
+    pub(super) fn storage_information(&mut self, ctx: &mut Ctx<'_>) {
         let system = ctx.pod().system;
         let status = match system.map(|s| s.sd) {
             None => StorageStatus::STORAGE_STATUS_NOT_SUPPORTED,
@@ -732,22 +538,12 @@ impl MavlinkSide {
 impl Camera {
     /// When the camera has work.
     pub(super) fn poll_at(&self) -> Option<Instant> {
-        let shots = self
-            .shots
-            .iter()
-            .flatten()
-            .map(|s| match (s.acked, s.asked) {
-                (_, Some((_, when))) => when.saturating_add(GEOTAG_WAIT),
-                (Some((at, _)), None) => at.saturating_add(GPS_WAIT),
-                (None, None) => s.sent.saturating_add(SHOT_WAIT),
-            });
         let acks = self
             .waiting
             .iter()
             .flatten()
             .map(|w| w.at.saturating_add(ACK_WAIT));
-        shots
-            .chain(acks)
+        acks.chain(self.captures.poll_at())
             .chain(self.focus_stop)
             .chain(self.interval.map(|i| i.next))
             .min()

@@ -43,8 +43,15 @@
 
 mod autopilot;
 mod camera;
+mod capture;
+#[cfg(test)]
+mod definition_tests;
+mod destructive;
+mod ftp;
 mod gimbal;
 mod math;
+mod params;
+mod settings;
 #[cfg(feature = "telemetry")]
 mod telemetry;
 
@@ -87,6 +94,8 @@ mod cmd {
     pub(super) const REQUEST_CAMERA_SETTINGS: u16 = 522;
     pub(super) const REQUEST_STORAGE_INFORMATION: u16 = 525;
     pub(super) const REQUEST_CAMERA_CAPTURE_STATUS: u16 = 527;
+    pub(super) const STORAGE_FORMAT: u16 = 526;
+    pub(super) const RESET_CAMERA_SETTINGS: u16 = 529;
     pub(super) const SET_CAMERA_MODE: u16 = 530;
     pub(super) const SET_CAMERA_ZOOM: u16 = 531;
     pub(super) const SET_CAMERA_FOCUS: u16 = 532;
@@ -202,6 +211,12 @@ pub(crate) struct MavlinkSide {
     pod_up_since: Option<Instant>,
     gimbal: gimbal::Gimbal,
     camera: camera::Camera,
+    /// The camera definition's FTP server.
+    ftp: ftp::Ftp,
+    /// The camera's settings as extended parameters.
+    params: params::Params,
+    /// Storage format and camera reset.
+    destructive: destructive::Destructive,
 }
 
 impl MavlinkSide {
@@ -213,6 +228,9 @@ impl MavlinkSide {
             pod_up_since: None,
             gimbal: gimbal::Gimbal::default(),
             camera: camera::Camera::default(),
+            ftp: ftp::Ftp::default(),
+            params: params::Params::default(),
+            destructive: destructive::Destructive::default(),
         }
     }
 }
@@ -240,6 +258,20 @@ impl FcHandler for MavlinkSide {
             self.command(ctx, &c);
             return;
         }
+        // So are FTP and parameter requests (any opcode, any parameter type).
+        match frame.message_id() {
+            ftp::ID if self.ap.sysid.is_some() => {
+                self.ftp_request(ctx, header, frame.payload_ref());
+                return;
+            }
+            id @ (params::REQUEST_READ | params::REQUEST_LIST | params::SET)
+                if self.ap.sysid.is_some() =>
+            {
+                self.param_request(ctx, header, id, frame.payload_ref());
+                return;
+            }
+            _ => {}
+        }
         match Packet::parse(&frame).map(|p| p.message) {
             Ok(Message::Known(m)) => self.message(ctx, header, m),
             _ => ctx.ignored(),
@@ -258,8 +290,11 @@ impl FcHandler for MavlinkSide {
                 self.attitude_status(ctx);
             }
             self.ap.poll(ctx);
+            self.params_poll(ctx);
+            self.ftp_poll(ctx);
         }
         self.camera_poll(ctx);
+        self.destructive_poll(ctx);
     }
 
     fn poll_at(&self) -> Option<Instant> {
@@ -267,20 +302,38 @@ impl FcHandler for MavlinkSide {
             .ap
             .sysid
             .map(|_| self.next_heartbeat.min(self.next_status));
-        [device, self.ap.poll_at(), self.camera.poll_at()]
-            .into_iter()
-            .flatten()
-            .min()
+        [
+            device,
+            self.ap.poll_at(),
+            self.camera.poll_at(),
+            self.ap.sysid.and(self.params.poll_at()),
+            self.ap.sysid.and(self.ftp.poll_at()),
+            self.destructive.poll_at(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
     }
 
     fn pod_notice(&mut self, ctx: &mut Ctx<'_>, notice: PodNotice) {
         match notice {
-            PodNotice::LinkUp => self.pod_up_since = Some(ctx.now),
+            PodNotice::LinkUp => {
+                self.pod_up_since = Some(ctx.now);
+                self.params_pod_up(ctx);
+            }
             PodNotice::LinkDown => self.pod_up_since = None,
             PodNotice::Acked { base, code } => {
-                self.camera_pod_answer(ctx, base, code == protocol_core::k40t::AckCode::Ok);
+                let ok = code == protocol_core::k40t::AckCode::Ok;
+                self.camera_pod_answer(ctx, base, ok);
+                self.params_pod_answer(ctx, base, ok);
+                self.destructive_pod_answer(ctx, base, ok);
             }
-            PodNotice::TimedOut { base } => self.camera_pod_answer(ctx, base, false),
+            PodNotice::TimedOut { base } => {
+                self.camera_pod_answer(ctx, base, false);
+                self.params_pod_answer(ctx, base, false);
+                self.destructive_pod_answer(ctx, base, false);
+            }
+            PodNotice::Photo(state) => self.capture_photo_status(ctx, state),
             PodNotice::GpsRequest { .. } => {}
         }
     }
@@ -289,7 +342,7 @@ impl FcHandler for MavlinkSide {
     /// the engine answers it from the fix history.
     fn gps_request(&mut self, ctx: &mut Ctx<'_>, header: PodHeader, request: GpsRequest) -> bool {
         let _ = header;
-        self.camera_gps_request(ctx, request);
+        self.capture_gps_request(ctx, request);
         false
     }
 }
@@ -382,6 +435,10 @@ impl MavlinkSide {
             }
             _ if to != Some(Comp::Gimbal) && camera::is_camera_command(c.command) => {
                 self.camera_command(ctx, c);
+                true
+            }
+            cmd::STORAGE_FORMAT | cmd::RESET_CAMERA_SETTINGS if to != Some(Comp::Gimbal) => {
+                self.destructive_command(ctx, c);
                 true
             }
             _ => false,

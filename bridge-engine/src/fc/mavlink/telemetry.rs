@@ -1,5 +1,6 @@
 //! The telemetry link: a MAVLink 2 port of the autopilot (ArduPilot `SERIALn_PROTOCOL`
-//! 2, PX4 `MAV_n_CONFIG`) beside a SIYI, Viewlink, GCU or K40T FC link.
+//! 2, PX4 `MAV_n_CONFIG`) beside a SIYI, Viewlink, GCU or K40T FC link, or beside the
+//! MAVLink FC side when that link gives no time or fixes (PX4 1.16 in mode Gimbal).
 //!
 //! The bridge is a peripheral there (component 158, MAV_COMP_ID_PERIPHERAL; HEARTBEAT
 //! type GENERIC, autopilot INVALID, at 1 Hz once the autopilot is heard, with its system

@@ -21,7 +21,11 @@
 //!   (boot µs / 1000, truncated) from one reading of the FC clock at composition.
 //! - **Routing.** A ground station ([`Qgc`]) can be attached: the device's messages
 //!   without a target, with target 0 or the ground station's system reach it; its
-//!   messages for the device (or broadcast) go onto the port as they came.
+//!   messages for the device (or broadcast) go onto the port as they came. A ground app
+//!   on another link ([`ApMavlink::ground`], e.g. MAVSDK over UDP) is routed the same way
+//!   ([`crate::sim::ground`]); it gets the FC's HEARTBEAT at 1 Hz, and a command
+//!   addressed to the FC itself is answered UNSUPPORTED (this simulator is no gimbal
+//!   manager).
 
 use protocol_core::mavlink::MavMessage;
 use protocol_core::mavlink::dialect::{
@@ -31,6 +35,7 @@ use protocol_core::mavlink::dialect::{
 };
 
 use super::{ApMavlink, ApVehicle, Heard, TIMESYNC_PAYLOAD_SIZE, TimesyncLen, announced};
+use crate::sim::ground::Route;
 use crate::sim::mav::{self, AUTOPILOT, AircraftState, CAMERA, GIMBAL, Rx, TimesyncAnswer};
 use protocol_core::mavlink::Header;
 
@@ -324,9 +329,43 @@ impl ApMavlink {
         }
     }
 
+    /// The ground app's frames, routed; the FC's HEARTBEAT to it every second.
+    pub(super) fn ground_run(&mut self) {
+        let Some(mut g) = self.ground.take() else {
+            return;
+        };
+        for f in g.take() {
+            let route = Route::of(&f, self.config.sysid);
+            if route.forward && !self.board.is_off() {
+                self.board
+                    .write_loop(f.bytes.clone(), self.config.jitter_us);
+            }
+            if let (true, Some(MavMessage::COMMAND_LONG(c))) = (route.local, &f.message)
+                && c.target_component == AUTOPILOT
+            {
+                let ack = mav::command_ack(c.command, MavResult::MAV_RESULT_UNSUPPORTED, &f.header);
+                g.send(&ack);
+            }
+        }
+        let ms = self.board.fc_ms();
+        if self.ground_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
+            self.ground_heartbeat_ms = Some(ms);
+            let mavtype = match self.config.vehicle {
+                ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
+                ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
+            };
+            let autopilot = MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
+            g.send(&mav::autopilot_heartbeat(mavtype, autopilot));
+        }
+        self.ground = Some(g);
+    }
+
     /// ArduPilot's routing towards the ground station: messages without a target, with
     /// target system 0 or the ground station's system.
     fn route_to_gcs(&mut self, now_us: u64, r: &mav::Received) {
+        if let Some(g) = self.ground.as_mut() {
+            g.forward(&r.message, &r.bytes);
+        }
         let Some(gcs) = self.gcs.as_mut() else {
             return;
         };

@@ -28,6 +28,7 @@ use protocol_core::mavlink::{Header, MavMessage};
 
 use super::board::{Aircraft, Autopilot, Board, MainLoop, board_field};
 use super::describe::MavlinkFrames;
+use super::ground::GroundLink;
 use super::mav::{self, AUTOPILOT, Endpoint, Rx, TimesyncAnswer};
 use super::pilot::Pilot;
 use super::qgc::Qgc;
@@ -179,6 +180,8 @@ pub struct ApMavlink {
     pub config: ApMavlinkConfig,
     /// A ground station attached to the FC's routing.
     pub gcs: Option<Qgc>,
+    /// A ground app on another of the FC's links (`gcs.rs`).
+    pub ground: Option<GroundLink>,
     board: Board,
     /// Chunks the UART delivered since the last loop: (true time, bytes).
     uart: Vec<(u64, Vec<u8>)>,
@@ -188,6 +191,7 @@ pub struct ApMavlink {
     pub intervals: BTreeMap<u32, u64>,
     next_due: BTreeMap<u32, u64>,
     last_heartbeat_ms: Option<u64>,
+    ground_heartbeat_ms: Option<u64>,
     last_timesync_ms: Option<u64>,
     /// TIMESYNC replies to this FC's requests: (true time, tc1).
     pub timesync_replies: Vec<(u64, i64)>,
@@ -284,6 +288,7 @@ impl ApMavlink {
         let main_loop = MainLoop::imu(loop_rate_hz(&config), config.imu_ppm, config.loop_jitter_us);
         let mut ap = ApMavlink {
             gcs: None,
+            ground: None,
             board: Board::new(clock, XorShift::new(config.seed), main_loop).flying(aircraft),
             uart: Vec::new(),
             me: Endpoint::new(config.sysid, AUTOPILOT),
@@ -291,6 +296,7 @@ impl ApMavlink {
             intervals: BTreeMap::new(),
             next_due: BTreeMap::new(),
             last_heartbeat_ms: None,
+            ground_heartbeat_ms: None,
             last_timesync_ms: None,
             timesync_replies: Vec::new(),
             timesync_answers: Vec::new(),
@@ -401,6 +407,7 @@ impl Autopilot for ApMavlink {
             }
             self.gcs = Some(gcs);
         }
+        self.ground_run();
         let every = u64::from((self.loop_rate_hz() / 50).max(1));
         if self.board.run_index().is_multiple_of(every) {
             if self.config.mount {

@@ -152,51 +152,9 @@ impl SimPod {
                     reserved: 0,
                 })));
             }
-            _ => {}
+            other => return self.apply_setting(t, other),
         }
         Ok(None)
-    }
-
-    pub(super) fn ir_params(&self) -> IrParams {
-        IrParams {
-            code: ResponseCode::OK,
-            palette: self.camera.palette,
-            // Bit 0 clear: measuring; bit 1 area; bit 2 radiometric core.
-            measure: MeasureConfig((if self.camera.ir_measuring { 0x06 } else { 0x07 }) | (1 << 3)),
-            sharpness: 50,
-            gain: IrGain::High,
-            brightness: 50,
-            contrast: 50,
-            denoise: SwitchLevel(0x80 | 50),
-            enhancement: 0,
-            high_warning_dc: -2732,
-            low_warning_dc: -2732,
-            diff_warning_dc: -2732,
-            threshold_warning: OnOff::Off,
-            threshold_ref_dc: 0,
-            threshold_float_dc: 0,
-            reserved: [0; 2],
-        }
-    }
-
-    pub(super) fn visible_params(&self) -> VisibleParams {
-        VisibleParams {
-            code: ResponseCode::OK,
-            photo_resolution: PhotoResolution::R4000x3000,
-            video_resolution: VideoResolution::R1080p,
-            video_bitrate: 1,
-            white_balance: WhiteBalance::Auto,
-            reserved: [0; 2],
-            ev: self.camera.ev,
-            iso: k40t::Iso::Auto,
-            shutter: Shutter::Auto,
-            zoom_fine: 0,
-            backlight: 0,
-            strong_light: 0,
-            ae_lock: self.camera.ae_lock,
-            osd_flicker: k40t::OsdFlicker(0x40),
-            metering: Metering::CenterWeighted,
-        }
     }
 
     pub(super) fn laser_reading(&self) -> LaserDistance {
@@ -264,6 +222,7 @@ impl SimPod {
             }
             Some(0x0003) => {
                 let c = &self.camera;
+                let (sd_total_10mb, sd_free_10mb, sd_used_10mb) = self.card_at(t);
                 let status = SystemStatus {
                     mode: c.mode,
                     preview_resolution: PreviewResolution::P1080Fps30,
@@ -274,9 +233,9 @@ impl SimPod {
                     timelapse_s: c.timelapse_s,
                     burst_count: c.burst_count,
                     sd: SdState::Normal,
-                    sd_total_10mb: 12_207,
-                    sd_free_10mb: 11_007,
-                    sd_used_10mb: 1_200,
+                    sd_total_10mb,
+                    sd_free_10mb,
+                    sd_used_10mb,
                     reserved: 0,
                 };
                 self.send(t, &status);

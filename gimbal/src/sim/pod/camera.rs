@@ -43,6 +43,7 @@ pub(super) fn initial_camera(
         track: None,
         ev: Ev::Auto,
         ae_lock: AeLock::Off,
+        settings: PodSettings::default(),
     }
 }
 
@@ -145,30 +146,7 @@ impl SimPod {
         let pod_unix_ms = self.clock_unix_ms(t);
         let photo = self.photos.len();
         self.camera.photos_taken += 1;
-        let gps_request = (self.clock.synced || self.config.gps_when_unsynced).then(|| {
-            let (hour, minute, second, millisecond) = self.time_of_day(t);
-            let request = GpsRequest {
-                lens_enable: self.config.gps_lens_enable,
-                hour,
-                minute,
-                second,
-                millisecond,
-            };
-            let seq = self.send(t, &request);
-            self.gps_requests.push(GpsRequestRecord {
-                at_us: t,
-                seq,
-                request,
-                pod_unix_ms,
-                synced: self.clock.synced,
-                photo,
-                reply: None,
-                timed_out: false,
-                boot: self.boots.len().saturating_sub(1),
-            });
-            self.gps_open.push_back(self.gps_requests.len() - 1);
-            self.gps_requests.len() - 1
-        });
+        let gps_request = self.ask_gps(t, Some(photo), self.config.gps_lens_enable);
         self.photos.push(PhotoRecord {
             at_us: t,
             sensors: job.sensors,
@@ -206,6 +184,61 @@ impl SimPod {
         }
     }
 
+    /// Sends a GPS request at `t` (unless the pod has never been synchronised and
+    /// [`PodSimConfig::gps_when_unsynced`] is off) for photo `photo` (`None`: a periodic
+    /// one); returns its index in the records.
+    pub(super) fn ask_gps(
+        &mut self,
+        t: u64,
+        photo: Option<usize>,
+        lens_enable: u8,
+    ) -> Option<usize> {
+        if !(self.clock.synced || self.config.gps_when_unsynced) {
+            return None;
+        }
+        let pod_unix_ms = self.clock_unix_ms(t);
+        let (hour, minute, second, millisecond) = self.time_of_day(t);
+        let request = GpsRequest {
+            lens_enable,
+            hour,
+            minute,
+            second,
+            millisecond,
+        };
+        let seq = self.send(t, &request);
+        self.gps_requests.push(GpsRequestRecord {
+            at_us: t,
+            seq,
+            request,
+            pod_unix_ms,
+            synced: self.clock.synced,
+            photo,
+            reply: None,
+            timed_out: false,
+            boot: self.boots.len().saturating_sub(1),
+        });
+        self.gps_open.push_back(self.gps_requests.len() - 1);
+        Some(self.gps_requests.len() - 1)
+    }
+
+    /// The periodic GPS request due at `t` ([`PodSimConfig::gps_periodic`]).
+    pub(super) fn periodic_gps(&mut self, t: u64) {
+        let Some(period) = self.config.gps_periodic.period_us() else {
+            self.gps_periodic_due = None;
+            return;
+        };
+        let active = match self.config.gps_periodic {
+            PeriodicGps::WhileRecording { .. } => self.camera.recording.is_some(),
+            _ => true,
+        };
+        if active {
+            self.ask_gps(t, None, self.config.gps_periodic_lens_enable);
+            self.gps_periodic_due = Some(t.saturating_add(period.max(1)));
+        } else {
+            self.gps_periodic_due = None;
+        }
+    }
+
     pub(super) fn record(&mut self, t: u64, r: k40t::Record) -> Result<(), AckCode> {
         match r.action {
             RecordAction::Start => {
@@ -220,6 +253,9 @@ impl SimPod {
                     });
                     self.camera.mode = CaptureMode::Video;
                     self.record_status_due = Some(since_us);
+                    if let PeriodicGps::WhileRecording { period_us } = self.config.gps_periodic {
+                        self.gps_periodic_due = Some(since_us.saturating_add(period_us.max(1)));
+                    }
                 }
             }
             RecordAction::Stop => {

@@ -25,6 +25,40 @@ pub const IR_STATUS: IrStatus = IrStatus {
     reserved: [0; 4],
 };
 
+/// GPS requests the pod sends that are no photo's (see docs/src/protocols/k40t.md, "GPS
+/// requests": its document says a request precedes each photo and no more; a pod that
+/// also asks periodically, or while recording, is plausible and the bridge must not take
+/// those for photos).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PeriodicGps {
+    /// Only before photos (the document's reading).
+    #[default]
+    Never,
+    /// Every `period_us`, from power-up.
+    Always {
+        /// The period, µs.
+        period_us: u64,
+    },
+    /// Every `period_us` while recording.
+    WhileRecording {
+        /// The period, µs.
+        period_us: u64,
+    },
+}
+
+impl PeriodicGps {
+    /// The period, when any.
+    #[must_use]
+    pub const fn period_us(self) -> Option<u64> {
+        match self {
+            PeriodicGps::Never => None,
+            PeriodicGps::Always { period_us } | PeriodicGps::WhileRecording { period_us } => {
+                Some(period_us)
+            }
+        }
+    }
+}
+
 /// Periods of the periodic reports, microseconds (0 = not sent).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ReportPeriods {
@@ -194,8 +228,12 @@ pub struct PodSimConfig {
     pub gps_when_unsynced: bool,
     /// Ask for GPS in local time (the sync's time zone) rather than UTC.
     pub gps_local_time: bool,
-    /// Lens enable byte of 0x000310.
+    /// Lens enable byte of 0x000310 (before a photo).
     pub gps_lens_enable: u8,
+    /// GPS requests that are no photo's ([`PeriodicGps`]).
+    pub gps_periodic: PeriodicGps,
+    /// Lens enable byte of those.
+    pub gps_periodic_lens_enable: u8,
     /// Time after which a GPS request counts as unanswered.
     pub gps_timeout_us: u64,
     /// Corruption of the output.
@@ -261,6 +299,8 @@ impl Default for PodSimConfig {
             gps_when_unsynced: true,
             gps_local_time: false,
             gps_lens_enable: 1,
+            gps_periodic: PeriodicGps::Never,
+            gps_periodic_lens_enable: 0,
             gps_timeout_us: 1_000_000,
             faults: OutputFaults::default(),
         }

@@ -150,7 +150,10 @@
 //! - Settings that show in the reports: capture mode 0x000300, photo parameters 0x000301,
 //!   bitrate 0x000308, codec 0x00030B, image mode 0x000318 (the stream field of
 //!   0x000003), EV 0x000205, AE lock 0x00020A; palette 0x000106 and measurement switch
-//!   0x000108 show in the 0x000100 ACK.
+//!   0x000108 show in the 0x000100 ACK. Every other set command of 3.2.2 and 3.2.3, the
+//!   watermark 0x000314, the format 0x00030D and the factory reset 0x00030F: see
+//!   `settings.rs` ([`PodSettings`]); the all-settings ACKs 0x000100 and 0x000200 report
+//!   them all.
 //! - Laser: 0x000400 single ranging answers the configured distance
 //!   ([`SimPod::set_laser_distance_dm`]; 0 when the command is "disable"); 0x000406
 //!   sends 0x020406 with the distance at once and every second until disabled.
@@ -171,7 +174,10 @@
 //! of the last applied sync, with [`PodSimConfig::gps_local_time`]). An unsynchronised pod still asks, with its free-running
 //! time, unless [`PodSimConfig::gps_when_unsynced`] is off.
 //!
-//! **GPS.** Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
+//! **GPS.** A request precedes each photo (the document's note); with
+//! [`PodSimConfig::gps_periodic`] the pod also asks periodically, or while recording, with
+//! [`PodSimConfig::gps_periodic_lens_enable`] (0) as its lens byte, as a real pod
+//! plausibly does. Each 0x000310 is recorded ([`SimPod::gps_requests`]); every 0x010310 received
 //! is recorded ([`SimPod::gps_replies`]) and matched to a request of the current boot as
 //! the bridge matches ACKs (docs/src/bridge/engine.md; the reply is the FC's message, so it may carry the FC's own
 //! counter rather than the request's SEQ): a pending request with the same sequence
@@ -208,7 +214,8 @@
 //! `photos().len() == photo_requests()` and one request per press.
 //!
 //! **Not modelled.** Serial line timing (the caller delivers bytes when it wants;
-//! [`SimPod::transmit`] returns everything generated so far), SD card space and errors,
+//! [`SimPod::transmit`] returns everything generated so far), SD card space and errors
+//! (a fixed card, emptied by a format),
 //! upgrades, the soft restart command (0x00002F: ACKed, nothing restarts; a power
 //! cycle is [`SimPod::reboot`]), a boot time before the first report (the pod reports at
 //! the instant it is powered), IR image content, electronic zoom of the wide and IR
@@ -221,10 +228,11 @@ mod frames;
 mod motion;
 mod records;
 mod schedule;
+mod settings;
 mod time;
 
 use camera::{PhotoJob, initial_camera, record_status};
-pub use config::{AckSeq, IR_STATUS, OutputFaults, PodSimConfig, ReportPeriods};
+pub use config::{AckSeq, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods};
 use frames::{Queued, framing_of, message, payload};
 use motion::{Axis, AxisMotion, OPTICAL_MAX_X10, ZoomMotion};
 pub use records::{
@@ -233,6 +241,7 @@ pub use records::{
     TxRecord,
 };
 use schedule::{ONE_SECOND_US, ZOOM_STATUS_PERIOD_US};
+pub use settings::{FORMAT_US, PodSettings};
 use time::PodClock;
 
 use super::XorShift;
@@ -240,14 +249,14 @@ use std::collections::{BTreeMap, VecDeque};
 
 use protocol_core::k40t::{
     self, Ack, AckCode, Address, AeLock, CameraVersionAck, CaptureMode, CrcCoverage, Ev, FocusMode,
-    FocusState, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction, GimbalStatus,
-    GimbalVersionAck, GpsReply, GpsRequest, Header, ImageMode, IpConfigAck, IrGain, IrParams,
-    IrStatus, K40t, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus, Lens, Links,
-    MAX_FRAME_LEN, MeasureConfig, MeasureSwitch, Message, MessageData, Metering, MsgId, OnOff,
-    Packet, Palette, PhotoMode, PhotoResolution, PhotoSensors, PhotoState, PhotoStatus,
-    PitchMotion, PointToAim, PreviewResolution, Raw, RecordAction, RecordSensors, RecordState,
-    RecordStatus, Request, ResponseCode, SbusChannelMap, SbusConfig, SdState, SelfTest,
-    ShootAction, Shutter, StabilizationState, StreamBitrate, SwitchLevel, SystemStatus,
+    FocusState, FormatStatus, GimbalAngle, GimbalAttitude, GimbalControl, GimbalFunction,
+    GimbalStatus, GimbalVersionAck, GpsReply, GpsRequest, Header, ImageMode, IpConfigAck, IrGain,
+    IrParams, IrStatus, K40t, K40tFraming, Kind, LaserDistance, LaserMode, LaserPeriodicStatus,
+    Lens, Links, MAX_FRAME_LEN, MeasureConfig, MeasureSwitch, Message, MessageData, Metering,
+    MsgId, OnOff, Packet, Palette, PhotoMode, PhotoResolution, PhotoSensors, PhotoState,
+    PhotoStatus, PitchMotion, PointToAim, PreviewResolution, Raw, RecordAction, RecordSensors,
+    RecordState, RecordStatus, Request, ResponseCode, SbusChannelMap, SbusConfig, SdState,
+    SelfTest, ShootAction, Shutter, StabilizationState, StreamBitrate, SwitchLevel, SystemStatus,
     TargetGpsAck, TargetGpsRequest, Toggle, TrackBox, UpgradeState, Version, VideoCodec,
     VideoResolution, VisibleParams, VisibleStatus, WhiteBalance, YawMotion, ZoomControl, ZoomState,
     ZoomStatus,
@@ -298,6 +307,7 @@ pub struct SimPod {
     zoom_status_due: Option<u64>,
     record_status_due: Option<u64>,
     laser_due: Option<u64>,
+    gps_periodic_due: Option<u64>,
 
     model_us: u64,
     yaw: Axis,
@@ -357,6 +367,7 @@ impl SimPod {
             report_due: [None; 5],
             zoom_status_due: None,
             record_status_due: None,
+            gps_periodic_due: None,
             laser_due: None,
             model_us: 0,
             yaw: Axis::new(config.yaw_limits_deg),
@@ -561,6 +572,10 @@ impl SimPod {
         self.zoom_status_due = None;
         self.record_status_due = None;
         self.laser_due = None;
+        self.gps_periodic_due = match self.config.gps_periodic {
+            PeriodicGps::Always { period_us } => Some(t.saturating_add(period_us.max(1))),
+            _ => None,
+        };
         self.model_us = t;
         for (due, period) in self
             .report_due
@@ -604,5 +619,30 @@ impl SimPod {
     /// Sets the distance the laser measures, 0.1 m.
     pub fn set_laser_distance_dm(&mut self, distance_dm: u16) {
         self.camera.laser_distance_dm = distance_dm;
+    }
+
+    /// Sets the photo mode (as a 0x000003 photo-parameter command would): single,
+    /// burst of `burst_count`, or time-lapse every `timelapse_s`.
+    pub fn set_photo_mode(&mut self, mode: PhotoMode, burst_count: u8, timelapse_s: u8) {
+        self.camera.photo_mode = mode;
+        self.camera.burst_count = burst_count;
+        self.camera.timelapse_s = timelapse_s;
+    }
+
+    /// The pod shoots by itself at `now_us` (its own shutter, another app on its LAN),
+    /// as its photo mode says: the bridge sent no command. `stop` ends a series.
+    pub fn shoot_by_itself(&mut self, now_us: u64, stop: bool) {
+        let t = self.enter(now_us);
+        let p = k40t::TakePhoto {
+            sensors: PhotoSensors::Default,
+            action: if stop {
+                ShootAction::Stop
+            } else {
+                ShootAction::Start
+            },
+            folder: Default::default(),
+            name: Default::default(),
+        };
+        let _ = self.take_photo(t, p);
     }
 }

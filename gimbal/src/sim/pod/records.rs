@@ -170,6 +170,8 @@ pub struct CameraState {
     pub ev: Ev,
     /// AE lock (0x00020A).
     pub ae_lock: AeLock,
+    /// The other settings of 0x000100 and 0x000200, and the card's format.
+    pub settings: PodSettings,
 }
 
 /// A level change of RTC_IO.
@@ -228,8 +230,9 @@ pub struct GpsRequestRecord {
     pub pod_unix_ms: u64,
     /// The pod had been synchronised.
     pub synced: bool,
-    /// Index of the photo in [`SimPod::photos`].
-    pub photo: usize,
+    /// Index of the photo in [`SimPod::photos`] (`None`: a periodic request,
+    /// [`super::PeriodicGps`]).
+    pub photo: Option<usize>,
     /// Index of the reply in [`SimPod::gps_replies`].
     pub reply: Option<usize>,
     /// No reply within the timeout (or the pod rebooted before one came).

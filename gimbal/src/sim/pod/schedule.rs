@@ -18,6 +18,7 @@ pub(super) enum Timer {
     RecordStatus,
     Laser,
     PhotoShot,
+    GpsPeriodic,
     GpsTimeout,
 }
 
@@ -75,6 +76,7 @@ impl SimPod {
                 .min(),
                 Timer::PhotoShot,
             ),
+            (self.gps_periodic_due, Timer::GpsPeriodic),
             (gps, Timer::GpsTimeout),
         ]);
         // The first of the earliest: candidates are in firing order.
@@ -161,6 +163,7 @@ impl SimPod {
                 }
             }
             Timer::PhotoShot => self.take_shot(t),
+            Timer::GpsPeriodic => self.periodic_gps(t),
             Timer::GpsTimeout => {
                 if let Some(i) = self.gps_open.pop_front() {
                     if let Some(r) = self.gps_requests.get_mut(i) {
