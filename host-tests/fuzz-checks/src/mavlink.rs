@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 30] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -30,6 +30,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
     (77, 143),
     (111, 34),
     (112, 174),
+    (132, 85),
     (244, 95),
     (253, 83),
     (259, 92),
@@ -38,6 +39,10 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
     (262, 12),
     (263, 133),
     (269, 109),
+    (270, 59),
+    (271, 22),
+    (275, 126),
+    (277, 62),
     (280, 70),
     (281, 48),
     (283, 74),
