@@ -7,8 +7,8 @@ use crate::Outputs;
 use crate::event::Event;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{
-    AckCode, CameraVersionAck, Frame, GimbalVersionAck, LaserDistance, RecordAction, RecordState,
-    Request, ResponseCode, ShootAction, Toggle,
+    AckCode, CameraVersionAck, Frame, GimbalVersionAck, IpConfigAck, LaserDistance, RecordAction,
+    RecordState, Request, ResponseCode, ShootAction, TargetGpsAck, Toggle,
 };
 
 /// Commands tracked for their ACK at once.
@@ -213,6 +213,10 @@ impl PodDriver {
             self.state.camera_version = Some(v.version);
         } else if let Some(d) = typed::<LaserDistance>(frame) {
             self.state.laser_dm = Some((d.distance_dm, now));
+        } else if let Some(ip) = typed::<IpConfigAck>(frame) {
+            self.ip_answered(ip.code.code(), ip.address, out);
+        } else if let Some(t) = typed::<TargetGpsAck>(frame) {
+            self.target_answered(now, t);
         }
         let acked = if claimed {
             self.take_outstanding(now, base, seq)
@@ -220,6 +224,7 @@ impl PodDriver {
             None
         };
         if let Some(request) = acked {
+            self.sensor_acked(request, code);
             if code == AckCode::Ok {
                 match request {
                     Request::Record(r) => {
