@@ -30,8 +30,8 @@
 //! - **CAMERA_FOV_STATUS** (271) on REQUEST_MESSAGE (QGroundControl asks after each
 //!   CAMERA_SETTINGS) and at the interval SET_MESSAGE_INTERVAL(271) asks (at most 5 Hz):
 //!   the camera's position from the aircraft's latest fix (INT32_MAX unknown); where it
-//!   looks: the pod's laser target (0x000320, asked with the aircraft's state at most once
-//!   a second while the message is wanted, used while at most 1.5 s old), else computed in
+//!   looks: the pod's laser target (0x000320, asked with the aircraft's state for each
+//!   message, which waits up to 300 ms for the answer), else computed in
 //!   a flat-earth frame ([`super::geo`]) from the laser's range along the camera's
 //!   direction, else where that direction meets the ground at home's altitude; INT32_MIN
 //!   when it looks at or above the horizon (or meets the ground beyond 10 km), INT32_MAX
@@ -68,11 +68,11 @@ const THERMAL_LEAST: Duration = Duration::from_millis(200);
 /// CAMERA_FOV_STATUS's default interval (param2 0), and the shortest.
 const FOV_DEFAULT: Duration = Duration::from_secs(1);
 const FOV_LEAST: Duration = Duration::from_millis(200);
-/// The laser target is asked at most this often, and used while this fresh.
-const TARGET_ASK: Duration = Duration::from_secs(1);
-const TARGET_FRESH: Duration = Duration::from_millis(1500);
-/// K40T single ranging.
+/// A CAMERA_FOV_STATUS waits this long at most for the pod's laser target.
+const TARGET_WAIT: Duration = Duration::from_millis(300);
+/// K40T single ranging, the laser target's position.
 const LASER_RANGE: u16 = 0x0400;
+const TARGET_GPS: u16 = 0x0320;
 
 /// The sensors' state on the MAVLink side.
 #[derive(Debug, Clone, Copy)]
@@ -87,8 +87,9 @@ pub(super) struct Sensors {
     distance_told: Option<Instant>,
     /// A REQUEST_MESSAGE(132) waiting for the pod's single ranging.
     distance_asked: Option<Header>,
-    /// When the laser target was last asked.
-    target_asked: Option<Instant>,
+    /// A CAMERA_FOV_STATUS waits for the laser target asked at this instant (until
+    /// [`TARGET_WAIT`] after it).
+    fov_waits: Option<Instant>,
 }
 
 impl Default for Sensors {
@@ -100,7 +101,7 @@ impl Default for Sensors {
             ranging: false,
             distance_told: None,
             distance_asked: None,
-            target_asked: None,
+            fov_waits: None,
         }
     }
 }
@@ -341,6 +342,7 @@ impl MavlinkSide {
     pub(super) fn sensors_pod_answer(&mut self, ctx: &mut Ctx<'_>, base: u16, ok: bool) {
         match base {
             tracking::TRACK_BOX => self.tracking_pod_answer(ctx, ok),
+            TARGET_GPS if self.sensors.fov_waits.is_some() => self.send_fov_status(ctx),
             LASER_RANGE => {
                 let Some(from) = self.sensors.distance_asked.take() else {
                     return;
@@ -386,6 +388,14 @@ impl MavlinkSide {
         if self.sensors.fov.due(ctx.now) {
             self.fov_status(ctx);
         }
+        if self
+            .sensors
+            .fov_waits
+            .is_some_and(|t| ctx.now >= t.saturating_add(TARGET_WAIT))
+        {
+            // The pod did not say where its laser points in time: computed.
+            self.send_fov_status(ctx);
+        }
         self.tracking_poll(ctx);
         self.sensors_frame(ctx);
     }
@@ -395,6 +405,9 @@ impl MavlinkSide {
         [
             self.sensors.thermal.at(),
             self.sensors.fov.at(),
+            self.sensors
+                .fov_waits
+                .map(|t| t.saturating_add(TARGET_WAIT)),
             self.tracking.every.at(),
             self.video_poll_at(),
         ]
@@ -463,24 +476,15 @@ impl MavlinkSide {
         self.send(ctx, Comp::Camera, &msg);
     }
 
-    /// Asks the pod where its laser points (at most once a second), with the aircraft's
-    /// state from its latest fix.
-    fn ask_target(&mut self, ctx: &mut Ctx<'_>) {
-        if !ctx.pod().link
-            || self
-                .sensors
-                .target_asked
-                .is_some_and(|t| ctx.now.saturating_duration_since(t) < TARGET_ASK)
-        {
-            return;
-        }
+    /// Asks the pod where its laser points, with the aircraft's state from its latest
+    /// fix; false when it cannot be asked (no link, no position).
+    fn ask_target(ctx: &mut Ctx<'_>) -> bool {
         let Some(f) = ctx.fixes.latest() else {
-            return;
+            return false;
         };
-        if Self::aircraft(ctx).is_none() {
-            return;
+        if !ctx.pod().link || Self::aircraft(ctx).is_none() {
+            return false;
         }
-        self.sensors.target_asked = Some(ctx.now);
         let v = f.velocity.unwrap_or_default();
         let ground = math::sqrt(
             f32::from(v.north_cm_s) * f32::from(v.north_cm_s)
@@ -508,12 +512,13 @@ impl MavlinkSide {
             climb_cm_s: v.down_cm_s.saturating_neg(),
         };
         ctx.pod.request_target(ctx.now, request, ctx.out);
+        true
     }
 
     /// Where the camera looks, and whether it is known ([`look_at`]).
     fn looks_at(&self, ctx: &Ctx<'_>) -> LookAt {
         if let Some((t, at)) = ctx.pod().target
-            && ctx.now.saturating_duration_since(at) <= TARGET_FRESH
+            && self.sensors.fov_waits.is_some_and(|asked| at >= asked)
         {
             return LookAt::At(Position {
                 lat_e7: t.lat_e7,
@@ -542,9 +547,20 @@ impl MavlinkSide {
         look_at(here, pitch, yaw, range, height)
     }
 
-    /// CAMERA_FOV_STATUS (see the module documentation); asks the laser target for the
-    /// next one.
+    /// CAMERA_FOV_STATUS (see the module documentation): the pod is asked where its laser
+    /// points first, and the message waits for its answer.
     pub(super) fn fov_status(&mut self, ctx: &mut Ctx<'_>) {
+        if self.sensors.fov_waits.is_some() {
+            return;
+        }
+        if Self::ask_target(ctx) {
+            self.sensors.fov_waits = Some(ctx.now);
+        } else {
+            self.send_fov_status(ctx);
+        }
+    }
+
+    fn send_fov_status(&mut self, ctx: &mut Ctx<'_>) {
         let camera = Self::aircraft(ctx).map(|(p, _)| p);
         let image = match self.looks_at(ctx) {
             LookAt::At(p) => [p.lat_e7, p.lon_e7, p.alt_mm],
@@ -567,7 +583,7 @@ impl MavlinkSide {
             camera_device_id: 0,
         });
         self.send(ctx, Comp::Camera, &msg);
-        self.ask_target(ctx);
+        self.sensors.fov_waits = None;
     }
 }
 
