@@ -6,9 +6,10 @@
 use super::PodDriver;
 use crate::Outputs;
 use crate::event::Event;
+use crate::fixes::Fix;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{
-    AckCode, IpQuery, Request, TargetGpsAck, TargetGpsRequest, Toggle, TrackBox,
+    AckCode, GpsFix, IpQuery, Request, TargetGpsAck, TargetGpsRequest, Toggle, TrackBox,
 };
 
 /// The IP query is asked again this long after it got no answer.
@@ -26,14 +27,36 @@ impl PodDriver {
         self.ip_retry = Some(now.saturating_add(IP_RETRY));
     }
 
-    /// Asks the laser target's position, giving the aircraft's state (K40T external
-    /// protocol, 3.2.4.24).
-    pub(crate) fn request_target(
-        &mut self,
-        now: Instant,
-        request: TargetGpsRequest,
-        out: &mut Outputs,
-    ) {
+    /// Asks the laser target's position (K40T external protocol, 3.2.4.24), giving the
+    /// aircraft's state as its fix `f` says (a fix is a 3D GPS fix), with the UTC of the
+    /// fix (0: unknown). Airspeed and throttle, which the bridge does not know, are 0.
+    #[cfg_attr(not(any(feature = "mavlink", feature = "gcu")), allow(dead_code))]
+    pub(crate) fn request_target(&mut self, now: Instant, f: &Fix, utc_ms: u64, out: &mut Outputs) {
+        let v = f.velocity.unwrap_or_default();
+        // The ground speed as max + 3/8 min of the two components (within 7 %: no square
+        // root in core).
+        let (n, e) = (
+            i32::from(v.north_cm_s).unsigned_abs(),
+            i32::from(v.east_cm_s).unsigned_abs(),
+        );
+        let ground = n.max(e).saturating_add(n.min(e).saturating_mul(3) / 8);
+        let request = TargetGpsRequest {
+            mounts: 1,
+            fix: GpsFix::Fix3d,
+            utc_ms,
+            lon_e7: f.lon_e7,
+            lat_e7: f.lat_e7,
+            rel_alt_mm: i32::from(f.rel_alt_dm).saturating_mul(100),
+            alt_mm: i32::from(f.alt_msl_dm).saturating_mul(100),
+            yaw_cdeg: f.yaw_cdeg,
+            roll_cdeg: f.roll_cdeg,
+            pitch_cdeg: f.pitch_cdeg,
+            airspeed_cm_s: 0,
+            groundspeed_cm_s: u16::try_from(ground).unwrap_or(u16::MAX),
+            heading_cdeg: u16::try_from(i32::from(f.yaw_cdeg).rem_euclid(36_000)).unwrap_or(0),
+            throttle_cpct: 0,
+            climb_cm_s: v.down_cm_s.saturating_neg(),
+        };
         self.send_tracked(now, Request::TargetGps(request), out);
     }
 

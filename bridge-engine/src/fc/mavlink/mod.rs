@@ -44,10 +44,8 @@
 mod autopilot;
 mod camera;
 mod fov;
-mod geo;
 mod gimbal;
 mod intervals;
-mod math;
 mod roi;
 mod sensors;
 #[cfg(feature = "telemetry")]
@@ -70,7 +68,7 @@ use protocol_core::mavlink::{
 
 use autopilot::{Autopilot, Took, Vehicle};
 
-use super::{Ctx, FcHandler, TimedFrom};
+use super::{Ctx, FcHandler, TimedFrom, geo, math};
 
 /// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload).
 pub(crate) const BUF: usize = MAX_FRAME_LEN;

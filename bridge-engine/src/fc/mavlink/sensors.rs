@@ -43,14 +43,14 @@ use crate::event::Refusal;
 use crate::fc::Ctx;
 use crate::gimbal::{Command, Ranging};
 use crate::time::{Duration, Instant, UtcTime};
-use protocol_core::k40t::{GpsFix, IrStatus, TargetGpsRequest};
+use protocol_core::k40t::IrStatus;
 use protocol_core::mavlink::dialect::{
     CAMERA_FOV_STATUS_DATA, CAMERA_THERMAL_RANGE_DATA, CameraCapFlags, DISTANCE_SENSOR_DATA,
     MavDistanceSensor, MavSensorOrientation,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::geo::{self, Position};
+use super::geo::{LookAt, Position, look_at};
 use super::gimbal::boot_ms;
 use super::intervals::Every;
 use super::video::is_our_stream;
@@ -485,33 +485,11 @@ impl MavlinkSide {
         if !ctx.pod().link || Self::aircraft(ctx).is_none() {
             return false;
         }
-        let v = f.velocity.unwrap_or_default();
-        let ground = math::sqrt(
-            f32::from(v.north_cm_s) * f32::from(v.north_cm_s)
-                + f32::from(v.east_cm_s) * f32::from(v.east_cm_s),
-        );
-        let heading = u16::try_from(i32::from(f.yaw_cdeg).rem_euclid(36_000)).unwrap_or(0);
-        let request = TargetGpsRequest {
-            mounts: 1,
-            fix: GpsFix::Fix3d,
-            utc_ms: ctx
-                .time
-                .utc(f.at)
-                .map_or(0, UtcTime::as_unix_millis_rounded),
-            lon_e7: f.lon_e7,
-            lat_e7: f.lat_e7,
-            rel_alt_mm: i32::from(f.rel_alt_dm).saturating_mul(100),
-            alt_mm: i32::from(f.alt_msl_dm).saturating_mul(100),
-            yaw_cdeg: f.yaw_cdeg,
-            roll_cdeg: f.roll_cdeg,
-            pitch_cdeg: f.pitch_cdeg,
-            airspeed_cm_s: 0,
-            groundspeed_cm_s: float_u16(ground),
-            heading_cdeg: heading,
-            throttle_cpct: 0,
-            climb_cm_s: v.down_cm_s.saturating_neg(),
-        };
-        ctx.pod.request_target(ctx.now, request, ctx.out);
+        let utc_ms = ctx
+            .time
+            .utc(f.at)
+            .map_or(0, UtcTime::as_unix_millis_rounded);
+        ctx.pod.request_target(ctx.now, &f, utc_ms, ctx.out);
         true
     }
 
@@ -587,51 +565,9 @@ impl MavlinkSide {
     }
 }
 
-/// A speed in cm/s, saturated.
-#[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // clamped first
-fn float_u16(v: f32) -> u16 {
-    v.clamp(0.0, 65_535.0) as u16
-}
-
-/// Where the camera looks.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum LookAt {
-    /// At this point.
-    At(Position),
-    /// At or above the horizon, or beyond the flat frame's reach.
-    Sky,
-    /// Not known (no position or attitude).
-    Unknown,
-}
-
-/// Where a camera at `here`, `height` m above the ground, looking `pitch` above the
-/// horizon and `yaw` from north (radians) looks: `range` m along that direction when the
-/// laser gives one, else where it meets the ground.
-pub(super) fn look_at(
-    here: Position,
-    pitch: f32,
-    yaw: f32,
-    range: Option<f32>,
-    height: f32,
-) -> LookAt {
-    let d = geo::direction(pitch, yaw);
-    let reach = match range {
-        Some(r) => r,
-        None if pitch >= 0.0 => return LookAt::Sky,
-        None if height <= 0.0 => return LookAt::Unknown,
-        // Along the direction until `height` is lost.
-        None => height / -math::sin(pitch),
-    };
-    if reach > geo::FLAT_REACH_M {
-        return LookAt::Sky;
-    }
-    LookAt::At(geo::offset(here, d.map(|c| c * reach)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use core::f32::consts::PI;
 
     #[test]
     fn ir_positions_are_normalised_to_the_thermal_picture() {
@@ -641,35 +577,5 @@ mod tests {
         // In the black border: at the picture's edge.
         assert_eq!(ir_normalised(0, 1088), (0.0, 1.0));
         assert_eq!(ir_normalised(1280, 288), (0.75, 0.25));
-    }
-
-    #[test]
-    fn the_look_at_point_from_range_or_the_ground() {
-        let here = Position {
-            lat_e7: 473_977_420,
-            lon_e7: 85_455_940,
-            alt_mm: 588_000,
-        };
-        // 45° down, facing east, 100 m up: 100 m east, on the ground.
-        let LookAt::At(p) = look_at(here, -PI / 4.0, PI / 2.0, None, 100.0) else {
-            panic!()
-        };
-        let [n, e, u] = geo::local(here, p);
-        assert!(n.abs() < 0.1 && (e - 100.0).abs() < 0.1 && (u + 100.0).abs() < 0.1);
-        // With the laser's 50 m.
-        let LookAt::At(p) = look_at(here, -PI / 4.0, PI / 2.0, Some(50.0), 100.0) else {
-            panic!()
-        };
-        let [_, e, u] = geo::local(here, p);
-        assert!((e - 35.36).abs() < 0.1 && (u + 35.36).abs() < 0.1);
-        // Level without range: the horizon; far below it: beyond the flat frame.
-        assert_eq!(look_at(here, 0.0, 0.0, None, 100.0), LookAt::Sky);
-        assert_eq!(look_at(here, -0.001, 0.0, None, 100.0), LookAt::Sky);
-        // Above the horizon with a range: the laser hit something.
-        assert!(matches!(
-            look_at(here, 0.2, 0.0, Some(80.0), 100.0),
-            LookAt::At(_)
-        ));
-        assert_eq!(look_at(here, -0.5, 0.0, None, 0.0), LookAt::Unknown);
     }
 }

@@ -2,7 +2,8 @@
 //! frame (north, east, up, metres) around the aircraft: on the mean sphere (R =
 //! 6 371 008.8 m) the error of the frame is below 0.1 % of the distance up to a few
 //! kilometres, which is the laser's and the camera's reach (docs/src/bridge/mavlink.md,
-//! "Where the camera looks").
+//! "Where the camera looks"). Used by the MAVLink side and the GCU side's target position.
+#![cfg_attr(not(feature = "mavlink"), allow(dead_code))]
 
 use super::math;
 use core::f32::consts::PI;
@@ -68,6 +69,41 @@ pub(super) fn bearing_elevation([north, east, up]: [f32; 3]) -> (f32, f32) {
     (math::atan2(east, north), math::atan2(up, horizontal))
 }
 
+/// Where the camera looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum LookAt {
+    /// At this point.
+    At(Position),
+    /// At or above the horizon, or beyond the flat frame's reach.
+    Sky,
+    /// Not known (no position or attitude).
+    Unknown,
+}
+
+/// Where a camera at `here`, `height` m above the ground, looking `pitch` above the
+/// horizon and `yaw` from north (radians) looks: `range` m along that direction when the
+/// laser gives one, else where it meets the ground.
+pub(super) fn look_at(
+    here: Position,
+    pitch: f32,
+    yaw: f32,
+    range: Option<f32>,
+    height: f32,
+) -> LookAt {
+    let d = direction(pitch, yaw);
+    let reach = match range {
+        Some(r) => r,
+        None if pitch >= 0.0 => return LookAt::Sky,
+        None if height <= 0.0 => return LookAt::Unknown,
+        // Along the direction until `height` is lost.
+        None => height / -math::sin(pitch),
+    };
+    if reach > FLAT_REACH_M {
+        return LookAt::Sky;
+    }
+    LookAt::At(offset(here, d.map(|c| c * reach)))
+}
+
 #[cfg(test)]
 #[allow(clippy::float_cmp)]
 mod tests {
@@ -98,5 +134,35 @@ mod tests {
         assert!((b - PI / 2.0).abs() < 1e-4 && (e + PI / 4.0).abs() < 1e-4);
         let d = direction(-PI / 2.0, 1.0);
         assert!(d[0].abs() < 1e-6 && d[1].abs() < 1e-6 && (d[2] + 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_look_at_point_from_range_or_the_ground() {
+        let here = Position {
+            lat_e7: 473_977_420,
+            lon_e7: 85_455_940,
+            alt_mm: 588_000,
+        };
+        // 45° down, facing east, 100 m up: 100 m east, on the ground.
+        let LookAt::At(p) = look_at(here, -PI / 4.0, PI / 2.0, None, 100.0) else {
+            panic!()
+        };
+        let [n, e, u] = local(here, p);
+        assert!(n.abs() < 0.1 && (e - 100.0).abs() < 0.1 && (u + 100.0).abs() < 0.1);
+        // With the laser's 50 m.
+        let LookAt::At(p) = look_at(here, -PI / 4.0, PI / 2.0, Some(50.0), 100.0) else {
+            panic!()
+        };
+        let [_, e, u] = local(here, p);
+        assert!((e - 35.36).abs() < 0.1 && (u + 35.36).abs() < 0.1);
+        // Level without range: the horizon; far below it: beyond the flat frame.
+        assert_eq!(look_at(here, 0.0, 0.0, None, 100.0), LookAt::Sky);
+        assert_eq!(look_at(here, -0.001, 0.0, None, 100.0), LookAt::Sky);
+        // Above the horizon with a range: the laser hit something.
+        assert!(matches!(
+            look_at(here, 0.2, 0.0, Some(80.0), 100.0),
+            LookAt::At(_)
+        ));
+        assert_eq!(look_at(here, -0.5, 0.0, None, 0.0), LookAt::Unknown);
     }
 }
