@@ -32,6 +32,10 @@
 //! | `[gcu] hardware_x10`, `firmware_x10`, `gimbal_code` | [`GcuIdentity`] | 0..=255 |
 //! | `[gcu] resync_mark` | [`GcuIdentity::resync_mark`] | `true`, `false` |
 //! | `[pod] yaw_positive_left`, `pitch_positive_down` | [`PodConfig`] | `true`, `false` |
+//! | `[video] uri` | [`VideoConfig::uri`] | 0 to 160 printable ASCII characters ([`VideoConfig::parse_uri`]) |
+//! | `[lens] visible_hfov_1x_cdeg`, `ir_hfov_cdeg`, `focal_length_min_um`, `focal_length_max_um`, `sensor_width_um`, `sensor_height_um`, `resolution_h`, `resolution_v` | [`LensConfig`] | [`Limit::LENS_HFOV_CDEG`] .. [`Limit::LENS_RESOLUTION_V`] |
+//! | `[laser] periodic` | [`LaserConfig::periodic`] | `true`, `false` |
+//! | `[laser] min_distance_cm`, `max_distance_cm` | [`LaserConfig`] | [`Limit::LASER_MIN_DISTANCE_CM`], [`Limit::LASER_MAX_DISTANCE_CM`] |
 //! | `[discipline] bin_ms`, `min_bins`, `min_span_ms` | [`DisciplineConfig`] | [`Limit::DISCIPLINE_BIN_MS`], [`Limit::DISCIPLINE_MIN_BINS`], [`Limit::DISCIPLINE_MIN_SPAN_MS`] |
 //! | `[mavlink] allow_destructive` | [`MavlinkConfig::allow_destructive`] | `true`, `false` |
 //!
@@ -40,6 +44,10 @@
 //! the Rust field names and microseconds.)
 
 use core::fmt;
+
+mod sensors;
+
+pub use sensors::{LaserConfig, LensConfig, URI_LEN, VideoConfig};
 
 use super::discipline::DisciplineConfig;
 use super::fixes::FixConfig;
@@ -421,6 +429,12 @@ protocol_core::wire_derive! {
         pub discipline: DisciplineConfig,
         /// The MAVLink side.
         pub mavlink: MavlinkConfig,
+        /// The pod's video stream (`[video]`).
+        pub video: VideoConfig,
+        /// The cameras' lens facts (`[lens]`).
+        pub lens: LensConfig,
+        /// The laser rangefinder (`[laser]`).
+        pub laser: LaserConfig,
         /// The fix history (no key in the configuration file).
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub fixes: FixConfig,
@@ -471,6 +485,9 @@ impl Config {
         sync: SyncConfig::DEFAULT,
         discipline: DisciplineConfig::DEFAULT,
         mavlink: MavlinkConfig::DEFAULT,
+        video: VideoConfig::DEFAULT,
+        lens: LensConfig::DEFAULT,
+        laser: LaserConfig::DEFAULT,
         fixes: FixConfig::DEFAULT,
         leap_seconds: 18,
         fc_silence_stop: Duration::from_millis(500),
@@ -515,6 +532,24 @@ impl Config {
         Limit::DISCIPLINE_BIN_MS.check_ms(self.discipline.bin_len)?;
         Limit::DISCIPLINE_MIN_BINS.check(self.discipline.min_bins.into())?;
         Limit::DISCIPLINE_MIN_SPAN_MS.check_ms(self.discipline.min_span)?;
+        if !self.video.is_valid() {
+            return Err(ConfigError::text("video.uri", TextRule::Uri));
+        }
+        let l = &self.lens;
+        for (limit, value) in [
+            (Limit::LENS_HFOV_CDEG, l.visible_hfov_1x_cdeg),
+            (Limit::LENS_IR_HFOV_CDEG, l.ir_hfov_cdeg),
+            (Limit::LENS_FOCAL_LENGTH_MIN_UM, l.focal_length_min_um),
+            (Limit::LENS_FOCAL_LENGTH_MAX_UM, l.focal_length_max_um),
+            (Limit::LENS_SENSOR_WIDTH_UM, l.sensor_width_um),
+            (Limit::LENS_SENSOR_HEIGHT_UM, l.sensor_height_um),
+            (Limit::LENS_RESOLUTION_H, l.resolution_h),
+            (Limit::LENS_RESOLUTION_V, l.resolution_v),
+            (Limit::LASER_MIN_DISTANCE_CM, self.laser.min_distance_cm),
+            (Limit::LASER_MAX_DISTANCE_CM, self.laser.max_distance_cm),
+        ] {
+            limit.check(value.into())?;
+        }
         Ok(())
     }
 }
@@ -574,8 +609,29 @@ impl Limit {
     /// `discipline.min_span_ms`: 1000..=600000.
     pub const DISCIPLINE_MIN_SPAN_MS: Self = Self::new("discipline.min_span_ms", 1000, 600_000);
 
+    /// `lens.visible_hfov_1x_cdeg`: 0..=17999 (0: unknown).
+    pub const LENS_HFOV_CDEG: Self = Self::new("lens.visible_hfov_1x_cdeg", 0, 17_999);
+    /// `lens.ir_hfov_cdeg`: 0..=17999 (0: unknown).
+    pub const LENS_IR_HFOV_CDEG: Self = Self::new("lens.ir_hfov_cdeg", 0, 17_999);
+    /// `lens.focal_length_min_um`: 0..=1000000 (0: unknown).
+    pub const LENS_FOCAL_LENGTH_MIN_UM: Self = Self::new("lens.focal_length_min_um", 0, 1_000_000);
+    /// `lens.focal_length_max_um`: 0..=1000000 (0: unknown).
+    pub const LENS_FOCAL_LENGTH_MAX_UM: Self = Self::new("lens.focal_length_max_um", 0, 1_000_000);
+    /// `lens.sensor_width_um`: 0..=100000 (0: unknown).
+    pub const LENS_SENSOR_WIDTH_UM: Self = Self::new("lens.sensor_width_um", 0, 100_000);
+    /// `lens.sensor_height_um`: 0..=100000 (0: unknown).
+    pub const LENS_SENSOR_HEIGHT_UM: Self = Self::new("lens.sensor_height_um", 0, 100_000);
+    /// `lens.resolution_h`: 0..=65535 pixels (0: unknown).
+    pub const LENS_RESOLUTION_H: Self = Self::new("lens.resolution_h", 0, 65_535);
+    /// `lens.resolution_v`: 0..=65535 pixels (0: unknown).
+    pub const LENS_RESOLUTION_V: Self = Self::new("lens.resolution_v", 0, 65_535);
+    /// `laser.min_distance_cm`: 0..=65535.
+    pub const LASER_MIN_DISTANCE_CM: Self = Self::new("laser.min_distance_cm", 0, 65_535);
+    /// `laser.max_distance_cm`: 0..=65535.
+    pub const LASER_MAX_DISTANCE_CM: Self = Self::new("laser.max_distance_cm", 0, 65_535);
+
     /// Every limit above.
-    pub const ALL: [Self; 13] = [
+    pub const ALL: [Self; 23] = [
         Self::FC_BAUD,
         Self::POD_BAUD,
         Self::TZ_MINUTESWEST,
@@ -589,6 +645,16 @@ impl Limit {
         Self::DISCIPLINE_BIN_MS,
         Self::DISCIPLINE_MIN_BINS,
         Self::DISCIPLINE_MIN_SPAN_MS,
+        Self::LENS_HFOV_CDEG,
+        Self::LENS_IR_HFOV_CDEG,
+        Self::LENS_FOCAL_LENGTH_MIN_UM,
+        Self::LENS_FOCAL_LENGTH_MAX_UM,
+        Self::LENS_SENSOR_WIDTH_UM,
+        Self::LENS_SENSOR_HEIGHT_UM,
+        Self::LENS_RESOLUTION_H,
+        Self::LENS_RESOLUTION_V,
+        Self::LASER_MIN_DISTANCE_CM,
+        Self::LASER_MAX_DISTANCE_CM,
     ];
 
     const fn new(key: &'static str, min: i64, max: i64) -> Self {
@@ -674,6 +740,8 @@ protocol_core::wire_derive! {
         Ascii(u8),
         /// 1 to this many printable ASCII characters (space included).
         Printable(u8),
+        /// 0 to 160 printable ASCII characters, no space (an address).
+        Uri,
     }
 }
 
@@ -686,6 +754,12 @@ impl fmt::Display for Problem {
             Problem::Text(TextRule::Ascii(n)) => write!(f, "expected {n} ASCII characters"),
             Problem::Text(TextRule::Printable(n)) => {
                 write!(f, "expected 1 to {n} printable ASCII characters")
+            }
+            Problem::Text(TextRule::Uri) => {
+                write!(
+                    f,
+                    "expected up to {URI_LEN} printable ASCII characters, no space"
+                )
             }
         }
     }
@@ -708,7 +782,7 @@ pub(crate) mod de {
     use serde::Deserialize as _;
     use serde::de::{Deserializer, Error, Unexpected, Visitor};
 
-    use super::{ConfigError, Duration, Problem, SiyiIdentity, ViewlinkIdentity};
+    use super::{ConfigError, Duration, Problem, SiyiIdentity, VideoConfig, ViewlinkIdentity};
 
     /// An integer type's range.
     pub(crate) trait Int: TryFrom<i64> {
@@ -793,6 +867,13 @@ pub(crate) mod de {
 
     pub(crate) fn hardware_id<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 12], D::Error> {
         d.deserialize_str(Text(SiyiIdentity::parse_hardware_id, "12 ASCII characters"))
+    }
+
+    pub(crate) fn uri<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; super::URI_LEN], D::Error> {
+        d.deserialize_str(Text(
+            VideoConfig::parse_uri,
+            "up to 160 printable ASCII characters, no space",
+        ))
     }
 
     pub(crate) fn model<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 10], D::Error> {
@@ -898,6 +979,47 @@ mod tests {
                 "discipline.min_span_ms",
                 spoilt(|c| c.discipline.min_span = ms(600_001)),
             ),
+            ("video.uri", spoilt(|c| c.video.uri[0] = b' ')),
+            (
+                "lens.visible_hfov_1x_cdeg",
+                spoilt(|c| c.lens.visible_hfov_1x_cdeg = 18_000),
+            ),
+            (
+                "lens.ir_hfov_cdeg",
+                spoilt(|c| c.lens.ir_hfov_cdeg = 18_000),
+            ),
+            (
+                "lens.focal_length_min_um",
+                spoilt(|c| c.lens.focal_length_min_um = 1_000_001),
+            ),
+            (
+                "lens.focal_length_max_um",
+                spoilt(|c| c.lens.focal_length_max_um = 1_000_001),
+            ),
+            (
+                "lens.sensor_width_um",
+                spoilt(|c| c.lens.sensor_width_um = 100_001),
+            ),
+            (
+                "lens.sensor_height_um",
+                spoilt(|c| c.lens.sensor_height_um = 100_001),
+            ),
+            (
+                "lens.resolution_h",
+                spoilt(|c| c.lens.resolution_h = 65_536),
+            ),
+            (
+                "lens.resolution_v",
+                spoilt(|c| c.lens.resolution_v = 65_536),
+            ),
+            (
+                "laser.min_distance_cm",
+                spoilt(|c| c.laser.min_distance_cm = 65_536),
+            ),
+            (
+                "laser.max_distance_cm",
+                spoilt(|c| c.laser.max_distance_cm = 65_536),
+            ),
         ];
         for (key, c) in cases {
             assert_eq!(c.validate().map_err(|e| e.key), Err(key));
@@ -908,6 +1030,26 @@ mod tests {
 
     fn ms(ms: u64) -> Duration {
         Duration::from_millis(ms)
+    }
+
+    #[test]
+    fn the_video_uri_is_printable_ascii_without_spaces() {
+        let uri = VideoConfig::parse_uri("rtsp://10.0.0.9:558/live/single").unwrap();
+        let v = VideoConfig { uri };
+        assert_eq!(
+            v.configured_uri(),
+            Some(&b"rtsp://10.0.0.9:558/live/single"[..])
+        );
+        assert_eq!(VideoConfig::DEFAULT.configured_uri(), None);
+        assert_eq!(VideoConfig::parse_uri(""), Ok([0; URI_LEN]));
+        for bad in ["rtsp://a b", "caf\u{e9}", &"x".repeat(161)] {
+            assert_eq!(
+                VideoConfig::parse_uri(bad).unwrap_err().to_string(),
+                "video.uri: expected up to 160 printable ASCII characters, no space"
+            );
+        }
+        let full = "x".repeat(160);
+        assert_eq!(VideoConfig::parse_uri(&full).map(|u| u[159]), Ok(b'x'));
     }
 
     #[test]

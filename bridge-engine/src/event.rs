@@ -124,6 +124,18 @@ protocol_core::wire_derive! {
             /// The link.
             port: Port,
         },
+        /// The pod told its IP address (0x000312): the video stream's.
+        PodIp {
+            /// The address, octets in dotted order.
+            address: [u8; 4],
+        },
+        /// The bridge itself refused an FC command (the pod was not asked), and why.
+        Refused {
+            /// The FC protocol's command id (a MAV_CMD value on the MAVLink side).
+            fc_id: u16,
+            /// Why.
+            reason: Refusal,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -131,6 +143,50 @@ protocol_core::wire_derive! {
             /// Frames dropped.
             frames: u8,
         },
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Why the bridge refused an FC command ([`Event::Refused`]).
+    pub enum Refusal {
+        /// A parameter the command needs is NaN (not given).
+        NotGiven,
+        /// A parameter is out of its range.
+        OutOfRange,
+        /// The command names a camera or stream the bridge does not have.
+        OtherDevice,
+        /// The video stream's address is not known (the pod has not told it; no
+        /// `video.uri`).
+        NoStreamAddress,
+        /// The pod does not measure temperatures now (no 0x000004).
+        NoMeasurement,
+        /// The laser measured nothing (a distance of 0).
+        NoLaserReturn,
+        /// A frame of reference the bridge does not take.
+        Frame,
+        /// The aircraft's position or heading is not known.
+        NoPosition,
+        /// The pod does not report (its link is down).
+        PodLost,
+    }
+}
+
+impl Refusal {
+    /// The reason as a word, for logs.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Refusal::NotGiven => "not_given",
+            Refusal::OutOfRange => "out_of_range",
+            Refusal::OtherDevice => "other_device",
+            Refusal::NoStreamAddress => "no_stream_address",
+            Refusal::NoMeasurement => "no_measurement",
+            Refusal::NoLaserReturn => "no_laser_return",
+            Refusal::Frame => "frame",
+            Refusal::NoPosition => "no_position",
+            Refusal::PodLost => "pod_lost",
+        }
     }
 }
 

@@ -77,7 +77,7 @@ pub mod time;
 pub use config::{
     Config, FcProtocol, GcuIdentity, MavlinkConfig, PodConfig, SiyiIdentity, ViewlinkIdentity,
 };
-pub use event::{Counters, Event, Port};
+pub use event::{Counters, Event, Port, Refusal};
 pub use pod::PodState;
 pub use time::{Duration, Instant, UtcTime};
 
@@ -781,7 +781,14 @@ impl EngineState {
 
     fn notice(&mut self, now: Instant, n: PodNotice) {
         match n {
-            PodNotice::LinkUp => self.out.event(Event::PodLinkUp),
+            PodNotice::LinkUp => {
+                self.out.event(Event::PodLinkUp);
+                // `laser.periodic`: ranging every second from every link-up.
+                if self.config.laser.periodic {
+                    let on = gimbal::Command::Laser(gimbal::Ranging::Continuous);
+                    self.pod.command(now, on, &mut self.out);
+                }
+            }
             PodNotice::LinkDown => self.out.event(Event::PodLinkDown),
             PodNotice::Acked { .. } | PodNotice::TimedOut { .. } | PodNotice::Photo(_) => {}
             PodNotice::GpsRequest { header, request } => {

@@ -7,7 +7,7 @@
 use std::collections::BTreeSet;
 use std::process::Command;
 
-use bridge_engine::config::Limit;
+use bridge_engine::config::{Limit, VideoConfig};
 use bridge_engine::{Config, Duration, FcProtocol};
 use clap::Parser;
 use gimbal::cli::{Cli, Command as Sub};
@@ -173,6 +173,21 @@ fn every_key_is_read_and_checked() {
         [pod]
         yaw_positive_left = true
         pitch_positive_down = true
+        [video]
+        uri = "rtsp://10.1.2.3:8554/main"
+        [lens]
+        visible_hfov_1x_cdeg = 6200
+        ir_hfov_cdeg = 4800
+        focal_length_min_um = 4500
+        focal_length_max_um = 49500
+        sensor_width_um = 6170
+        sensor_height_um = 4550
+        resolution_h = 1920
+        resolution_v = 1080
+        [laser]
+        periodic = true
+        min_distance_cm = 500
+        max_distance_cm = 60000
         [discipline]
         bin_ms = 1000
         min_bins = 3
@@ -205,6 +220,18 @@ fn every_key_is_read_and_checked() {
     want.gcu.resync_mark = false;
     want.pod.yaw_positive_left = true;
     want.pod.pitch_positive_down = true;
+    want.video.uri = VideoConfig::parse_uri("rtsp://10.1.2.3:8554/main").unwrap();
+    want.lens.visible_hfov_1x_cdeg = 6200;
+    want.lens.ir_hfov_cdeg = 4800;
+    want.lens.focal_length_min_um = 4500;
+    want.lens.focal_length_max_um = 49500;
+    want.lens.sensor_width_um = 6170;
+    want.lens.sensor_height_um = 4550;
+    want.lens.resolution_h = 1920;
+    want.lens.resolution_v = 1080;
+    want.laser.periodic = true;
+    want.laser.min_distance_cm = 500;
+    want.laser.max_distance_cm = 60000;
     want.discipline.bin_len = Duration::from_millis(1000);
     want.discipline.min_bins = 3;
     want.discipline.min_span = Duration::from_millis(2000);
@@ -294,6 +321,14 @@ fn errors_name_the_key() {
             "k40t_geotag_fallback_ms",
         ),
         ("[gcu]\nresync_mark = 1", "resync_mark"),
+        (
+            "[video]\nuri = \"rtsp://a b\"",
+            "expected up to 160 printable ASCII characters, no space",
+        ),
+        (
+            "[lens]\nir_hfov_cdeg = 18000",
+            "lens.ir_hfov_cdeg: 18000 is out of range 0..=17999",
+        ),
     ] {
         let e = load(text).unwrap_err();
         assert!(e.contains(wanted), "{text:?}: {e}");
@@ -358,6 +393,11 @@ fn the_command_line_overrides_the_file() {
         "off",
         "--gcu-gimbal-code",
         "7",
+        "--video-uri",
+        "rtsp://192.168.1.7:558/live/single",
+        "--lens-visible-hfov-1x-cdeg",
+        "6000",
+        "--laser-periodic",
     ]))
     .unwrap();
     assert_eq!(c.fc_baud, 9600);
@@ -369,6 +409,12 @@ fn the_command_line_overrides_the_file() {
     assert_eq!(&c.viewlink.firmware[..9], b"S20020304");
     assert_eq!(c.siyi.hardware_id, *b"6B0000000002");
     assert_eq!(c.k40t_geotag_fallback, None);
+    assert_eq!(
+        c.video.configured_uri(),
+        Some(&b"rtsp://192.168.1.7:558/live/single"[..])
+    );
+    assert_eq!(c.lens.visible_hfov_1x_cdeg, 6000);
+    assert!(c.laser.periodic);
 
     // A port's :BAUD overrides the file too.
     let args = bridge_args(&["--config", file]);

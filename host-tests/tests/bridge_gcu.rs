@@ -1063,3 +1063,61 @@ fn floods_on_both_ports_lose_no_valid_package() {
     assert_eq!(s.fc.parse_errors(), 0);
     assert_eq!(c.dropped, 0);
 }
+
+#[test]
+fn replies_carry_the_laser_targets_position_and_the_thermal_status() {
+    let mut s = healthy_scenario();
+    s.fc.target = Some(MountTarget::Angle {
+        roll_deg: 0.0,
+        pitch_deg: -40.0,
+        yaw_deg: 35.0,
+        yaw_is_ef: false,
+    });
+    // No distance yet: no target.
+    s.run_for(2 * S);
+    assert_eq!(s.fc.replies.last().unwrap().target(), (0, 0, 0));
+    // The pod measures temperatures: bit 7 of byte 63.
+    assert_eq!(s.fc.replies.last().unwrap().thermal_status(), 0x80);
+    // Ranging on: the pod's own target position (0x000320) in bytes 47..58.
+    s.fc.send_command(0x81, &[0x02]);
+    s.pod.set_laser_distance_dm(4321);
+    s.run_for(2 * S);
+    let targets = s.pod.sent_of::<k40t::TargetGpsAck>();
+    assert!(targets.len() >= 5, "{}", targets.len());
+    let r = s.fc.replies.last().unwrap();
+    assert_eq!(r.distance_dm(), 4321);
+    let (lon, lat, alt) = r.target();
+    assert!(
+        targets
+            .iter()
+            .rev()
+            .take(3)
+            .any(|(_, _, t)| (t.lon_e7, t.lat_e7, t.alt_mm) == (lon, lat, alt)),
+        "{:?}",
+        r.target()
+    );
+    // Without the pod's answer: computed, 432.1 m along pitch −40°, bearing heading + 35°.
+    s.pod.set_nak(0x0320, Some(AckCode::Failure));
+    s.run_for(2 * S);
+    let r = s.fc.replies.last().unwrap().clone();
+    let (lon, lat, alt) = r.target();
+    let a = *s.fc.aircraft();
+    let (lat0, lon0) = a.position_e7(r.at_us);
+    let m = 6_371_008.8 * std::f64::consts::PI / 180.0 / 1e7;
+    let north = f64::from(lat - lat0) * m;
+    let east = f64::from(lon - lon0) * m * a.lat0_deg.to_radians().cos();
+    let horizontal = north.hypot(east);
+    let want = 432.1 * 40f64.to_radians().cos();
+    assert!((horizontal - want).abs() < 3.0, "{horizontal} vs {want}");
+    let bearing = east.atan2(north).to_degrees();
+    assert!((bearing - (a.heading_deg + 35.0)).abs() < 1.0, "{bearing}");
+    let drop = f64::from(alt) / 1000.0 - a.alt_msl_m;
+    assert!(
+        (drop + 432.1 * 40f64.to_radians().sin()).abs() < 1.0,
+        "{drop}"
+    );
+    // Measurement off: byte 63 clear.
+    s.pod.set_ir_measuring(false);
+    s.run_for(2 * S);
+    assert_eq!(s.fc.replies.last().unwrap().thermal_status(), 0);
+}

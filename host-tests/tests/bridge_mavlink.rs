@@ -127,8 +127,9 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     assert!(!cap.contains(GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_ROLL_AXIS));
     assert_eq!(u32::from(info.cap_flags.bits()), cap.bits() & 0xFFFF);
     assert_eq!(&info.vendor_name[..4], b"K40T");
-    // The camera too: photo, video, modes, zoom, focus; not streaming; its definition
-    // file served over MAVLink FTP.
+    // The camera too: a basic camera, photo, video, modes, zoom, focus; its stream (the
+    // pod told its address), tracking, the thermal range (its IR camera measures); its
+    // definition file served over MAVLink FTP.
     let cam = &ap.camera_info.as_ref().expect("camera information").data;
     let f = cam.flags;
     for flag in [
@@ -140,7 +141,17 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     ] {
         assert!(f.contains(flag), "{flag:?}");
     }
-    assert!(!f.contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM));
+    for flag in [
+        CameraCapFlags::CAMERA_CAP_FLAGS_HAS_VIDEO_STREAM,
+        CameraCapFlags::CAMERA_CAP_FLAGS_HAS_TRACKING_POINT,
+        CameraCapFlags::CAMERA_CAP_FLAGS_HAS_TRACKING_RECTANGLE,
+        CameraCapFlags::CAMERA_CAP_FLAGS_HAS_THERMAL_RANGE,
+    ] {
+        assert!(f.contains(flag), "{flag:?}");
+    }
+    assert!(!f.contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_TRACKING_GEO_STATUS));
+    assert_eq!((cam.resolution_h, cam.resolution_v), (4000, 3000));
+    assert!(cam.focal_length.is_nan() && cam.sensor_size_h.is_nan());
     assert_eq!(cam.firmware_version.to_le_bytes(), [2, 0, 1, 0]);
     assert_eq!(&cam.cam_definition_uri[..19], b"mftp://k40t.xml.xz\0");
     assert_eq!(cam.cam_definition_version, 1);

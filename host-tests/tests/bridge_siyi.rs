@@ -653,3 +653,36 @@ fn link_budget_under_full_ardupilot_traffic() {
     assert_eq!(c.geotags_failed, 0);
     assert_eq!(c.geotags, 58);
 }
+
+#[test]
+fn zt30_thermal_min_max_come_from_the_pods_ir_measurements() {
+    // ArduPilot asks a ZT30 for 0x14 every second; the reply is the pod's last 0x000004:
+    // 0.01 °C (ArduPilot reads an i16), positions in the ZT30's 640 × 512 thermal pixels.
+    let mut s = healthy_scenario();
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        s.run_for(S);
+        let t = s.fc.thermal.expect("a 0x14 reply");
+        if seen.last() != Some(&t) {
+            seen.push(t);
+        }
+    }
+    assert!(seen.len() >= 4, "{seen:?}");
+    let ir = s.pod.sent_of::<k40t::IrStatus>();
+    for t in &seen {
+        let matched = ir
+            .iter()
+            .filter(|(at, ..)| *at < t.at_us)
+            .rev()
+            .take(3)
+            .any(|(_, _, m)| {
+                let px = |v: u16, border: u16| (v - border) / 2;
+                (t.max_c - f64::from(m.max_temp_dc) / 10.0).abs() < 1e-9
+                    && (t.min_c - f64::from(m.min_temp_dc) / 10.0).abs() < 1e-9
+                    && t.max_pos == (px(m.max_x, 320), px(m.max_y, 32))
+                    && t.min_pos == (px(m.min_x, 320), px(m.min_y, 32))
+            });
+        assert!(matched, "{t:?}");
+        assert!(t.max_pos.0 < 640 && t.max_pos.1 < 512);
+    }
+}

@@ -32,12 +32,21 @@
 //!   last fix, held between fixes) become a held UTC sample with the leap seconds of
 //!   [`Config`](crate::Config); its position (longitude first) and relative
 //!   altitude, with the main frame's carrier attitude, a fix.
+//! - **The target** (reply bytes 43..58, GCU private protocol V2.0.2, 2.3): the laser's
+//!   distance while it measures, and the target's position: the pod's (0x000320, asked
+//!   five times a second with the aircraft's latest fix while the laser measures, used
+//!   while at most 500 ms old), else computed from the distance along the camera's
+//!   direction from the aircraft's fix (flat earth: docs/src/bridge/gcu.md); zeros
+//!   without a distance.
+//! - **Thermal status** (byte 63 in ArduPilot's revision of the reply): bit 7 while the
+//!   pod measures temperatures (0x000004 comes), bits 0 and 1 its low and high
+//!   temperature warnings.
 
 use crate::discipline::Sample;
 use crate::fixes::{Fix, Velocity};
 use crate::gimbal::{Command, GimbalMode, Motion, Ranging, Target, View};
 use crate::pod::PodNotice;
-use crate::time::{Instant, UtcTime};
+use crate::time::{Duration, Instant, UtcTime};
 use protocol_core::gcu::{
     self, CameraSet, CameraStatus, ClickToAim, Execution, ExternalTrack, ExternalTrackAction,
     Feedback, Frame, GcuFrames, GcuFraming, GcuMain, GcuPacket, GcuSub, GimbalCode,
@@ -47,7 +56,8 @@ use protocol_core::gcu::{
 };
 use protocol_core::k40t::{self, GimbalAttitude as PodAttitude, SdState};
 
-use super::{Ctx, FcHandler, TimedFrom, clamp_i16};
+use super::geo::{LookAt, Position, look_at};
+use super::{Ctx, FcHandler, TimedFrom, clamp_i16, math};
 
 /// Two bytes sent after every reply ([`GcuIdentity::resync_mark`](crate::GcuIdentity)):
 /// a first header byte followed by one that is not the second. `AP_Mount_XFRobot`'s
@@ -76,6 +86,10 @@ const HALF_HFOV_CDEG: i32 = 3000;
 const MISS_INVALID: i16 = 3071;
 /// The host's rate control range, 0.1 °/s.
 const RATE_LIMIT: i16 = 1500;
+/// The laser target is asked this often while the laser measures, and the pod's answer
+/// (or a fix) used while this fresh.
+const TARGET_ASK: Duration = Duration::from_millis(200);
+const TARGET_FRESH: Duration = Duration::from_millis(500);
 
 /// The orders this side reads by number.
 mod order {
@@ -143,6 +157,8 @@ pub(crate) struct GcuSide {
     pip: u8,
     /// The thermal digital zoom last selected.
     thermal_zoom: u8,
+    /// When the laser target was last asked.
+    target_asked: Option<Instant>,
 }
 
 impl GcuSide {
@@ -161,6 +177,7 @@ impl GcuSide {
             palette: k40t::Palette::WhiteHot.value(),
             pip: 0,
             thermal_zoom: 1,
+            target_asked: None,
         }
     }
 }
@@ -234,6 +251,19 @@ fn view_of(pip: u8) -> Option<View> {
     }
 }
 
+/// Reply byte 63 (ArduPilot's revision): bit 7 temperatures available (the pod measures),
+/// bits 0 and 1 the low and high temperature warnings of 0x000004.
+fn thermal_status(ctx: &Ctx<'_>) -> u8 {
+    let Some((ir, _)) = ctx
+        .pod()
+        .ir
+        .filter(|(_, at)| ctx.pod().link && ctx.is_fresh(*at))
+    else {
+        return 0;
+    };
+    0x80 | u8::from(ir.low_warning != 0) | (u8::from(ir.high_warning != 0) << 1)
+}
+
 /// The SD card lets the camera shoot or record (unknown: assumed so).
 fn card_ok(ctx: &Ctx<'_>) -> bool {
     ctx.pod().system.is_none_or(|s| {
@@ -264,6 +294,7 @@ impl GcuSide {
             self.last_feedback = (id, e);
         }
         self.control(ctx, &p.frames.main);
+        self.ask_target(ctx);
         self.reply(ctx, &p, executed);
     }
 
@@ -305,6 +336,70 @@ impl GcuSide {
                     i32::from(main.vel_up_dmps).saturating_mul(-10),
                 )),
             });
+        }
+    }
+
+    /// Asks the pod where its laser points while it measures (five times a second).
+    fn ask_target(&mut self, ctx: &mut Ctx<'_>) {
+        let ranging = ctx
+            .pod()
+            .laser_dm
+            .is_some_and(|(d, at)| d > 0 && ctx.is_fresh(at));
+        let due = self
+            .target_asked
+            .is_none_or(|t| ctx.now.saturating_duration_since(t) >= TARGET_ASK);
+        let fix = ctx
+            .fixes
+            .latest()
+            .filter(|f| ctx.now.saturating_duration_since(f.at) <= TARGET_ASK);
+        if let Some(f) = fix.filter(|_| ranging && due && ctx.pod().link) {
+            self.target_asked = Some(ctx.now);
+            let utc_ms = ctx
+                .time
+                .utc(f.at)
+                .map_or(0, UtcTime::as_unix_millis_rounded);
+            ctx.pod.request_target(ctx.now, &f, utc_ms, ctx.out);
+        }
+    }
+
+    /// The laser target's position at `distance_dm`: the pod's while fresh, else along the
+    /// camera's direction from the aircraft's latest fix.
+    fn target(
+        &self,
+        ctx: &Ctx<'_>,
+        att: Option<&PodAttitude>,
+        distance_dm: u16,
+    ) -> Option<Position> {
+        if let Some((t, at)) = ctx.pod().target
+            && ctx.now.saturating_duration_since(at) <= TARGET_FRESH
+        {
+            return Some(Position {
+                lat_e7: t.lat_e7,
+                lon_e7: t.lon_e7,
+                alt_mm: t.alt_mm,
+            });
+        }
+        let a = att?;
+        let f = ctx
+            .fixes
+            .latest()
+            .filter(|f| ctx.now.saturating_duration_since(f.at) <= TARGET_FRESH)?;
+        let here = Position {
+            lat_e7: f.lat_e7,
+            lon_e7: f.lon_e7,
+            alt_mm: i32::from(f.alt_msl_dm).saturating_mul(100),
+        };
+        let yaw = i32::from(self.carrier_yaw?).saturating_add(i32::from(a.yaw_joint_cdeg));
+        let range = f32::from(distance_dm) / 10.0;
+        match look_at(
+            here,
+            math::rad(i32::from(a.pitch_cdeg)),
+            math::rad(wrap_cdeg(yaw)),
+            Some(range),
+            0.0,
+        ) {
+            LookAt::At(p) => Some(p),
+            LookAt::Sky | LookAt::Unknown => None,
         }
     }
 
@@ -411,6 +506,7 @@ impl GcuSide {
         let [c0, c1] = camera.to_le_bytes();
         let tz_hours = clamp_i16(ctx.config.tz_minuteswest.saturating_neg() / 60).clamp(-12, 12);
         let [tz, _] = tz_hours.to_le_bytes();
+        let target = distance.and_then(|d| self.target(ctx, att, d));
         let sub = GcuSub {
             header: SUB_HEADER,
             hardware_version: id.hardware_x10,
@@ -418,12 +514,12 @@ impl GcuSide {
             gimbal_code: GimbalCode::from_value(id.gimbal_code),
             error_code,
             distance_dm: distance.map_or(0, i32::from),
-            target_lon_e7: 0,
-            target_lat_e7: 0,
-            target_alt_mm: 0,
+            target_lon_e7: target.map_or(0, |p| p.lon_e7),
+            target_lat_e7: target.map_or(0, |p| p.lat_e7),
+            target_alt_mm: target.map_or(0, |p| p.alt_mm),
             zoom1_x10: pod.zoom_x10(),
             zoom2_x10: u16::from(self.thermal_zoom).saturating_mul(10),
-            reserved: [0, c0, c1, tz, 0, 0],
+            reserved: [thermal_status(ctx), c0, c1, tz, 0, 0],
         };
         GcuFrames { main, sub }
     }

@@ -361,7 +361,11 @@ impl<H: FcHandler, const N: usize> FcLink<H, N> {
 
 #[cfg(feature = "gcu")]
 mod gcu;
+#[cfg(any(feature = "mavlink", feature = "gcu"))]
+mod geo;
 mod k40t;
+#[cfg(any(feature = "mavlink", feature = "gcu"))]
+mod math;
 #[cfg(feature = "mavlink")]
 mod mavlink;
 #[cfg(feature = "siyi")]

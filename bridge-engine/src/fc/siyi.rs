@@ -523,17 +523,24 @@ fn stitching(ctx: &Ctx<'_>) -> Stitching {
     Stitching { mode }
 }
 
-/// The 0x14 reply from the pod's infrared measurements (0.1 °C -> 0.01 °C), when fresh.
+/// The 0x14 reply from the pod's infrared measurements, when fresh: temperatures from
+/// 0.1 °C to 0.01 °C, as the i16 `AP_Mount_Siyi` reads (saturated at ±327.67 °C, sent as
+/// the u16 of the document); positions as a ZT30 gives them, in pixels of its 640 × 512
+/// thermal picture: the pod's IR coordinates less the picture's border (320, 32), halved
+/// (the 1920 × 1088 frame shows the 640 × 512 picture at twice its size:
+/// docs/src/protocols/k40t.md).
 fn thermal(ctx: &Ctx<'_>) -> Option<GlobalTemperature> {
     let (ir, _) = ctx.pod().ir.filter(|(_, at)| ctx.is_fresh(*at))?;
     let c = |dc: i16| u16::from_ne_bytes(dc.saturating_mul(10).to_ne_bytes());
+    let px =
+        |v: u16, border: u16, len: u16| (v.saturating_sub(border) / 2).min(len.saturating_sub(1));
     Some(GlobalTemperature {
         max_c_x100: c(ir.max_temp_dc),
         min_c_x100: c(ir.min_temp_dc),
-        max_x: ir.max_x,
-        max_y: ir.max_y,
-        min_x: ir.min_x,
-        min_y: ir.min_y,
+        max_x: px(ir.max_x, 320, 640),
+        max_y: px(ir.max_y, 32, 512),
+        min_x: px(ir.min_x, 320, 640),
+        min_y: px(ir.min_y, 32, 512),
     })
 }
 

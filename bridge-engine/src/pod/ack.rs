@@ -7,8 +7,9 @@ use crate::Outputs;
 use crate::event::Event;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{
-    AckCode, CameraVersionAck, Frame, GimbalVersionAck, IrParams, LaserDistance, RecordAction,
-    RecordState, Request, ResponseCode, ShootAction, Toggle, VisibleParams,
+    AckCode, CameraVersionAck, Frame, GimbalVersionAck, IpConfigAck, IrParams, LaserDistance,
+    RecordAction, RecordState, Request, ResponseCode, ShootAction, TargetGpsAck, Toggle,
+    VisibleParams,
 };
 
 /// Commands tracked for their ACK at once.
@@ -217,6 +218,10 @@ impl PodDriver {
             self.state.ir_params = Some(p);
         } else if let Some(p) = typed::<VisibleParams>(frame).filter(|_| code == AckCode::Ok) {
             self.state.visible_params = Some(p);
+        } else if let Some(ip) = typed::<IpConfigAck>(frame) {
+            self.ip_answered(ip.code.code(), ip.address, out);
+        } else if let Some(t) = typed::<TargetGpsAck>(frame) {
+            self.target_answered(now, t);
         }
         let acked = if claimed {
             self.take_outstanding(now, base, seq)
@@ -224,6 +229,7 @@ impl PodDriver {
             None
         };
         if let Some(request) = acked {
+            self.sensor_acked(request, code);
             if code == AckCode::Ok {
                 match request {
                     Request::Record(r) => {

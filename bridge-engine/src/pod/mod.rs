@@ -33,6 +33,7 @@ mod ack;
 mod command;
 mod motion;
 mod settings;
+mod sensors;
 mod state;
 #[cfg(test)]
 mod tests;
@@ -105,6 +106,8 @@ pub(crate) struct PodDriver {
     pending: [Option<Pending>; PENDING],
     superseded: [Option<Outstanding>; SUPERSEDED],
     motion: MotionState,
+    /// When to ask the pod's IP address again (its last query got no answer).
+    ip_retry: Option<Instant>,
 }
 
 impl PodDriver {
@@ -137,7 +140,13 @@ impl PodDriver {
                 ir_params: None,
                 visible_params: None,
                 format: None,
+                ip: None,
+                track: None,
+                target: None,
+                ir_zoom: None,
+                ir_first: None,
             },
+            ip_retry: None,
             last_report: None,
             next_probe: None,
             pending: [None; PENDING],
@@ -250,8 +259,9 @@ impl PodDriver {
             if !self.state.link {
                 self.state.link = true;
                 notices.push(PodNotice::LinkUp);
-                // Versions, on every (re)connection.
+                // Versions and the IP address, on every (re)connection.
                 self.query_versions(now, out);
+                self.query_ip(now, out);
             }
         }
         notices
@@ -293,6 +303,7 @@ impl PodDriver {
             false
         } else if let Some(s) = typed::<IrStatus>(frame) {
             self.state.ir = Some((s, now));
+            self.state.ir_first = self.state.ir_first.or(Some(now));
             false
         } else if let Some(s) = typed::<VisibleStatus>(frame) {
             self.state.visible = Some(s);
@@ -407,7 +418,16 @@ impl PodDriver {
             .is_none_or(|t| now.saturating_duration_since(t) >= self.cfg.link_timeout);
         if self.state.link && lost {
             self.state.link = false;
+            // What the pod may have forgotten (a reboot): asked again or re-learnt.
+            self.state.ai = false;
+            self.state.track = None;
+            self.state.ranging = false;
+            self.state.ir_first = None;
+            self.ip_retry = None;
             notices.push(PodNotice::LinkDown);
+        }
+        if self.state.link && self.ip_retry.is_some_and(|t| now >= t) {
+            self.query_ip(now, out);
         }
         if !self.state.link && self.next_probe.is_none_or(|t| now >= t) {
             let q = Request::GimbalVersion(GimbalVersionQuery {
@@ -451,6 +471,9 @@ impl PodDriver {
         }
         if !self.state.link {
             consider(self.next_probe.unwrap_or_default());
+        }
+        if let Some(t) = self.ip_retry.filter(|_| self.state.link) {
+            consider(t);
         }
         if let Some((sent, t)) = self.motion.sent {
             if sent.is_turning() {

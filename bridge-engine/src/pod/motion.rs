@@ -121,8 +121,9 @@ impl PodDriver {
         }
     }
 
-    /// Sends the motion target now.
+    /// Sends the motion target now (ending the pod's box tracking first).
     pub(super) fn send_motion(&mut self, now: Instant, out: &mut Outputs) {
+        self.end_tracking(now, out);
         let target = self.motion.target;
         let request = match target {
             MotionTarget::Turn {

@@ -5,7 +5,8 @@ use crate::gimbal::{GimbalMode, View};
 use crate::time::Instant;
 use protocol_core::k40t::{
     FormatState, GimbalAttitude, GimbalStatus, GimbalVersionAck, ImageMode, IrParams, IrStatus,
-    PhotoState, RecordState, SystemStatus, Version, VisibleParams, VisibleStatus, ZoomState,
+    PhotoState, RecordState, SystemStatus, TargetGpsAck, TrackBox, Version, VisibleParams,
+    VisibleStatus, ZoomState,
 };
 
 protocol_core::wire_derive! {
@@ -50,6 +51,20 @@ protocol_core::wire_derive! {
         pub visible_params: Option<VisibleParams>,
         /// The last SD card formatting progress (0x02030D status frames).
         pub format: Option<FormatState>,
+        /// The pod's IP address (ACK of 0x000312, asked at every link-up; kept while the
+        /// link is down, replaced at the next answer).
+        pub ip: Option<[u8; 4]>,
+        /// The box the pod acknowledged tracking (0x000324 on; `None`: not tracking, after
+        /// its ACK of "off", the bridge's own "off" before it moved the gimbal, or a lost
+        /// link).
+        pub track: Option<TrackBox>,
+        /// The laser target's position (ACK of 0x000320 with code OK) and when it came.
+        pub target: Option<(TargetGpsAck, Instant)>,
+        /// The IR digital zoom the pod acknowledged (0x000105, 1..=8).
+        pub ir_zoom: Option<u8>,
+        /// The pod's IR camera measures temperatures: it sent 0x000004 since its link came
+        /// up, first at this instant.
+        pub ir_first: Option<Instant>,
     }
 }
 

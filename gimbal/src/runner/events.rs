@@ -100,6 +100,12 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             "destructive_denied",
             json!({"command": command, "key": "mavlink.allow_destructive"}),
         ),
+        Event::PodIp {
+            address: [a, b, c, d],
+        } => ("pod_ip", json!({"address": format!("{a}.{b}.{c}.{d}")})),
+        Event::Refused { fc_id, reason } => {
+            ("refused", json!({"fc_id": fc_id, "reason": reason.name()}))
+        }
         Event::Dropped { port, frames } => (
             "dropped",
             json!({"port": port_name(port), "frames": frames}),

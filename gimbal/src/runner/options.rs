@@ -12,6 +12,7 @@
 use std::path::PathBuf;
 
 use bridge_engine::config::Limit;
+use bridge_engine::config::VideoConfig;
 use bridge_engine::{FcProtocol, SiyiIdentity, ViewlinkIdentity};
 use clap::{Args, ValueEnum};
 use serde::{Serialize, Serializer};
@@ -294,6 +295,56 @@ pub struct ConfigArgs {
     #[arg(long)]
     #[serde(rename = "mavlink.allow_destructive", skip_serializing_if = "is_false")]
     pub mavlink_allow_destructive: bool,
+    /// MAVLink: the video stream's address, up to 160 printable ASCII characters
+    /// [default: empty, `rtsp://IP:558/live/single` with the IP the pod reports].
+    #[arg(long, value_name = "URI", value_parser = checked(parse_uri))]
+    #[serde(rename = "video.uri")]
+    pub video_uri: Option<String>,
+    /// The visible camera's horizontal field of view at 1x, 0.01° [default: 0, unknown].
+    #[arg(long, value_name = "CDEG", value_parser = ranged::<u32>(Limit::LENS_HFOV_CDEG))]
+    #[serde(rename = "lens.visible_hfov_1x_cdeg")]
+    pub lens_visible_hfov_1x_cdeg: Option<u32>,
+    /// The thermal camera's horizontal field of view without digital zoom, 0.01°
+    /// [default: 0, unknown].
+    #[arg(long, value_name = "CDEG", value_parser = ranged::<u32>(Limit::LENS_IR_HFOV_CDEG))]
+    #[serde(rename = "lens.ir_hfov_cdeg")]
+    pub lens_ir_hfov_cdeg: Option<u32>,
+    /// The visible camera's shortest focal length, µm [default: 0, unknown].
+    #[arg(long, value_name = "UM", value_parser = ranged::<u32>(Limit::LENS_FOCAL_LENGTH_MIN_UM))]
+    #[serde(rename = "lens.focal_length_min_um")]
+    pub lens_focal_length_min_um: Option<u32>,
+    /// Its longest optical focal length, µm [default: 0, unknown].
+    #[arg(long, value_name = "UM", value_parser = ranged::<u32>(Limit::LENS_FOCAL_LENGTH_MAX_UM))]
+    #[serde(rename = "lens.focal_length_max_um")]
+    pub lens_focal_length_max_um: Option<u32>,
+    /// The visible sensor's width, µm [default: 0, unknown].
+    #[arg(long, value_name = "UM", value_parser = ranged::<u32>(Limit::LENS_SENSOR_WIDTH_UM))]
+    #[serde(rename = "lens.sensor_width_um")]
+    pub lens_sensor_width_um: Option<u32>,
+    /// The visible sensor's height, µm [default: 0, unknown].
+    #[arg(long, value_name = "UM", value_parser = ranged::<u32>(Limit::LENS_SENSOR_HEIGHT_UM))]
+    #[serde(rename = "lens.sensor_height_um")]
+    pub lens_sensor_height_um: Option<u32>,
+    /// The visible photo width, pixels [default: 4000].
+    #[arg(long, value_name = "PX", value_parser = ranged::<u32>(Limit::LENS_RESOLUTION_H))]
+    #[serde(rename = "lens.resolution_h")]
+    pub lens_resolution_h: Option<u32>,
+    /// The visible photo height, pixels [default: 3000].
+    #[arg(long, value_name = "PX", value_parser = ranged::<u32>(Limit::LENS_RESOLUTION_V))]
+    #[serde(rename = "lens.resolution_v")]
+    pub lens_resolution_v: Option<u32>,
+    /// Switch the pod's 1 s periodic laser ranging on at every link-up.
+    #[arg(long)]
+    #[serde(rename = "laser.periodic", skip_serializing_if = "is_false")]
+    pub laser_periodic: bool,
+    /// The laser's shortest distance, cm [default: 0, unknown].
+    #[arg(long, value_name = "CM", value_parser = ranged::<u32>(Limit::LASER_MIN_DISTANCE_CM))]
+    #[serde(rename = "laser.min_distance_cm")]
+    pub laser_min_distance_cm: Option<u32>,
+    /// The laser's longest distance, cm [default: 65535, unknown].
+    #[arg(long, value_name = "CM", value_parser = ranged::<u32>(Limit::LASER_MAX_DISTANCE_CM))]
+    #[serde(rename = "laser.max_distance_cm")]
+    pub laser_max_distance_cm: Option<u32>,
     /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
     /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
@@ -591,6 +642,14 @@ pub fn parse_hardware_id(s: &str) -> Result<[u8; 12], String> {
 /// Anything else.
 pub fn parse_model(s: &str) -> Result<[u8; 10], String> {
     ViewlinkIdentity::parse_model(s).map_err(|e| format!("`{s}`: {}", e.problem))
+}
+
+/// Up to 160 printable ASCII characters, no space (`VideoConfig::parse_uri`).
+///
+/// # Errors
+/// Anything else.
+pub fn parse_uri(s: &str) -> Result<[u8; 160], String> {
+    VideoConfig::parse_uri(s).map_err(|e| format!("`{s}`: {}", e.problem))
 }
 
 fn parse_fallback(s: &str) -> Result<Fallback, String> {

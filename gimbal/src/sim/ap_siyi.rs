@@ -50,6 +50,21 @@ use protocol_core::siyi::{
 };
 use protocol_core::wire::crc16_xmodem;
 
+/// The thermal min/max of a 0x14 reply, as `AP_Mount_Siyi` reads it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SiyiThermal {
+    /// When it arrived, true µs.
+    pub at_us: u64,
+    /// Maximum, °C (an i16 of 0.01 °C).
+    pub max_c: f64,
+    /// Minimum, °C.
+    pub min_c: f64,
+    /// Where the maximum is (x, y).
+    pub max_pos: (u16, u16),
+    /// Where the minimum is.
+    pub min_pos: (u16, u16),
+}
+
 /// Settings of the simulated driver.
 #[derive(Debug, Clone)]
 pub struct ApSiyiConfig {
@@ -174,8 +189,9 @@ pub struct ApSiyi {
     pub zoom_mult: Option<f64>,
     /// The last rangefinder reading (0x15), as ArduPilot reads it.
     pub rangefinder: Option<(u64, u16)>,
-    /// The last thermal min/max (0.01 °C).
-    pub thermal: Option<(i16, i16)>,
+    /// The last thermal min/max as the driver reads 0x14: temperatures i16 × 0.01 °C,
+    /// positions as sent.
+    pub thermal: Option<SiyiThermal>,
     /// 0x0B messages.
     pub feedback: Vec<(u64, FeedbackInfo)>,
     /// Every reply received.
@@ -455,7 +471,16 @@ impl ApSiyi {
                     f64::from(le(4)) * 0.1,
                 ));
             }
-            0x14 if data.len() == 12 => self.thermal = Some((le(0), le(2))),
+            0x14 if data.len() == 12 => {
+                let u = |i: usize| u16::from_le_bytes([data[i], data[i + 1]]);
+                self.thermal = Some(SiyiThermal {
+                    at_us: now_us,
+                    max_c: f64::from(le(0)) * 0.01,
+                    min_c: f64::from(le(2)) * 0.01,
+                    max_pos: (u(4), u(6)),
+                    min_pos: (u(8), u(10)),
+                });
+            }
             0x15 if data.len() >= 2 => {
                 self.rangefinder = Some((now_us, u16::from_le_bytes([data[0], data[1]])));
             }

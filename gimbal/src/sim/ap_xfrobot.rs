@@ -202,6 +202,19 @@ impl Reply {
         i32::from_le_bytes(self.bytes[43..47].try_into().unwrap())
     }
 
+    /// The target's longitude, latitude (1e-7 degree) and altitude (mm) (bytes 47..58).
+    #[must_use]
+    pub fn target(&self) -> (i32, i32, i32) {
+        let i32_at = |at: usize| i32::from_le_bytes(self.bytes[at..at + 4].try_into().unwrap());
+        (i32_at(47), i32_at(51), i32_at(55))
+    }
+
+    /// Thermal camera status of ArduPilot's revision (byte 63).
+    #[must_use]
+    pub fn thermal_status(&self) -> u8 {
+        self.bytes[63]
+    }
+
     /// Zoom ratio of the visible camera, 0.1x (bytes 59..60).
     #[must_use]
     pub fn zoom_rgb_x10(&self) -> u16 {

@@ -7,9 +7,10 @@
 //! docs/src/autopilots/qgroundcontrol.md), not from the bridge.
 
 use protocol_core::mavlink::dialect::{
-    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, COMMAND_LONG_DATA,
-    EstimatorStatusFlags, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, MavAutopilot, MavCmd,
-    MavLandedState, MavModeFlag, MavResult, MavState, MavType, Message as _, MessageData as _,
+    ATTITUDE_DATA, AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, COMMAND_ACK_DATA, COMMAND_INT_DATA,
+    COMMAND_LONG_DATA, EstimatorStatusFlags, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavFrame, MavLandedState, MavModeFlag, MavResult, MavState, MavType,
+    Message as _, MessageData as _,
 };
 use protocol_core::mavlink::{
     self, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
@@ -191,6 +192,48 @@ pub fn command_long(
         target_component: target.1,
         confirmation,
     })
+}
+
+/// A COMMAND_INT: `p` param1..4, `x` and `y` (e.g. latitude and longitude, degE7), `z`,
+/// in `frame`.
+#[must_use]
+pub fn command_int(
+    command: MavCmd,
+    p: [f32; 4],
+    (x, y, z): (i32, i32, f32),
+    frame: MavFrame,
+    target: (u8, u8),
+) -> MavMessage {
+    MavMessage::COMMAND_INT(COMMAND_INT_DATA {
+        param1: p[0],
+        param2: p[1],
+        param3: p[2],
+        param4: p[3],
+        x,
+        y,
+        z,
+        command,
+        target_system: target.0,
+        target_component: target.1,
+        frame,
+        current: 0,
+        autocontinue: 0,
+    })
+}
+
+/// The bearing from north (degrees, to the right) and the elevation above the horizon
+/// (degrees) of `to` seen from `from`, each `(lat, lon degE7, alt m)`, in a flat-earth
+/// frame (as ArduPilot and PX4 point a gimbal at a location).
+#[must_use]
+pub fn bearing_elevation(from: (i32, i32, f64), to: (i32, i32, f64)) -> (f64, f64) {
+    let m_per_e7 = 111_320.0 / 1e7;
+    let north = f64::from(to.0 - from.0) * m_per_e7;
+    let east = f64::from(to.1 - from.1) * m_per_e7 * (f64::from(from.0) / 1e7).to_radians().cos();
+    let up = to.2 - from.2;
+    (
+        east.atan2(north).to_degrees(),
+        up.atan2(north.hypot(east)).to_degrees(),
+    )
 }
 
 /// A camera command of four parameters (the other three 0), unconfirmed.

@@ -36,7 +36,15 @@
 //!   camera ([`Px4Config::camera_target_component`]).
 //! - **Forwarding** (`MAV_1_FORWARD` 1) to an attached ground station ([`Qgc`]), and
 //!   to and from a ground app on another link ([`Px4::ground`], where PX4 is the gimbal
-//!   manager: `manager.rs`).
+//!   manager: `manager.rs`); the ground station's commands to this autopilot (component
+//!   1) are kept, not forwarded.
+//! - **Gimbal manager inputs** from the ground station (MAVSDK's Gimbal plugin, QGC's
+//!   controls): MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW (COMMAND_LONG: param1 pitch, param2
+//!   yaw, param3/4 rates, param5 flags; COMMAND_INT: flags in x) becomes an angle
+//!   setpoint (yaw absolute with GIMBAL_MANAGER_FLAGS_YAW_LOCK) or a rate input;
+//!   MAV_CMD_DO_SET_ROI_LOCATION (COMMAND_INT, degE7, m) an angle setpoint PX4 computes
+//!   itself from the aircraft's position every tick, yaw absolute (no ROI goes to the
+//!   device); MAV_CMD_DO_SET_ROI_NONE ends it (the gimbal holds). ACKed ACCEPTED.
 //! - **PX4 1.16 in mode Gimbal** ([`Px4Config::gimbal_link_only`]): the link handles
 //!   only the gimbal messages: no answer to SET_MESSAGE_INTERVAL (not even an ACK) or to
 //!   TIMESYNC, so a device there has neither time nor position.
@@ -180,6 +188,15 @@ pub enum Px4Target {
         pitch_dps: f64,
         /// Yaw rate.
         yaw_dps: f64,
+    },
+    /// A location (region of interest): latitude, longitude degE7, altitude m AMSL.
+    Location {
+        /// Latitude.
+        lat_e7: i32,
+        /// Longitude.
+        lon_e7: i32,
+        /// Altitude, m AMSL.
+        alt_m: f64,
     },
 }
 
@@ -361,8 +378,91 @@ impl Px4 {
             Some(Px4Target::Angle {
                 pitch_deg, yaw_deg, ..
             }) => self.setpoint = (pitch_deg, yaw_deg),
+            Some(Px4Target::Location {
+                lat_e7,
+                lon_e7,
+                alt_m,
+            }) => {
+                let a = self.board.aircraft();
+                let (lat, lon) = a.position_e7(now);
+                let here = (lat, lon, a.alt_msl_m);
+                let (bearing, elevation) = mav::bearing_elevation(here, (lat_e7, lon_e7, alt_m));
+                self.setpoint = (elevation, bearing);
+            }
             None => {}
         }
+    }
+
+    /// A ground station's command for this autopilot's gimbal manager (see the module
+    /// documentation); false when it is not one (forwarded).
+    fn manager_command(&mut self, frame: &[u8], gcs: &mut Qgc) -> bool {
+        let Ok(p) = protocol_core::mavlink::Packet::decode(frame) else {
+            return false;
+        };
+        let protocol_core::mavlink::Message::Known(m) = p.message else {
+            return false;
+        };
+        let (command, params, xy, target) = match &m {
+            MavMessage::COMMAND_LONG(c) => (
+                c.command,
+                [c.param1, c.param2, c.param3, c.param4, c.param5],
+                None,
+                (c.target_system, c.target_component),
+            ),
+            MavMessage::COMMAND_INT(c) => (
+                c.command,
+                [c.param1, c.param2, c.param3, c.param4, c.x as f32],
+                Some((c.x, c.y, c.z)),
+                (c.target_system, c.target_component),
+            ),
+            _ => return false,
+        };
+        if target != (self.config.sysid, AUTOPILOT) {
+            return false;
+        }
+        let finite = |v: f32| v.is_finite();
+        self.target = match command {
+            MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW
+                if finite(params[0]) && finite(params[1]) =>
+            {
+                Some(Px4Target::Angle {
+                    pitch_deg: f64::from(params[0]),
+                    yaw_deg: f64::from(params[1]),
+                    yaw_absolute: (params[4] as u32) & 16 != 0,
+                })
+            }
+            MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW => Some(Px4Target::Rate {
+                pitch_dps: f64::from(if finite(params[2]) { params[2] } else { 0.0 }),
+                yaw_dps: f64::from(if finite(params[3]) { params[3] } else { 0.0 }),
+            }),
+            MavCmd::MAV_CMD_DO_SET_ROI_LOCATION => {
+                let Some((x, y, z)) = xy else {
+                    return false;
+                };
+                Some(Px4Target::Location {
+                    lat_e7: x,
+                    lon_e7: y,
+                    alt_m: f64::from(z),
+                })
+            }
+            MavCmd::MAV_CMD_DO_SET_ROI_NONE => {
+                let (pitch_deg, yaw_deg) = self.setpoint;
+                Some(Px4Target::Angle {
+                    pitch_deg,
+                    yaw_deg,
+                    yaw_absolute: true,
+                })
+            }
+            _ => return false,
+        };
+        let ack = mav::command_ack(command, MavResult::MAV_RESULT_ACCEPTED, &p.header);
+        let me = Header {
+            sequence: 0,
+            system_id: self.config.sysid,
+            component_id: AUTOPILOT,
+        };
+        gcs.receive(self.board.now_us(), me, &ack);
+        true
     }
 
     fn set_attitude(&self) -> Option<GIMBAL_DEVICE_SET_ATTITUDE_DATA> {
@@ -378,6 +478,7 @@ impl Px4 {
                 false,
             ),
             Px4Target::Angle { yaw_absolute, .. } => ([f32::NAN; 3], yaw_absolute),
+            Px4Target::Location { .. } => ([f32::NAN; 3], true),
         };
         let mut flags = GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_ROLL_LOCK
             | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_PITCH_LOCK;
@@ -564,7 +665,9 @@ impl Autopilot for Px4 {
         if let Some(mut gcs) = self.gcs.take() {
             gcs.poll(now);
             for f in gcs.transmit() {
-                self.board.write_in_order(now, f);
+                if !self.manager_command(&f, &mut gcs) {
+                    self.board.write_in_order(now, f);
+                }
             }
             self.gcs = Some(gcs);
         }

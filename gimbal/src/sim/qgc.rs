@@ -30,17 +30,36 @@
 //! - CAMERA_SETTINGS' mode, zoom and focus level (non-finite ignored), the storage's
 //!   capacity only when READY, CAMERA_IMAGE_CAPTURED plotted as a map point only when
 //!   `capture_result` is 1 (lat/lon degE7; alt kept in mm; `time_utc` unused).
+//! - **Video streams**: VIDEO_STREAM_INFORMATION kept by stream id, asked until `count`
+//!   streams came; switching streams is VIDEO_STOP_STREAMING (the old id), then
+//!   VIDEO_START_STREAMING (the new), then REQUEST_MESSAGE(270, new id).
+//! - **Field of view**: REQUEST_MESSAGE(271) after every CAMERA_SETTINGS; its `hfov`
+//!   shown when 0 < hfov < 180.
+//! - **Tracking**: MAV_CMD_CAMERA_TRACK_POINT (p1 x, p2 y, p3 radius) or _RECTANGLE
+//!   (p1..p4), then SET_MESSAGE_INTERVAL(275, 500 ms); stop: MAV_CMD_CAMERA_STOP_TRACKING
+//!   then SET_MESSAGE_INTERVAL(275, −1); the status kept.
+//! - **Gimbal controls** through the autopilot (the manager, component 1):
+//!   MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW (angles or rates, as QGC's controls and MAVSDK's
+//!   `set_angles` / `set_angular_rates` with send mode Once send it) and
+//!   MAV_CMD_DO_SET_ROI_LOCATION / _NONE as COMMAND_INT (MAVSDK's `set_roi_location`).
+//! - **For tests** (QGC reads none of them): CAMERA_THERMAL_RANGE and DISTANCE_SENSOR are
+//!   kept, and any message can be asked of the camera ([`Qgc::request_from_camera`],
+//!   [`Qgc::message_interval`]) as a pymavlink script would.
 
 // QGroundControl uses the deprecated MAV_CMD_REQUEST_* commands, as the version read does.
 #![allow(deprecated)]
 
 use std::collections::VecDeque;
 
+use std::collections::BTreeMap;
+
 use protocol_core::mavlink::dialect::{
-    CAMERA_CAPTURE_STATUS_DATA, CAMERA_IMAGE_CAPTURED_DATA, CAMERA_INFORMATION_DATA,
-    CAMERA_SETTINGS_DATA, COMMAND_ACK_DATA, CameraCapFlags, CameraMode, GimbalDeviceFlags,
-    HEARTBEAT_DATA, MavAutopilot, MavCmd, MavModeFlag, MavResult, MavState, MavType,
-    MessageData as _, STORAGE_INFORMATION_DATA, StorageStatus,
+    CAMERA_CAPTURE_STATUS_DATA, CAMERA_FOV_STATUS_DATA, CAMERA_IMAGE_CAPTURED_DATA,
+    CAMERA_INFORMATION_DATA, CAMERA_SETTINGS_DATA, CAMERA_THERMAL_RANGE_DATA,
+    CAMERA_TRACKING_IMAGE_STATUS_DATA, COMMAND_ACK_DATA, CameraCapFlags, CameraMode,
+    DISTANCE_SENSOR_DATA, GimbalDeviceFlags, HEARTBEAT_DATA, MavAutopilot, MavCmd, MavFrame,
+    MavModeFlag, MavResult, MavState, MavType, MessageData as _, STORAGE_INFORMATION_DATA,
+    StorageStatus, VIDEO_STREAM_INFORMATION_DATA, VIDEO_STREAM_STATUS_DATA,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
@@ -157,6 +176,20 @@ pub struct Qgc {
     pub gimbal_statuses: u32,
     /// Every message received: (true µs, header, id).
     pub received: Vec<(u64, Header, u32)>,
+    /// VIDEO_STREAM_INFORMATION by stream id (the last of each).
+    pub streams: BTreeMap<u8, VIDEO_STREAM_INFORMATION_DATA>,
+    /// VIDEO_STREAM_STATUS received.
+    pub stream_statuses: Vec<(u64, VIDEO_STREAM_STATUS_DATA)>,
+    /// CAMERA_FOV_STATUS received.
+    pub fov_statuses: Vec<(u64, CAMERA_FOV_STATUS_DATA)>,
+    /// The camera's horizontal field of view shown (from CAMERA_FOV_STATUS).
+    pub hfov: Option<f32>,
+    /// CAMERA_TRACKING_IMAGE_STATUS received.
+    pub tracking: Vec<(u64, CAMERA_TRACKING_IMAGE_STATUS_DATA)>,
+    /// CAMERA_THERMAL_RANGE received (for tests).
+    pub thermal_ranges: Vec<(u64, CAMERA_THERMAL_RANGE_DATA)>,
+    /// DISTANCE_SENSOR received, with their sender (for tests).
+    pub distances: Vec<(u64, Header, DISTANCE_SENSOR_DATA)>,
 }
 
 /// Request slots of a camera: settings, storage, capture status, video streams.
@@ -185,6 +218,13 @@ impl Qgc {
             gimbal: None,
             gimbal_statuses: 0,
             received: Vec::new(),
+            streams: BTreeMap::new(),
+            stream_statuses: Vec::new(),
+            fov_statuses: Vec::new(),
+            hfov: None,
+            tracking: Vec::new(),
+            thermal_ranges: Vec::new(),
+            distances: Vec::new(),
         }
     }
 
@@ -271,6 +311,103 @@ impl Qgc {
         self.command(MavCmd::MAV_CMD_STORAGE_FORMAT, [1.0, 1.0, 0.0, 0.0]);
     }
 
+    /// Queues a command to component `compid` of the vehicle (the camera, the gimbal, the
+    /// autopilot).
+    pub fn command_to(&mut self, compid: u8, msg: MavMessage) {
+        let command = match &msg {
+            MavMessage::COMMAND_LONG(c) => c.command,
+            MavMessage::COMMAND_INT(c) => c.command,
+            _ => return,
+        };
+        self.queue.push_back((msg, command, compid));
+    }
+
+    /// Tracking a point of the video (a click): TRACK_POINT, then the status every 500 ms.
+    pub fn track_point(&mut self, x: f32, y: f32, radius: f32) {
+        self.command(MavCmd::MAV_CMD_CAMERA_TRACK_POINT, [x, y, radius, 0.0]);
+        self.tracking_interval(500_000.0);
+    }
+
+    /// Tracking a rectangle drawn on the video (top left, bottom right).
+    pub fn track_rectangle(&mut self, x0: f32, y0: f32, x1: f32, y1: f32) {
+        self.command(MavCmd::MAV_CMD_CAMERA_TRACK_RECTANGLE, [x0, y0, x1, y1]);
+        self.tracking_interval(500_000.0);
+    }
+
+    /// Stops tracking, then the status.
+    pub fn stop_tracking(&mut self) {
+        self.command(MavCmd::MAV_CMD_CAMERA_STOP_TRACKING, [0.0; 4]);
+        self.tracking_interval(-1.0);
+    }
+
+    fn tracking_interval(&mut self, us: f32) {
+        self.message_interval(CAMERA_TRACKING_IMAGE_STATUS_DATA::ID, us, 0.0, 0.0);
+    }
+
+    /// Switching the video from stream `from` to stream `to`.
+    pub fn switch_stream(&mut self, from: u8, to: u8) {
+        let p = |id: u8| [f32::from(id), 0.0, 0.0, 0.0];
+        self.command(MavCmd::MAV_CMD_VIDEO_STOP_STREAMING, p(from));
+        self.command(MavCmd::MAV_CMD_VIDEO_START_STREAMING, p(to));
+        self.request_from_camera(VIDEO_STREAM_STATUS_DATA::ID, f32::from(to));
+    }
+
+    /// MAV_CMD_REQUEST_MESSAGE of message `id` to the camera, param2 `p2` (as a script
+    /// sends it).
+    pub fn request_from_camera(&mut self, id: u32, p2: f32) {
+        self.command(MavCmd::MAV_CMD_REQUEST_MESSAGE, [id as f32, p2, 0.0, 0.0]);
+    }
+
+    /// MAV_CMD_SET_MESSAGE_INTERVAL of message `id` to the camera: `us` (0 default, −1
+    /// stop), param3 and param4 as given.
+    pub fn message_interval(&mut self, id: u32, us: f32, p3: f32, p4: f32) {
+        self.command(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [id as f32, us, p3, p4],
+        );
+    }
+
+    /// MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW to the autopilot (the gimbal manager): angles
+    /// (degrees; NaN rates) or rates (deg/s; NaN angles), `flags` GIMBAL_MANAGER_FLAGS
+    /// (16: yaw locked to north), for gimbal device `device` (param7).
+    pub fn gimbal_pitchyaw(&mut self, angles: [f32; 2], rates: [f32; 2], flags: u32, device: u8) {
+        let p = [
+            angles[0],
+            angles[1],
+            rates[0],
+            rates[1],
+            flags as f32,
+            0.0,
+            f32::from(device),
+        ];
+        let target = (self.config.vehicle, super::mav::AUTOPILOT);
+        let msg = mav::command_long(MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW, p, target, 0);
+        self.command_to(super::mav::AUTOPILOT, msg);
+    }
+
+    /// MAV_CMD_DO_SET_ROI_LOCATION (`Some`: latitude, longitude degE7, altitude m AMSL) or
+    /// _NONE to the autopilot, as COMMAND_INT (MAVSDK's `set_roi_location`).
+    pub fn gimbal_roi(&mut self, location: Option<(i32, i32, f32)>) {
+        let target = (self.config.vehicle, super::mav::AUTOPILOT);
+        let msg = match location {
+            Some(xyz) => mav::command_int(
+                MavCmd::MAV_CMD_DO_SET_ROI_LOCATION,
+                [0.0; 4],
+                xyz,
+                MavFrame::MAV_FRAME_GLOBAL,
+                target,
+            ),
+            None => mav::command_int(
+                MavCmd::MAV_CMD_DO_SET_ROI_NONE,
+                [0.0; 4],
+                (0, 0, 0.0),
+                MavFrame::MAV_FRAME_GLOBAL,
+                target,
+            ),
+        };
+        self.command_to(super::mav::AUTOPILOT, msg);
+    }
+
     fn has(&self, flag: CameraCapFlags) -> bool {
         self.camera
             .as_ref()
@@ -322,6 +459,11 @@ impl Qgc {
                 }
             }
             MavMessage::CAMERA_SETTINGS(s) => {
+                if self.camera_of(h).is_some() {
+                    // The field of view after every CAMERA_SETTINGS.
+                    let id = CAMERA_FOV_STATUS_DATA::ID as f32;
+                    self.request(h.component_id, MavCmd::MAV_CMD_REQUEST_MESSAGE, id, 0.0);
+                }
                 if let Some(c) = self.camera_of(h) {
                     c.settings = Some(s.clone());
                     c.next_try[SETTINGS] = u64::MAX;
@@ -362,6 +504,25 @@ impl Qgc {
                 }
             }
             MavMessage::COMMAND_ACK(a) => self.ack(now_us, h, a),
+            MavMessage::VIDEO_STREAM_INFORMATION(i) => {
+                self.streams.insert(i.stream_id, i.clone());
+                let all = self.streams.len() >= usize::from(i.count);
+                if let Some(c) = self.camera_of(h)
+                    && all
+                {
+                    c.next_try[3] = u64::MAX;
+                }
+            }
+            MavMessage::VIDEO_STREAM_STATUS(s) => self.stream_statuses.push((now_us, s.clone())),
+            MavMessage::CAMERA_FOV_STATUS(f) => {
+                if f.hfov > 0.0 && f.hfov < 180.0 {
+                    self.hfov = Some(f.hfov);
+                }
+                self.fov_statuses.push((now_us, f.clone()));
+            }
+            MavMessage::CAMERA_TRACKING_IMAGE_STATUS(t) => self.tracking.push((now_us, t.clone())),
+            MavMessage::CAMERA_THERMAL_RANGE(t) => self.thermal_ranges.push((now_us, t.clone())),
+            MavMessage::DISTANCE_SENSOR(d) => self.distances.push((now_us, h, d.clone())),
             MavMessage::GIMBAL_DEVICE_ATTITUDE_STATUS(s) => {
                 self.gimbal_statuses += 1;
                 if s.gimbal_device_id == 0

@@ -8,11 +8,12 @@
 //! The frame op picks from what ArduPilot, PX4 and QGroundControl send a gimbal device and
 //! camera (docs/src/bridge/mavlink.md): the autopilot's heartbeat and streams, every form
 //! of GIMBAL_DEVICE_SET_ATTITUDE, the requests (new and deprecated, servable or not), the
-//! camera commands, a MAV_CMD the dialect does not list, TIMESYNC, the camera
-//! definition's download (MAVLink FTP in QGroundControl's and MAVSDK's sequences, and
-//! opcodes neither sends), the extended parameters (list, read by name and index, sets of
-//! good and bad names, types and values), and the catalogue's frames with arbitrary
-//! contents.
+//! camera commands, the sensors' commands and message intervals (video stream, camera
+//! source, tracking, thermal range, laser, field of view), ROI to the device in its
+//! frames, a MAV_CMD the dialect does not list, TIMESYNC, the camera definition's download
+//! (MAVLink FTP in QGroundControl's and MAVSDK's sequences, and opcodes neither sends),
+//! the extended parameters (list, read by name and index, sets of good and bad names,
+//! types and values), and the catalogue's frames with arbitrary contents.
 
 use std::sync::OnceLock;
 
@@ -317,7 +318,8 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
         }
         let gcs = |msg: MavMessage| frame(255, 190, 7, &msg);
         for id in [
-            0.0, 283.0, 285.0, 259.0, 260.0, 261.0, 262.0, 263.0, 269.0, 280.0,
+            0.0, 283.0, 285.0, 259.0, 260.0, 261.0, 262.0, 263.0, 269.0, 280.0, 270.0, 271.0,
+            275.0, 277.0, 132.0,
         ] {
             for comp in [154, 100, 0] {
                 let p = [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
@@ -332,6 +334,7 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
             MavCmd::MAV_CMD_REQUEST_CAMERA_CAPTURE_STATUS,
             MavCmd::MAV_CMD_REQUEST_CAMERA_IMAGE_CAPTURE,
             MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION,
+            MavCmd::MAV_CMD_REQUEST_VIDEO_STREAM_STATUS,
             MavCmd::MAV_CMD_STORAGE_FORMAT,
             MavCmd::MAV_CMD_RESET_CAMERA_SETTINGS,
             MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
@@ -365,6 +368,112 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
             let p = [p[0], p[1], p[2], p[3], 0.0, 0.0, 0.0];
             out.push(ap(long(cmd, p, (0, 0))));
             out.push(gcs(long(cmd, p, (1, 100))));
+        }
+        let sensors = [
+            (MavCmd::MAV_CMD_SET_CAMERA_SOURCE, [0.0, 2.0, 0.0, 0.0, 0.0]),
+            (
+                MavCmd::MAV_CMD_SET_CAMERA_SOURCE,
+                [100.0, 1.0, 2.0, 0.0, 0.0],
+            ),
+            (MavCmd::MAV_CMD_SET_CAMERA_SOURCE, [0.0, 3.0, 0.0, 0.0, 0.0]),
+            (MavCmd::MAV_CMD_SET_CAMERA_SOURCE, [0.0, nan, 0.0, 0.0, 0.0]),
+            (
+                MavCmd::MAV_CMD_CAMERA_TRACK_POINT,
+                [0.5, 0.5, 0.1, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_CAMERA_TRACK_POINT,
+                [1.5, -0.5, 0.0, nan, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_CAMERA_TRACK_POINT,
+                [nan, 0.5, 0.1, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_CAMERA_TRACK_RECTANGLE,
+                [0.1, 0.2, 0.9, 0.8, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_CAMERA_TRACK_RECTANGLE,
+                [0.9, 0.8, 0.1, 0.2, 7.0],
+            ),
+            (MavCmd::MAV_CMD_CAMERA_STOP_TRACKING, [0.0; 5]),
+            (
+                MavCmd::MAV_CMD_VIDEO_START_STREAMING,
+                [1.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_VIDEO_START_STREAMING,
+                [2.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_VIDEO_STOP_STREAMING,
+                [1.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [277.0, 200_000.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [277.0, 1.0, 2.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [277.0, -1.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [275.0, 500_000.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [271.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [132.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [132.0, -1.0, 0.0, 0.0, 0.0],
+            ),
+            (
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [132.0, nan, 0.0, 0.0, 0.0],
+            ),
+        ];
+        for (cmd, p) in sensors {
+            let p = [p[0], p[1], p[2], p[3], p[4], 0.0, 0.0];
+            out.push(ap(long(cmd, p, (0, 0))));
+            out.push(gcs(long(cmd, p, (1, 100))));
+        }
+        let roi = [1.0, 0.0, 0.0, 0.0, 47.398, 8.546, 500.0];
+        out.push(gcs(long(
+            MavCmd::MAV_CMD_DO_SET_ROI_LOCATION,
+            roi,
+            (1, 154),
+        )));
+        out.push(gcs(long(
+            MavCmd::MAV_CMD_DO_SET_ROI_NONE,
+            [0.0; 7],
+            (1, 154),
+        )));
+        for (frame_of, z) in [
+            (MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT, 40.0),
+            (MavFrame::MAV_FRAME_LOCAL_NED, 10.0),
+            (MavFrame::MAV_FRAME_GLOBAL, f32::INFINITY),
+        ] {
+            out.push(ap(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
+                command: MavCmd::MAV_CMD_DO_SET_ROI_LOCATION,
+                target_system: 1,
+                target_component: 154,
+                frame: frame_of,
+                x: 473_987_420,
+                y: -85_455_940,
+                z,
+                ..COMMAND_INT_DATA::default()
+            })));
         }
         out.push(gcs(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
             command: MavCmd::MAV_CMD_DO_SET_ROI_LOCATION,

@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 31] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 36] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -31,6 +31,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 31] = [
     (110, 84),
     (111, 34),
     (112, 174),
+    (132, 85),
     (244, 95),
     (253, 83),
     (259, 92),
@@ -39,6 +40,10 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 31] = [
     (262, 12),
     (263, 133),
     (269, 109),
+    (270, 59),
+    (271, 22),
+    (275, 126),
+    (277, 62),
     (280, 70),
     (281, 48),
     (283, 74),

@@ -227,7 +227,7 @@ impl MavlinkSide {
     }
 
     /// The command's ACK waits for the pod's ACK of `base` (no pod request: UNSUPPORTED).
-    fn await_pod(&mut self, ctx: &mut Ctx<'_>, c: &Cmd, base: Option<u16>) {
+    pub(super) fn await_pod(&mut self, ctx: &mut Ctx<'_>, c: &Cmd, base: Option<u16>) {
         let Some(base) = base else {
             self.ack(ctx, Comp::Camera, c.command, result::UNSUPPORTED, c.from);
             return;
@@ -424,7 +424,9 @@ impl MavlinkSide {
         };
         let r = match msg {
             id::CAMERA_INFORMATION => {
-                if self.pod_identified(ctx, ctx.pod().camera_version.is_some()) {
+                // With the stream's address too, when the pod tells it at once.
+                let known = ctx.pod().camera_version.is_some() && Self::stream_uri(ctx).is_some();
+                if self.pod_identified(ctx, known) {
                     result::ACCEPTED
                 } else {
                     result::TEMPORARILY_REJECTED
@@ -466,16 +468,28 @@ impl MavlinkSide {
             | CameraCapFlags::CAMERA_CAP_FLAGS_CAPTURE_IMAGE
             | CameraCapFlags::CAMERA_CAP_FLAGS_HAS_MODES
             | CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_ZOOM
-            | CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_FOCUS;
+            | CameraCapFlags::CAMERA_CAP_FLAGS_HAS_BASIC_FOCUS
+            | Self::sensor_flags(ctx);
+        let lens = ctx.config.lens;
+        // The lens facts (mm, pixels): NaN and 0 when unknown.
+        #[allow(clippy::cast_precision_loss)] // µm below 2^24
+        let mm = |um: u32| {
+            if um == 0 {
+                f32::NAN
+            } else {
+                um as f32 / 1000.0
+            }
+        };
+        let px = |v: u32| u16::try_from(v).unwrap_or(0);
         let msg = MavMessage::CAMERA_INFORMATION(CAMERA_INFORMATION_DATA {
             time_boot_ms: boot_ms(ctx),
             firmware_version: version(ctx.pod().camera_version),
-            focal_length: f32::NAN,
-            sensor_size_h: f32::NAN,
-            sensor_size_v: f32::NAN,
+            focal_length: mm(lens.focal_length_min_um),
+            sensor_size_h: mm(lens.sensor_width_um),
+            sensor_size_v: mm(lens.sensor_height_um),
             flags,
-            resolution_h: 0,
-            resolution_v: 0,
+            resolution_h: px(lens.resolution_h),
+            resolution_v: px(lens.resolution_v),
             cam_definition_version: super::ftp::DEFINITION_VERSION,
             vendor_name: name::<32>(VENDOR),
             model_name: name::<32>(MODEL),

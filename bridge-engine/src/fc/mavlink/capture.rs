@@ -357,7 +357,7 @@ impl MavlinkSide {
 
     /// The camera's attitude: the pod's roll and pitch, its yaw from north when the
     /// aircraft's heading is known (else NaN: unknown).
-    fn camera_attitude(&self, ctx: &Ctx<'_>) -> [f32; 4] {
+    pub(super) fn camera_attitude(&self, ctx: &Ctx<'_>) -> [f32; 4] {
         let Some(a) = ctx.fresh_attitude() else {
             return [f32::NAN; 4];
         };

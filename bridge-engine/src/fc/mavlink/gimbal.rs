@@ -96,6 +96,17 @@ impl MavlinkSide {
             return;
         }
         let f = s.flags;
+        let moves = f.intersects(
+            GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_RETRACT
+                | GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_NEUTRAL,
+        ) || s.q.iter().all(|c| c.is_finite())
+            || [s.angular_velocity_y, s.angular_velocity_z]
+                .iter()
+                .any(|r| r.is_finite());
+        if moves {
+            // The autopilot points the gimbal itself: a location it pointed at ends.
+            self.roi.target = None;
+        }
         if f.contains(GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_RETRACT) {
             ctx.command(ID, Command::LookDown);
             return;
@@ -241,7 +252,9 @@ impl MavlinkSide {
             | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_YAW_AXIS
             | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_YAW_FOLLOW
             | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_YAW_LOCK
-            | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_SUPPORTS_YAW_IN_EARTH_FRAME;
+            | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_SUPPORTS_YAW_IN_EARTH_FRAME
+            // DO_SET_ROI_LOCATION to the device (roi.rs); only in cap_flags2.
+            | GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_CAN_POINT_LOCATION_GLOBAL;
         let info = MavMessage::GIMBAL_DEVICE_INFORMATION(GIMBAL_DEVICE_INFORMATION_DATA {
             uid: 0,
             time_boot_ms: boot_ms(ctx),

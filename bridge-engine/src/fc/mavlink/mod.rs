@@ -47,13 +47,18 @@ mod capture;
 #[cfg(test)]
 mod definition_tests;
 mod destructive;
+mod fov;
 mod ftp;
 mod gimbal;
-mod math;
+mod intervals;
 mod params;
+mod roi;
+mod sensors;
 mod settings;
 #[cfg(feature = "telemetry")]
 mod telemetry;
+mod tracking;
+mod video;
 
 #[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
@@ -70,7 +75,7 @@ use protocol_core::mavlink::{
 
 use autopilot::{Autopilot, Took, Vehicle};
 
-use super::{Ctx, FcHandler, TimedFrom};
+use super::{Ctx, FcHandler, TimedFrom, geo, math};
 
 /// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload).
 pub(crate) const BUF: usize = MAX_FRAME_LEN;
@@ -104,6 +109,17 @@ mod cmd {
     pub(super) const REQUEST_CAMERA_IMAGE_CAPTURE: u16 = 2002;
     pub(super) const VIDEO_START_CAPTURE: u16 = 2500;
     pub(super) const VIDEO_STOP_CAPTURE: u16 = 2501;
+    pub(super) const DO_SET_ROI_LOCATION: u16 = 195;
+    pub(super) const DO_SET_ROI_NONE: u16 = 197;
+    pub(super) const SET_MESSAGE_INTERVAL: u16 = 511;
+    pub(super) const SET_CAMERA_SOURCE: u16 = 534;
+    pub(super) const CAMERA_TRACK_POINT: u16 = 2004;
+    pub(super) const CAMERA_TRACK_RECTANGLE: u16 = 2005;
+    pub(super) const CAMERA_STOP_TRACKING: u16 = 2010;
+    pub(super) const VIDEO_START_STREAMING: u16 = 2502;
+    pub(super) const VIDEO_STOP_STREAMING: u16 = 2503;
+    pub(super) const REQUEST_VIDEO_STREAM_INFORMATION: u16 = 2504;
+    pub(super) const REQUEST_VIDEO_STREAM_STATUS: u16 = 2505;
 }
 
 /// Message ids the device sends or asks for.
@@ -117,6 +133,12 @@ mod id {
     pub(super) const CAMERA_IMAGE_CAPTURED: u32 = 263;
     pub(super) const GIMBAL_DEVICE_INFORMATION: u32 = 283;
     pub(super) const GIMBAL_DEVICE_ATTITUDE_STATUS: u32 = 285;
+    pub(super) const DISTANCE_SENSOR: u32 = 132;
+    pub(super) const VIDEO_STREAM_INFORMATION: u32 = 269;
+    pub(super) const VIDEO_STREAM_STATUS: u32 = 270;
+    pub(super) const CAMERA_FOV_STATUS: u32 = 271;
+    pub(super) const CAMERA_TRACKING_IMAGE_STATUS: u32 = 275;
+    pub(super) const CAMERA_THERMAL_RANGE: u32 = 277;
 }
 
 /// One of the device's two components.
@@ -151,6 +173,8 @@ struct Cmd {
     params: [f32; 7],
     target_system: u8,
     target_component: u8,
+    /// COMMAND_INT's x and y as sent (e.g. latitude and longitude, degE7) and its frame.
+    int: Option<(i32, i32, u8)>,
     /// The sender.
     from: Header,
 }
@@ -190,11 +214,20 @@ impl Cmd {
             };
         }
         let [c0, c1, ts, tc] = word(28);
+        let [frame, ..] = word(32);
+        let int = (msg_id == 75).then(|| {
+            (
+                i32::from_le_bytes(word(16)),
+                i32::from_le_bytes(word(20)),
+                frame,
+            )
+        });
         (msg_id == 75 || msg_id == 76).then_some(Cmd {
             command: u16::from_le_bytes([c0, c1]),
             params,
             target_system: ts,
             target_component: tc,
+            int,
             from,
         })
     }
@@ -217,6 +250,10 @@ pub(crate) struct MavlinkSide {
     params: params::Params,
     /// Storage format and camera reset.
     destructive: destructive::Destructive,
+    video: video::Video,
+    sensors: sensors::Sensors,
+    tracking: tracking::Tracking,
+    roi: roi::Roi,
 }
 
 impl MavlinkSide {
@@ -231,6 +268,10 @@ impl MavlinkSide {
             ftp: ftp::Ftp::default(),
             params: params::Params::default(),
             destructive: destructive::Destructive::default(),
+            video: video::Video::default(),
+            sensors: sensors::Sensors::default(),
+            tracking: tracking::Tracking::default(),
+            roi: roi::Roi::default(),
         }
     }
 }
@@ -288,10 +329,12 @@ impl FcHandler for MavlinkSide {
             if ctx.now >= self.next_status {
                 self.next_status = ctx.now.saturating_add(gimbal::STATUS_PERIOD);
                 self.attitude_status(ctx);
+                self.roi_refresh(ctx);
             }
             self.ap.poll(ctx);
             self.params_poll(ctx);
             self.ftp_poll(ctx);
+            self.sensors_poll(ctx);
         }
         self.camera_poll(ctx);
         self.destructive_poll(ctx);
@@ -302,6 +345,7 @@ impl FcHandler for MavlinkSide {
             .ap
             .sysid
             .map(|_| self.next_heartbeat.min(self.next_status));
+        let sensors = self.ap.sysid.and_then(|_| self.sensors_poll_at());
         [
             device,
             self.ap.poll_at(),
@@ -309,6 +353,7 @@ impl FcHandler for MavlinkSide {
             self.ap.sysid.and(self.params.poll_at()),
             self.ap.sysid.and(self.ftp.poll_at()),
             self.destructive.poll_at(),
+            sensors,
         ]
         .into_iter()
         .flatten()
@@ -320,6 +365,7 @@ impl FcHandler for MavlinkSide {
             PodNotice::LinkUp => {
                 self.pod_up_since = Some(ctx.now);
                 self.params_pod_up(ctx);
+                self.sensors_link_up(ctx);
             }
             PodNotice::LinkDown => self.pod_up_since = None,
             PodNotice::Acked { base, code } => {
@@ -327,14 +373,24 @@ impl FcHandler for MavlinkSide {
                 self.camera_pod_answer(ctx, base, ok);
                 self.params_pod_answer(ctx, base, ok);
                 self.destructive_pod_answer(ctx, base, ok);
+                self.sensors_pod_answer(ctx, base, ok);
             }
             PodNotice::TimedOut { base } => {
                 self.camera_pod_answer(ctx, base, false);
                 self.params_pod_answer(ctx, base, false);
                 self.destructive_pod_answer(ctx, base, false);
+                self.sensors_pod_answer(ctx, base, false);
             }
             PodNotice::Photo(state) => self.capture_photo_status(ctx, state),
             PodNotice::GpsRequest { .. } => {}
+        }
+    }
+
+    /// Every pod frame: new readings (laser, tracking's end) are reported at once.
+    fn pod_frame(&mut self, ctx: &mut Ctx<'_>, frame: super::PodFrame<'_>) {
+        let _ = frame;
+        if self.ap.sysid.is_some() {
+            self.sensors_frame(ctx);
         }
     }
 
@@ -433,6 +489,21 @@ impl MavlinkSide {
             cmd::REQUEST_CAMERA_IMAGE_CAPTURE => {
                 self.camera_request(ctx, c, to, id::CAMERA_IMAGE_CAPTURED)
             }
+            cmd::REQUEST_VIDEO_STREAM_INFORMATION => {
+                self.sensor_request(ctx, c, to, id::VIDEO_STREAM_INFORMATION)
+            }
+            cmd::REQUEST_VIDEO_STREAM_STATUS => {
+                self.sensor_request(ctx, c, to, id::VIDEO_STREAM_STATUS)
+            }
+            cmd::SET_MESSAGE_INTERVAL => self.set_interval(ctx, c, to),
+            cmd::DO_SET_ROI_LOCATION | cmd::DO_SET_ROI_NONE if to == Some(Comp::Gimbal) => {
+                self.roi_command(ctx, c);
+                true
+            }
+            _ if to != Some(Comp::Gimbal) && sensors::is_sensor_command(c.command) => {
+                self.sensor_command(ctx, c);
+                true
+            }
             _ if to != Some(Comp::Gimbal) && camera::is_camera_command(c.command) => {
                 self.camera_command(ctx, c);
                 true
@@ -467,6 +538,7 @@ impl MavlinkSide {
             | id::STORAGE_INFORMATION
             | id::CAMERA_CAPTURE_STATUS
             | id::CAMERA_IMAGE_CAPTURED => Some(Comp::Camera),
+            m if sensors::is_sensor_message(m) => Some(Comp::Camera),
             _ => None,
         };
         let Some(owner) = owner.filter(|o| to.is_none_or(|t| t == *o)) else {
@@ -481,6 +553,9 @@ impl MavlinkSide {
             id::GIMBAL_DEVICE_ATTITUDE_STATUS => {
                 self.ack(ctx, owner, c.command, result::ACCEPTED, c.from);
                 self.attitude_status(ctx);
+            }
+            m if sensors::is_sensor_message(m) => {
+                self.sensor_request(ctx, c, to, m);
             }
             other => {
                 self.camera_request(ctx, c, to, other);
@@ -498,6 +573,12 @@ impl MavlinkSide {
                     ctx.now.saturating_duration_since(t) >= Duration::from_secs(1)
                 }))
     }
+}
+
+/// The parameter is the whole number `v` (to the nearest).
+pub(super) fn param_is(p: f32, v: u8) -> bool {
+    let d = p - f32::from(v);
+    d > -0.5 && d < 0.5
 }
 
 /// A message id from a command parameter (a whole, non-negative number).

@@ -119,6 +119,9 @@ pub struct ApMavlinkConfig {
     pub gps_fix: bool,
     /// Home altitude (relative altitude's zero), m.
     pub home_alt_m: f64,
+    /// The newest source: a location target goes to a gimbal that can point at one as
+    /// MAV_CMD_DO_SET_ROI_LOCATION (else, as released ArduPilot does, as angles).
+    pub roi_to_device: bool,
 }
 
 impl Default for ApMavlinkConfig {
@@ -147,6 +150,7 @@ impl Default for ApMavlinkConfig {
             armed_at_us: None,
             gps_fix: true,
             home_alt_m: 430.0,
+            roi_to_device: false,
         }
     }
 }
@@ -211,6 +215,8 @@ pub struct ApMavlink {
     pub mount_refused: bool,
     /// The mount target.
     pub target: Option<ApMountTarget>,
+    /// The location last sent to the device, with when (FC ms).
+    roi_sent: Option<((i32, i32, f32), u64)>,
     rate_set_ms: u64,
     /// The last attitude status taken (old driver: only new time_boot_ms).
     pub status: Option<Heard<GIMBAL_DEVICE_ATTITUDE_STATUS_DATA>>,
@@ -307,6 +313,7 @@ impl ApMavlink {
             mount_initialised: false,
             mount_refused: false,
             target: None,
+            roi_sent: None,
             rate_set_ms: 0,
             status: None,
             statuses: 0,
@@ -448,6 +455,7 @@ impl Autopilot for ApMavlink {
         self.mount_initialised = false;
         self.mount_refused = false;
         self.target = None;
+        self.roi_sent = None;
         self.status = None;
         self.attitude = None;
         self.camera_found = None;

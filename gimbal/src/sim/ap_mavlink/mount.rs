@@ -15,11 +15,18 @@
 //!   horizon and yaw relative to the vehicle whatever its flags; `delta_yaw`, once
 //!   non-zero, gives the earth yaw. [`ApMavlinkConfig::old_gremsy`]: the older driver,
 //!   which takes a status only when its `time_boot_ms` changed.
+//! - **A location** ([`ApMountTarget::Location`], ROI): released ArduPilot turns it into an
+//!   angle with an earth-frame yaw from the aircraft's position (flat earth) every update;
+//!   the newest source ([`ApMavlinkConfig::roi_to_device`]) sends COMMAND_INT
+//!   MAV_CMD_DO_SET_ROI_LOCATION to the gimbal instead (frame GLOBAL, degE7, altitude m
+//!   above mean sea level) when its information's `cap_flags2` says
+//!   CAN_POINT_LOCATION_GLOBAL, when the target changes and again every second, and
+//!   MAV_CMD_DO_SET_ROI_NONE once when the location target ends.
 
 use protocol_core::mavlink::dialect::{
     AUTOPILOT_STATE_FOR_GIMBAL_DEVICE_DATA, GIMBAL_DEVICE_ATTITUDE_STATUS_DATA,
-    GIMBAL_DEVICE_INFORMATION_DATA, GIMBAL_DEVICE_SET_ATTITUDE_DATA, GimbalDeviceFlags, MavResult,
-    MessageData as _,
+    GIMBAL_DEVICE_INFORMATION_DATA, GIMBAL_DEVICE_SET_ATTITUDE_DATA, GimbalDeviceCapFlags,
+    GimbalDeviceFlags, MavCmd, MavFrame, MavResult, MessageData as _,
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
@@ -56,6 +63,16 @@ pub enum ApMountTarget {
     Retract,
     /// Neutral (`MNT1_NEUTRAL_*`: 0, 0, 0).
     Neutral,
+    /// Point at a location (a region of interest): latitude, longitude (degE7),
+    /// altitude above mean sea level (m).
+    Location {
+        /// Latitude.
+        lat_e7: i32,
+        /// Longitude.
+        lon_e7: i32,
+        /// Altitude, m AMSL.
+        alt_m: f64,
+    },
 }
 
 impl ApMavlink {
@@ -73,9 +90,34 @@ impl ApMavlink {
         if !self.mount_initialised {
             return;
         }
-        let Some(target) = self.target else {
+        let Some(mut target) = self.target else {
             return;
         };
+        if let ApMountTarget::Location {
+            lat_e7,
+            lon_e7,
+            alt_m,
+        } = target
+        {
+            if self.roi_to_device() {
+                self.send_roi(sysid, Some((lat_e7, lon_e7, alt_m as f32)));
+                return;
+            }
+            // Released ArduPilot: the angles to the location, yaw from north.
+            let now = self.board.now_us();
+            let (lat, lon) = self.board.aircraft().position_e7(now);
+            let here = (lat, lon, self.board.aircraft().alt_msl_m);
+            let (bearing, elevation) = mav::bearing_elevation(here, (lat_e7, lon_e7, alt_m));
+            target = ApMountTarget::Angle {
+                roll_deg: 0.0,
+                pitch_deg: elevation,
+                yaw_deg: bearing,
+                yaw_is_ef: true,
+            };
+        } else if self.roi_sent.is_some() {
+            // The location target ended.
+            self.send_roi(sysid, None);
+        }
         let nan = [f32::NAN; 4];
         let ef_flags = |ef: bool| {
             if ef {
@@ -117,6 +159,7 @@ impl ApMavlink {
                 [f32::NAN; 3],
                 GimbalDeviceFlags::empty(),
             ),
+            ApMountTarget::Location { .. } => return,
         };
         let set = GIMBAL_DEVICE_SET_ATTITUDE_DATA {
             q,
@@ -165,6 +208,42 @@ impl ApMavlink {
             }
             self.status = Some(Heard::new(now_us, h, s));
         }
+    }
+
+    /// The newest source sends a location to a device that can point at one.
+    fn roi_to_device(&self) -> bool {
+        self.config.roi_to_device
+            && self.mount_info.as_ref().is_some_and(|i| {
+                i.data.cap_flags2.contains(
+                    GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_CAN_POINT_LOCATION_GLOBAL,
+                )
+            })
+    }
+
+    /// `send_target_location`: DO_SET_ROI_LOCATION (`Some`) when it changed or a second
+    /// after the last, DO_SET_ROI_NONE (`None`) once.
+    fn send_roi(&mut self, sysid: u8, location: Option<(i32, i32, f32)>) {
+        let ms = self.board.fc_ms();
+        let resend = match (self.roi_sent, location) {
+            (Some((sent, at)), Some(l)) => sent != l || ms.saturating_sub(at) >= 1_000,
+            _ => true,
+        };
+        if !resend {
+            return;
+        }
+        let (command, xyz) = match location {
+            Some(xyz) => (MavCmd::MAV_CMD_DO_SET_ROI_LOCATION, xyz),
+            None => (MavCmd::MAV_CMD_DO_SET_ROI_NONE, (0, 0, 0.0)),
+        };
+        let msg = mav::command_int(
+            command,
+            [0.0; 4],
+            xyz,
+            MavFrame::MAV_FRAME_GLOBAL,
+            (sysid, GIMBAL),
+        );
+        self.roi_sent = location.map(|l| (l, ms));
+        self.send(&msg);
     }
 
     /// Sets the mount target; a MAVLink rate command restarts its 3 s.

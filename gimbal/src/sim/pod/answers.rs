@@ -87,11 +87,12 @@ impl SimPod {
             Request::ImageMode(m) => self.camera.image_mode = m.mode,
             Request::TimeSync(s) => self.time_sync(t, s, start_us),
             Request::GetIp(_) => {
+                let [address, netmask, gateway] = self.config.ip;
                 return Ok(Some(payload(&IpConfigAck {
                     code: ResponseCode::OK,
-                    address: [192, 168, 144, 64],
-                    netmask: [255, 255, 255, 0],
-                    gateway: [192, 168, 144, 1],
+                    address,
+                    netmask,
+                    gateway,
                 })));
             }
             Request::Focus(f) => self.focus(t, f.mode),
@@ -103,6 +104,11 @@ impl SimPod {
             }
             Request::AiRecognition(a) => {
                 self.camera.ai = a.enable == Toggle::On;
+            }
+            // "The GPS information of the current laser aiming target": none without a
+            // laser distance.
+            Request::TargetGps(_) if self.camera.laser_distance_dm == 0 => {
+                return Err(AckCode::Failure);
             }
             Request::TargetGps(r) => return Ok(Some(payload(&self.target_gps(&r)))),
             Request::TrackBox(b) => match b.enable {
@@ -241,7 +247,7 @@ impl SimPod {
                 self.send(t, &status);
             }
             Some(0x0004) if self.camera.ir_measuring => {
-                self.send(t, &IR_STATUS);
+                self.send(t, &ir_scene(t));
             }
             Some(0x0005) => {
                 let c = &self.camera;

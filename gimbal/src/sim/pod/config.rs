@@ -3,21 +3,21 @@
 
 use super::*;
 
-/// The fixed infrared measurements reported in 0x000004.
+/// The infrared measurements reported in 0x000004 at power-up ([`ir_scene`] at 0).
 pub const IR_STATUS: IrStatus = IrStatus {
     max_temp_dc: 412,
     min_temp_dc: 153,
     center_temp_dc: 251,
     point_temp_dc: 268,
     avg_temp_dc: 240,
-    max_x: 320,
-    max_y: 200,
-    min_x: 40,
-    min_y: 480,
-    center_x: 320,
-    center_y: 256,
-    point_x: 320,
-    point_y: 256,
+    max_x: 1360,
+    max_y: 544,
+    min_x: 560,
+    min_y: 544,
+    center_x: 960,
+    center_y: 544,
+    point_x: 960,
+    point_y: 544,
     high_warning: 0,
     low_warning: 0,
     diff_warning: 0,
@@ -210,6 +210,9 @@ pub struct PodSimConfig {
     pub enforce_capture_mode: bool,
     /// Laser distance, 0.1 m.
     pub laser_distance_dm: u16,
+    /// The camera's IP address, subnet mask and gateway (0x000312; the document's
+    /// default address 192.168.144.64, 2.3.1).
+    pub ip: [[u8; 4]; 3],
     /// Gimbal hardware version (0x000018).
     pub gimbal_hardware: Version,
     /// Gimbal software version (0x000018).
@@ -277,6 +280,7 @@ impl Default for PodSimConfig {
             single_shot_status: false,
             enforce_capture_mode: false,
             laser_distance_dm: 1234,
+            ip: [[192, 168, 144, 64], [255, 255, 255, 0], [192, 168, 144, 1]],
             gimbal_hardware: Version {
                 major: 1,
                 minor: 0,
@@ -304,5 +308,38 @@ impl Default for PodSimConfig {
             gps_timeout_us: 1_000_000,
             faults: OutputFaults::default(),
         }
+    }
+}
+
+/// The thermal picture in the IR coordinates of 0x000004, 0x00010F and 0x000110: a
+/// 1920 × 1088 frame whose picture, the 640 × 512 sensor at twice its size, is x
+/// 320..1599, y 32..1055 (docs/src/protocols/k40t.md).
+pub const IR_PICTURE: ((u16, u16), (u16, u16)) = ((320, 32), (1280, 1024));
+
+/// What the thermal camera sees at `t_us` (0x000004): a hot spot and a cold spot going
+/// round the picture's centre on opposite sides (a 20 s turn, 400 × 300 px), the
+/// maximum and minimum swinging by 1.5 °C (30 s); the region is the whole picture, the
+/// measured point its centre.
+#[must_use]
+pub fn ir_scene(t_us: u64) -> IrStatus {
+    let s = t_us as f64 / 1e6;
+    let turn = s * std::f64::consts::TAU / 20.0;
+    let swing = (s * std::f64::consts::TAU / 30.0).sin();
+    let ((left, top), (w, h)) = IR_PICTURE;
+    let (cx, cy) = (
+        f64::from(left) + f64::from(w) / 2.0,
+        f64::from(top) + f64::from(h) / 2.0,
+    );
+    let (dx, dy) = (400.0 * turn.cos(), 300.0 * turn.sin());
+    let px = |v: f64| v.round() as u16;
+    let dc = |v: f64| v.round() as i16;
+    IrStatus {
+        max_temp_dc: dc(412.0 + 15.0 * swing),
+        min_temp_dc: dc(153.0 - 15.0 * swing),
+        max_x: px(cx + dx),
+        max_y: px(cy + dy),
+        min_x: px(cx - dx),
+        min_y: px(cy - dy),
+        ..IR_STATUS
     }
 }

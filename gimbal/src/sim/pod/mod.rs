@@ -72,14 +72,19 @@
 //! (no jitter). 0x000004 stops while IR measurement is off (0x000108), as the document's
 //! measurement switch says. 0x000008 (upgrade progress) is not sent: there is no upgrade.
 //! Report contents: links and self-test all normal; stabilisation `Active` after
-//! 0x000033 on, `Off` otherwise; IR temperatures are fixed values
-//! ([`IR_STATUS`]); visible status carries the zoom model, its state and focus state.
+//! 0x000033 on, `Off` otherwise; IR measurements from a moving scene ([`ir_scene`]: a
+//! hot and a cold spot going round the thermal picture, [`IR_STATUS`] at power-up, in
+//! the IR coordinates of 0x00010F, [`IR_PICTURE`]); visible status carries the zoom
+//! model, its state and focus state.
 //!
 //! **ACKs.** Every request gets its ACK at once (after [`PodSimConfig::ack_delay_us`],
 //! 0 by default) with a sequence number as [`PodSimConfig::ack_seq`] says, response code
 //! OK, and the data the document defines: versions (0x000018, 0x000317), all IR parameters (0x000100), all
-//! visible parameters (0x000200), the IP configuration (0x000312, 192.168.144.64/24,
-//! gateway 192.168.144.1), the laser target's position (0x000320), the laser distance
+//! visible parameters (0x000200), the IP configuration (0x000312, [`PodSimConfig::ip`]:
+//! 192.168.144.64/24, gateway 192.168.144.1, the document's default address), the laser
+//! target's position (0x000320: from the aircraft's position, heading and altitude in the
+//! request, the gimbal's yaw and pitch and the laser distance, flat earth; code Failure
+//! without a laser distance), the laser distance
 //! (0x000400) and the SBUS configuration (0x000502). Faults, per base id:
 //! [`PodSimConfig::nak`] answers with that code instead, with the ACK's data fields zeroed,
 //! and the command is *not* executed; [`PodSimConfig::drop_acks`] drops the first N ACKs
@@ -232,7 +237,10 @@ mod settings;
 mod time;
 
 use camera::{PhotoJob, initial_camera, record_status};
-pub use config::{AckSeq, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods};
+pub use config::{
+    AckSeq, IR_PICTURE, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods,
+    ir_scene,
+};
 use frames::{Queued, framing_of, message, payload};
 use motion::{Axis, AxisMotion, OPTICAL_MAX_X10, ZoomMotion};
 pub use records::{
@@ -644,5 +652,17 @@ impl SimPod {
             name: Default::default(),
         };
         let _ = self.take_photo(t, p);
+    }
+
+    /// Sets the IP configuration the pod answers 0x000312 with (address, subnet mask,
+    /// gateway), as a network change would: in effect at once.
+    pub fn set_ip(&mut self, ip: [[u8; 4]; 3]) {
+        self.config.ip = ip;
+    }
+
+    /// Switches the IR temperature measurement as 0x000108 would (0x000004 stops while
+    /// it is off), e.g. from the vendor's app.
+    pub fn set_ir_measuring(&mut self, on: bool) {
+        self.camera.ir_measuring = on;
     }
 }

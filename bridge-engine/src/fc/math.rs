@@ -1,8 +1,11 @@
-//! The few float functions the MAVLink side needs (quaternions to and from Euler angles),
+//! The few float functions the MAVLink side (and the GCU side's target position) needs
+//! (quaternions to and from Euler angles, the flat-earth frame of `geo`),
 //! written out: `core` has no `sqrt`, `atan2` or `sin` without `std`, and a maths
 //! library's range reduction (e.g. `libm`'s `rem_pio2_large`) keeps indexing the
 //! no-panic proof cannot see through. Accuracy: atan2 within 1e-5 rad, sin/cos within
 //! 1e-6, far below the 0.01° (1.7e-4 rad) the bridge carries angles in.
+
+#![cfg_attr(not(feature = "mavlink"), allow(dead_code))]
 
 use core::f32::consts::{FRAC_PI_2, PI, TAU};
 
