@@ -393,8 +393,9 @@ impl SiyiSide {
                 }
             }
             Request::LaserDistance(_) => {
-                // ArduPilot polls this at 10 Hz on a ZT30: keep the pod ranging.
-                if !ctx.pod().ranging {
+                // ArduPilot polls this at 10 Hz on a ZT30: keep the pod ranging (asked
+                // again once its link is back: a rebooted pod has forgotten it).
+                if !ctx.pod().ranging && ctx.pod().link {
                     ctx.command(id, Command::Laser(crate::gimbal::Ranging::Continuous));
                 }
                 let fresh = ctx.pod().laser_dm.filter(|(_, at)| ctx.is_fresh(*at));
