@@ -151,6 +151,11 @@ mod tests {
     use crate::sim::pod::AckSeq;
     use clap::CommandFactory;
 
+    /// A command line's words.
+    fn words(line: &str) -> std::str::SplitWhitespace<'_> {
+        line.split_whitespace()
+    }
+
     #[test]
     fn the_command_line_definition_is_consistent() {
         Cli::command().debug_assert();
@@ -158,24 +163,7 @@ mod tests {
 
     #[test]
     fn a_bridge_command_line_parses_into_its_options() {
-        let cli = Cli::try_parse_from([
-            "gimbal",
-            "bridge",
-            "--fc",
-            "SIYI",
-            "--fc-port",
-            "/dev/ttyAMA0:921600",
-            "--pod-port",
-            "tcp:127.0.0.1:5000",
-            "--rtc-io",
-            "gpiochip0:17",
-            "--tz-minuteswest",
-            "-480",
-            "--sync-period-ms",
-            "2000",
-            "--events",
-            "json",
-        ])
+        let cli = Cli::try_parse_from(words("gimbal bridge --fc SIYI --fc-port /dev/ttyAMA0:921600 --pod-port tcp:127.0.0.1:5000 --rtc-io gpiochip0:17 --tz-minuteswest -480 --sync-period-ms 2000 --events json"))
         .unwrap();
         let Command::Bridge(b) = cli.command else {
             panic!("not bridge")
@@ -210,22 +198,7 @@ mod tests {
         assert_eq!((b.fc_faults, b.pod_faults), (None, None));
         assert_eq!(b.sim_pod_ack_seq, AckSeqArg::Own);
 
-        let cli = Cli::try_parse_from([
-            "gimbal",
-            "bridge",
-            "--fc",
-            "siyi",
-            "--fc-port",
-            "sim",
-            "--pod-port",
-            "sim",
-            "--fc-faults",
-            "ber=1e-4,drop=1e-5,seed=3",
-            "--pod-faults",
-            "garbage=0.001",
-            "--sim-pod-ack-seq",
-            "own",
-        ])
+        let cli = Cli::try_parse_from(words("gimbal bridge --fc siyi --fc-port sim --pod-port sim --fc-faults ber=1e-4,drop=1e-5,seed=3 --pod-faults garbage=0.001 --sim-pod-ack-seq own"))
         .unwrap();
         let Command::Bridge(b) = cli.command else {
             panic!("not bridge")
@@ -244,26 +217,17 @@ mod tests {
             Some((0.001, 1))
         );
         assert_eq!(b.sim_pod_ack_seq.ack_seq(), AckSeq::OwnCounter);
-        let cli = Cli::try_parse_from([
-            "gimbal",
-            "sim-pod",
-            "--port",
-            "tcp:a:1",
-            "--faults",
-            "drop=0.5",
-            "--ack-seq",
-            "own",
-        ])
+        let cli = Cli::try_parse_from(words(
+            "gimbal sim-pod --port tcp:a:1 --faults drop=0.5 --ack-seq own",
+        ))
         .unwrap();
         let Command::SimPod(p) = cli.command else {
             panic!("not sim-pod")
         };
         assert_eq!(p.faults.map(|f| f.drop_rate), Some(0.5));
         assert_eq!(p.ack_seq, AckSeqArg::Own);
-        let cli = Cli::try_parse_from([
-            "gimbal", "sim-fc", "siyi", "--port", "tcp:a:1", "--faults", "none",
-        ])
-        .unwrap();
+        let cli =
+            Cli::try_parse_from(words("gimbal sim-fc siyi --port tcp:a:1 --faults none")).unwrap();
         let Command::SimFc(f) = cli.command else {
             panic!("not sim-fc")
         };
@@ -273,57 +237,17 @@ mod tests {
     #[test]
     fn bad_values_are_usage_errors() {
         for args in [
-            &[
-                "gimbal",
-                "bridge",
-                "--fc",
-                "nosuch",
-                "--fc-port",
-                "sim",
-                "--pod-port",
-                "sim",
-            ][..],
-            &[
-                "gimbal",
-                "bridge",
-                "--fc",
-                "siyi",
-                "--fc-port",
-                "nowhere",
-                "--pod-port",
-                "sim",
-            ],
-            &["gimbal", "bridge", "--fc", "siyi", "--fc-port", "sim"],
-            &[
-                "gimbal",
-                "bridge",
-                "--fc",
-                "siyi",
-                "--fc-port",
-                "sim",
-                "--pod-port",
-                "sim",
-                "--sync-period-ms",
-                "10",
-            ],
-            &["gimbal", "sim-pod", "--port", "tcp:localhost:99999"],
-            &["gimbal", "sim-pod", "--port", "sim"],
-            &[
-                "gimbal", "sim-pod", "--port", "tcp:a:1", "--faults", "ber=2",
-            ],
-            &[
-                "gimbal", "sim-fc", "siyi", "--port", "tcp:a:1", "--faults", "noise=1",
-            ],
-            &[
-                "gimbal",
-                "sim-pod",
-                "--port",
-                "tcp:a:1",
-                "--rtc-io",
-                "/dev/ttyS0",
-            ],
+            "gimbal bridge --fc nosuch --fc-port sim --pod-port sim",
+            "gimbal bridge --fc siyi --fc-port nowhere --pod-port sim",
+            "gimbal bridge --fc siyi --fc-port sim",
+            "gimbal bridge --fc siyi --fc-port sim --pod-port sim --sync-period-ms 10",
+            "gimbal sim-pod --port tcp:localhost:99999",
+            "gimbal sim-pod --port sim",
+            "gimbal sim-pod --port tcp:a:1 --faults ber=2",
+            "gimbal sim-fc siyi --port tcp:a:1 --faults noise=1",
+            "gimbal sim-pod --port tcp:a:1 --rtc-io /dev/ttyS0",
         ] {
-            let e = Cli::try_parse_from(args).unwrap_err();
+            let e = Cli::try_parse_from(words(args)).unwrap_err();
             assert_eq!(e.exit_code(), 2, "{args:?}: {e}");
         }
     }

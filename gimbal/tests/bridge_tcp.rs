@@ -270,7 +270,11 @@ fn end_to_end(fc_protocol: &str) {
     // time in the middle of a frame: at most 1 %).
     let fc_frames = counters[0]["fc_frames"].as_u64().unwrap();
     assert!(fc_frames > 100, "{fc_frames}");
-    assert!(counters[0]["fc_rejected"].as_u64().unwrap() * 100 <= fc_frames, "{}", counters[0]);
+    assert!(
+        counters[0]["fc_rejected"].as_u64().unwrap() * 100 <= fc_frames,
+        "{}",
+        counters[0]
+    );
 
     // The simulated ArduPilot became healthy and stayed so.
     let health = named(&fc_events, "sim_fc_health");

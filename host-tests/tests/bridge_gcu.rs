@@ -9,7 +9,8 @@ use std::sync::{Arc, Mutex};
 
 use bridge_engine::{Config, Event, FcProtocol, GcuIdentity};
 use gimbal::sim::Autopilot;
-use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl, MountTarget};
+use gimbal::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig, HostControl};
+use gimbal::sim::mount_target::MountTarget;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{OutputFaults, PodSimConfig};
 use gimbal::sim::scenario::Scenario;

@@ -10,9 +10,7 @@ mod engine_scenarios;
 
 use bridge_engine::Event;
 use gimbal::sim::Autopilot;
-use gimbal::sim::ap_mavlink::{
-    ApMavlink, ApMavlinkConfig, ApMountTarget, ApVehicle, CameraTargets,
-};
+use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApVehicle, CameraTargets, MountTarget};
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{MotionCommand, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode, Px4Target};
@@ -189,7 +187,7 @@ fn the_bridge_asks_copter_for_time_and_position_and_syncs_the_pod() {
 #[test]
 fn vehicle_relative_angles_reach_the_pod_and_ardupilot_reads_the_pods_attitude() {
     let mut s = healthy_ap();
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -45.0,
         yaw_deg: 30.0,
@@ -226,7 +224,7 @@ fn vehicle_relative_angles_reach_the_pod_and_ardupilot_reads_the_pods_attitude()
 fn an_earth_frame_yaw_becomes_the_vehicle_relative_yaw_of_the_pod() {
     let mut s = healthy_ap();
     // Yaw 90° from north, aircraft heading 45°: 45° right of the nose.
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -20.0,
         yaw_deg: 90.0,
@@ -249,7 +247,7 @@ fn an_earth_frame_yaw_becomes_the_vehicle_relative_yaw_of_the_pod() {
             .contains(GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_YAW_IN_VEHICLE_FRAME)
     );
     // Yaw 0° from north: 45° left of the nose.
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -20.0,
         yaw_deg: 0.0,
@@ -275,7 +273,7 @@ fn rates_retract_and_neutral_reach_the_pod() {
     assert_eq!(d.yaw_dps_x5, 100, "20 °/s");
     assert!((s.pod.gimbal().yaw_rate_dps - 20.0).abs() < 1.0);
     // A rate from a MAVLink command stops after 3 s without another (ArduPilot's rule).
-    s.fc.set_target(ApMountTarget::Rate {
+    s.fc.set_target(MountTarget::Rate {
         pitch_dps: -10.0,
         yaw_dps: 0.0,
         yaw_is_ef: false,
@@ -284,14 +282,14 @@ fn rates_retract_and_neutral_reach_the_pod() {
     s.run_for(5 * S);
     assert_eq!(s.pod.gimbal().pitch_rate_dps, 0.0);
     // Retract: the pod looks down; neutral: it centres (an angle of 0, 0).
-    s.fc.set_target(ApMountTarget::Retract);
+    s.fc.set_target(MountTarget::Retract);
     s.run_for(S);
     let (_, _, c) = *s.pod.received_of::<GimbalControl>().last().unwrap();
     assert_eq!(c.function, GimbalFunction::LookDown);
     assert_eq!(s.fc.set_attitudes.last().unwrap().1.flags.bits(), 1);
     s.run_for(3 * S);
     assert!((s.pod.gimbal().pitch_deg + 90.0).abs() < 0.5);
-    s.fc.set_target(ApMountTarget::Neutral);
+    s.fc.set_target(MountTarget::Neutral);
     s.run_for(4 * S);
     let a = last_angle(&s.pod);
     assert_eq!((a.pitch_cdeg, a.yaw_cdeg), (0, 0));
@@ -524,7 +522,7 @@ fn a_plane_at_50_hz_refuses_the_autopilot_state_and_its_driver_never_moves_the_m
     };
     let mut s = ap_scenario(ap, PodSimConfig::default());
     s.run_until(4 * S);
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -30.0,
         yaw_deg: 0.0,
@@ -784,7 +782,7 @@ fn qgroundcontrol_photo_interval_mode_and_zoom() {
     );
     // A retransmitted capture (same sequence number) is one photo.
     let before = s.pod.photo_requests();
-    s.fc.set_target(ApMountTarget::Neutral);
+    s.fc.set_target(MountTarget::Neutral);
     qgc(&mut s).command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 42.0]);
     qgc(&mut s).command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 42.0]);
     s.run_for(4 * S);

@@ -8,7 +8,7 @@ mod engine_scenarios;
 
 use bridge_engine::{Config, Event, FcProtocol, Refusal};
 use gimbal::sim::Autopilot;
-use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApMountTarget};
+use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, MountTarget};
 use gimbal::sim::mav;
 use gimbal::sim::pod::{PodSimConfig, SimPod};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode, Px4Target};
@@ -333,7 +333,7 @@ fn last_tracking(q: &Qgc) -> CAMERA_TRACKING_IMAGE_STATUS_DATA {
 #[test]
 fn tracking_a_rectangle_and_a_point_as_the_pods_exact_boxes() {
     let mut s = ap_default();
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -20.0,
         yaw_deg: 0.0,
@@ -384,7 +384,7 @@ fn tracking_a_rectangle_and_a_point_as_the_pods_exact_boxes() {
     assert!((3..=5).contains(&n), "{n}");
     // The autopilot moves the gimbal: tracking is switched off first, the status IDLE.
     let t0 = s.now_us;
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -40.0,
         yaw_deg: 0.0,
@@ -491,7 +491,7 @@ fn distances_after(q: &Qgc, t0: u64) -> Vec<DISTANCE_SENSOR_DATA> {
 #[test]
 fn distance_sensor_with_the_gimbals_orientation_when_asked() {
     let mut s = ap_default();
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -45.0,
         yaw_deg: 30.0,
@@ -607,7 +607,7 @@ fn fov_status_says_where_the_camera_looks() {
     let mut config = mavlink_config();
     config.lens.visible_hfov_1x_cdeg = 6000;
     let mut s = ap_qgc(config, ApMavlinkConfig::default(), PodSimConfig::default());
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -45.0,
         yaw_deg: 30.0,
@@ -695,7 +695,7 @@ fn fov_status_says_where_the_camera_looks() {
         );
     }
     // Above the horizon without a range: at infinity.
-    s.fc.set_target(ApMountTarget::Angle {
+    s.fc.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: 10.0,
         yaw_deg: 0.0,
@@ -739,7 +739,7 @@ fn ardupilot_points_the_gimbal_at_a_location_through_the_device() {
             lat0 + (300.0 / 111_320.0 * 1e7) as i32,
             lon0 + (100.0 / (111_320.0 * a.lat0_deg.to_radians().cos()) * 1e7) as i32,
         );
-        s.fc.set_target(ApMountTarget::Location {
+        s.fc.set_target(MountTarget::Location {
             lat_e7: target.0,
             lon_e7: target.1,
             alt_m: 430.0,
@@ -771,7 +771,7 @@ fn ardupilot_points_the_gimbal_at_a_location_through_the_device() {
             assert!(rois.is_empty());
         }
         // The location ends: the gimbal centres.
-        s.fc.set_target(ApMountTarget::Neutral);
+        s.fc.set_target(MountTarget::Neutral);
         s.run_for(5 * S);
         let g = s.pod.gimbal();
         assert!(g.yaw_deg.abs() < 0.5 && g.pitch_deg.abs() < 0.5, "{g:?}");

@@ -32,8 +32,8 @@
 mod ack;
 mod command;
 mod motion;
-mod settings;
 mod sensors;
+mod settings;
 mod state;
 #[cfg(test)]
 mod tests;

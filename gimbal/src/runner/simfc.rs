@@ -5,10 +5,10 @@
 use serde_json::{Value, json};
 
 use crate::runner::options::Fc;
-use crate::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, ApMountTarget};
+use crate::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, MountTarget};
 use crate::sim::ap_siyi::{self, ApSiyi, ApSiyiConfig};
 use crate::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
-use crate::sim::ap_xfrobot::{self, ApXfRobot, ApXfRobotConfig};
+use crate::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
 use crate::sim::fc_k40t::FcK40t;
 use crate::sim::ground::{GroundLink, GroundPipe};
 use crate::sim::pilot::Pilot;
@@ -166,22 +166,17 @@ impl AnyFc {
             pitch_dps,
             yaw_is_ef: false,
         };
+        let rate = MountTarget::Rate {
+            pitch_dps,
+            yaw_dps,
+            yaw_is_ef: false,
+            from_mavlink: false,
+        };
         match self {
             AnyFc::Siyi(f) => f.target = Some(siyi),
             AnyFc::Viewlink(f) => f.target = Some(siyi),
-            AnyFc::Gcu(f) => {
-                f.target = Some(ap_xfrobot::MountTarget::Rate {
-                    pitch_dps,
-                    yaw_dps,
-                    yaw_is_ef: false,
-                });
-            }
-            AnyFc::Mavlink(f) => f.set_target(ApMountTarget::Rate {
-                pitch_dps,
-                yaw_dps,
-                yaw_is_ef: false,
-                from_mavlink: false,
-            }),
+            AnyFc::Gcu(f) => f.target = Some(rate),
+            AnyFc::Mavlink(f) => f.set_target(rate),
             AnyFc::Px4(f) => f.turn(yaw_dps, pitch_dps),
             AnyFc::K40t(_) => return false,
         }

@@ -35,10 +35,10 @@
 //! bridge's time sync is [`Autopilot::fc_utc_us`], which follows the FC's UTC of the
 //! boot in effect.
 
-use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::FcClock;
+use super::board::{Autopilot, Board, board_field};
 use super::describe::SiyiFrames;
 use super::pilot::Pilot;
-use super::{FcClock, XorShift};
 use protocol_core::Direction;
 use protocol_core::siyi::{
     self, AbsoluteZoom, AutoFocus, CameraFunction, CameraFunctionType, Center, CenterPosition,
@@ -213,11 +213,7 @@ impl ApSiyi {
             config.utc_at_zero_us,
             config.utc_valid_at_us,
         );
-        let board = Board::new(
-            clock,
-            XorShift(config.seed.max(1)),
-            MainLoop::scheduler_50hz(config.loop_jitter_us),
-        );
+        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
         ApSiyi {
             config,
             board,
@@ -623,13 +619,6 @@ impl Pilot for ApSiyi {
     const DRIVER: &'static str = "ArduPilot AP_Mount_Siyi (simulated)";
     const TELEMETRY_PORT: bool = true;
     type Frames = SiyiFrames;
-
-    fn with_seed(seed: u64) -> Self {
-        ApSiyi::new(ApSiyiConfig {
-            seed,
-            ..ApSiyiConfig::default()
-        })
-    }
 
     fn first_utc_sent_us(&self) -> Option<u64> {
         self.sent

@@ -49,10 +49,10 @@
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
-use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::FcClock;
+use super::board::{Autopilot, Board, board_field};
 use super::describe::ViewlinkFrames;
 use super::pilot::Pilot;
-use super::{FcClock, XorShift};
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
     MAttitude, MGps, ManualSpeed, MessageData, OperationCommand, Point, QueryParams, Sensor,
@@ -207,11 +207,7 @@ impl ApViewpro {
             config.utc_at_zero_us,
             config.utc_valid_at_us,
         );
-        let board = Board::new(
-            clock,
-            XorShift(config.seed.max(1)),
-            MainLoop::scheduler_50hz(config.loop_jitter_us),
-        );
+        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
         ApViewpro {
             config,
             board,
@@ -699,13 +695,6 @@ impl Pilot for ApViewpro {
     const DRIVER: &'static str = "ArduPilot AP_Mount_Viewpro (simulated)";
     const TELEMETRY_PORT: bool = true;
     type Frames = ViewlinkFrames;
-
-    fn with_seed(seed: u64) -> Self {
-        ApViewpro::new(ApViewproConfig {
-            seed,
-            ..ApViewproConfig::default()
-        })
-    }
 
     fn first_utc_sent_us(&self) -> Option<u64> {
         self.sent

@@ -41,10 +41,11 @@
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
-use super::board::{Autopilot, Board, MainLoop, board_field};
+use super::FcClock;
+use super::board::{Autopilot, Board, board_field};
 use super::describe::GcuFrames;
+use super::mount_target::MountTarget;
 use super::pilot::Pilot;
-use super::{FcClock, XorShift};
 use protocol_core::gcu::{
     self, Header, HostFrames, HostMain, HostPacket, HostStatus, HostSub, Message, Raw,
 };
@@ -106,32 +107,6 @@ impl Default for ApXfRobotConfig {
             send_attitude: true,
         }
     }
-}
-
-/// What the mount is told to do.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum MountTarget {
-    /// Hold these angles (deg; roll and pitch earth frame, yaw body frame unless
-    /// `yaw_is_ef`).
-    Angle {
-        /// Roll in degrees (the aircraft's, sent in the main frame).
-        roll_deg: f64,
-        /// Pitch, positive up.
-        pitch_deg: f64,
-        /// Yaw, positive right.
-        yaw_deg: f64,
-        /// Yaw in the earth frame (a heading).
-        yaw_is_ef: bool,
-    },
-    /// Turn at these rates (deg/s), integrated into the angle target at 50 Hz.
-    Rate {
-        /// Pitch rate, positive up.
-        pitch_dps: f64,
-        /// Yaw rate, positive right.
-        yaw_dps: f64,
-        /// Yaw in the earth frame.
-        yaw_is_ef: bool,
-    },
 }
 
 /// A document host in place of ArduPilot's set-attitude: every run sends `order` with
@@ -310,11 +285,7 @@ impl ApXfRobot {
             config.utc_at_zero_us,
             config.gps_valid_at_us,
         );
-        let board = Board::new(
-            clock,
-            XorShift(config.seed.max(1)),
-            MainLoop::scheduler_50hz(config.loop_jitter_us),
-        );
+        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
         ApXfRobot {
             config,
             target: None,
@@ -470,7 +441,11 @@ impl ApXfRobot {
         let (pitch_min, pitch_max) = (-90.0, 20.0);
         let (yaw_min, yaw_max) = (-180.0, 180.0);
         match self.target {
-            None => self.angle = (0.0, 0.0, 0.0, false),
+            // This driver is given angles and rates only; the modes hold neutral.
+            None
+            | Some(MountTarget::Retract | MountTarget::Neutral | MountTarget::Location { .. }) => {
+                self.angle = (0.0, 0.0, 0.0, false);
+            }
             Some(MountTarget::Angle {
                 roll_deg,
                 pitch_deg,
@@ -493,6 +468,7 @@ impl ApXfRobot {
                 pitch_dps,
                 yaw_dps,
                 yaw_is_ef,
+                ..
             }) => {
                 let vy = self.vehicle_yaw_deg();
                 let (roll, pitch, mut yaw, ef) = self.angle;
@@ -760,13 +736,6 @@ impl Pilot for ApXfRobot {
     const TELEMETRY_PORT: bool = true;
     type Frames = GcuFrames;
 
-    fn with_seed(seed: u64) -> Self {
-        ApXfRobot::new(ApXfRobotConfig {
-            seed,
-            ..ApXfRobotConfig::default()
-        })
-    }
-
     fn true_utc_us(&self, t_us: u64) -> u64 {
         self.gps_utc_us(t_us)
     }
@@ -793,6 +762,7 @@ impl Pilot for ApXfRobot {
             pitch_dps,
             yaw_dps,
             yaw_is_ef: false,
+            from_mavlink: false,
         });
     }
     fn zoom(&mut self, rate: i8) {

@@ -181,6 +181,17 @@ pub struct Board {
 }
 
 impl Board {
+    /// An ArduPilot board: `clock`, the 50 Hz scheduler late by up to `loop_jitter_us`,
+    /// jitters drawn from `seed`.
+    #[must_use]
+    pub(crate) fn scheduler_50hz(clock: FcClock, seed: u64, loop_jitter_us: u64) -> Self {
+        Board::new(
+            clock,
+            XorShift(seed.max(1)),
+            MainLoop::scheduler_50hz(loop_jitter_us),
+        )
+    }
+
     /// A board on `clock` (powered on at its latest boot: before that instant it is
     /// off), its loop paced as `main_loop` says, its jitters drawn from `rng`.
     #[must_use]

@@ -257,11 +257,8 @@ impl SideFrames for SiyiFrames {
     }
 
     fn command_name(fc_id: u16) -> String {
-        let name = siyi::CATALOG
-            .iter()
-            .find(|e| u16::from(e.id) == fc_id)
-            .map_or("?", |e| e.name);
-        format!("SIYI 0x{fc_id:02X} {name}")
+        let names = siyi::CATALOG.iter().map(|e| (u16::from(e.id), e.name));
+        format!("SIYI 0x{fc_id:02X} {}", name_in(names, fc_id))
     }
 }
 
@@ -291,10 +288,8 @@ impl SideFrames for ViewlinkFrames {
 
     fn command_name(fc_id: u16) -> String {
         let [frame, command] = fc_id.to_be_bytes();
-        let name = viewlink::CATALOG
-            .iter()
-            .find(|e| e.id == frame)
-            .map_or("?", |e| e.name);
+        let names = viewlink::CATALOG.iter().map(|e| (u16::from(e.id), e.name));
+        let name = name_in(names, u16::from(frame));
         format!("Viewlink 0x{frame:02X} {name} (command 0x{command:02X})")
     }
 }
@@ -373,11 +368,8 @@ impl SideFrames for GcuFrames {
     }
 
     fn command_name(fc_id: u16) -> String {
-        let name = gcu::CATALOG
-            .iter()
-            .find(|e| u16::from(e.id) == fc_id)
-            .map_or("?", |e| e.name);
-        format!("GCU 0x{fc_id:02X} {name}")
+        let names = gcu::CATALOG.iter().map(|e| (u16::from(e.id), e.name));
+        format!("GCU 0x{fc_id:02X} {}", name_in(names, fc_id))
     }
 }
 
@@ -427,6 +419,11 @@ impl SideFrames for MavlinkFrames {
     fn command_name(fc_id: u16) -> String {
         mavlink_command_name(fc_id)
     }
+}
+
+/// The name of message `id` in a protocol's catalogue of (id, name), "?" if it has none.
+fn name_in(mut names: impl Iterator<Item = (u16, &'static str)>, id: u16) -> &'static str {
+    names.find(|(i, _)| *i == id).map_or("?", |(_, name)| name)
 }
 
 /// A MAVLink frame decoded for display (the demo and traces).

@@ -346,6 +346,16 @@ impl FaultStage {
 mod tests {
     use super::*;
 
+    /// Faults at these rates (bit errors, drops, garbage) and seed.
+    fn faults(bit_error_rate: f64, drop_rate: f64, garbage_rate: f64, seed: u64) -> Faults {
+        Faults {
+            bit_error_rate,
+            drop_rate,
+            garbage_rate,
+            seed,
+        }
+    }
+
     /// A long stream of varied bytes.
     fn stream(n: usize) -> Vec<u8> {
         (0..n).map(|i| (i * 7 + i / 251) as u8).collect()
@@ -372,12 +382,7 @@ mod tests {
     #[test]
     fn measured_rates_are_close_to_the_configured_ones() {
         let data = stream(2_000_000);
-        let f = Faults {
-            bit_error_rate: 1e-3,
-            drop_rate: 5e-4,
-            garbage_rate: 2e-4,
-            seed: 7,
-        };
+        let f = faults(1e-3, 5e-4, 2e-4, 7);
         let mut s = f.stage();
         let out = s.apply(&data);
         let stats = s.stats();
@@ -421,12 +426,7 @@ mod tests {
     #[test]
     fn a_seed_reproduces_the_faults_whatever_the_chunks() {
         let data = stream(50_000);
-        let f = Faults {
-            bit_error_rate: 1e-3,
-            drop_rate: 1e-3,
-            garbage_rate: 1e-3,
-            seed: 42,
-        };
+        let f = faults(1e-3, 1e-3, 1e-3, 42);
         let whole = f.stage().apply(&data);
         let mut s = f.stage();
         let mut pieces = Vec::new();

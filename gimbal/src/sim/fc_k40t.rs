@@ -268,11 +268,6 @@ impl Pilot for FcK40t {
     const STREAMS: bool = false;
     type Frames = K40tFrames;
 
-    fn with_seed(_seed: u64) -> Self {
-        // No randomness in this simulator.
-        FcK40t::default()
-    }
-
     fn first_utc_sent_us(&self) -> Option<u64> {
         self.sent
             .iter()

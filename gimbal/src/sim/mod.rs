@@ -14,6 +14,7 @@ pub mod fc_k40t;
 pub mod ground;
 pub mod line;
 pub mod mav;
+pub mod mount_target;
 pub mod peer;
 pub mod pilot;
 pub mod pod;

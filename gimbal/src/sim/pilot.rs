@@ -16,14 +16,20 @@
 use bridge_engine::FcProtocol;
 
 use super::FcClock;
+use super::ap_mavlink::{ApMavlink, ApMavlinkConfig};
+use super::ap_siyi::{ApSiyi, ApSiyiConfig};
+use super::ap_viewpro::{ApViewpro, ApViewproConfig};
+use super::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
 use super::board::Autopilot;
 use super::describe::SideFrames;
+use super::fc_k40t::FcK40t;
+use super::px4::{Px4, Px4Config};
 
 /// A simulated flight controller the demo and the task scenarios can fly.
 ///
 /// Angles are degrees, yaw positive right (body frame), pitch positive up; rates in
 /// degrees per second. Time is simulated true time in microseconds.
-pub trait Pilot: Autopilot {
+pub trait Pilot: Autopilot + Seeded {
     /// How the frames of the FC protocol this simulator speaks read for people.
     type Frames: SideFrames;
     /// The FC protocol this simulator speaks.
@@ -36,8 +42,6 @@ pub trait Pilot: Autopilot {
     /// A simulated ArduPilot whose MAVLink port can be attached as the telemetry link
     /// ([`super::ap_mavlink::ApMavlink::telemetry`] on its [`Pilot::board_clock`]).
     const TELEMETRY_PORT: bool = false;
-    /// The simulator with its default settings and this seed for its random jitter.
-    fn with_seed(seed: u64) -> Self;
 
     /// The FC's UTC at true time `t_us` (µs since the Unix epoch): what a time sync should
     /// carry for an edge at that instant.
@@ -65,4 +69,35 @@ pub trait Pilot: Autopilot {
     fn take_picture(&mut self);
     /// Start or stop recording.
     fn record(&mut self, on: bool);
+}
+
+/// A simulator that can be made with its default settings and a seed for its random
+/// jitter.
+pub trait Seeded {
+    /// The simulator with its default settings and this seed.
+    fn with_seed(seed: u64) -> Self;
+}
+
+macro_rules! seeded {
+    ($($sim:ident($config:ident)),*) => {$(
+        impl Seeded for $sim {
+            fn with_seed(seed: u64) -> Self {
+                $sim::new($config { seed, ..$config::default() })
+            }
+        }
+    )*};
+}
+seeded!(
+    ApSiyi(ApSiyiConfig),
+    ApViewpro(ApViewproConfig),
+    ApXfRobot(ApXfRobotConfig),
+    ApMavlink(ApMavlinkConfig),
+    Px4(Px4Config)
+);
+
+/// The K40T FC simulator has no randomness.
+impl Seeded for FcK40t {
+    fn with_seed(_seed: u64) -> Self {
+        FcK40t::default()
+    }
 }

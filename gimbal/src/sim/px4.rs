@@ -701,13 +701,6 @@ impl Pilot for Px4 {
     const DRIVER: &'static str = "PX4 gimbal v2 output (simulated)";
     type Frames = MavlinkFrames;
 
-    fn with_seed(seed: u64) -> Self {
-        Px4::new(Px4Config {
-            seed,
-            ..Px4Config::default()
-        })
-    }
-
     fn first_utc_sent_us(&self) -> Option<u64> {
         self.sent.iter().find_map(|(t, m)| match m {
             MavMessage::SYSTEM_TIME(_) => Some(*t),

@@ -40,7 +40,7 @@ mod mount;
 #[cfg(test)]
 mod tests;
 
-pub use mount::ApMountTarget;
+pub use crate::sim::mount_target::MountTarget;
 
 /// The vehicle type: its default stream rates and loop rate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -214,7 +214,7 @@ pub struct ApMavlink {
     /// The AUTOPILOT_STATE interval was refused: never initialised.
     pub mount_refused: bool,
     /// The mount target.
-    pub target: Option<ApMountTarget>,
+    pub target: Option<MountTarget>,
     /// The location last sent to the device, with when (FC ms).
     roi_sent: Option<((i32, i32, f32), u64)>,
     rate_set_ms: u64,
@@ -473,13 +473,6 @@ impl Pilot for ApMavlink {
     const DRIVER: &'static str = "ArduPilot AP_Mount_MAVLink + AP_Camera_MAVLinkCamV2 (simulated)";
     type Frames = MavlinkFrames;
 
-    fn with_seed(seed: u64) -> Self {
-        ApMavlink::new(ApMavlinkConfig {
-            seed,
-            ..ApMavlinkConfig::default()
-        })
-    }
-
     fn first_utc_sent_us(&self) -> Option<u64> {
         self.sent.iter().find_map(|(t, m)| match m {
             MavMessage::SYSTEM_TIME(s) if s.time_unix_usec != 0 => Some(*t),
@@ -491,7 +484,7 @@ impl Pilot for ApMavlink {
     }
 
     fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
-        self.set_target(ApMountTarget::Angle {
+        self.set_target(MountTarget::Angle {
             roll_deg: 0.0,
             pitch_deg,
             yaw_deg,
@@ -499,7 +492,7 @@ impl Pilot for ApMavlink {
         });
     }
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
-        self.set_target(ApMountTarget::Rate {
+        self.set_target(MountTarget::Rate {
             pitch_dps,
             yaw_dps,
             yaw_is_ef: false,

@@ -15,7 +15,7 @@
 //!   horizon and yaw relative to the vehicle whatever its flags; `delta_yaw`, once
 //!   non-zero, gives the earth yaw. [`ApMavlinkConfig::old_gremsy`]: the older driver,
 //!   which takes a status only when its `time_boot_ms` changed.
-//! - **A location** ([`ApMountTarget::Location`], ROI): released ArduPilot turns it into an
+//! - **A location** ([`MountTarget::Location`], ROI): released ArduPilot turns it into an
 //!   angle with an earth-frame yaw from the aircraft's position (flat earth) every update;
 //!   the newest source ([`ApMavlinkConfig::roi_to_device`]) sends COMMAND_INT
 //!   MAV_CMD_DO_SET_ROI_LOCATION to the gimbal instead (frame GLOBAL, degE7, altitude m
@@ -30,50 +30,8 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MavMessage};
 
-use super::{ApMavlink, Heard, from_device};
+use super::{ApMavlink, Heard, MountTarget, from_device};
 use crate::sim::mav::{self, GIMBAL};
-
-/// What the mount is told to do.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ApMountTarget {
-    /// Hold these angles (degrees): roll and pitch against the horizon, yaw from north
-    /// (`yaw_is_ef`) or from the nose.
-    Angle {
-        /// Roll.
-        roll_deg: f64,
-        /// Pitch, positive up.
-        pitch_deg: f64,
-        /// Yaw, positive right.
-        yaw_deg: f64,
-        /// Yaw from north.
-        yaw_is_ef: bool,
-    },
-    /// Turn at these rates (deg/s).
-    Rate {
-        /// Pitch rate.
-        pitch_dps: f64,
-        /// Yaw rate.
-        yaw_dps: f64,
-        /// Earth-frame yaw rate.
-        yaw_is_ef: bool,
-        /// Set by a MAVLink command (zeroed after 3 s without another), else RC.
-        from_mavlink: bool,
-    },
-    /// Retracted.
-    Retract,
-    /// Neutral (`MNT1_NEUTRAL_*`: 0, 0, 0).
-    Neutral,
-    /// Point at a location (a region of interest): latitude, longitude (degE7),
-    /// altitude above mean sea level (m).
-    Location {
-        /// Latitude.
-        lat_e7: i32,
-        /// Longitude.
-        lon_e7: i32,
-        /// Altitude, m AMSL.
-        alt_m: f64,
-    },
-}
 
 impl ApMavlink {
     pub(super) fn mount_update(&mut self) {
@@ -93,7 +51,7 @@ impl ApMavlink {
         let Some(mut target) = self.target else {
             return;
         };
-        if let ApMountTarget::Location {
+        if let MountTarget::Location {
             lat_e7,
             lon_e7,
             alt_m,
@@ -108,7 +66,7 @@ impl ApMavlink {
             let (lat, lon) = self.board.aircraft().position_e7(now);
             let here = (lat, lon, self.board.aircraft().alt_msl_m);
             let (bearing, elevation) = mav::bearing_elevation(here, (lat_e7, lon_e7, alt_m));
-            target = ApMountTarget::Angle {
+            target = MountTarget::Angle {
                 roll_deg: 0.0,
                 pitch_deg: elevation,
                 yaw_deg: bearing,
@@ -129,7 +87,7 @@ impl ApMavlink {
             }
         };
         let (q, rates, flags) = match target {
-            ApMountTarget::Angle {
+            MountTarget::Angle {
                 roll_deg,
                 pitch_deg,
                 yaw_deg,
@@ -139,7 +97,7 @@ impl ApMavlink {
                 [f32::NAN; 3],
                 ef_flags(yaw_is_ef),
             ),
-            ApMountTarget::Rate {
+            MountTarget::Rate {
                 pitch_dps,
                 yaw_dps,
                 yaw_is_ef,
@@ -149,17 +107,17 @@ impl ApMavlink {
                 let r = |dps: f64| if stale { 0.0 } else { dps.to_radians() as f32 };
                 (nan, [0.0, r(pitch_dps), r(yaw_dps)], ef_flags(yaw_is_ef))
             }
-            ApMountTarget::Retract => (
+            MountTarget::Retract => (
                 nan,
                 [0.0; 3],
                 GimbalDeviceFlags::GIMBAL_DEVICE_FLAGS_RETRACT,
             ),
-            ApMountTarget::Neutral => (
+            MountTarget::Neutral => (
                 mav::quat_deg(0.0, 0.0, 0.0),
                 [f32::NAN; 3],
                 GimbalDeviceFlags::empty(),
             ),
-            ApMountTarget::Location { .. } => return,
+            MountTarget::Location { .. } => return,
         };
         let set = GIMBAL_DEVICE_SET_ATTITUDE_DATA {
             q,
@@ -247,10 +205,10 @@ impl ApMavlink {
     }
 
     /// Sets the mount target; a MAVLink rate command restarts its 3 s.
-    pub fn set_target(&mut self, target: ApMountTarget) {
+    pub fn set_target(&mut self, target: MountTarget) {
         if matches!(
             target,
-            ApMountTarget::Rate {
+            MountTarget::Rate {
                 from_mavlink: true,
                 ..
             }

@@ -261,7 +261,7 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
     d.send(&mut ap, 150_000, &mut dev, &info);
     d.run_until(&mut ap, 200_000);
     assert!(ap.mount_initialised);
-    ap.set_target(ApMountTarget::Angle {
+    ap.set_target(MountTarget::Angle {
         roll_deg: 0.0,
         pitch_deg: -30.0,
         yaw_deg: 10.0,

@@ -238,8 +238,7 @@ mod time;
 
 use camera::{PhotoJob, initial_camera, record_status};
 pub use config::{
-    AckSeq, IR_PICTURE, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods,
-    ir_scene,
+    AckSeq, IR_PICTURE, IR_STATUS, OutputFaults, PeriodicGps, PodSimConfig, ReportPeriods, ir_scene,
 };
 use frames::{Queued, framing_of, message, payload};
 use motion::{Axis, AxisMotion, OPTICAL_MAX_X10, ZoomMotion};
