@@ -40,7 +40,7 @@
 
 use core::fmt;
 
-use super::discipline::DisciplineConfig;
+use super::discipline::{DisciplineConfig, PpsConfig};
 use super::fixes::FixConfig;
 use super::sync::SyncConfig;
 use super::time::Duration;
@@ -388,6 +388,9 @@ protocol_core::wire_derive! {
         pub sync: SyncConfig,
         /// The UTC discipline.
         pub discipline: DisciplineConfig,
+        /// The PPS input (a GNSS receiver's pulse per second): its polarity; the rest
+        /// is fixed.
+        pub pps: PpsConfig,
         /// The fix history (no key in the configuration file).
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub fixes: FixConfig,
@@ -437,6 +440,7 @@ impl Config {
         pod: PodConfig::DEFAULT,
         sync: SyncConfig::DEFAULT,
         discipline: DisciplineConfig::DEFAULT,
+        pps: PpsConfig::DEFAULT,
         fixes: FixConfig::DEFAULT,
         leap_seconds: 18,
         fc_silence_stop: Duration::from_millis(500),
