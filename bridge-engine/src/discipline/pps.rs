@@ -51,7 +51,7 @@ protocol_core::wire_derive! {
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub edge_error_ns: u32,
         /// No edge for this long: the lock is lost and the clock runs on its last rate
-        /// (holdover; default 1.5 s: one missing pulse is not a loss).
+        /// (holdover; default 2.5 s: one missing pulse is not a loss).
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub timeout: Duration,
         /// The error bound grows at this rate from the last edge, ppm (default 2: a
@@ -82,7 +82,7 @@ impl PpsConfig {
         lock_edges: 2,
         tolerance_ns: 10_000,
         edge_error_ns: 100,
-        timeout: Duration::from_millis(1500),
+        timeout: Duration::from_millis(2500),
         holdover_ppm: 2,
         holdover: Duration::from_secs(1200),
         label_tolerance: Duration::from_millis(50),
