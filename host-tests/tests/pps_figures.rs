@@ -17,7 +17,6 @@
 
 use bridge_engine::discipline::PpsState;
 use bridge_engine::{Config, Event, InstantNs, Level};
-use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
 use gimbal::sim::ap_viewpro::{ApViewpro, ApViewproConfig};
