@@ -166,6 +166,15 @@ pub fn init() -> Board {
         levels
     });
 
+    // The emulated board's PPS test source is stamped when the reader task sees its byte
+    // (milliseconds of jitter under QEMU), not by a capture register: a wide tolerance.
+    #[cfg(feature = "qemu")]
+    let config = {
+        let mut c = config;
+        c.pps.tolerance_ns = 20_000_000;
+        c
+    };
+
     let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
     watchdog.unleash();
 

@@ -276,6 +276,13 @@ pub fn run<F: Future>(clock: Clock, make: impl FnOnce() -> F) -> F::Output {
     out
 }
 
+/// The process's real clock (what [`Clock::Real`] runs on), in nanoseconds since its
+/// first use: to map another clock's time stamps (the kernel's) to it.
+#[must_use]
+pub fn real_now_ns() -> u64 {
+    driver::real_now_ns()
+}
+
 /// [`run`] on real time: for plain threads that feed or drain the pipes.
 pub fn block_on<F: Future>(fut: F) -> F::Output {
     run(Clock::Real, || fut)

@@ -208,17 +208,18 @@ mod tests {
             utc_at_zero_us: 1_795_428_000_250_000,
             ..GnssPpsConfig::default()
         });
+        // UTC …:12.25 at true 12 s: the next second, …:13, at true 12.75 s (to the
+        // jitter).
         let (s, t) = g.next_edge(12_000_000_000, false).unwrap();
-        assert_eq!(s, 1_795_428_012);
-        // 12.75 s of true time, to the jitter.
-        assert!((t - 11_750_000_000).abs() < 200, "{t}");
-        assert_eq!(g.utc_ns(11_750_000_000), 1_795_428_012 * NS_PER_S);
-        // Before the fix: at its own phase.
-        let (s, t) = g.next_edge(2_000_000_000, false).unwrap();
-        assert!((t - (2_750_000_000 + 377_000_000)).abs() < 200, "{s} {t}");
-        // The wrong polarity: the pulse's other edge.
+        assert_eq!(s, 1_795_428_013);
+        assert!((t - 12_750_000_000).abs() < 200, "{t}");
+        assert_eq!(g.utc_ns(12_750_000_000), 1_795_428_013 * NS_PER_S);
+        // Before the fix: at its own phase, 377 ms after the second.
+        let (_, t) = g.next_edge(2_000_000_000, false).unwrap();
+        assert!((t - (1_750_000_000 + 377_000_000)).abs() < 200, "{t}");
+        // The wrong polarity: the pulse's other edge, 100 ms after the second.
         let (_, t) = g.next_edge(12_000_000_000, true).unwrap();
-        assert!((t - 11_850_000_000).abs() < 200, "{t}");
+        assert!((t - 12_850_000_000).abs() < 200, "{t}");
     }
 
     #[test]
