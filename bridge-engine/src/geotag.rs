@@ -37,10 +37,19 @@ struct Waiting {
     deadline: Instant,
 }
 
+/// A photo the pod geotagged: its UTC and the fix there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Photo {
+    pub(crate) utc: UtcTime,
+    pub(crate) fix: Fix,
+}
+
 /// The pod's GPS requests, answered now or after the next fix.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Geotagger {
     waiting: Option<Waiting>,
+    /// The last photo answered with a fix, until taken ([`Geotagger::take_photo`]).
+    photo: Option<Photo>,
 }
 
 impl Geotagger {
@@ -58,7 +67,7 @@ impl Geotagger {
     ) {
         if let Some(w) = self.waiting.take() {
             let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
-            answer(w.header, w.request, fix, pod, out);
+            self.answer(w.header, w.request, fix, pod, out);
         }
         let asked = TimeOfDay::new(
             request.hour,
@@ -69,7 +78,7 @@ impl Geotagger {
         .and_then(|tod| time.utc(now)?.nearest_with_time_of_day(tod))
         .and_then(|utc| Some((time.local_of(utc)?, utc)));
         let Some((at, utc)) = asked else {
-            answer(header, request, None, pod, out);
+            self.answer(header, request, None, pod, out);
             return;
         };
         let newest = fixes.latest().map(|f| f.at);
@@ -89,13 +98,8 @@ impl Geotagger {
             });
             return;
         }
-        answer(
-            header,
-            request,
-            fixes.at(at).ok().map(|f| (utc, f)),
-            pod,
-            out,
-        );
+        let fix = fixes.at(at).ok().map(|f| (utc, f));
+        self.answer(header, request, fix, pod, out);
     }
 
     /// Answers the waiting request once a fix at or after its instant is in, or at its
@@ -114,8 +118,28 @@ impl Geotagger {
         if covered || now >= w.deadline {
             self.waiting = None;
             let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
-            answer(w.header, w.request, fix, pod, out);
+            self.answer(w.header, w.request, fix, pod, out);
         }
+    }
+
+    /// The last photo answered with a fix, once.
+    pub(crate) fn take_photo(&mut self) -> Option<Photo> {
+        self.photo.take()
+    }
+
+    /// Answers `request` ([`answer`]) and keeps the photo when a fix was given.
+    fn answer(
+        &mut self,
+        header: Header,
+        request: GpsRequest,
+        fix: Option<(UtcTime, Fix)>,
+        pod: &mut PodDriver,
+        out: &mut Outputs,
+    ) {
+        if let Some((utc, fix)) = fix {
+            self.photo = Some(Photo { utc, fix });
+        }
+        answer(header, request, fix, pod, out);
     }
 
     /// The deadline of the waiting request.

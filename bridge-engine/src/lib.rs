@@ -767,6 +767,24 @@ impl EngineState {
         }
     }
 
+    /// A photo the geotag answered goes to the telemetry link as CAMERA_IMAGE_CAPTURED
+    /// (the MAVLink FC side reports its own photos).
+    #[cfg_attr(not(feature = "telemetry"), allow(clippy::unused_self))]
+    fn photo_out(&mut self, now: Instant) {
+        let Some(photo) = self.geotag.take_photo() else {
+            return;
+        };
+        #[cfg(feature = "telemetry")]
+        {
+            let (tel, mut ctx) = self.telemetry_ctx(now);
+            if let Some(tel) = tel {
+                tel.handler.photo(&mut ctx, &photo);
+            }
+        }
+        #[cfg(not(feature = "telemetry"))]
+        let _ = (now, photo);
+    }
+
     fn fc_frame_seen(&mut self, now: Instant, seen: bool) {
         if seen {
             self.fc_last = Some(now);
@@ -828,6 +846,7 @@ impl EngineState {
                 if !fc.gps_request(&mut ctx, header, request) {
                     ctx.geotag(header, request);
                 }
+                self.photo_out(now);
                 return;
             }
         }
@@ -842,6 +861,7 @@ impl EngineState {
         // A fix may have come in for a waiting GPS request.
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
+        self.photo_out(now);
         self.plan_sync(now);
         self.report()
     }
@@ -894,6 +914,7 @@ impl EngineState {
         }
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
+        self.photo_out(now);
         if self.fc_link
             && self
                 .fc_last
