@@ -226,8 +226,8 @@ async fn log(shared: &'static BoardShared) -> ! {
     .await
 }
 
-/// The time-sync events (and the time source) on QEMU's stdout (the emulated-board
-/// scenarios report them).
+/// The time-sync events (and the time source and the PPS lock) on QEMU's stdout (the
+/// emulated-board scenarios report them).
 #[cfg(feature = "qemu")]
 fn qemu_time_event(r: &LogRecord) {
     use bridge_fw::Event;
@@ -241,6 +241,16 @@ fn qemu_time_event(r: &LogRecord) {
         ),
         LogKind::Engine(Event::UtcLost) => {
             semihosting::println!("bridge-fw (qemu): {at} us: UTC lost")
+        }
+        LogKind::Engine(Event::PpsLocked { first_edge }) => semihosting::println!(
+            "bridge-fw (qemu): {at} us: PPS locked, first edge {} us",
+            first_edge.as_micros()
+        ),
+        LogKind::Engine(Event::PpsHoldover) => {
+            semihosting::println!("bridge-fw (qemu): {at} us: PPS holdover")
+        }
+        LogKind::Engine(Event::PpsReleased) => {
+            semihosting::println!("bridge-fw (qemu): {at} us: PPS released")
         }
         LogKind::Engine(Event::TimeSource { telemetry }) => semihosting::println!(
             "bridge-fw (qemu): {at} us: time source {}",
