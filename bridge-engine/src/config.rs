@@ -49,7 +49,7 @@ mod sensors;
 
 pub use sensors::{LaserConfig, LensConfig, URI_LEN, VideoConfig};
 
-use super::discipline::DisciplineConfig;
+use super::discipline::{DisciplineConfig, PpsConfig};
 use super::fixes::FixConfig;
 use super::sync::SyncConfig;
 use super::time::Duration;
@@ -435,6 +435,9 @@ protocol_core::wire_derive! {
         pub lens: LensConfig,
         /// The laser rangefinder (`[laser]`).
         pub laser: LaserConfig,
+        /// The PPS input (a GNSS receiver's pulse per second): its polarity; the rest
+        /// is fixed.
+        pub pps: PpsConfig,
         /// The fix history (no key in the configuration file).
         #[cfg_attr(feature = "serde", serde(skip_deserializing))]
         pub fixes: FixConfig,
@@ -488,6 +491,7 @@ impl Config {
         video: VideoConfig::DEFAULT,
         lens: LensConfig::DEFAULT,
         laser: LaserConfig::DEFAULT,
+        pps: PpsConfig::DEFAULT,
         fixes: FixConfig::DEFAULT,
         leap_seconds: 18,
         fc_silence_stop: Duration::from_millis(500),

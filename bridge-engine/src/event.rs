@@ -63,6 +63,28 @@ protocol_core::wire_derive! {
             /// A fix was given (else the reply carried a failure code).
             answered: bool,
         },
+        /// A photo's time and place, as the geotag answer gave them (after
+        /// [`Event::Geotag`] with a fix): the UTC the pod asked for (its time of day on
+        /// the disciplined clock's date) and the fix interpolated there. What a photo
+        /// event file records (docs/src/linux-bridge.md).
+        Photo {
+            /// The photo's UTC, µs since the Unix epoch (the pod names it to the ms).
+            utc_us: u64,
+            /// Latitude, 1e-7 degree.
+            lat_e7: i32,
+            /// Longitude, 1e-7 degree.
+            lon_e7: i32,
+            /// Altitude above mean sea level, 0.1 m.
+            alt_msl_dm: i16,
+            /// Height above home, 0.1 m.
+            rel_alt_dm: i16,
+            /// The aircraft's yaw (heading), 0.01°.
+            yaw_cdeg: i16,
+            /// The aircraft's roll, 0.01°.
+            roll_cdeg: i16,
+            /// The aircraft's pitch, 0.01°.
+            pitch_cdeg: i16,
+        },
         /// An FC command became a pod command.
         Translated {
             /// The FC protocol's message id.
@@ -136,6 +158,17 @@ protocol_core::wire_derive! {
             /// Why.
             reason: Refusal,
         },
+        /// The clock locked to the PPS edges: the mapping is their line (see
+        /// docs/src/bridge/time.md, "PPS").
+        PpsLocked {
+            /// Local instant of the first edge of the run that locked.
+            first_edge: Instant,
+        },
+        /// The PPS edges stopped: the clock runs on at their last rate (holdover).
+        PpsHoldover,
+        /// The PPS line is no longer the mapping: handed back to the FC's UTC (slewed), or
+        /// its holdover ended.
+        PpsReleased,
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -228,6 +261,14 @@ protocol_core::wire_derive! {
         pub geotags: u32,
         /// GPS requests answered with a failure.
         pub geotags_failed: u32,
+        /// PPS edges taken ([`Engine::pps`](super::Engine::pps)).
+        pub pps_edges: u32,
+        /// PPS edges no UTC second could be named for (no UTC, or not near a second).
+        pub pps_unlabelled: u32,
+        /// PPS edges the FC's UTC names another second for than the PPS line does.
+        pub pps_conflicts: u32,
+        /// PPS edges not used: off the line of the previous ones, or out of order.
+        pub pps_rejected: u32,
     }
 }
 

@@ -21,7 +21,7 @@ use super::discipline::TimeDiscipline;
 use super::event::Event;
 use super::fixes::{Fix, FixHistory};
 use super::pod::PodDriver;
-use super::time::{Instant, TimeOfDay};
+use super::time::{Instant, TimeOfDay, UtcTime};
 use protocol_core::k40t::{AckCode, GpsReply, GpsRequest, Header, ResponseCode};
 
 /// A request waiting for a newer fix.
@@ -31,14 +31,25 @@ struct Waiting {
     request: GpsRequest,
     /// The local instant asked.
     at: Instant,
+    /// The UTC asked.
+    utc: UtcTime,
     /// When it is answered with what there is.
     deadline: Instant,
+}
+
+/// A photo the pod geotagged: its UTC and the fix there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Photo {
+    pub(crate) utc: UtcTime,
+    pub(crate) fix: Fix,
 }
 
 /// The pod's GPS requests, answered now or after the next fix.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Geotagger {
     waiting: Option<Waiting>,
+    /// The last photo answered with a fix, until taken ([`Geotagger::take_photo`]).
+    photo: Option<Photo>,
 }
 
 impl Geotagger {
@@ -55,18 +66,19 @@ impl Geotagger {
         out: &mut Outputs,
     ) {
         if let Some(w) = self.waiting.take() {
-            answer(w.header, w.request, fixes.at(w.at).ok(), pod, out);
+            let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
+            self.answer(w.header, w.request, fix, pod, out);
         }
-        let at = TimeOfDay::new(
+        let asked = TimeOfDay::new(
             request.hour,
             request.minute,
             request.second,
             request.millisecond,
         )
         .and_then(|tod| time.utc(now)?.nearest_with_time_of_day(tod))
-        .and_then(|utc| time.local_of(utc));
-        let Some(at) = at else {
-            answer(header, request, None, pod, out);
+        .and_then(|utc| Some((time.local_of(utc)?, utc)));
+        let Some((at, utc)) = asked else {
+            self.answer(header, request, None, pod, out);
             return;
         };
         let newest = fixes.latest().map(|f| f.at);
@@ -81,11 +93,13 @@ impl Geotagger {
                 header,
                 request,
                 at,
+                utc,
                 deadline: now.saturating_add(max_wait),
             });
             return;
         }
-        answer(header, request, fixes.at(at).ok(), pod, out);
+        let fix = fixes.at(at).ok().map(|f| (utc, f));
+        self.answer(header, request, fix, pod, out);
     }
 
     /// Answers the waiting request once a fix at or after its instant is in, or at its
@@ -103,8 +117,29 @@ impl Geotagger {
         let covered = fixes.latest().is_some_and(|f| f.at >= w.at);
         if covered || now >= w.deadline {
             self.waiting = None;
-            answer(w.header, w.request, fixes.at(w.at).ok(), pod, out);
+            let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
+            self.answer(w.header, w.request, fix, pod, out);
         }
+    }
+
+    /// The last photo answered with a fix, once.
+    pub(crate) fn take_photo(&mut self) -> Option<Photo> {
+        self.photo.take()
+    }
+
+    /// Answers `request` ([`answer`]) and keeps the photo when a fix was given.
+    fn answer(
+        &mut self,
+        header: Header,
+        request: GpsRequest,
+        fix: Option<(UtcTime, Fix)>,
+        pod: &mut PodDriver,
+        out: &mut Outputs,
+    ) {
+        if let Some((utc, fix)) = fix {
+            self.photo = Some(Photo { utc, fix });
+        }
+        answer(header, request, fix, pod, out);
     }
 
     /// The deadline of the waiting request.
@@ -113,11 +148,13 @@ impl Geotagger {
     }
 }
 
-/// Sends the 0x010310 for `request`: the fix, or the failure code with the time echoed.
+/// Sends the 0x010310 for `request`: the fix (with the UTC asked, resolved to its
+/// date), or the failure code with the time echoed; a fix given is also a
+/// [`Event::Photo`].
 fn answer(
     header: Header,
     request: GpsRequest,
-    fix: Option<Fix>,
+    fix: Option<(UtcTime, Fix)>,
     pod: &mut PodDriver,
     out: &mut Outputs,
 ) {
@@ -129,7 +166,17 @@ fn answer(
         millisecond: request.millisecond,
         ..GpsReply::default()
     };
-    if let Some(f) = fix {
+    if let Some((utc, f)) = fix {
+        out.event(Event::Photo {
+            utc_us: utc.as_unix_micros(),
+            lat_e7: f.lat_e7,
+            lon_e7: f.lon_e7,
+            alt_msl_dm: f.alt_msl_dm,
+            rel_alt_dm: f.rel_alt_dm,
+            yaw_cdeg: f.yaw_cdeg,
+            roll_cdeg: f.roll_cdeg,
+            pitch_cdeg: f.pitch_cdeg,
+        });
         reply.code = ResponseCode::OK;
         reply.lon_e7 = f.lon_e7;
         reply.lat_e7 = f.lat_e7;

@@ -79,9 +79,9 @@ pub use config::{
 };
 pub use event::{Counters, Event, Port, Refusal};
 pub use pod::PodState;
-pub use time::{Duration, Instant, UtcTime};
+pub use time::{Duration, Instant, InstantNs, UtcTime};
 
-use discipline::{DisciplineState, TimeDiscipline};
+use discipline::{DisciplineState, PpsState, PpsVerdict, TimeDiscipline};
 use fc::{Ctx, FcSide};
 use fixes::FixHistory;
 use geotag::Geotagger;
@@ -129,8 +129,12 @@ protocol_core::wire_derive! {
     pub struct PinAction {
         /// The level to set.
         pub level: Level,
-        /// The local instant at which to apply it.
+        /// The local instant at which to apply it (the microsecond it falls in).
         pub at: Instant,
+        /// Nanoseconds after `at` (0..1000) at which a timer's output compare applies it:
+        /// the PPS-locked mapping's resolution (0 otherwise, and for the falling edge). A
+        /// timer alarm with a microsecond's resolution ignores it.
+        pub sub_us_ns: u16,
     }
 }
 
@@ -418,7 +422,7 @@ impl Engine {
             core: EngineState {
                 fc: FcSide::new(&config),
                 pod: PodDriver::new(config.pod),
-                time: TimeDiscipline::new(config.discipline),
+                time: TimeDiscipline::new(config.discipline).with_pps(config.pps),
                 sync: SyncScheduler::new(config.sync),
                 fixes: FixHistory::new(config.fixes),
                 geotag: Geotagger::default(),
@@ -456,7 +460,7 @@ impl Engine {
 
     /// Where the UTC discipline stands.
     #[must_use]
-    pub const fn utc_state(&self) -> DisciplineState {
+    pub fn utc_state(&self) -> DisciplineState {
         self.core.time.state()
     }
 
@@ -600,6 +604,41 @@ impl Engine {
         core.after_input(now)
     }
 
+    /// A PPS edge: the GNSS module's on-time edge ([`PpsConfig::active_low`](discipline::PpsConfig::active_low)
+    /// says which one) at the local instant `edge` a timer captured, to the nanosecond
+    /// (read the capture register, not the clock in an interrupt). It is labelled with
+    /// its UTC second and disciplines the clock (see [`discipline`], "PPS"); the planned
+    /// RTC_IO edge follows. Returns what changed.
+    pub fn pps(&mut self, edge: InstantNs) -> Changes {
+        let core = &mut self.core;
+        let verdict = core.time.pps_edge(edge);
+        let c = &mut core.out.counters;
+        c.pps_edges = c.pps_edges.saturating_add(1);
+        let n = match verdict {
+            PpsVerdict::Accepted => None,
+            PpsVerdict::Unlabelled => Some(&mut c.pps_unlabelled),
+            PpsVerdict::Conflict => Some(&mut c.pps_conflicts),
+            PpsVerdict::Outlier | PpsVerdict::Rejected => Some(&mut c.pps_rejected),
+        };
+        if let Some(n) = n {
+            *n = n.saturating_add(1);
+        }
+        core.after_input(edge.instant())
+    }
+
+    /// UTC at a local instant to the nanosecond (ns since the Unix epoch), when known:
+    /// the PPS line's resolution (the FC's mapping is known to the microsecond).
+    #[must_use]
+    pub fn utc_ns(&self, at: InstantNs) -> Option<u64> {
+        self.core.time.utc_ns(at)
+    }
+
+    /// Where the PPS path stands.
+    #[must_use]
+    pub fn pps_state(&self) -> PpsState {
+        self.core.time.pps_state()
+    }
+
     /// Does the work due at `now`: retries and time-outs, link supervision, the FC
     /// silence stop, streamed replies, the UTC discipline and the sync plan. Returns what
     /// changed.
@@ -616,10 +655,12 @@ impl Engine {
             (Some(at), _) => Some(PinAction {
                 level: Level::Low,
                 at,
+                sub_us_ns: 0,
             }),
             (None, Some(e)) => Some(PinAction {
                 level: Level::High,
                 at: e.at,
+                sub_us_ns: e.sub_us_ns,
             }),
             (None, None) => None,
         }
@@ -728,6 +769,24 @@ impl EngineState {
         }
     }
 
+    /// A photo the geotag answered goes to the telemetry link as CAMERA_IMAGE_CAPTURED
+    /// (the MAVLink FC side reports its own photos).
+    #[cfg_attr(not(feature = "telemetry"), allow(clippy::unused_self))]
+    fn photo_out(&mut self, now: Instant) {
+        let Some(photo) = self.geotag.take_photo() else {
+            return;
+        };
+        #[cfg(feature = "telemetry")]
+        {
+            let (tel, mut ctx) = self.telemetry_ctx(now);
+            if let Some(tel) = tel {
+                tel.handler.photo(&mut ctx, &photo);
+            }
+        }
+        #[cfg(not(feature = "telemetry"))]
+        let _ = (now, photo);
+    }
+
     fn fc_frame_seen(&mut self, now: Instant, seen: bool) {
         if seen {
             self.fc_last = Some(now);
@@ -796,6 +855,7 @@ impl EngineState {
                 if !fc.gps_request(&mut ctx, header, request) {
                     ctx.geotag(header, request);
                 }
+                self.photo_out(now);
                 return;
             }
         }
@@ -810,12 +870,23 @@ impl EngineState {
         // A fix may have come in for a waiting GPS request.
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
+        self.photo_out(now);
         self.plan_sync(now);
         self.report()
     }
 
     fn utc_transition(&mut self, now: Instant) {
-        if let Some(t) = self.time.poll(now) {
+        let t = self.time.poll(now);
+        if let Some(p) = self.time.poll_pps() {
+            self.out.event(match p {
+                PpsState::Locked => Event::PpsLocked {
+                    first_edge: self.time.pps_run_start().map_or(now, InstantNs::instant),
+                },
+                PpsState::Holdover => Event::PpsHoldover,
+                PpsState::Off => Event::PpsReleased,
+            });
+        }
+        if let Some(t) = t {
             if t.utc_lost() {
                 self.out.event(Event::UtcLost);
             }
@@ -852,6 +923,7 @@ impl EngineState {
         }
         self.geotag
             .poll(now, &self.fixes, &mut self.pod, &mut self.out);
+        self.photo_out(now);
         if self.fc_link
             && self
                 .fc_last
@@ -1001,14 +1073,16 @@ mod size_tests {
     use super::*;
 
     /// The engine's size is fixed at compile time; with every FC side compiled in it
-    /// stays under 11.5 KiB on the 64-bit host (7.9 KB before ACK matching kept
+    /// stays under 12.5 KiB on the 64-bit host (7.9 KB before ACK matching kept
     /// superseded requests and their send instants, and the discipline its error bound;
     /// 9.1 KB before the MAVLink telemetry link: its 280-byte deframer, 192-byte queue
     /// and autopilot state; 10.7 KB before the camera's settings: the parameters' and FTP
     /// sessions' state, the pod's all-settings replies and two more pod requests
-    /// tracked, and the discipline's rate).
+    /// tracked, and the discipline's rate; under 11.5 KiB before the PPS path: its 16
+    /// edges and line, and the photo event, which makes every queued event 8 bytes
+    /// longer).
     #[test]
-    fn the_engine_fits_in_11_5_kib() {
+    fn the_engine_fits_in_12_5_kib() {
         let size = core::mem::size_of::<Engine>();
         println!(
             "engine {size} B: pod driver {}, discipline {}, fixes {}, outputs {}, FC side {}",
@@ -1018,6 +1092,6 @@ mod size_tests {
             core::mem::size_of::<Outputs>(),
             core::mem::size_of::<FcSide>(),
         );
-        assert!(size <= 11 * 1024 + 512, "{size} bytes");
+        assert!(size <= 12 * 1024 + 512, "{size} bytes");
     }
 }

@@ -82,8 +82,11 @@ protocol_core::wire_derive! {
     [Eq]
     /// One planned RTC_IO pulse.
     pub struct SyncEdge {
-        /// Local instant at which the pin rises.
+        /// Local instant at which the pin rises (the microsecond it falls in).
         pub at: Instant,
+        /// Nanoseconds after `at` (0..1000) at which it rises: the PPS-locked mapping's
+        /// resolution, for a timer's output compare (0 from the FC's mapping).
+        pub sub_us_ns: u16,
         /// UTC of the rising edge: the value of 0x00030E (`utc.as_unix_millis()`, exact).
         pub utc: UtcTime,
         /// Local instant at which the pin falls (`at + width`).
@@ -143,13 +146,15 @@ impl SyncScheduler {
         }
         // Two tries: local_of may round the edge a microsecond before `earliest`.
         for _ in 0..2 {
-            let at = discipline.local_of(target)?;
+            let at_ns = discipline.local_of_ns(target)?;
+            let at = at_ns.instant();
             if at >= earliest {
                 if discipline.error_bound(at)? > self.config.max_error {
                     return None;
                 }
                 return Some(SyncEdge {
                     at,
+                    sub_us_ns: at_ns.sub_micros_ns(),
                     utc: target,
                     low_at: at.checked_add(self.config.width)?,
                 });

@@ -14,6 +14,8 @@
 const US_PER_MS: u64 = 1_000;
 /// Microseconds in one second.
 const US_PER_S: u64 = 1_000_000;
+/// Nanoseconds in one microsecond.
+const NS_PER_US: u64 = 1_000;
 /// Milliseconds in one day.
 const MS_PER_DAY: u32 = 86_400_000;
 /// Microseconds in one day.
@@ -178,6 +180,65 @@ impl Instant {
     #[must_use]
     pub const fn saturating_duration_since(self, earlier: Self) -> Duration {
         Duration(self.0.saturating_sub(earlier.0))
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, PartialOrd, Ord, Hash, Default]
+    /// An instant of the caller's monotonic clock in nanoseconds, same origin as
+    /// [`Instant`]: a timer's input capture or output compare finer than a microsecond
+    /// (the PPS path: a PPS edge in, the RTC_IO edge out; see docs/src/bridge/time.md).
+    pub struct InstantNs(u64);
+}
+
+impl InstantNs {
+    /// The clock's origin.
+    pub const ZERO: Self = Self(0);
+
+    /// The instant `ns` nanoseconds after the origin.
+    #[must_use]
+    pub const fn from_nanos(ns: u64) -> Self {
+        Self(ns)
+    }
+
+    /// The instant `at`, to the nanosecond (saturating).
+    #[must_use]
+    pub const fn from_instant(at: Instant) -> Self {
+        Self(at.0.saturating_mul(NS_PER_US))
+    }
+
+    /// Nanoseconds since the origin.
+    #[must_use]
+    pub const fn as_nanos(self) -> u64 {
+        self.0
+    }
+
+    /// The microsecond this instant falls in (rounded down): what a microsecond clock
+    /// reads at it.
+    #[must_use]
+    pub const fn instant(self) -> Instant {
+        Instant(self.0 / NS_PER_US)
+    }
+
+    /// Nanoseconds after [`InstantNs::instant`] (0..1000).
+    #[must_use]
+    pub const fn sub_micros_ns(self) -> u16 {
+        // Below 1000: fits.
+        #[allow(clippy::cast_possible_truncation)]
+        let ns = (self.0 % NS_PER_US) as u16;
+        ns
+    }
+
+    /// `self + ns`, clamped at the largest instant.
+    #[must_use]
+    pub const fn saturating_add_ns(self, ns: u64) -> Self {
+        Self(self.0.saturating_add(ns))
+    }
+
+    /// `self - ns`, clamped at the origin.
+    #[must_use]
+    pub const fn saturating_sub_ns(self, ns: u64) -> Self {
+        Self(self.0.saturating_sub(ns))
     }
 }
 

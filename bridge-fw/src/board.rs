@@ -8,7 +8,8 @@
 //! | pod RX (USART2, AF7) | PD6 | PMOD pin 3 (PMOD_UART2_RX) | 3.3 V (5 V tolerant) | pod's TX |
 //! | telemetry TX (LPUART1, AF8) | PC1 | Arduino A4 | 3.3 V | autopilot's telemetry RX |
 //! | telemetry RX (LPUART1, AF8) | PC0 | Arduino A5 | 3.3 V (5 V tolerant) | autopilot's telemetry TX |
-//! | RTC_IO (push-pull out) | PD14 | Arduino D2 | 3.3 V | pod's RTC_IO |
+//! | RTC_IO (TIM2_CH3 output compare, AF1; `qemu`: GPIO) | PA2 | Arduino D10 | 3.3 V | pod's RTC_IO |
+//! | PPS in (TIM2_CH1 input capture, AF1, pull-down) | PA15 | Arduino D9 | 3.3 V (5 V tolerant) | GNSS module's PPS / timepulse |
 //! | FC strap A (in, pull-up) | PA3 | Arduino D4 | open / GND | (all-FC builds) |
 //! | FC strap B (in, pull-up) | PA4 | Arduino D7 | open / GND | (all-FC builds) |
 //! | FC strap C (in, pull-up) | PB2 | Arduino D8 | open / GND (MAVLink) | (all-FC builds) |
@@ -19,12 +20,19 @@
 //! Arduino analog header's A4/A5 carry LPUART1 (AF8) and nothing else on this board, so
 //! the FC and telemetry links are both on the Arduino connector.
 //!
-//! USART1 (the ST-LINK virtual COM port) stays free; USART3 is wired to the on-board
-//! modules, not to a header.
+//! TIM2 (32-bit, 80 MHz) carries both timing pins on one counter (`src/tim2.rs`); the
+//! embassy-time driver is on TIM15 (`time-driver-tim15`). USART1 (the ST-LINK virtual COM
+//! port) stays free on the board; the `qemu` flavour takes its PPS test source there (a
+//! byte an edge: QEMU models no timer and cannot drive a GPIO input). USART3 is wired
+//! to the on-board modules, not to a header.
 
 use bridge_engine::Config;
+#[cfg(not(feature = "qemu"))]
+use embassy_stm32::gpio::OutputType;
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
 use embassy_stm32::peripherals::IWDG;
+#[cfg(not(feature = "qemu"))]
+use embassy_stm32::timer::{self, input_capture, low_level::CountingMode, simple_pwm::PwmPin};
 use embassy_stm32::usart::{self, BufferedUart};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, peripherals};
@@ -35,6 +43,10 @@ bind_interrupts!(struct Irqs {
     USART2 => usart::BufferedInterruptHandler<peripherals::USART2>;
     #[cfg(feature = "telemetry")]
     LPUART1 => usart::BufferedInterruptHandler<peripherals::LPUART1>;
+    #[cfg(not(feature = "qemu"))]
+    TIM2 => timer::CaptureCompareInterruptHandler<peripherals::TIM2>;
+    #[cfg(feature = "qemu")]
+    USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
 });
 
 /// Bytes of each UART ring buffer (22 ms at 115200: far more than any task's latency).
@@ -53,8 +65,18 @@ pub struct Board {
     /// The MAVLink telemetry link (LPUART1).
     #[cfg(feature = "telemetry")]
     pub telemetry: BufferedUart<'static>,
-    /// RTC_IO, low.
+    /// RTC_IO, low: TIM2 CH3's output compare.
+    #[cfg(not(feature = "qemu"))]
+    pub rtc_io: crate::tim2::RtcCompare,
+    /// RTC_IO, low: a GPIO set at the timer alarm (QEMU models no timer).
+    #[cfg(feature = "qemu")]
     pub rtc_io: Output<'static>,
+    /// The PPS input: TIM2 CH1's capture.
+    #[cfg(not(feature = "qemu"))]
+    pub pps: crate::tim2::PpsCapture,
+    /// The PPS test source: a byte on USART1 is an edge, at the instant it arrives.
+    #[cfg(feature = "qemu")]
+    pub pps: crate::qemu_pps::PpsOverSerial,
     /// LED2, off.
     pub led: Output<'static>,
     /// The independent watchdog, running.
@@ -144,6 +166,15 @@ pub fn init() -> Board {
         levels
     });
 
+    // The emulated board's PPS test source is stamped when the reader task sees its byte
+    // (milliseconds of jitter under QEMU), not by a capture register: a wide tolerance.
+    #[cfg(feature = "qemu")]
+    let config = {
+        let mut c = config;
+        c.pps.tolerance_ns = 20_000_000;
+        c
+    };
+
     let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
     watchdog.unleash();
 
@@ -196,12 +227,65 @@ pub fn init() -> Board {
         .expect("telemetry UART configuration")
     };
 
+    // TIM2 at the timer clock (HCLK: the APB1 prescaler is 1), counting from here; the
+    // PPS capture on CH1, RTC_IO on CH3's compare, both mapped to the engine's clock by
+    // one pair of counter reads (src/tim2.rs).
+    #[cfg(not(feature = "qemu"))]
+    let (rtc_io, pps) = {
+        assert_eq!(hclk, 80_000_000, "TIM2's ticks are 12.5 ns (src/tim2.rs)");
+        let pps_pin: input_capture::CapturePin<'static, peripherals::TIM2, timer::Ch1> =
+            input_capture::CapturePin::new(p.PA15, Pull::Down);
+        let capture = input_capture::InputCapture::new(
+            p.TIM2,
+            Some(pps_pin),
+            None,
+            None,
+            None,
+            Irqs,
+            embassy_stm32::time::Hertz(hclk),
+            CountingMode::EdgeAlignedUp,
+        );
+        embassy_stm32::pac::TIM2.arr().write_value(u32::MAX);
+        let clock = crate::tim2::TickClock::new();
+        let rtc_pin: PwmPin<'static, peripherals::TIM2, timer::Ch3> =
+            PwmPin::new(p.PA2, OutputType::PushPull);
+        (
+            crate::tim2::RtcCompare::new(rtc_pin, clock),
+            crate::tim2::PpsCapture {
+                capture,
+                clock,
+                falling: config.pps.active_low,
+            },
+        )
+    };
+    #[cfg(feature = "qemu")]
+    let (rtc_io, pps) = {
+        static PPS_TX: StaticCell<[u8; 16]> = StaticCell::new();
+        static PPS_RX: StaticCell<[u8; 16]> = StaticCell::new();
+        let serial = BufferedUart::new(
+            p.USART1,
+            p.PB7,
+            p.PB6,
+            PPS_TX.init([0; 16]),
+            PPS_RX.init([0; 16]),
+            Irqs,
+            uart(115_200),
+        )
+        .expect("PPS test source UART configuration");
+        let (_, rx) = serial.split();
+        (
+            Output::new(p.PA2, Level::Low, Speed::VeryHigh),
+            crate::qemu_pps::PpsOverSerial { rx },
+        )
+    };
+
     Board {
         fc,
         pod,
         #[cfg(feature = "telemetry")]
         telemetry,
-        rtc_io: Output::new(p.PD14, Level::Low, Speed::VeryHigh),
+        rtc_io,
+        pps,
         led: Output::new(p.PB14, Level::Low, Speed::Low),
         watchdog,
         config,

@@ -2,7 +2,7 @@
 //! methods; tests put doubles in its place (a spy around the engine, a scripted engine
 //! that plans RTC_IO edges without an FC side).
 
-use bridge_engine::{Changes, Engine, Event, Instant, Level, PinAction, Port};
+use bridge_engine::{Changes, Engine, Event, Instant, InstantNs, Level, PinAction, Port};
 
 /// Link and time status, for the LED.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -39,6 +39,11 @@ pub trait BridgeEngine {
     fn pin_done(&mut self, level: Level, at: Instant) -> Changes;
     /// [`Engine::next_event`].
     fn next_event(&mut self) -> Option<Event>;
+    /// [`Engine::pps`] (a double without a PPS path ignores the edge).
+    fn pps(&mut self, edge: InstantNs) -> Changes {
+        let _ = edge;
+        Changes::NONE
+    }
     /// Link and time status.
     fn status(&self) -> Status;
 }
@@ -78,6 +83,10 @@ impl BridgeEngine for Engine {
 
     fn next_event(&mut self) -> Option<Event> {
         Engine::next_event(self)
+    }
+
+    fn pps(&mut self, edge: InstantNs) -> Changes {
+        Engine::pps(self, edge)
     }
 
     fn status(&self) -> Status {

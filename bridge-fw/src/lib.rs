@@ -11,7 +11,8 @@
 //! | [`link_reader`] | UART → [`Engine::receive`]; a silence of [`Timing::idle`] after bytes → [`Engine::idle`] (an input: what it means is the engine's decision) |
 //! | [`link_writer`] | engine → UART, one whole frame at a time ([`Engine::transmit`]); on the pod link it holds a frame that would still be on the wire at a planned RTC_IO edge |
 //! | [`link`] | both of the above for one port (FC, pod, and the optional MAVLink telemetry link) |
-//! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names (a timer alarm): pin, clock, [`pin_done`](Engine::pin_done) in one critical section, then the pod writer is woken |
+//! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names ([`RtcIo`]: a timer's output compare armed ahead, or a pin set at the timer alarm), then [`pin_done`](Engine::pin_done) with the instant it was made, in one critical section, then the pod writer is woken |
+//! | [`pps_task`] | PPS edges ([`PpsInput`]: the instants a timer captured) → [`Engine::pps`] |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
@@ -23,9 +24,14 @@
 //! input brings its next poll forward.
 //!
 //! # RTC_IO edge → first byte of the 0x00030E
-//! The engine task sleeps on a timer alarm set to the edge's instant. When it fires, in one
-//! critical section: the pin goes high, the clock is read, and [`Engine::pin_done`] puts
-//! the 0x00030E at the head of the pod queue. Nothing that can wait lies between these.
+//! On the board the edge is TIM2's output compare (CH3): the engine task arms it 1 ms
+//! before the planned instant ([`RtcIo::arm`]) and the hardware raises the pin at the
+//! compare, to the timer's tick, whatever the task does. Elsewhere ([`RtcIo`] for any
+//! output pin) the task sleeps on a timer alarm set to the edge's instant and sets the
+//! pin when it fires. Either way, at the instant, in one critical section: the edge is
+//! completed ([`RtcIo::complete`]: the compare's instant, or the pin set and the clock
+//! read), and [`Engine::pin_done`] puts the 0x00030E at the head of the pod queue.
+//! Nothing that can wait lies between these.
 //! The pod writer is then woken; its delay to the first byte is one executor hand-over
 //! plus the frame already on the wire. The writer avoids the latter: it does not start a
 //! frame that would still be on the wire at a planned edge ([`link_writer`]), and it waits
@@ -37,6 +43,7 @@
 //! [`Engine::receive`]: bridge_engine::Engine::receive
 //! [`Engine::idle`]: bridge_engine::Engine::idle
 //! [`Engine::transmit`]: bridge_engine::Engine::transmit
+//! [`Engine::pps`]: bridge_engine::Engine::pps
 #![cfg_attr(not(feature = "host"), no_std)]
 
 pub mod config;
@@ -45,6 +52,8 @@ mod engine_task;
 mod led;
 mod link;
 mod log;
+mod pps;
+mod rtc_io;
 mod shared;
 mod watchdog;
 
@@ -56,10 +65,14 @@ pub use engine_task::engine_task;
 pub use led::{Blink, led_pattern, led_task};
 pub use link::{link, link_reader, link_writer};
 pub use log::{EventSink, log_task};
+pub use pps::{NoPps, PpsInput, pps_task};
+pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
 pub use watchdog::watchdog_task;
 
-pub use bridge_engine::{Changes, Config, Engine, Event, Instant, Level, PinAction, Port};
+pub use bridge_engine::{
+    Changes, Config, Engine, Event, Instant, InstantNs, Level, PinAction, Port,
+};
 
 /// The engine's clock: embassy-time's, in microseconds since boot.
 #[must_use]

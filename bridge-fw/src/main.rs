@@ -23,11 +23,15 @@ mod board;
 #[cfg(feature = "qemu")]
 #[allow(unsafe_code)]
 mod qemu_executor;
+#[cfg(feature = "qemu")]
+mod qemu_pps;
 #[allow(unsafe_code)]
 mod stack;
 #[cfg(feature = "qemu")]
 #[allow(unsafe_code)]
 mod systick_driver;
+#[cfg(not(feature = "qemu"))]
+mod tim2;
 
 use bridge_fw::{Engine, Heartbeat, LogKind, LogRecord, Port, Shared, Timing};
 use defmt_rtt as _;
@@ -100,6 +104,7 @@ fn start(spawner: Spawner) {
         spawner.spawn(telemetry_link(shared, tel_rx, tel_tx).expect("task telemetry_link"));
     }
     spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
+    spawner.spawn(pps(shared, b.pps).expect("task pps"));
     spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
     spawner.spawn(led(shared, b.led).expect("task led"));
     spawner.spawn(log(shared).expect("task log"));
@@ -179,9 +184,25 @@ async fn telemetry_link(
     bridge_fw::link(shared, Port::Telemetry, rx, tx).await
 }
 
+/// RTC_IO: TIM2 CH3's output compare on the board, a GPIO on the emulated board.
+#[cfg(not(feature = "qemu"))]
+type RtcIoPin = tim2::RtcCompare;
+#[cfg(feature = "qemu")]
+type RtcIoPin = Output<'static>;
+/// The PPS input: TIM2 CH1's capture on the board, a byte on USART1 on the emulated one.
+#[cfg(not(feature = "qemu"))]
+type PpsPin = tim2::PpsCapture;
+#[cfg(feature = "qemu")]
+type PpsPin = qemu_pps::PpsOverSerial;
+
 #[embassy_executor::task]
-async fn engine(shared: &'static BoardShared, rtc_io: Output<'static>) -> ! {
+async fn engine(shared: &'static BoardShared, rtc_io: RtcIoPin) -> ! {
     bridge_fw::engine_task(shared, rtc_io).await
+}
+
+#[embassy_executor::task]
+async fn pps(shared: &'static BoardShared, input: PpsPin) -> ! {
+    bridge_fw::pps_task(shared, input).await
 }
 
 #[embassy_executor::task]
@@ -206,8 +227,8 @@ async fn log(shared: &'static BoardShared) -> ! {
     .await
 }
 
-/// The time-sync events (and the time source) on QEMU's stdout (the emulated-board
-/// scenarios report them).
+/// The time-sync events (and the time source and the PPS lock) on QEMU's stdout (the
+/// emulated-board scenarios report them).
 #[cfg(feature = "qemu")]
 fn qemu_time_event(r: &LogRecord) {
     use bridge_fw::Event;
@@ -221,6 +242,16 @@ fn qemu_time_event(r: &LogRecord) {
         ),
         LogKind::Engine(Event::UtcLost) => {
             semihosting::println!("bridge-fw (qemu): {at} us: UTC lost")
+        }
+        LogKind::Engine(Event::PpsLocked { first_edge }) => semihosting::println!(
+            "bridge-fw (qemu): {at} us: PPS locked, first edge {} us",
+            first_edge.as_micros()
+        ),
+        LogKind::Engine(Event::PpsHoldover) => {
+            semihosting::println!("bridge-fw (qemu): {at} us: PPS holdover")
+        }
+        LogKind::Engine(Event::PpsReleased) => {
+            semihosting::println!("bridge-fw (qemu): {at} us: PPS released")
         }
         LogKind::Engine(Event::TimeSource { telemetry }) => semihosting::println!(
             "bridge-fw (qemu): {at} us: time source {}",

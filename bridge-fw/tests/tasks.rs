@@ -479,10 +479,12 @@ impl BridgeEngine for Scripted {
             (Some(at), _) => Some(PinAction {
                 level: Level::Low,
                 at,
+                sub_us_ns: 0,
             }),
             (None, Some(&at)) => Some(PinAction {
                 level: Level::High,
                 at,
+                sub_us_ns: 0,
             }),
             (None, None) => None,
         }

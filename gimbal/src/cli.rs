@@ -85,6 +85,11 @@ pub struct DemoArgs {
     /// position streams.
     #[arg(long)]
     pub telemetry: bool,
+    /// A simulated GNSS module's pulse per second on the bridge's PPS input (any FC
+    /// side): the clock locks to it, RTC_IO is the board's timer compare, and the syncs'
+    /// errors are shown in µs against the GNSS's UTC.
+    #[arg(long)]
+    pub pps: bool,
 }
 
 /// A protocol the capture decoder knows.

@@ -7,7 +7,7 @@
 //! use bridge_engine::FcProtocol;
 //!
 //! let summary = demo::run(
-//!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60, telemetry: false },
+//!     &DemoOptions { fc: FcProtocol::Siyi, seconds: 60, telemetry: false, pps: false },
 //!     &mut std::io::stdout(),
 //! )?;
 //! assert!(summary.healthy_at_s.is_some());
@@ -25,12 +25,16 @@
 //!   fix is from where the aircraft really was when the photo was taken;
 //! - a summary: healthy at, commands translated, syncs and their error (p50, max),
 //!   geotags answered, bytes per link direction, frames and records dropped.
+//!
+//! With [`DemoOptions::pps`] a simulated GNSS module's pulse per second reaches the
+//! bridge's PPS input and RTC_IO is the board's timer compare: the clock locks to the
+//! pulses, and each sync's error is against the GNSS's UTC, in microseconds.
 
 use crate::runner::output::time_of_day_text;
 use std::io::{self, Write};
 use std::time::Instant as WallInstant;
 
-use bridge_engine::{Config, Event, FcProtocol};
+use bridge_engine::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::K40tFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
@@ -43,7 +47,9 @@ use crate::sim::describe::{
     Described, MavlinkFrames, SideFrames, describe_k40t, k40t_name, k40t_routine,
 };
 use crate::sim::fc_k40t::FcK40t;
+use crate::sim::gnss::{Crystal, GnssPps, GnssPpsConfig};
 use crate::sim::pilot::Pilot;
+use crate::sim::pps_io::PpsWiring;
 use crate::sim::tasks::{Bench, Outcome, Wire};
 
 /// What to run.
@@ -56,6 +62,8 @@ pub struct DemoOptions {
     /// The same autopilot's MAVLink port on the bridge's telemetry link (SIYI,
     /// Viewlink, GCU: the simulated ArduPilots).
     pub telemetry: bool,
+    /// A simulated GNSS module's PPS on the bridge's PPS input (any FC side).
+    pub pps: bool,
 }
 
 impl Default for DemoOptions {
@@ -64,6 +72,7 @@ impl Default for DemoOptions {
             fc: FcProtocol::Siyi,
             seconds: 60,
             telemetry: false,
+            pps: false,
         }
     }
 }
@@ -77,6 +86,14 @@ pub struct Summary {
     pub seconds: u32,
     /// A telemetry link was attached.
     pub telemetry: bool,
+    /// A GNSS PPS was on the bridge's PPS input.
+    pub pps: bool,
+    /// With PPS: when the clock locked to the pulses, s.
+    pub pps_locked_at_s: Option<f64>,
+    /// With PPS: the first labelled edge of the run that locked, s.
+    pub pps_first_edge_at_s: Option<f64>,
+    /// With PPS: the first sync after the lock, s.
+    pub first_pps_sync_at_s: Option<f64>,
     /// When the bridge took UTC and fixes from the telemetry link, s.
     pub telemetry_source_at_s: Option<f64>,
     /// When the FC's driver first called the mount healthy, s.
@@ -106,6 +123,11 @@ pub struct Summary {
     pub sync_error_p50_us: Option<u64>,
     /// Largest of those, µs.
     pub sync_error_max_us: Option<u64>,
+    /// Median of |UTC carried − the true UTC at the edge|, ns (with PPS: the GNSS's UTC
+    /// at the instant the compare put the edge).
+    pub sync_error_p50_ns: Option<u64>,
+    /// Largest of those, ns.
+    pub sync_error_max_ns: Option<u64>,
     /// Largest delay from an RTC_IO rising edge to the first byte of its 0x00030E, µs.
     pub edge_to_frame_max_us: Option<u64>,
     /// Geotag requests from the pod.
@@ -402,6 +424,21 @@ fn quantile(sorted: &[u64], q: f64) -> Option<u64> {
     sorted.get(i).copied()
 }
 
+/// The demo's GNSS module: fixed from the start (the FC's UTC comes later: the pulses
+/// before it are unlabelled), its UTC the FC's at true time 0 (`utc_at_zero_us`), 30 ns
+/// of jitter, 1 % of pulses missing; the bridge's crystal 20 ppm fast.
+fn demo_pps(utc_at_zero_us: u64) -> PpsWiring {
+    PpsWiring {
+        gnss: GnssPps::new(GnssPpsConfig {
+            seed: 7,
+            utc_at_zero_us,
+            ..GnssPpsConfig::default()
+        }),
+        crystal: Crystal::new(20.0),
+        bridge_active_low: false,
+    }
+}
+
 fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
     let wall = WallInstant::now();
     let steps = script(opts.seconds);
@@ -417,8 +454,12 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
     } else {
         None
     };
+    let pps = opts.pps.then(|| demo_pps(fc.clock().boots()[0].utc_us));
     let pod = crate::sim::pod::SimPod::new(crate::sim::pod::PodSimConfig::default());
-    let bench = Bench::of(Config::for_fc(P::PROTOCOL), fc, pod, telemetry);
+    let mut bench = Bench::of(Config::for_fc(P::PROTOCOL), fc, pod, telemetry);
+    if let Some(w) = pps {
+        bench = bench.with_pps(w);
+    }
     bench.wires.record_all();
     let (fc_baud, pod_baud) = (bench.config.fc_baud, bench.config.pod_baud);
     let end_us = u64::from(opts.seconds) * 1_000_000;
@@ -535,6 +576,9 @@ fn story<P: Pilot>(
     let mut utc_valid_at_s = None;
     let mut telemetry_source_at_s = None;
     let mut first_sync: Option<(f64, i64)> = None;
+    let mut pps_locked_at: Option<u64> = None;
+    let mut pps_first_edge: Option<u64> = None;
+    let mut first_pps_sync: Option<f64> = None;
     for (t, e) in o.events() {
         let text = match e {
             Event::Translated { fc_id, pod_base } => {
@@ -580,12 +624,26 @@ fn story<P: Pilot>(
             } => {
                 syncs += 1;
                 let edge_us = edge.as_micros();
-                let truth = match &o.telemetry {
-                    Some(t) => t.fc_utc_us(edge_us),
-                    None => o.fc.true_utc_us(edge_us),
+                // The truth, ns: the GNSS's UTC at the compare's edge with PPS, else the
+                // FC's (with a telemetry link: its MAVLink port's) at the edge.
+                let edge_ns = o
+                    .rtc_edges_ns
+                    .iter()
+                    .find(|(l, at)| *l == Level::High && at.instant() == edge)
+                    .map_or(i128::from(edge_us) * 1_000, |(_, at)| {
+                        i128::from(at.as_nanos())
+                    });
+                let truth_ns = match (&o.pps, &o.telemetry) {
+                    (Some(w), _) => w.utc_ns_at_local(edge_ns),
+                    (None, Some(t)) => i128::from(t.fc_utc_us(edge_us)) * 1_000,
+                    (None, None) => i128::from(o.fc.true_utc_us(edge_us)) * 1_000,
                 };
-                let err = i128::from(utc_ms * 1000) - i128::from(truth);
-                errors.push(u64::try_from(err.unsigned_abs()).unwrap_or(u64::MAX));
+                let err_ns = i128::from(utc_ms) * 1_000_000 - truth_ns;
+                let err = err_ns / 1_000;
+                errors.push(u64::try_from(err_ns.unsigned_abs()).unwrap_or(u64::MAX));
+                if pps_locked_at.is_some_and(|l| t >= l) {
+                    first_pps_sync.get_or_insert(edge_us as f64 / 1e6);
+                }
                 first_sync
                     .get_or_insert((edge_us as f64 / 1e6, i64::try_from(err).unwrap_or(i64::MAX)));
                 let delay = edge_to_frame
@@ -608,16 +666,37 @@ fn story<P: Pilot>(
                     t_us: edge_us,
                     rank: 2,
                     who: "time sync",
-                    text: format!(
-                        "RTC_IO high, then 0x00030E ({delay}) carrying {}; error vs the FC's true UTC {:+.3} ms (bound believed {:.1} ms); {pod}",
-                        utc_text(utc_ms),
-                        err as f64 / 1000.0,
-                        f64::from(error_bound_us) / 1000.0
-                    ),
+                    text: if o.pps.is_some() {
+                        format!(
+                            "RTC_IO high (timer compare), then 0x00030E ({delay}) carrying {}; error vs the GNSS's UTC {:+.3} µs (bound believed {} µs); {pod}",
+                            utc_text(utc_ms),
+                            err_ns as f64 / 1000.0,
+                            error_bound_us
+                        )
+                    } else {
+                        format!(
+                            "RTC_IO high, then 0x00030E ({delay}) carrying {}; error vs the FC's true UTC {:+.3} ms (bound believed {:.1} ms); {pod}",
+                            utc_text(utc_ms),
+                            err as f64 / 1000.0,
+                            f64::from(error_bound_us) / 1000.0
+                        )
+                    },
                 });
                 continue;
             }
-            Event::Geotag { .. } => continue,
+            Event::Geotag { .. } | Event::Photo { .. } => continue,
+            Event::PpsLocked { first_edge } => {
+                pps_locked_at.get_or_insert(t);
+                pps_first_edge.get_or_insert(first_edge.as_micros());
+                format!(
+                    "PPS locked: the clock follows the GNSS module's pulse per second (first labelled edge at {:.3} s; the FC's UTC names the seconds)",
+                    first_edge.as_micros() as f64 / 1e6
+                )
+            }
+            Event::PpsHoldover => {
+                "PPS lost: the clock runs on at the pulses' last rate (holdover)".to_string()
+            }
+            Event::PpsReleased => "PPS released: the clock follows the FC's UTC again".to_string(),
             Event::FcLinkUp => "FC link up (first valid frame from the FC)".to_string(),
             Event::FcLinkDown => "FC link DOWN (no valid frame from the FC)".to_string(),
             Event::PodLinkUp => "pod link up (first report from the pod)".to_string(),
@@ -727,6 +806,10 @@ fn story<P: Pilot>(
         fc: P::PROTOCOL,
         seconds: opts.seconds,
         telemetry: o.telemetry.is_some(),
+        pps: o.pps.is_some(),
+        pps_locked_at_s: pps_locked_at.map(|t| t as f64 / 1e6),
+        pps_first_edge_at_s: pps_first_edge.map(|t| t as f64 / 1e6),
+        first_pps_sync_at_s: first_pps_sync,
         telemetry_source_at_s,
         healthy_at_s: o
             .fc
@@ -752,8 +835,10 @@ fn story<P: Pilot>(
             .iter()
             .filter(|s| s.outcome == crate::sim::pod::SyncOutcome::Applied)
             .count() as u32,
-        sync_error_p50_us: quantile(&errors, 0.5),
-        sync_error_max_us: errors.last().copied(),
+        sync_error_p50_us: quantile(&errors, 0.5).map(|ns| (ns + 500) / 1_000),
+        sync_error_max_us: errors.last().map(|ns| (ns + 500) / 1_000),
+        sync_error_p50_ns: quantile(&errors, 0.5),
+        sync_error_max_ns: errors.last().copied(),
         edge_to_frame_max_us: edge_to_frame.iter().map(|(_, d, _)| *d).max(),
         geotags_requested: o.pod.gps_requests().len() as u32,
         geotags_answered: answered,
@@ -804,13 +889,40 @@ fn write_summary(out: &mut dyn Write, s: &Summary, wall: std::time::Duration) ->
         ),
         (
             "time syncs",
-            format!(
-                "{} sent, {} applied by the pod; error p50 {}, max {}",
-                s.syncs,
-                s.syncs_applied,
-                ms(s.sync_error_p50_us),
-                ms(s.sync_error_max_us)
-            ),
+            if s.pps {
+                let us = |ns: Option<u64>| {
+                    ns.map_or_else(|| "-".to_string(), |v| format!("{:.3} µs", v as f64 / 1e3))
+                };
+                format!(
+                    "{} sent, {} applied by the pod; error p50 {}, max {} (against the GNSS's UTC)",
+                    s.syncs,
+                    s.syncs_applied,
+                    us(s.sync_error_p50_ns),
+                    us(s.sync_error_max_ns)
+                )
+            } else {
+                format!(
+                    "{} sent, {} applied by the pod; error p50 {}, max {}",
+                    s.syncs,
+                    s.syncs_applied,
+                    ms(s.sync_error_p50_us),
+                    ms(s.sync_error_max_us)
+                )
+            },
+        ),
+        (
+            "PPS",
+            match (s.pps, s.pps_locked_at_s, s.pps_first_edge_at_s) {
+                (false, _, _) => "none (the FC's UTC alone)".to_string(),
+                (true, Some(l), Some(e)) => format!(
+                    "locked at {l:.3} s (first labelled edge at {e:.3} s); first PPS-locked sync at {}",
+                    s.first_pps_sync_at_s.map_or_else(
+                        || "-".to_string(),
+                        |t| format!("{t:.3} s ({:.1} s after the first labelled edge)", t - e)
+                    )
+                ),
+                (true, _, _) => "never locked".to_string(),
+            },
         ),
         (
             "time source",

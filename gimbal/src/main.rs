@@ -107,6 +107,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 fc: a.fc.protocol(),
                 seconds: a.seconds,
                 telemetry: a.telemetry,
+                pps: a.pps,
             };
             let mut out = std::io::stdout().lock();
             demo::run(&opts, &mut out).map_err(|e| Failure::Runtime(format!("demo: {e}")))?;

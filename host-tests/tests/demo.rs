@@ -18,6 +18,7 @@ fn run(fc: FcProtocol) -> (Summary, String) {
             fc,
             seconds: 60,
             telemetry: false,
+            pps: false,
         },
         &mut out,
     )
@@ -137,6 +138,7 @@ fn a_short_run_has_no_sync_and_says_so() {
             fc: FcProtocol::Siyi,
             seconds: 8,
             telemetry: false,
+            pps: false,
         },
         &mut out,
     )
@@ -158,6 +160,7 @@ fn a_telemetry_link_gives_sub_millisecond_syncs_to_every_legacy_side() {
             fc,
             seconds: 60,
             telemetry: true,
+            pps: false,
         };
         let s = demo::run(&opts, &mut out).expect("writes");
         let text = String::from_utf8(out).expect("UTF-8");
@@ -184,6 +187,43 @@ fn a_telemetry_link_gives_sub_millisecond_syncs_to_every_legacy_side() {
         fc: FcProtocol::K40t,
         seconds: 10,
         telemetry: true,
+        pps: false,
     };
     assert!(demo::run(&opts, &mut Vec::new()).is_err());
+}
+
+/// `gimbal demo --pps`: every FC side's clock locks to the simulated GNSS pulse and its
+/// syncs are within a microsecond of the GNSS's UTC; the first PPS-locked sync comes
+/// within 12 s of the first labelled edge.
+#[test]
+fn a_gnss_pps_gives_sub_microsecond_syncs_on_every_side() {
+    for fc in [
+        FcProtocol::Siyi,
+        FcProtocol::Viewlink,
+        FcProtocol::Gcu,
+        FcProtocol::K40t,
+        FcProtocol::Mavlink,
+    ] {
+        let mut out = Vec::new();
+        let opts = DemoOptions {
+            fc,
+            seconds: 60,
+            telemetry: false,
+            pps: true,
+        };
+        let s = demo::run(&opts, &mut out).expect("writes");
+        let text = String::from_utf8(out).expect("UTF-8");
+        assert!(s.pps, "{s:?}");
+        let (edge, sync) = (
+            s.pps_first_edge_at_s.expect("locked"),
+            s.first_pps_sync_at_s.expect("a PPS-locked sync"),
+        );
+        assert!(sync > edge && sync - edge <= 12.0, "{s:?}");
+        assert!(s.syncs >= 4 && s.syncs_applied == s.syncs, "{s:?}");
+        // After the lock: under a microsecond (before it, the FC's UTC alone).
+        assert!(text.contains("PPS locked"), "{text}");
+        assert!(text.contains("against the GNSS's UTC"), "{text}");
+        assert_eq!(s.geotags_answered, s.geotags_requested, "{s:?}");
+        assert_eq!((s.frames_dropped, s.records_dropped), (0, 0), "{s:?}");
+    }
 }

@@ -20,6 +20,7 @@ const TICK: u64 = 10_000;
 const BRIDGE_COMPONENT: u8 = 158;
 const HEARTBEAT: u32 = 0;
 const TIMESYNC: u32 = 111;
+const CAMERA_IMAGE_CAPTURED: u32 = 263;
 
 /// The SIYI port's settings.
 fn autopilot() -> ApSiyiConfig {
@@ -109,6 +110,17 @@ fn the_telemetry_link_comes_up_and_becomes_the_time_source() {
     assert!(ap_first_hb < first_hb);
     assert!(from_bridge(TIMESYNC).count() > 0, "TIMESYNC requests");
     assert!(o.wires.tel_out.bytes > 1_000 && o.wires.tel_in.bytes > 1_000);
+    // The photo, as the autopilot can forward and log it: one CAMERA_IMAGE_CAPTURED
+    // after the engine's photo event.
+    let photo_at = o
+        .events()
+        .find_map(|(t, e)| matches!(e, Event::Photo { .. }).then_some(t))
+        .expect("a photo event");
+    let captured: Vec<u64> = from_bridge(CAMERA_IMAGE_CAPTURED)
+        .map(|(t, _, _)| *t)
+        .collect();
+    assert_eq!(captured.len(), 1, "{captured:?}");
+    assert!(captured[0] >= photo_at && captured[0] < photo_at + S);
     syncs_and_geotag(&o);
 }
 

@@ -110,6 +110,27 @@
 //! `None`. [`TimeDiscipline::utc`] and [`TimeDiscipline::local_of`] also refuse instants
 //! beyond that horizon.
 //!
+//! # PPS
+//! With a GNSS receiver's pulse-per-second on the bridge ([`TimeDiscipline::pps_edge`],
+//! each edge the local instant a timer captured, in nanoseconds), the samples above only
+//! *name* the seconds: each edge is labelled with the UTC second of the FC's mapping at
+//! it, checked (the mapping must put the edge within [`PpsConfig::label_tolerance`] plus
+//! its own error bound of a whole second, and that bound plus the distance under half a
+//! second, so that no edge is given a neighbouring second), or, once edges are taken,
+//! with the second the PPS line names (a missing pulse keeps the count; an FC whose UTC
+//! names another second is a conflict, and five in a row restart the PPS estimator from
+//! the FC's label). A least-squares line over the last 16 edges (`pps.rs`) gives rate
+//! and phase; after [`PpsConfig::lock_edges`] consistent edges the mapping is that line
+//! (locked), and `utc`, `local_of` and the sync plan follow it to the nanosecond
+//! ([`TimeDiscipline::local_of_ns`]).
+//!
+//! Without an edge for [`PpsConfig::timeout`] the lock is lost: the line runs on
+//! (holdover), its error bound growing at [`PpsConfig::holdover_ppm`] from the last edge,
+//! for at most [`PpsConfig::holdover`]. When the FC's mapping believes itself better than
+//! that bound, the mapping hands back to it without a step: it slews from the PPS line to
+//! the FC's at [`PpsConfig::handback_slew_ppm`]. Without any PPS edge nothing of this
+//! runs and the discipline is the one above.
+//!
 //! # Known limits
 //! - A constant delay the caller does not report ([`Sample::transit`]) appears as a
 //!   constant bias: e.g. a GPS receiver's output latency before the GCU's time of week
@@ -123,16 +144,22 @@
 mod config;
 mod estimator;
 mod fc_offset;
+mod pps;
+mod pps_path;
+#[cfg(test)]
+mod pps_tests;
 mod sample;
 #[cfg(test)]
 mod tests;
 
 pub use config::DisciplineConfig;
+pub use pps::{PPS_EDGES, PpsConfig, PpsVerdict};
 pub use sample::{Sample, serial_time};
 
-use super::time::{Duration, Instant, UtcTime};
+use super::time::{Duration, Instant, InstantNs, UtcTime};
 use estimator::{ClockEstimator, Fed, Fit, Line, Point};
 use fc_offset::FcOffset;
+use pps::PpsEstimator;
 use sample::{local_x, point};
 
 /// Number of bins in each clock estimator's window.
@@ -229,6 +256,35 @@ enum Path {
     ViaFc,
 }
 
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Where the PPS path stands.
+    pub enum PpsState {
+        /// No PPS edges (or their line is no longer used): the FC's mapping.
+        Off,
+        /// Locked to the edges: the mapping is the PPS line.
+        Locked,
+        /// The edges stopped: the PPS line runs on at its last rate.
+        Holdover,
+    }
+}
+
+/// The hand-back from the PPS line to the FC's mapping: the offset (local − UTC, µs) is
+/// the FC's plus what is left of `d0`, which shrinks at the slew rate from `x0`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Slew {
+    x0: i64,
+    d0: i64,
+}
+
+/// Which mapping `utc` and `local_of` give.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Using {
+    Fc,
+    Pps,
+    Slew(Slew),
+}
+
 /// The local clock ↔ UTC mapping: see the [module documentation](self).
 ///
 /// Fixed size, no allocation (`size_of::<TimeDiscipline>()`: about 1.5 KB on a 64-bit
@@ -257,6 +313,11 @@ pub struct TimeDiscipline {
     reported: DisciplineState,
     /// Latest local instant seen (sample or poll).
     now: Instant,
+    pps_config: PpsConfig,
+    pps: PpsEstimator,
+    using: Using,
+    /// The PPS state as last reported by [`TimeDiscipline::poll_pps`].
+    pps_reported: PpsState,
 }
 
 impl Default for TimeDiscipline {
@@ -281,7 +342,18 @@ impl TimeDiscipline {
             state: DisciplineState::Unknown,
             reported: DisciplineState::Unknown,
             now: Instant::ZERO,
+            pps_config: PpsConfig::DEFAULT,
+            pps: PpsEstimator::new(),
+            using: Using::Fc,
+            pps_reported: PpsState::Off,
         }
+    }
+
+    /// The same discipline with the PPS path's settings `pps`.
+    #[must_use]
+    pub const fn with_pps(mut self, pps: PpsConfig) -> Self {
+        self.pps_config = pps;
+        self
     }
 
     /// The settings.
@@ -290,17 +362,23 @@ impl TimeDiscipline {
         &self.config
     }
 
-    /// The state as of the last sample or [`poll`](Self::poll).
+    /// The state as of the last sample, edge or [`poll`](Self::poll).
     #[must_use]
-    pub const fn state(&self) -> DisciplineState {
-        self.state
+    pub fn state(&self) -> DisciplineState {
+        match self.using {
+            Using::Pps if self.pps.locked || self.state == DisciplineState::Valid => {
+                DisciplineState::Valid
+            }
+            Using::Pps => DisciplineState::Holdover,
+            Using::Fc | Using::Slew(_) => self.state,
+        }
     }
 
-    /// The mapping comes from a converged fit (else it is a first mapping, or there is
-    /// none).
+    /// The mapping comes from a converged fit or the PPS line (else it is a first
+    /// mapping, or there is none).
     #[must_use]
     pub fn is_converged(&self) -> bool {
-        self.output.is_some_and(|o| o.converged)
+        self.using == Using::Pps || self.output.is_some_and(|o| o.converged)
     }
 
     /// A direct UTC sample (Viewlink M_AHRS, GCU GPS time converted to UTC, K40T FC
@@ -568,15 +646,18 @@ impl TimeDiscipline {
     /// report, once. Call it at least at [`poll_at`](Self::poll_at).
     pub fn poll(&mut self, now: Instant) -> Option<Transition> {
         self.advance(now);
-        if self.state == self.reported && !self.replaced {
+        let state = self.state();
+        // A replaced FC mapping is no news while the PPS line is the mapping.
+        let replaced = core::mem::take(&mut self.replaced) && self.using == Using::Fc;
+        if state == self.reported && !replaced {
             return None;
         }
         let t = Transition {
             from: self.reported,
-            to: self.state,
-            replaced: core::mem::take(&mut self.replaced),
+            to: state,
+            replaced,
         };
-        self.reported = self.state;
+        self.reported = state;
         Some(t)
     }
 
@@ -584,12 +665,12 @@ impl TimeDiscipline {
     /// Lost), if any.
     #[must_use]
     pub fn poll_at(&self) -> Option<Instant> {
-        let fresh = self.last_fresh?;
-        match self.state {
+        let fc = self.last_fresh.and_then(|fresh| match self.state {
             DisciplineState::Valid => Some(fresh.saturating_add(self.config.sample_timeout)),
             DisciplineState::Holdover => Some(fresh.saturating_add(self.config.holdover)),
             _ => None,
-        }
+        });
+        [fc, self.pps_poll_at()].into_iter().flatten().min()
     }
 
     fn advance(&mut self, now: Instant) {
@@ -635,6 +716,7 @@ impl TimeDiscipline {
             }
         });
         self.state = state;
+        self.advance_pps();
     }
 
     /// The furthest local instant the mapping may be used at.
@@ -644,8 +726,31 @@ impl TimeDiscipline {
     }
 
     /// UTC at local instant `local`, or `None` unless the state is usable and `local`
-    /// is within the holdover horizon of the last fresh sample.
+    /// is within the holdover horizon of the last fresh sample (of the last PPS edge,
+    /// while the PPS line is the mapping).
+    #[must_use]
     pub fn utc(&self, local: Instant) -> Option<UtcTime> {
+        let x = i64::try_from(local.as_micros()).ok()?;
+        match self.using {
+            Using::Fc => self.fc_utc(local),
+            Using::Pps => {
+                let ns = self.pps_utc_ns(x.checked_mul(1_000)?)?;
+                u64::try_from(div_round_i128(ns, 1_000)?)
+                    .ok()
+                    .map(UtcTime::from_unix_micros)
+            }
+            Using::Slew(s) => {
+                let fc = self.fc_utc(local)?.as_unix_micros();
+                let left = self.slew_left(s, x);
+                u64::try_from(i128::from(fc).checked_sub(i128::from(left))?)
+                    .ok()
+                    .map(UtcTime::from_unix_micros)
+            }
+        }
+    }
+
+    /// The FC's mapping: UTC at `local`.
+    fn fc_utc(&self, local: Instant) -> Option<UtcTime> {
         if !self.state.is_usable() {
             return None;
         }
@@ -659,7 +764,31 @@ impl TimeDiscipline {
 
     /// The local instant at which UTC is `utc` (the inverse of [`utc`](Self::utc)),
     /// with the same validity conditions.
+    #[must_use]
     pub fn local_of(&self, utc: UtcTime) -> Option<Instant> {
+        match self.using {
+            Using::Fc => self.fc_local_of(utc),
+            Using::Pps => self.local_of_ns(utc).map(|at| {
+                // To the nearest microsecond.
+                InstantNs::from_nanos(at.as_nanos().saturating_add(500)).instant()
+            }),
+            Using::Slew(s) => {
+                // x = fc⁻¹(utc + left(x)): the slew moves `left` by 100 µs a second at most,
+                // so three rounds settle it.
+                let mut x = self.fc_local_of(utc)?;
+                for _ in 0..3 {
+                    let left = self.slew_left(s, i64::try_from(x.as_micros()).ok()?);
+                    let r = i128::from(utc.as_unix_micros()).checked_add(i128::from(left))?;
+                    let r = UtcTime::from_unix_micros(u64::try_from(r).ok()?);
+                    x = self.fc_local_of(r)?;
+                }
+                Some(x)
+            }
+        }
+    }
+
+    /// The FC's mapping: the local instant at which UTC is `utc`.
+    fn fc_local_of(&self, utc: UtcTime) -> Option<Instant> {
         if !self.state.is_usable() {
             return None;
         }
@@ -677,10 +806,34 @@ impl TimeDiscipline {
     /// [`DisciplineConfig::delay_margin`]), plus (SIYI) that of the UTC − FC-clock
     /// offset, plus the rate uncertainty ([`DisciplineConfig::fit_drift_ppm`] once
     /// converged, [`DisciplineConfig::quick_drift_ppm`] before) times the time from the
-    /// mapping's anchor. `None` when there is no usable UTC at `local`.
+    /// mapping's anchor; while the PPS line is the mapping, its own bound (see
+    /// [`PpsConfig::holdover_ppm`]), rounded up to the microsecond; while slewing back,
+    /// the FC's plus what is left of the slew. `None` when there is no usable UTC at
+    /// `local`.
     #[must_use]
     pub fn error_bound(&self, local: Instant) -> Option<Duration> {
         self.utc(local)?;
+        let x = i64::try_from(local.as_micros()).ok()?;
+        match self.using {
+            Using::Fc => self.fc_error_bound(local),
+            Using::Pps => {
+                let ns = self.pps_error_bound_ns(x)?;
+                let us = u64::try_from(ns.div_ceil(1_000)).ok()?;
+                Some(Duration::from_micros(us))
+            }
+            Using::Slew(s) => {
+                let left = self.slew_left(s, x).unsigned_abs();
+                Some(
+                    self.fc_error_bound(local)?
+                        .saturating_add(Duration::from_micros(left)),
+                )
+            }
+        }
+    }
+
+    /// The error bound of the FC's mapping at `local`.
+    fn fc_error_bound(&self, local: Instant) -> Option<Duration> {
+        self.fc_utc(local)?;
         let fit = self.output?;
         let x = i64::try_from(local.as_micros()).ok()?;
         let age = x.checked_sub(fit.line.x0)?.unsigned_abs();
@@ -697,10 +850,21 @@ impl TimeDiscipline {
     /// billion (positive: the local clock runs fast), if a mapping exists.
     #[must_use]
     pub fn drift_ppb(&self) -> Option<i64> {
+        if self.using == Using::Pps {
+            return self.pps.line?.drift_ppb();
+        }
         let l = self.output?.line;
         let v = i128::from(l.dy)
             .checked_mul(1_000_000_000)?
             .checked_div(i128::from(l.dx))?;
         i64::try_from(v).ok()
     }
+}
+
+/// `num/den` rounded to the nearest (`den > 0`).
+fn div_round_i128(num: i128, den: i128) -> Option<i128> {
+    if den <= 0 {
+        return None;
+    }
+    num.checked_add(den / 2)?.checked_div_euclid(den)
 }

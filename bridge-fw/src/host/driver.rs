@@ -20,6 +20,12 @@ pub(super) fn real_now() -> u64 {
     u64::try_from(origin.elapsed().as_micros()).unwrap_or(u64::MAX)
 }
 
+/// Nanoseconds of real time since the origin.
+pub(super) fn real_now_ns() -> u64 {
+    let origin = ORIGIN.get_or_init(std::time::Instant::now);
+    u64::try_from(origin.elapsed().as_nanos()).unwrap_or(u64::MAX)
+}
+
 /// One thread's clock.
 struct ThreadClock {
     clock: Clock,

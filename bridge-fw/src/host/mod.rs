@@ -46,14 +46,15 @@ use std::task::{Context, Poll, Wake, Waker};
 use std::thread::Thread;
 
 use bridge_engine::{Engine, Instant, Level, Port};
-use embassy_futures::join::{join, join5};
+use embassy_futures::join::{join3, join5};
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::pipe::Pipe;
 use embassy_time::Duration;
 use embedded_hal::digital::{ErrorType, OutputPin};
 
 use crate::{
-    BridgeEngine, EventSink, Heartbeat, Shared, engine_task, link, log_task, watchdog_task,
+    BridgeEngine, EventSink, Heartbeat, NoPps, PpsInput, RtcIo, Shared, engine_task, link,
+    log_task, pps_task, watchdog_task,
 };
 
 /// Which time the executor loop runs on.
@@ -163,7 +164,26 @@ pub async fn bridge<E, P, S, F>(
 ) -> !
 where
     E: BridgeEngine,
-    P: OutputPin,
+    P: RtcIo,
+    S: EventSink,
+    F: FnMut(),
+{
+    bridge_with_pps(shared, links, rtc_io, NoPps, sink, feed).await
+}
+
+/// [`bridge`] with a PPS input: its edges go to the engine ([`pps_task`]).
+pub async fn bridge_with_pps<E, P, Q, S, F>(
+    shared: &HostShared<E>,
+    links: &HostLinks,
+    rtc_io: P,
+    pps: Q,
+    sink: S,
+    feed: F,
+) -> !
+where
+    E: BridgeEngine,
+    P: RtcIo,
+    Q: PpsInput,
     S: EventSink,
     F: FnMut(),
 {
@@ -174,7 +194,7 @@ where
             None => core::future::pending::<()>().await,
         }
     };
-    let ((never, _, _, _, _), ()) = join(
+    let ((never, _, _, _, _), (), _) = join3(
         join5(
             link(shared, Port::Fc, &links.fc_rx, &links.fc_tx),
             link(shared, Port::Pod, &links.pod_rx, &links.pod_tx),
@@ -183,6 +203,7 @@ where
             watchdog_task(shared, WATCHDOG_PERIOD, supervised, feed),
         ),
         telemetry,
+        pps_task(shared, pps),
     )
     .await;
     never
@@ -253,6 +274,13 @@ pub fn run<F: Future>(clock: Clock, make: impl FnOnce() -> F) -> F::Output {
     };
     driver::set_clock(previous);
     out
+}
+
+/// The process's real clock (what [`Clock::Real`] runs on), in nanoseconds since its
+/// first use: to map another clock's time stamps (the kernel's) to it.
+#[must_use]
+pub fn real_now_ns() -> u64 {
+    driver::real_now_ns()
 }
 
 /// [`run`] on real time: for plain threads that feed or drain the pipes.

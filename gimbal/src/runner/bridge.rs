@@ -9,9 +9,9 @@
 use core::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use bridge_engine::{Config, Duration, Engine};
+use bridge_engine::{Config, Duration, Engine, Event};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{LogRecord, Timing};
+use bridge_fw::{LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either4, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
 use serde_json::{Value, json};
@@ -19,8 +19,10 @@ use toml::Table;
 
 use super::events;
 use super::output::{Output, now_us, wants_status_line};
+use super::photos::{Photo, PhotoEvents};
 use super::pin::{GpioLine, RtcSpec, RunnerPin};
 use super::port::{self, CableFaults, Pump, port_baud, stats_json};
+use super::pps::{self as pps_in, ChannelPps, EdgeChannel, PipePps, PpsSpec, RunnerPps};
 use super::simfc::{AnyFc, system_utc_us};
 use super::trace::{TapRead, TapWrite, tap};
 use super::watch::{FcWatcher, PodWatcher};
@@ -199,6 +201,32 @@ pub async fn until_stopped(
     }
 }
 
+/// The photo of an engine `photo` event.
+fn photo_of(what: &LogKind) -> Option<Photo> {
+    match *what {
+        LogKind::Engine(Event::Photo {
+            utc_us,
+            lat_e7,
+            lon_e7,
+            alt_msl_dm,
+            rel_alt_dm,
+            yaw_cdeg,
+            roll_cdeg,
+            pitch_cdeg,
+        }) => Some(Photo {
+            utc_us,
+            lat_e7,
+            lon_e7,
+            alt_msl_dm,
+            rel_alt_dm,
+            yaw_cdeg,
+            pitch_cdeg,
+            roll_cdeg,
+        }),
+        _ => None,
+    }
+}
+
 fn secs_to_us(s: f64) -> u64 {
     // Within a year (checked when parsed): no overflow.
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
@@ -214,7 +242,10 @@ fn secs_to_us(s: f64) -> u64 {
 /// error: it is retried), or the options contradict each other.
 #[allow(clippy::too_many_lines)]
 pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, String> {
-    let (config, timing) = config_of(args)?;
+    let (mut config, timing) = config_of(args)?;
+    if let Some(p) = &args.pps {
+        config.pps.tolerance_ns = p.tolerance_ns();
+    }
     let links: &'static HostLinks = Box::leak(Box::new(if args.telemetry_port.is_some() {
         HostLinks::with_telemetry()
     } else {
@@ -241,6 +272,8 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             "telemetry_baud": args.telemetry_port.as_ref().map(|_| config.telemetry_baud),
             "sync_period_ms": config.sync.period.as_millis(),
             "sync_width_ms": config.sync.width.as_millis(),
+            "pps": args.pps.as_ref().map(ToString::to_string),
+            "photo_events": args.photo_events.as_ref().map(|p| p.display().to_string()),
             "fc_faults": args.fc_faults.map(|f| f.to_string()),
             "pod_faults": args.pod_faults.map(|f| f.to_string()),
             "version": env!("CARGO_PKG_VERSION"),
@@ -273,6 +306,47 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             .writer,
         ),
         _ => None,
+    };
+
+    // The PPS input: a kernel source's thread, the TCP test source's pump, or the
+    // simulated module; opened before any connection, as the RTC_IO outputs.
+    let pps = match &args.pps {
+        None => RunnerPps::None,
+        Some(PpsSpec::Sim) => {
+            let utc_at_zero = system_utc_us().saturating_sub(now_us());
+            let wiring = Box::leak(Box::new(pps_in::sim_wiring(
+                utc_at_zero,
+                config.pps.active_low,
+            )));
+            RunnerPps::Sim(crate::sim::pps_io::CapturedPps::new(wiring))
+        }
+        Some(PpsSpec::Tcp(spec)) => {
+            let pipe: &'static host::HostPipe = Box::leak(Box::new(host::HostPipe::new()));
+            port::start(Pump {
+                label: "pps",
+                spec: spec.clone(),
+                baud: 115_200,
+                out: out.clone(),
+                incoming: Some(pipe),
+                outgoing: None,
+                tap_in: None,
+                tap_out: None,
+                faults: None,
+            })?;
+            RunnerPps::Pipe(PipePps(pipe))
+        }
+        Some(spec) => {
+            let edges: &'static EdgeChannel = Box::leak(Box::new(EdgeChannel::new()));
+            pps_in::start(spec, edges, config.pps.active_low, out)?;
+            RunnerPps::Kernel(ChannelPps(edges))
+        }
+    };
+    let photos = match &args.photo_events {
+        Some(path) => Some(RefCell::new(
+            PhotoEvents::create(path, config.leap_seconds)
+                .map_err(|e| format!("--photo-events {}: {e}", path.display()))?,
+        )),
+        None => None,
     };
 
     // A faulty cable: threads' stages for a real port, wires for a simulator.
@@ -360,11 +434,17 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             tcp: rtc_tcp,
         };
         let sink = |r: &LogRecord| {
+            if let (Some(file), LogKind::Engine(Event::Photo { .. })) = (&photos, r.what)
+                && let Some(p) = photo_of(&r.what)
+                && let Err(e) = file.borrow_mut().push(&p)
+            {
+                out.emit("photo_events_error", json!({"error": e.to_string()}));
+            }
             let (t, name, fields) = events::record_event(r);
             status.borrow_mut().note(name);
             out.emit_at(t, name, fields);
         };
-        let bridge = host::bridge(&shared, links, pin, sink, || {});
+        let bridge = host::bridge_with_pps(&shared, links, pin, pps, sink, || {});
         let fc_peer = async {
             if args.fc_port.is_sim() {
                 run_peer(

@@ -66,6 +66,30 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             "geotag",
             json!({"time_of_day_ms": time_of_day_ms, "answered": answered}),
         ),
+        Event::Photo {
+            utc_us,
+            lat_e7,
+            lon_e7,
+            alt_msl_dm,
+            rel_alt_dm,
+            yaw_cdeg,
+            roll_cdeg,
+            pitch_cdeg,
+        } => (
+            "photo",
+            json!({
+                "utc_us": utc_us,
+                "lat_e7": lat_e7, "lon_e7": lon_e7,
+                "alt_msl_dm": alt_msl_dm, "rel_alt_dm": rel_alt_dm,
+                "yaw_cdeg": yaw_cdeg, "roll_cdeg": roll_cdeg, "pitch_cdeg": pitch_cdeg,
+            }),
+        ),
+        Event::PpsLocked { first_edge } => (
+            "pps_locked",
+            json!({"first_edge_us": first_edge.as_micros()}),
+        ),
+        Event::PpsHoldover => ("pps_holdover", json!({})),
+        Event::PpsReleased => ("pps_released", json!({})),
         Event::Translated { fc_id, pod_base } => (
             "translated",
             json!({"fc_id": fc_id, "pod_id": format!("0x{pod_base:06x}")}),

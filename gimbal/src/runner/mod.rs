@@ -1,13 +1,16 @@
 //! The Linux bridge runner behind `gimbal bridge`, `gimbal sim-fc` and `gimbal sim-pod`:
 //! ports (serial, TCP, simulators) pumped by std threads into the bridge's pipes, the
-//! RTC_IO output, and the events printed as text or JSON lines.
+//! RTC_IO output, the PPS input, the photo event file, and the events printed as text or
+//! JSON lines.
 
 pub mod bridge;
 pub mod events;
 pub mod options;
 pub mod output;
+pub mod photos;
 pub mod pin;
 pub mod port;
+pub mod pps;
 pub mod simfc;
 pub mod sims;
 pub mod trace;

@@ -19,6 +19,7 @@ use serde::{Serialize, Serializer};
 
 use crate::runner::pin::RtcSpec;
 use crate::runner::port::PortSpec;
+use crate::runner::pps::PpsSpec;
 use crate::sim::faults::Faults;
 use crate::sim::pod::AckSeq;
 
@@ -135,6 +136,19 @@ pub struct BridgeArgs {
     /// printed as `rtc_io` events.
     #[arg(long, value_name = "RTC", default_value = "log", value_parser = parse_rtc)]
     pub rtc_io: RtcSpec,
+    /// A GNSS module's pulse per second (its timepulse) to discipline the bridge's clock:
+    /// `gpiochipN:LINE[:active-low]` (a GPIO line's edge events, time-stamped by the
+    /// kernel), `/dev/ppsN` (the kernel PPS interface), `tcp:HOST:PORT` or
+    /// `tcp-listen:[HOST:]PORT` (a test source for emulators: one byte an edge), or `sim`
+    /// (the simulated GNSS module, with --fc-port sim). The FC's UTC names the seconds.
+    /// Default: no PPS.
+    #[arg(long, value_name = "SOURCE", value_parser = parse_pps)]
+    pub pps: Option<PpsSpec>,
+    /// Write a photo event file: one CSV row per photo the pod geotagged (UTC, GPS week
+    /// and seconds of week, latitude, longitude, altitude, attitude), for PPK and
+    /// photogrammetry tools (docs/src/linux-bridge.md).
+    #[arg(long, value_name = "FILE")]
+    pub photo_events: Option<PathBuf>,
     /// Event output format.
     #[arg(long, value_enum, default_value_t = EventFormat::Human)]
     pub events: EventFormat,
@@ -345,6 +359,11 @@ pub struct ConfigArgs {
     #[arg(long, value_name = "CM", value_parser = ranged::<u32>(Limit::LASER_MAX_DISTANCE_CM))]
     #[serde(rename = "laser.max_distance_cm")]
     pub laser_max_distance_cm: Option<u32>,
+    /// The GNSS module's pulse is active low: its on-time edge is the falling one (the
+    /// edge --pps takes).
+    #[arg(long)]
+    #[serde(rename = "pps.active_low", skip_serializing_if = "is_false")]
+    pub pps_active_low: bool,
     /// Advanced (tests, demos): local time covered by one bin of the UTC estimator, ms
     /// [default: 8000]. Smaller bins make UTC valid sooner after start, on fewer samples.
     #[arg(long, value_name = "MS", help_heading = "Time discipline (advanced)",
@@ -567,6 +586,10 @@ can stand for the autopilot's MAVLink port)"
 }
 
 fn parse_rtc(s: &str) -> Result<RtcSpec, String> {
+    s.parse()
+}
+
+fn parse_pps(s: &str) -> Result<PpsSpec, String> {
     s.parse()
 }
 

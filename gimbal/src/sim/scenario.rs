@@ -8,14 +8,20 @@
 //! firmware's UART does. The RTC_IO pin is applied exactly at the instant the engine
 //! names (the firmware's timer alarm) and seen by the pod at the same instant.
 //!
+//! With [`Scenario::with_pps`] a GNSS module's time pulse reaches the engine's PPS input
+//! ([`Engine::pps`](bridge_engine::Engine::pps)): each captured edge at the bridge's
+//! clock reading of its true instant, to the nanosecond; [`Scenario::pin_edges`] then
+//! hold the RTC_IO edges to the nanosecond too (the planned compare instant).
+//!
 //! Cables can fail: [`Scenario::fc_cut`] for good, [`Scenario::pull_fc_cable`] and
 //! [`Scenario::pull_pod_cable`] for a while, [`Scenario::set_fc_faults`] and
 //! [`Scenario::set_pod_faults`] for a noisy cable (a seeded [`Faults`] model in both
 //! directions).
 
-use bridge_engine::{Config, Engine, Event, Instant, Level, MAX_FRAME_LEN, Port};
+use bridge_engine::{Config, Engine, Event, Instant, InstantNs, Level, MAX_FRAME_LEN, Port};
 
 use super::faults::Faults;
+use super::gnss::GnssPps;
 use super::line::Line;
 use super::peer::Peer;
 use super::pod::SimPod;
@@ -47,6 +53,8 @@ pub struct PinEdge {
     pub at_us: u64,
     /// The level set.
     pub level: Level,
+    /// True time, ns: the planned instant to the nanosecond (a timer's compare).
+    pub at_ns: i128,
 }
 
 /// The engine, its peers and the four lines.
@@ -82,6 +90,10 @@ pub struct Scenario<F: Peer> {
     /// Never tell the engine the FC line went idle (a caller without idle detection, or
     /// one whose idle signal comes too late).
     pub fc_idle_off: bool,
+    /// The GNSS module on the PPS input ([`Scenario::with_pps`]).
+    pub pps: Option<GnssPps>,
+    /// True time (ns) of the last PPS edge handed to the engine.
+    pps_last_ns: Option<i128>,
 }
 
 impl<F: Peer> Scenario<F> {
@@ -103,7 +115,40 @@ impl<F: Peer> Scenario<F> {
             fc_cut_until_us: 0,
             pod_cut_until_us: 0,
             fc_idle_off: false,
+            pps: None,
+            pps_last_ns: None,
         }
+    }
+
+    /// The same scenario with `gnss`'s time pulse on the bridge's PPS input (the edge
+    /// the bridge's configuration names, `[pps] active_low`).
+    #[must_use]
+    pub fn with_pps(mut self, gnss: GnssPps) -> Self {
+        self.pps = Some(gnss);
+        self
+    }
+
+    /// The bridge's clock (ns) at true time `t_ns`.
+    #[must_use]
+    pub fn local_ns(&self, t_ns: i128) -> i128 {
+        t_ns + t_ns * i128::from(self.bridge_ppm) / 1_000_000 + 1_000_000_000
+    }
+
+    /// The true time (ns) at which the bridge's clock reads `local_ns`.
+    #[must_use]
+    pub fn true_of_ns(&self, local_ns: i128) -> i128 {
+        (local_ns - 1_000_000_000) * 1_000_000 / (1_000_000 + i128::from(self.bridge_ppm))
+    }
+
+    /// The next PPS edge the bridge captures: (true µs it is handed over, its local ns,
+    /// its true ns).
+    fn next_pps(&self) -> Option<(u64, InstantNs, i128)> {
+        let g = self.pps.as_ref()?;
+        let from = self.pps_last_ns.map_or(0, |t| t + 1);
+        let (_, t) = g.next_edge(from, self.engine.config().pps.active_low)?;
+        let local = u64::try_from(self.local_ns(t)).ok()?;
+        let due = u64::try_from(t.div_euclid(1_000) + 1).ok()?;
+        Some((due, InstantNs::from_nanos(local), t))
     }
 
     /// The bridge's clock at true time `t_us` (starting at 1 s, so it is never 0).
@@ -203,6 +248,7 @@ impl<F: Peer> Scenario<F> {
             self.engine
                 .pending(Port::Pod)
                 .map(|_| self.to_pod_line.busy_until()),
+            self.next_pps().map(|(due, _, _)| due),
         ]
         .into_iter()
         .flatten()
@@ -237,15 +283,24 @@ impl<F: Peer> Scenario<F> {
         if !bytes.is_empty() && !self.pod_is_cut() {
             self.pod.receive(now, &bytes);
         }
+        // The PPS edges captured up to now.
+        while let Some((_, edge, t)) = self.next_pps().filter(|(due, _, _)| *due <= now) {
+            self.pps_last_ns = Some(t);
+            self.engine.pps(edge);
+            self.drain_engine();
+        }
         // RTC_IO at the instant the engine names.
         while let Some(p) = self.engine.pin().filter(|p| p.at <= local) {
             let at = self.true_of(p.at);
+            let at_ns =
+                self.true_of_ns(i128::from(p.at.as_micros()) * 1_000 + i128::from(p.sub_us_ns));
             if !self.pod_is_cut() {
                 self.pod.rtc_edge(at, p.level == Level::High);
             }
             self.pin_edges.push(PinEdge {
                 at_us: at,
                 level: p.level,
+                at_ns,
             });
             self.engine.pin_done(p.level, p.at);
             self.drain_engine();
@@ -334,6 +389,44 @@ mod tests {
         s.run_for(2_000_000);
         assert!(s.engine.pod_state().link);
         assert!(s.pod.received_count(GimbalVersionQuery::ID.to_u32()) > before);
+    }
+
+    /// A GNSS PPS on the engine's input: the clock locks, and the RTC_IO edges are
+    /// within a microsecond of the GNSS's UTC they carry.
+    #[test]
+    fn a_pps_locks_the_edges_to_the_gnss_seconds() {
+        use crate::sim::ap_xfrobot::{ApXfRobot, ApXfRobotConfig};
+        use crate::sim::gnss::GnssPpsConfig;
+        let utc0 = 1_795_428_000_123_456;
+        let fc = ApXfRobot::new(ApXfRobotConfig {
+            utc_at_zero_us: utc0,
+            ..ApXfRobotConfig::default()
+        });
+        let gnss = GnssPps::new(GnssPpsConfig {
+            utc_at_zero_us: utc0,
+            ..GnssPpsConfig::default()
+        });
+        let pod = SimPod::new(PodSimConfig::default());
+        let mut s = Scenario::new(Config::for_fc(bridge_engine::FcProtocol::Gcu), fc, pod, -25)
+            .with_pps(gnss.clone());
+        s.run_until(60_000_000);
+        assert!(
+            s.events_where(|e| matches!(e, Event::PpsLocked { .. }))
+                .len()
+                == 1
+        );
+        let syncs = s.pod.syncs();
+        assert!(syncs.len() >= 4, "{syncs:?}");
+        for sync in &syncs[1..] {
+            let edge = s
+                .pin_edges
+                .iter()
+                .find(|p| p.level == Level::High && Some(p.at_us) == sync.edge_us)
+                .unwrap();
+            let err = i128::from(sync.unix_ms) * 1_000_000 - gnss.utc_ns(edge.at_ns);
+            assert!(err.abs() < 1_000, "{err} ns");
+        }
+        assert!(s.engine.counters().pps_edges >= 55);
     }
 
     #[test]

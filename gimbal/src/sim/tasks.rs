@@ -21,15 +21,19 @@
 //! to the pod through [`PodPin`]; every record of the tasks' log (engine events, pin
 //! changes, edge-to-frame delays) is kept.
 //!
+//! With [`Bench::with_pps`] a simulated GNSS module's time pulse reaches the bridge's
+//! PPS input and RTC_IO is the board's timer compare ([`super::pps_io`]): every edge is
+//! recorded to the nanosecond ([`Outcome::rtc_edges_ns`]).
+//!
 //! A [`Bench`] runs once ([`Bench::run`]): virtual time starts at 0 with each run. A
 //! script called every tick acts on the peers and the wires while the tasks run.
 
 use core::cell::RefCell;
 use core::convert::Infallible;
 
-use bridge_engine::{Config, Engine, Event, Level};
+use bridge_engine::{Config, Engine, Event, InstantNs, Level};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{LogKind, LogRecord, Timing};
+use bridge_fw::{LogKind, LogRecord, NoPps, RtcIo, Timing};
 use embassy_futures::select::{Either3, select3};
 use embassy_time::{Duration, Instant as EmbassyInstant, Timer};
 use embedded_io_async::{ErrorType, Read, Write};
@@ -38,6 +42,7 @@ use super::faults::{Damage, Faults};
 use super::peer::{Peer, PodPin, now_us, run_peer};
 use super::pilot::Pilot;
 use super::pod::{PodSimConfig, SimPod};
+use super::pps_io::{CapturedPps, ComparePin, PpsWiring};
 use super::scenario::SilentFc;
 
 /// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
@@ -311,7 +316,11 @@ pub struct Bench<P: Pilot, T: Peer = SilentFc> {
     pub telemetry: Option<RefCell<T>>,
     /// The four directions (six with a telemetry peer).
     pub wires: Wires,
+    /// The GNSS module on the PPS input ([`Bench::with_pps`]; `None`: no PPS, RTC_IO a
+    /// pin set at the alarm).
+    pub pps: Option<PpsWiring>,
     records: RefCell<Vec<LogRecord>>,
+    rtc_edges: RefCell<Vec<(Level, InstantNs)>>,
     shared: HostShared,
     links: HostLinks,
 }
@@ -334,6 +343,11 @@ pub struct Outcome<P, T = SilentFc> {
     pub engine: Engine,
     /// Virtual time at the end, µs.
     pub end_us: u64,
+    /// The GNSS module and crystal of a bench with PPS.
+    pub pps: Option<PpsWiring>,
+    /// With PPS: every RTC_IO change at the bridge's local instant the timer compare made
+    /// it (ns).
+    pub rtc_edges_ns: Vec<(Level, InstantNs)>,
 }
 
 impl<P: Pilot> Bench<P> {
@@ -372,10 +386,20 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
             pod: RefCell::new(pod),
             telemetry: telemetry.map(RefCell::new),
             wires: Wires::default(),
+            pps: None,
             records: RefCell::new(Vec::new()),
+            rtc_edges: RefCell::new(Vec::new()),
             shared: HostShared::new(Engine::new(config), Timing::from_config(&config)),
             links,
         }
+    }
+
+    /// The same bench with `wiring`'s GNSS module on the bridge's PPS input and RTC_IO
+    /// driven as the board's timer compare drives it.
+    #[must_use]
+    pub fn with_pps(mut self, wiring: PpsWiring) -> Self {
+        self.pps = Some(wiring);
+        self
     }
 
     /// Runs `f` on the engine (for a script: read its state, its counters).
@@ -393,12 +417,43 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
     ///
     /// # Panics
     /// When a peer's stream fails (it never does on pipes).
-    pub fn run(
-        self,
+    pub fn run(self, end_us: u64, tick_us: u64, script: impl FnMut(&Self, u64)) -> Outcome<P, T> {
+        match &self.pps {
+            Some(wiring) => {
+                let wiring = wiring.clone();
+                let pin = ComparePin::new(PodPin::new(&self.pod), &self.rtc_edges);
+                self.run_with(pin, CapturedPps::new(&wiring), end_us, tick_us, script);
+            }
+            None => {
+                let pin = PodPin::new(&self.pod);
+                self.run_with(pin, NoPps, end_us, tick_us, script);
+            }
+        }
+        let engine = self.shared.with(|e| e.clone());
+        let records_dropped = self.shared.records_dropped();
+        Outcome {
+            fc: self.fc.into_inner(),
+            pod: self.pod.into_inner(),
+            telemetry: self.telemetry.map(RefCell::into_inner),
+            wires: self.wires.into_inner(),
+            records: self.records.into_inner(),
+            records_dropped,
+            engine,
+            end_us,
+            pps: self.pps,
+            rtc_edges_ns: self.rtc_edges.into_inner(),
+        }
+    }
+
+    /// [`Bench::run`] with this RTC_IO output and PPS input.
+    fn run_with(
+        &self,
+        rtc_io: impl RtcIo,
+        pps: impl bridge_fw::PpsInput,
         end_us: u64,
         tick_us: u64,
         mut script: impl FnMut(&Self, u64),
-    ) -> Outcome<P, T> {
+    ) {
         let baud = (
             self.config.fc_baud,
             self.config.pod_baud,
@@ -406,13 +461,7 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
         );
         host::run(Clock::Virtual, || async {
             let sink = |r: &LogRecord| self.records.borrow_mut().push(*r);
-            let bridge = host::bridge(
-                &self.shared,
-                &self.links,
-                PodPin::new(&self.pod),
-                sink,
-                || {},
-            );
+            let bridge = host::bridge_with_pps(&self.shared, &self.links, rtc_io, pps, sink, || {});
             let fc = run_peer(
                 &self.fc,
                 WireRx::new(&self.links.fc_tx, &self.wires.fc_out),
@@ -442,7 +491,7 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
             let clock = async {
                 let mut t = 0;
                 while t < end_us {
-                    script(&self, t);
+                    script(self, t);
                     t = (t + tick_us.max(1)).min(end_us);
                     Timer::at(EmbassyInstant::from_micros(t)).await;
                 }
@@ -461,18 +510,6 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
                 Either3::Third(()) => {}
             }
         });
-        let engine = self.shared.with(|e| e.clone());
-        let records_dropped = self.shared.records_dropped();
-        Outcome {
-            fc: self.fc.into_inner(),
-            pod: self.pod.into_inner(),
-            telemetry: self.telemetry.map(RefCell::into_inner),
-            wires: self.wires.into_inner(),
-            records: self.records.into_inner(),
-            records_dropped,
-            engine,
-            end_us,
-        }
     }
 }
 

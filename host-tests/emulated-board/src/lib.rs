@@ -11,7 +11,7 @@
 //! and a script that drives the FC and checks, in order: the firmware boots as that side,
 //! the FC simulator reaches healthy, a command reaches the pod with the right fields,
 //! telemetry from the pod comes back to the FC simulator, [`SYNCS`] times an RTC_IO High
-//! edge (GPIOD pin 14 in the trace) precedes a valid 0x00030E on the pod socket that
+//! edge (GPIOA pin 2 in the trace) precedes a valid 0x00030E on the pod socket that
 //! carries the FC's UTC at the edge within 30 ms, the bytes on both links were all valid
 //! and QEMU still runs.
 //!
@@ -107,10 +107,18 @@ impl Side {
         self == Side::Siyi
     }
 
+    /// The scenario also feeds the PPS test source (a byte on USART1, QEMU's first
+    /// `-serial`, at each whole second of the FC's UTC; the firmware takes it for an edge):
+    /// the GCU side, whose own time is the coarsest.
+    #[must_use]
+    pub fn pps(self) -> bool {
+        self == Side::Gcu
+    }
+
     /// Checks of a complete scenario of this side.
     #[must_use]
     pub fn checks(self) -> usize {
-        CHECKS + usize::from(self.telemetry())
+        CHECKS + usize::from(self.telemetry()) + usize::from(self.pps())
     }
 
     /// The strap levels that select this side (A, B, then C when grounded; `0` grounded,
@@ -143,8 +151,8 @@ pub struct Options {
 /// Time syncs each scenario checks (one every 10 s from the first).
 pub const SYNCS: usize = 3;
 
-/// How many checks a complete scenario has (one more with the telemetry link:
-/// [`Side::telemetry`]).
+/// How many checks a complete scenario has (one more with the telemetry link,
+/// [`Side::telemetry`], and one more with the PPS source, [`Side::pps`]).
 pub const CHECKS: usize = 7;
 
 /// Runs the scenario of `side`. Never panics on what QEMU or the firmware do: every

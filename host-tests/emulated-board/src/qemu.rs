@@ -1,7 +1,8 @@
 //! QEMU's process and sockets: the machine started with the firmware, the side's straps on
-//! its semihosting command line, UART4 (FC), USART2 (pod) and LPUART1 (telemetry) on
-//! Unix-socket chardevs and its GPIO trace in a file; two threads per socket move the
-//! bytes between the socket and the host pipes of `bridge_fw::host`.
+//! its semihosting command line, UART4 (FC), USART2 (pod), LPUART1 (telemetry) and USART1
+//! (the PPS test source) on Unix-socket chardevs and its GPIO trace in a file; two threads
+//! per socket move the bytes between the socket and the host pipes of `bridge_fw::host`
+//! (one, host to QEMU, for the PPS source).
 
 use core::cell::RefCell;
 use std::fs::File;
@@ -130,6 +131,8 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
     }
     let (fc_sock, pod_sock) = (o.work.join("fc.sock"), o.work.join("pod.sock"));
     let tel_sock = o.work.join("telemetry.sock");
+    let pps_sock = o.work.join("pps.sock");
+    let _ = std::fs::remove_file(&pps_sock);
     let _ = std::fs::remove_file(&fc_sock);
     let _ = std::fs::remove_file(&pod_sock);
     let _ = std::fs::remove_file(&tel_sock);
@@ -147,8 +150,8 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
     };
     let chardev =
         |id: &str, p: &Path| format!("socket,id={id},path={},server=on,wait=off", p.display());
-    // -serial maps in order to USART1, USART2 (pod), USART3, UART4 (FC), UART5 and
-    // LPUART1 (telemetry).
+    // -serial maps in order to USART1 (the PPS test source), USART2 (pod), USART3, UART4
+    // (FC), UART5 and LPUART1 (telemetry).
     let mut qemu_cmd = Command::new(&o.qemu);
     qemu_cmd
         .args([
@@ -166,8 +169,17 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         .arg("-chardev")
         .arg(chardev("pod", &pod_sock))
         .arg("-chardev")
-        .arg(chardev("fc", &fc_sock))
-        .args(["-serial", "null", "-serial", "chardev:pod"])
+        .arg(chardev("fc", &fc_sock));
+    if side.pps() {
+        qemu_cmd
+            .arg("-chardev")
+            .arg(chardev("pps", &pps_sock))
+            .args(["-serial", "chardev:pps"]);
+    } else {
+        qemu_cmd.args(["-serial", "null"]);
+    }
+    qemu_cmd
+        .args(["-serial", "chardev:pod"])
         .args(["-serial", "null", "-serial", "chardev:fc"]);
     if side.telemetry() {
         qemu_cmd
@@ -213,7 +225,23 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
     } else {
         None
     };
-    for s in [&pod_stream, &fc_stream].into_iter().chain(&tel_stream) {
+    let pps_stream = if side.pps() {
+        match connect(&pps_sock, &mut qemu, deadline) {
+            Ok(s) => Some(s),
+            Err(e) => {
+                fail(&mut outcome, "boots", e);
+                return outcome;
+            }
+        }
+    } else {
+        None
+    };
+    let pps_pipe = HostPipe::new();
+    for s in [&pod_stream, &fc_stream]
+        .into_iter()
+        .chain(&tel_stream)
+        .chain(&pps_stream)
+    {
         let _ = s.set_read_timeout(Some(StdDuration::from_millis(100)));
     }
 
@@ -235,9 +263,14 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
             scope.spawn(move || pump_in(ts, &t.tx, st));
             scope.spawn(move || pump_out(ts, &t.rx, st));
         }
+        let pps = pps_stream.as_ref().map(|ps| {
+            let pipe = &pps_pipe;
+            scope.spawn(move || pump_out(ps, pipe, st));
+            pipe
+        });
         // The pumps stop however `drive` ends (a panic too: the scope joins them).
         let _stop = StopOnDrop(st);
-        drive::<F>(side, &links, &qemu, &qemu_out, &trace, deadline)
+        drive::<F>(side, &links, pps, &qemu, &qemu_out, &trace, deadline)
     });
     outcome.checks = checks;
     outcome.wall = start.elapsed();

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant as StdInstant;
 
-use bridge_fw::host::{self, Clock, HostLinks};
+use bridge_fw::host::{self, Clock, HostLinks, HostPipe};
 use embassy_futures::select::{Either, select, select3};
 use embassy_time::{Duration, Timer};
 use protocol_core::k40t::{
@@ -197,6 +197,7 @@ fn pod_config() -> PodSimConfig {
 pub(crate) fn drive<F: FcUnderTest>(
     side: Side,
     links: &HostLinks,
+    pps: Option<&HostPipe>,
     qemu: &RefCell<Qemu>,
     qemu_out: &Path,
     trace_path: &Path,
@@ -225,6 +226,19 @@ pub(crate) fn drive<F: FcUnderTest>(
                 None => core::future::pending().await,
             }
         };
+        // The PPS test source: a byte at each whole second of the FC's UTC.
+        let pps_source = async {
+            let Some(pipe) = pps else {
+                return core::future::pending().await;
+            };
+            loop {
+                let utc = fc.borrow().true_utc_us(now_us());
+                let to_next = 1_000_000 - utc % 1_000_000;
+                Timer::after(Duration::from_micros(to_next)).await;
+                pipe.write_all(b"P").await;
+            }
+        };
+        let watch = select(watch, pps_source);
         let peers = select3(
             run_peer(&fc, &links.fc_tx, &links.fc_rx, BAUD),
             run_peer(&pod, pod_reader, &links.pod_rx, BAUD),
@@ -328,6 +342,31 @@ fn firmware_bounds(qemu_out: &Path) -> Vec<(u64, u32)> {
             Some((utc, bound))
         })
         .collect()
+}
+
+/// The PPS test source locked the firmware's clock: its semihosting lines say `PPS
+/// locked`, and a time sync followed (its bound is reported: what the firmware believes
+/// of a PPS stamped by a task under QEMU, milliseconds).
+fn pps_step(qemu_out: &Path) -> Step {
+    let text = std::fs::read(qemu_out).unwrap_or_default();
+    let text = String::from_utf8_lossy(&text);
+    let Some(locked) = text.lines().position(|l| l.contains(": PPS locked")) else {
+        return Step::Pending;
+    };
+    let after: Vec<&str> = text
+        .lines()
+        .skip(locked)
+        .filter(|l| l.contains("time sync, edge "))
+        .filter_map(|l| l.split("bound ").nth(1))
+        .collect();
+    match after.first() {
+        Some(bound) => Step::Pass(format!(
+            "locked; {} sync(s) since, the first with a bound of {}",
+            after.len(),
+            bound.trim()
+        )),
+        None => Step::Waiting("locked, no sync since yet".into()),
+    }
 }
 
 /// The autopilot's MAVLink port on the telemetry link: the same autopilot as the SIYI
@@ -480,6 +519,15 @@ async fn script<F: FcUnderTest>(
     .await;
     if !push("RTC_IO High, then 0x00030E", sync) {
         return;
+    }
+    // (GCU) The PPS test source: the firmware labelled its edges from the FC's UTC, locked
+    // its clock to them, and a time sync followed the lock (the syncs' UTC is checked
+    // above, to 30 ms of the FC's, as on every side).
+    if side.pps() {
+        let locked = wait_for(qemu, deadline, || pps_step(qemu_out)).await;
+        if !push("PPS locked", locked) {
+            return;
+        }
     }
     // (SIYI) The telemetry link: the firmware's HEARTBEAT and TIMESYNC requests reached
     // the autopilot's MAVLink port and the firmware took its time from it.

@@ -74,7 +74,8 @@ fn parse_hex(s: &str) -> Option<u32> {
     u32::from_str_radix(s.strip_prefix("0x")?, 16).ok()
 }
 
-/// RTC_IO (PD14) as QEMU's GPIO trace shows it, handed to the simulated pod.
+/// RTC_IO (PA2: the board's TIM2 CH3, a GPIO in the `qemu` flavour) as QEMU's GPIO trace
+/// shows it, handed to the simulated pod.
 pub(crate) struct TraceWatch {
     path: PathBuf,
     file: Option<File>,
@@ -186,7 +187,7 @@ impl TraceWatch {
                 self.led = on;
                 self.led_edges.push((now_us(), on));
             }
-            if let Some(level) = pin_write(&line, "GPIOD", 14)
+            if let Some(level) = pin_write(&line, "GPIOA", 2)
                 && level != self.level
             {
                 self.level = level;

@@ -7,15 +7,20 @@
 //! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
 //! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
 //! It serves no commands: commands for it are left alone (they are not its business; a
-//! ground station's broadcast reaches every component).
+//! ground station's broadcast reaches every component). Each photo the pod geotags goes
+//! out as CAMERA_IMAGE_CAPTURED (broadcast: the photo's UTC on the disciplined clock, the
+//! fix interpolated there, the aircraft's attitude), which the autopilot forwards to the
+//! ground station and its telemetry log records (docs/src/bridge/telemetry.md).
 //!
 //! While the autopilot gives time on it ([`TelemetrySide::gives_time`]: heard within
 //! 3 s, its SYSTEM_TIME stream coming), the engine takes UTC and fixes from this link
 //! and not from the FC link's protocol (`Ctx::feeds`).
 
+use crate::geotag::Photo;
 use crate::time::{Duration, Instant};
 use protocol_core::mavlink::dialect::{
-    HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+    CAMERA_IMAGE_CAPTURED_DATA, CharArray, HEARTBEAT_DATA, MavAutopilot, MavBool, MavModeFlag,
+    MavState, MavType,
 };
 use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message, Packet};
 
@@ -32,6 +37,8 @@ const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
 pub(crate) struct TelemetrySide {
     ap: Autopilot,
     next_heartbeat: Instant,
+    /// Photos reported (the next image index).
+    images: i32,
 }
 
 impl TelemetrySide {
@@ -39,7 +46,36 @@ impl TelemetrySide {
         TelemetrySide {
             ap: Autopilot::new(TELEMETRY_COMPONENT),
             next_heartbeat: Instant::ZERO,
+            images: 0,
         }
+    }
+
+    /// A photo the pod geotagged: CAMERA_IMAGE_CAPTURED, once the autopilot is heard.
+    pub(crate) fn photo(&mut self, ctx: &mut Ctx<'_>, p: &Photo) {
+        if self.ap.sysid.is_none() {
+            return;
+        }
+        let f = &p.fix;
+        let mm = |dm: i16| i32::from(dm).saturating_mul(100);
+        let msg = MavMessage::CAMERA_IMAGE_CAPTURED(CAMERA_IMAGE_CAPTURED_DATA {
+            time_utc: p.utc.as_unix_micros(),
+            time_boot_ms: u32::try_from(f.at.as_millis() % (1u64 << 32)).unwrap_or(0),
+            lat: f.lat_e7,
+            lon: f.lon_e7,
+            alt: mm(f.alt_msl_dm),
+            relative_alt: mm(f.rel_alt_dm),
+            q: super::math::quaternion([
+                super::math::rad(i32::from(f.roll_cdeg)),
+                super::math::rad(i32::from(f.pitch_cdeg)),
+                super::math::rad(i32::from(f.yaw_cdeg)),
+            ]),
+            image_index: self.images,
+            camera_id: 0,
+            capture_result: MavBool::MAV_BOOL_TRUE,
+            file_url: CharArray::from([0u8; 205]),
+        });
+        self.images = self.images.saturating_add(1);
+        self.ap.send(ctx, TELEMETRY_COMPONENT, &msg);
     }
 
     /// The autopilot gives time on this link: it is the source of UTC and fixes.
