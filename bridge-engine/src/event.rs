@@ -22,6 +22,29 @@ protocol_core::wire_derive! {
 
 protocol_core::wire_derive! {
     [Eq, Hash]
+    /// A geotagged photo ([`Event::Photo`]).
+    pub struct PhotoEvent {
+        /// The photo's UTC, µs since the Unix epoch (the pod names it to the ms).
+        pub utc_us: u64,
+        /// Latitude, 1e-7 degree.
+        pub lat_e7: i32,
+        /// Longitude, 1e-7 degree.
+        pub lon_e7: i32,
+        /// Altitude above mean sea level, 0.1 m.
+        pub alt_msl_dm: i16,
+        /// Height above home, 0.1 m.
+        pub rel_alt_dm: i16,
+        /// The aircraft's yaw (heading), 0.01°.
+        pub yaw_cdeg: i16,
+        /// The aircraft's roll, 0.01°.
+        pub roll_cdeg: i16,
+        /// The aircraft's pitch, 0.01°.
+        pub pitch_cdeg: i16,
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, Hash]
     /// Something worth logging. Drained with [`Engine::next_event`](super::Engine::next_event);
     /// when more than the queue holds are pending, the oldest are dropped (counted in
     /// [`Counters::events_dropped`]).
@@ -67,24 +90,7 @@ protocol_core::wire_derive! {
         /// [`Event::Geotag`] with a fix): the UTC the pod asked for (its time of day on
         /// the disciplined clock's date) and the fix interpolated there. What a photo
         /// event file records (docs/src/linux-bridge.md).
-        Photo {
-            /// The photo's UTC, µs since the Unix epoch (the pod names it to the ms).
-            utc_us: u64,
-            /// Latitude, 1e-7 degree.
-            lat_e7: i32,
-            /// Longitude, 1e-7 degree.
-            lon_e7: i32,
-            /// Altitude above mean sea level, 0.1 m.
-            alt_msl_dm: i16,
-            /// Height above home, 0.1 m.
-            rel_alt_dm: i16,
-            /// The aircraft's yaw (heading), 0.01°.
-            yaw_cdeg: i16,
-            /// The aircraft's roll, 0.01°.
-            roll_cdeg: i16,
-            /// The aircraft's pitch, 0.01°.
-            pitch_cdeg: i16,
-        },
+        Photo(PhotoEvent),
         /// An FC command became a pod command.
         Translated {
             /// The FC protocol's message id.

@@ -167,7 +167,7 @@ fn answer(
         ..GpsReply::default()
     };
     if let Some((utc, f)) = fix {
-        out.event(Event::Photo {
+        out.event(Event::Photo(crate::event::PhotoEvent {
             utc_us: utc.as_unix_micros(),
             lat_e7: f.lat_e7,
             lon_e7: f.lon_e7,
@@ -176,7 +176,7 @@ fn answer(
             yaw_cdeg: f.yaw_cdeg,
             roll_cdeg: f.roll_cdeg,
             pitch_cdeg: f.pitch_cdeg,
-        });
+        }));
         reply.code = ResponseCode::OK;
         reply.lon_e7 = f.lon_e7;
         reply.lat_e7 = f.lat_e7;

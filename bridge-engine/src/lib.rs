@@ -77,7 +77,7 @@ pub mod time;
 pub use config::{
     Config, FcProtocol, GcuIdentity, MavlinkConfig, PodConfig, SiyiIdentity, ViewlinkIdentity,
 };
-pub use event::{Counters, Event, Port, Refusal};
+pub use event::{Counters, Event, PhotoEvent, Port, Refusal};
 pub use pod::PodState;
 pub use time::{Duration, Instant, InstantNs, UtcTime};
 

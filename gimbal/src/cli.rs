@@ -150,7 +150,7 @@ pub struct MessagesArgs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::runner::pin::RtcSpec;
+    use crate::runner::pin::{GpioSpec, RtcSpec};
     use crate::runner::port::PortSpec;
     use crate::sim::faults::Faults;
     use crate::sim::pod::AckSeq;
@@ -190,11 +190,7 @@ mod tests {
         );
         assert_eq!(
             b.rtc_io,
-            RtcSpec::Gpio {
-                chip: "/dev/gpiochip0".into(),
-                line: 17,
-                active_low: false
-            }
+            RtcSpec::Gpio(GpioSpec::new("/dev/gpiochip0", 17, false))
         );
         assert_eq!(b.config.tz_minuteswest, Some(-480));
         assert_eq!(b.config.sync_period_ms, Some(2000));

@@ -684,7 +684,7 @@ fn story<P: Pilot>(
                 });
                 continue;
             }
-            Event::Geotag { .. } | Event::Photo { .. } => continue,
+            Event::Geotag { .. } | Event::Photo(_) => continue,
             Event::PpsLocked { first_edge } => {
                 pps_locked_at.get_or_insert(t);
                 pps_first_edge.get_or_insert(first_edge.as_micros());

@@ -114,7 +114,7 @@ fn the_telemetry_link_comes_up_and_becomes_the_time_source() {
     // after the engine's photo event.
     let photo_at = o
         .events()
-        .find_map(|(t, e)| matches!(e, Event::Photo { .. }).then_some(t))
+        .find_map(|(t, e)| matches!(e, Event::Photo(_)).then_some(t))
         .expect("a photo event");
     let captured: Vec<u64> = from_bridge(CAMERA_IMAGE_CAPTURED)
         .map(|(t, _, _)| *t)

@@ -19,7 +19,7 @@ use toml::Table;
 
 use super::events;
 use super::output::{Output, now_us, wants_status_line};
-use super::photos::{Photo, PhotoEvents};
+use super::photos::PhotoEvents;
 use super::pin::{GpioLine, RtcSpec, RunnerPin};
 use super::port::{self, CableFaults, Pump, port_baud, stats_json};
 use super::pps::{self as pps_in, ChannelPps, EdgeChannel, PipePps, PpsSpec, RunnerPps};
@@ -201,32 +201,6 @@ pub async fn until_stopped(
     }
 }
 
-/// The photo of an engine `photo` event.
-fn photo_of(what: &LogKind) -> Option<Photo> {
-    match *what {
-        LogKind::Engine(Event::Photo {
-            utc_us,
-            lat_e7,
-            lon_e7,
-            alt_msl_dm,
-            rel_alt_dm,
-            yaw_cdeg,
-            roll_cdeg,
-            pitch_cdeg,
-        }) => Some(Photo {
-            utc_us,
-            lat_e7,
-            lon_e7,
-            alt_msl_dm,
-            rel_alt_dm,
-            yaw_cdeg,
-            pitch_cdeg,
-            roll_cdeg,
-        }),
-        _ => None,
-    }
-}
-
 fn secs_to_us(s: f64) -> u64 {
     // Within a year (checked when parsed): no overflow.
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
@@ -283,11 +257,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     // The RTC_IO outputs: opened first, so that a missing GPIO line is an error before
     // any connection is made.
     let gpio = match &args.rtc_io {
-        RtcSpec::Gpio {
-            chip,
-            line,
-            active_low,
-        } => Some(GpioLine::open(chip, *line, *active_low)?),
+        RtcSpec::Gpio(g) => Some(GpioLine::open(&g.chip, g.line, g.active_low)?),
         _ => None,
     };
     let rtc_tcp = match &args.rtc_io {
@@ -434,8 +404,8 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             tcp: rtc_tcp,
         };
         let sink = |r: &LogRecord| {
-            if let (Some(file), LogKind::Engine(Event::Photo { .. })) = (&photos, r.what)
-                && let Some(p) = photo_of(&r.what)
+            if let Some(file) = &photos
+                && let LogKind::Engine(Event::Photo(p)) = &r.what
                 && let Err(e) = file.borrow_mut().push(&p)
             {
                 out.emit("photo_events_error", json!({"error": e.to_string()}));
@@ -445,56 +415,46 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             out.emit_at(t, name, fields);
         };
         let bridge = host::bridge_with_pps(&shared, links, pin, pps, sink, || {});
-        let fc_peer = async {
-            if args.fc_port.is_sim() {
-                run_peer(
-                    &fc_sim,
-                    WireRx::new(
-                        TapRead {
-                            inner: &links.fc_tx,
-                            tap: trace("fc", "tx"),
-                        },
-                        &fc_out,
-                    ),
-                    WireTx::new(
-                        TapWrite {
-                            inner: &links.fc_rx,
-                            tap: trace("fc", "rx"),
-                        },
-                        &fc_in,
-                    ),
-                    config.fc_baud,
-                )
-                .await
-            } else {
-                core::future::pending().await
-            }
-        };
-        let pod_peer = async {
-            if args.pod_port.is_sim() {
-                run_peer(
-                    &pod_sim,
-                    WireRx::new(
-                        TapRead {
-                            inner: &links.pod_tx,
-                            tap: trace("pod", "tx"),
-                        },
-                        &pod_out,
-                    ),
-                    WireTx::new(
-                        TapWrite {
-                            inner: &links.pod_rx,
-                            tap: trace("pod", "rx"),
-                        },
-                        &pod_in,
-                    ),
-                    config.pod_baud,
-                )
-                .await
-            } else {
-                core::future::pending().await
-            }
-        };
+        // A simulated peer on its side's wires (traced both ways), or nothing.
+        macro_rules! sim_peer {
+            ($on:expr, $sim:expr, $side:literal, $tx:expr, $rx:expr, $out:expr, $in:expr, $baud:expr) => {
+                async {
+                    if $on {
+                        let rx = TapRead {
+                            inner: $tx,
+                            tap: trace($side, "tx"),
+                        };
+                        let tx = TapWrite {
+                            inner: $rx,
+                            tap: trace($side, "rx"),
+                        };
+                        run_peer($sim, WireRx::new(rx, $out), WireTx::new(tx, $in), $baud).await
+                    } else {
+                        core::future::pending().await
+                    }
+                }
+            };
+        }
+        let fc_peer = sim_peer!(
+            args.fc_port.is_sim(),
+            &fc_sim,
+            "fc",
+            &links.fc_tx,
+            &links.fc_rx,
+            &fc_out,
+            &fc_in,
+            config.fc_baud
+        );
+        let pod_peer = sim_peer!(
+            args.pod_port.is_sim(),
+            &pod_sim,
+            "pod",
+            &links.pod_tx,
+            &links.pod_rx,
+            &pod_out,
+            &pod_in,
+            config.pod_baud
+        );
         let mut next_photo = photo_every.map(|p| start_us + p);
         let mut next_counters = counters_every.map(|p| start_us + p);
         let mut next_status = start_us;

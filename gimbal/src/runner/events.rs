@@ -66,24 +66,7 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             "geotag",
             json!({"time_of_day_ms": time_of_day_ms, "answered": answered}),
         ),
-        Event::Photo {
-            utc_us,
-            lat_e7,
-            lon_e7,
-            alt_msl_dm,
-            rel_alt_dm,
-            yaw_cdeg,
-            roll_cdeg,
-            pitch_cdeg,
-        } => (
-            "photo",
-            json!({
-                "utc_us": utc_us,
-                "lat_e7": lat_e7, "lon_e7": lon_e7,
-                "alt_msl_dm": alt_msl_dm, "rel_alt_dm": rel_alt_dm,
-                "yaw_cdeg": yaw_cdeg, "roll_cdeg": roll_cdeg, "pitch_cdeg": pitch_cdeg,
-            }),
-        ),
+        Event::Photo(p) => ("photo", serde_json::to_value(p).unwrap_or(Value::Null)),
         Event::PpsLocked { first_edge } => (
             "pps_locked",
             json!({"first_edge_us": first_edge.as_micros()}),

@@ -22,33 +22,14 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
+use bridge_engine::PhotoEvent;
+
 use super::output::iso_utc;
 
 /// Seconds from the Unix epoch to the GPS epoch (1980-01-06T00:00:00Z).
 const GPS_EPOCH_UNIX_S: i64 = 315_964_800;
 /// Seconds in a GPS week.
 const WEEK_S: i64 = 604_800;
-
-/// One photo, as the engine's `photo` event gives it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Photo {
-    /// UTC, µs since the Unix epoch.
-    pub utc_us: u64,
-    /// Latitude, 1e-7 degree.
-    pub lat_e7: i32,
-    /// Longitude, 1e-7 degree.
-    pub lon_e7: i32,
-    /// Altitude above mean sea level, 0.1 m.
-    pub alt_msl_dm: i16,
-    /// Height above home, 0.1 m.
-    pub rel_alt_dm: i16,
-    /// Yaw, pitch, roll, 0.01°.
-    pub yaw_cdeg: i16,
-    /// Pitch, 0.01°.
-    pub pitch_cdeg: i16,
-    /// Roll, 0.01°.
-    pub roll_cdeg: i16,
-}
 
 /// The GPS week and seconds of week of a UTC instant (µs), `leap_seconds` being GPS −
 /// UTC.
@@ -95,7 +76,7 @@ impl PhotoEvents {
     ///
     /// # Errors
     /// The file cannot be written.
-    pub fn push(&mut self, p: &Photo) -> io::Result<()> {
+    pub fn push(&mut self, p: &PhotoEvent) -> io::Result<()> {
         self.count += 1;
         let (week, tow) = gps_week_tow(p.utc_us, self.leap_seconds);
         writeln!(
@@ -133,7 +114,7 @@ mod tests {
     fn rows_are_csv_with_the_header() {
         let path = std::env::temp_dir().join(format!("photos-{}.csv", std::process::id()));
         let mut f = PhotoEvents::create(&path, 18).unwrap();
-        f.push(&Photo {
+        f.push(&PhotoEvent {
             utc_us: 1_795_428_012_345_000,
             lat_e7: 473_977_419,
             lon_e7: 85_455_938,

@@ -18,16 +18,59 @@ pub enum RtcSpec {
     /// No pin: the edges are events.
     Log,
     /// A GPIO line.
-    Gpio {
-        /// The chip's device (`/dev/gpiochip0`).
-        chip: String,
-        /// The line's offset on the chip.
-        line: u32,
-        /// High on the wire is the line's inactive level.
-        active_low: bool,
-    },
+    Gpio(GpioSpec),
     /// One byte per edge over TCP (`tcp:` or `tcp-listen:`).
     Tcp(PortSpec),
+}
+
+/// A GPIO line written `[/dev/]gpiochipN:LINE[:active-low]` (`--rtc-io`, `--pps`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GpioSpec {
+    /// The chip's device (`/dev/gpiochip0`).
+    pub chip: String,
+    /// The line's offset on the chip.
+    pub line: u32,
+    /// High on the wire is the line's inactive level.
+    pub active_low: bool,
+}
+
+impl GpioSpec {
+    /// Line `line` of `chip`.
+    #[must_use]
+    pub fn new(chip: &str, line: u32, active_low: bool) -> Self {
+        GpioSpec {
+            chip: chip.to_string(),
+            line,
+            active_low,
+        }
+    }
+
+    /// The line `s` names, if it is one.
+    #[must_use]
+    pub fn parse(s: &str) -> Option<Self> {
+        let rest = s.strip_prefix("/dev/").unwrap_or(s);
+        let mut parts = rest.split(':');
+        let chip = parts
+            .next()
+            .filter(|c| c.strip_prefix("gpiochip").is_some_and(|n| !n.is_empty()))?;
+        let line = parts.next()?.parse::<u32>().ok()?;
+        let active_low = match parts.next() {
+            None => false,
+            Some("active-low") => true,
+            Some(_) => return None,
+        };
+        if parts.next().is_some() {
+            return None;
+        }
+        Some(GpioSpec::new(&format!("/dev/{chip}"), line, active_low))
+    }
+}
+
+impl fmt::Display for GpioSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let low = if self.active_low { ":active-low" } else { "" };
+        write!(f, "{}:{}{low}", self.chip, self.line)
+    }
 }
 
 impl FromStr for RtcSpec {
@@ -46,29 +89,7 @@ impl FromStr for RtcSpec {
                  tcp:HOST:PORT or tcp-listen:[HOST:]PORT"
             )
         };
-        let rest = s.strip_prefix("/dev/").unwrap_or(s);
-        if !rest.starts_with("gpiochip") {
-            return Err(bad());
-        }
-        let mut parts = rest.split(':');
-        let chip = parts.next().ok_or_else(bad)?;
-        let line = parts
-            .next()
-            .and_then(|l| l.parse::<u32>().ok())
-            .ok_or_else(bad)?;
-        let active_low = match parts.next() {
-            None => false,
-            Some("active-low") => true,
-            Some(_) => return Err(bad()),
-        };
-        if parts.next().is_some() || chip.len() <= "gpiochip".len() {
-            return Err(bad());
-        }
-        Ok(RtcSpec::Gpio {
-            chip: format!("/dev/{chip}"),
-            line,
-            active_low,
-        })
+        GpioSpec::parse(s).map(RtcSpec::Gpio).ok_or_else(bad)
     }
 }
 
@@ -76,15 +97,7 @@ impl fmt::Display for RtcSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RtcSpec::Log => f.write_str("log"),
-            RtcSpec::Gpio {
-                chip,
-                line,
-                active_low,
-            } => write!(
-                f,
-                "{chip}:{line}{}",
-                if *active_low { ":active-low" } else { "" }
-            ),
+            RtcSpec::Gpio(g) => write!(f, "{g}"),
             RtcSpec::Tcp(p) => write!(f, "{p}"),
         }
     }
@@ -196,19 +209,11 @@ mod tests {
         assert_eq!(p("log"), Ok(RtcSpec::Log));
         assert_eq!(
             p("gpiochip0:17"),
-            Ok(RtcSpec::Gpio {
-                chip: "/dev/gpiochip0".into(),
-                line: 17,
-                active_low: false
-            })
+            Ok(RtcSpec::Gpio(GpioSpec::new("/dev/gpiochip0", 17, false)))
         );
         assert_eq!(
             p("/dev/gpiochip4:3:active-low"),
-            Ok(RtcSpec::Gpio {
-                chip: "/dev/gpiochip4".into(),
-                line: 3,
-                active_low: true
-            })
+            Ok(RtcSpec::Gpio(GpioSpec::new("/dev/gpiochip4", 3, true)))
         );
         assert_eq!(
             p("tcp-listen:0"),

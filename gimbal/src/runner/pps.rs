@@ -30,6 +30,7 @@ use embassy_sync::channel::Channel;
 use serde_json::json;
 
 use super::output::Output;
+use super::pin::GpioSpec;
 use super::port::PortSpec;
 use crate::sim::gnss::{Crystal, GnssPps, GnssPpsConfig};
 use crate::sim::pps_io::{CapturedPps, PpsWiring};
@@ -37,15 +38,9 @@ use crate::sim::pps_io::{CapturedPps, PpsWiring};
 /// Where PPS edges come from (`--pps`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum PpsSpec {
-    /// A GPIO line's edge events.
-    Gpio {
-        /// The chip's device (`/dev/gpiochip0`).
-        chip: String,
-        /// The line's offset on the chip.
-        line: u32,
-        /// The module's pulse is active low: its on-time edge is the falling one.
-        active_low: bool,
-    },
+    /// A GPIO line's edge events (active low: the module's on-time edge is the falling
+    /// one).
+    Gpio(GpioSpec),
     /// A kernel PPS device (`/dev/ppsN`).
     Device(PathBuf),
     /// One byte an edge over TCP, stamped on arrival (`tcp:` or `tcp-listen:`).
@@ -77,28 +72,7 @@ impl FromStr for PpsSpec {
             }
             return Ok(PpsSpec::Device(PathBuf::from(format!("/dev/{rest}"))));
         }
-        if !rest.starts_with("gpiochip") {
-            return Err(bad());
-        }
-        let mut parts = rest.split(':');
-        let chip = parts.next().ok_or_else(bad)?;
-        let line = parts
-            .next()
-            .and_then(|l| l.parse::<u32>().ok())
-            .ok_or_else(bad)?;
-        let active_low = match parts.next() {
-            None => false,
-            Some("active-low") => true,
-            Some(_) => return Err(bad()),
-        };
-        if parts.next().is_some() || chip.len() <= "gpiochip".len() {
-            return Err(bad());
-        }
-        Ok(PpsSpec::Gpio {
-            chip: format!("/dev/{chip}"),
-            line,
-            active_low,
-        })
+        GpioSpec::parse(s).map(PpsSpec::Gpio).ok_or_else(bad)
     }
 }
 
@@ -111,7 +85,7 @@ impl PpsSpec {
     #[must_use]
     pub const fn tolerance_ns(&self) -> u32 {
         match self {
-            PpsSpec::Gpio { .. } | PpsSpec::Device(_) => 200_000,
+            PpsSpec::Gpio(_) | PpsSpec::Device(_) => 200_000,
             PpsSpec::Tcp(_) => 20_000_000,
             PpsSpec::Sim => bridge_engine::discipline::PpsConfig::DEFAULT.tolerance_ns,
         }
@@ -121,15 +95,7 @@ impl PpsSpec {
 impl fmt::Display for PpsSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            PpsSpec::Gpio {
-                chip,
-                line,
-                active_low,
-            } => write!(
-                f,
-                "{chip}:{line}{}",
-                if *active_low { ":active-low" } else { "" }
-            ),
+            PpsSpec::Gpio(g) => write!(f, "{g}"),
             PpsSpec::Device(p) => write!(f, "{}", p.display()),
             PpsSpec::Tcp(p) => write!(f, "{p}"),
             PpsSpec::Sim => f.write_str("sim"),
@@ -231,11 +197,11 @@ pub fn start(
     out: &Output,
 ) -> Result<(), String> {
     match spec {
-        PpsSpec::Gpio {
+        PpsSpec::Gpio(GpioSpec {
             chip,
             line,
             active_low,
-        } => {
+        }) => {
             let mut b = gpiocdev::Request::builder();
             b.on_chip(chip.as_str())
                 .with_consumer("gimbal-bridge-pps")
@@ -321,11 +287,7 @@ mod tests {
         let p = |s: &str| s.parse::<PpsSpec>();
         assert_eq!(
             p("gpiochip0:17:active-low"),
-            Ok(PpsSpec::Gpio {
-                chip: "/dev/gpiochip0".into(),
-                line: 17,
-                active_low: true
-            })
+            Ok(PpsSpec::Gpio(GpioSpec::new("/dev/gpiochip0", 17, true)))
         );
         assert_eq!(p("/dev/pps0"), Ok(PpsSpec::Device("/dev/pps0".into())));
         assert_eq!(p("pps12"), Ok(PpsSpec::Device("/dev/pps12".into())));
