@@ -36,6 +36,8 @@ const MESSAGES: &[&str] = &[
     "GIMBAL_DEVICE_SET_ATTITUDE",
     "GIMBAL_DEVICE_ATTITUDE_STATUS",
     "AUTOPILOT_STATE_FOR_GIMBAL_DEVICE",
+    // Signing: the autopilot's system gives the device a new key (docs/src/security.md).
+    "SETUP_SIGNING",
 ];
 
 /// Enumerations no field names but the bridge needs (component ids, result and command

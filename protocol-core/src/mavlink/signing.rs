@@ -1,0 +1,283 @@
+//! MAVLink 2 message signing (the MAVLink specification's "Message Signing"): the
+//! secret key, the signature of a frame and its check, the signature's timestamp.
+//!
+//! A signed frame carries, after its checksum, a link id, a 48-bit timestamp (10 µs
+//! since 2015-01-01 00:00:00 UTC) and the first 48 bits of
+//! SHA-256(secret key ‖ the frame from its STX to the timestamp). Which frames a receiver
+//! accepts (the timestamp of each stream, the window of a new stream) is the receiver's
+//! state, not the codec's: the bridge's is in the engine (see docs/src/security.md).
+//!
+//! SHA-256 is RustCrypto's `sha2` (no_std; on the MCU its portable software backend).
+
+use core::fmt;
+
+use sha2::{Digest, Sha256};
+
+use super::frame::Frame;
+
+/// Bytes of a secret key.
+pub const KEY_LEN: usize = 32;
+/// Bytes of the signature value (the first 48 bits of the SHA-256).
+pub const VALUE_LEN: usize = 6;
+/// 2015-01-01 00:00:00 UTC, the signing epoch, in Unix seconds.
+pub const EPOCH_UNIX_S: u64 = 1_420_070_400;
+/// The largest timestamp a signature carries (48 bits).
+pub const MAX_TIMESTAMP: u64 = (1 << 48) - 1;
+/// Timestamp units in one second (10 µs each).
+pub const TIMESTAMP_PER_S: u64 = 100_000;
+
+/// A 32-byte MAVLink signing key. Its `Debug` and `defmt` forms never show it.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct SecretKey([u8; KEY_LEN]);
+
+impl SecretKey {
+    /// The key of these bytes.
+    #[must_use]
+    pub const fn new(bytes: [u8; KEY_LEN]) -> Self {
+        SecretKey(bytes)
+    }
+
+    /// The key from its 64 hexadecimal characters (either case; nothing else, no
+    /// spaces).
+    #[must_use]
+    pub fn from_hex(text: &str) -> Option<Self> {
+        let text = text.as_bytes();
+        if text.len() != KEY_LEN.saturating_mul(2) {
+            return None;
+        }
+        let mut key = [0u8; KEY_LEN];
+        for (byte, pair) in key.iter_mut().zip(text.chunks_exact(2)) {
+            let [hi, lo] = pair else { return None };
+            *byte = nibble(*hi)?.checked_mul(16)?.checked_add(nibble(*lo)?)?;
+        }
+        Some(SecretKey(key))
+    }
+
+    /// The key's bytes.
+    #[must_use]
+    pub const fn as_bytes(&self) -> &[u8; KEY_LEN] {
+        &self.0
+    }
+
+    /// All 32 bytes zero (SETUP_SIGNING with such a key and timestamp 0 turns signing
+    /// off).
+    #[must_use]
+    pub fn is_zero(&self) -> bool {
+        self.0.iter().all(|b| *b == 0)
+    }
+}
+
+/// The value of one hexadecimal digit.
+fn nibble(c: u8) -> Option<u8> {
+    match c {
+        b'0'..=b'9' => c.checked_sub(b'0'),
+        b'a'..=b'f' => c.checked_sub(b'a')?.checked_add(10),
+        b'A'..=b'F' => c.checked_sub(b'A')?.checked_add(10),
+        _ => None,
+    }
+}
+
+impl fmt::Debug for SecretKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("SecretKey(..)")
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for SecretKey {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(f, "SecretKey(..)");
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for SecretKey {
+    /// Never the key: `"(secret)"`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> core::result::Result<S::Ok, S::Error> {
+        s.serialize_str("(secret)")
+    }
+}
+
+#[cfg(feature = "bake")]
+impl databake::Bake for SecretKey {
+    fn bake(&self, env: &databake::CrateEnv) -> databake::TokenStream {
+        env.insert("protocol_core");
+        let bytes = self.0.bake(env);
+        databake::quote! { protocol_core::mavlink::SecretKey::new(#bytes) }
+    }
+}
+
+#[cfg(feature = "bake")]
+impl databake::BakeSize for SecretKey {
+    fn borrows_size(&self) -> usize {
+        0
+    }
+}
+
+/// The signature value: the first 48 bits of SHA-256(`key` ‖ `signed`), `signed` being
+/// the frame from its STX to the end of the signature's timestamp.
+#[must_use]
+pub fn signature_value(key: &SecretKey, signed: &[u8]) -> [u8; VALUE_LEN] {
+    let mut h = Sha256::new();
+    h.update(key.as_bytes());
+    h.update(signed);
+    let digest = h.finalize();
+    let mut value = [0u8; VALUE_LEN];
+    for (d, s) in value.iter_mut().zip(digest.iter()) {
+        *d = *s;
+    }
+    value
+}
+
+/// The signature timestamp of a UTC instant (µs since the Unix epoch): 10 µs units since
+/// 2015-01-01 (0 before it, [`MAX_TIMESTAMP`] after 2104).
+#[must_use]
+pub const fn timestamp_of_unix_micros(us: u64) -> u64 {
+    let since = us.saturating_sub(EPOCH_UNIX_S.saturating_mul(1_000_000));
+    let t = since / 10;
+    if t > MAX_TIMESTAMP { MAX_TIMESTAMP } else { t }
+}
+
+/// The bytes the signature of `frame` covers: STX to the end of the timestamp (`None`
+/// for an unsigned or truncated frame).
+fn signed_part(frame: &[u8]) -> Option<&[u8]> {
+    let view = Frame::new_unchecked(frame);
+    if !view.is_signed() {
+        return None;
+    }
+    let end = view.total_len().checked_sub(VALUE_LEN)?;
+    frame.get(..end).filter(|_| frame.len() >= view.total_len())
+}
+
+/// `frame` (a whole MAVLink 2 frame) is signed and its signature is `key`'s (the 6
+/// bytes compared in full; the timestamp's freshness is the receiver's to judge).
+#[must_use]
+pub fn signature_matches(frame: &[u8], key: &SecretKey) -> bool {
+    let (Some(signed), Some(sig)) = (signed_part(frame), Frame::new_unchecked(frame).signature())
+    else {
+        return false;
+    };
+    signature_value(key, signed) == sig.value
+}
+
+/// Computes the signature value of `frame` with `key` and writes it in place (the SIGNED
+/// flag, the checksum, the link id and the timestamp must be there: a frame emitted with
+/// a [`Signature`](super::Signature) whose value is to be filled). Nothing for an
+/// unsigned or truncated frame.
+pub fn fill_signature(frame: &mut [u8], key: &SecretKey) {
+    let Some((end, value)) = signed_part(frame).map(|s| (s.len(), signature_value(key, s))) else {
+        return;
+    };
+    if let Some(dst) = frame.get_mut(end..end.saturating_add(VALUE_LEN)) {
+        crate::wire::copy(dst, &value);
+    }
+}
+
+/// What a signed frame is signed with: the key, the link id and the timestamp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Signer<'a> {
+    /// The secret key.
+    pub key: &'a SecretKey,
+    /// The link id the signature names.
+    pub link_id: u8,
+    /// The timestamp (48 bits; see [`timestamp_of_unix_micros`]).
+    pub timestamp: u64,
+}
+
+impl Signer<'_> {
+    /// The signature to emit, its value still to be filled.
+    pub(super) const fn unfilled(&self) -> super::Signature {
+        super::Signature {
+            link_id: self.link_id,
+            timestamp: self.timestamp,
+            value: [0; VALUE_LEN],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_read_from_hex_and_never_show() {
+        let text = "000102030405060708090a0b0c0d0e0f101112131415161718191A1B1C1D1E1F";
+        let key = SecretKey::from_hex(text).unwrap();
+        assert_eq!(key.as_bytes()[31], 0x1F);
+        assert_eq!(key.as_bytes()[10], 0x0A);
+        assert_eq!(std::format!("{key:?}"), "SecretKey(..)");
+        for bad in [
+            "",
+            "00",
+            &text[1..],
+            "g0".repeat(32).as_str(),
+            &std::format!("{text}0"),
+        ] {
+            assert_eq!(SecretKey::from_hex(bad), None, "{bad}");
+        }
+        assert!(SecretKey::default().is_zero() && !key.is_zero());
+    }
+
+    #[test]
+    fn timestamps_count_10_us_from_2015() {
+        assert_eq!(timestamp_of_unix_micros(0), 0);
+        assert_eq!(timestamp_of_unix_micros(EPOCH_UNIX_S * 1_000_000), 0);
+        assert_eq!(
+            timestamp_of_unix_micros(EPOCH_UNIX_S * 1_000_000 + 1_000_019),
+            100_001
+        );
+        assert_eq!(timestamp_of_unix_micros(u64::MAX), MAX_TIMESTAMP);
+    }
+
+    /// A heartbeat signed by pymavlink 2.4.50 (key 00..1F, link 3, timestamp 123456789):
+    /// the same bytes from [`encode_signed`](super::super::encode_signed), and the check
+    /// finds any changed byte.
+    extern crate std;
+
+    #[test]
+    fn signatures_are_pymavlink_s() {
+        use super::super::dialect::{HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType};
+        use super::super::{Header, MavMessage, encode_signed};
+        let pymavlink = "fd09010000019a000000000000001a08000403fd370315cd5b070000bb16f13d6c43";
+        let expected: std::vec::Vec<u8> = (0..pymavlink.len() / 2)
+            .map(|i| u8::from_str_radix(&pymavlink[2 * i..2 * i + 2], 16).unwrap())
+            .collect();
+        let mut bytes = [0u8; 32];
+        for (i, b) in bytes.iter_mut().enumerate() {
+            *b = u8::try_from(i).unwrap();
+        }
+        let key = SecretKey::new(bytes);
+        let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_GIMBAL,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        });
+        let header = Header {
+            sequence: 0,
+            system_id: 1,
+            component_id: 154,
+        };
+        let signer = Signer {
+            key: &key,
+            link_id: 3,
+            timestamp: 123_456_789,
+        };
+        let mut buf = [0u8; 300];
+        let n = encode_signed(&hb, &header, &signer, &mut buf).unwrap();
+        assert_eq!(&buf[..n], &expected[..]);
+        assert!(signature_matches(&buf[..n], &key));
+        for i in 0..n {
+            let mut spoilt = buf;
+            spoilt[i] ^= 0x20;
+            assert!(!signature_matches(&spoilt[..n], &key), "byte {i}");
+        }
+        assert!(!signature_matches(&buf[..n], &SecretKey::default()));
+        // Unsigned and truncated frames never match.
+        assert!(!signature_matches(&buf[..n - 1], &key));
+        let n = super::super::encode(&hb, &header, &mut buf).unwrap();
+        assert!(!signature_matches(&buf[..n], &key));
+    }
+}
