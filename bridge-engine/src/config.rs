@@ -33,6 +33,11 @@
 //! | `[gcu] resync_mark` | [`GcuIdentity::resync_mark`] | `true`, `false` |
 //! | `[pod] yaw_positive_left`, `pitch_positive_down` | [`PodConfig`] | `true`, `false` |
 //! | `[discipline] bin_ms`, `min_bins`, `min_span_ms` | [`DisciplineConfig`] | [`Limit::DISCIPLINE_BIN_MS`], [`Limit::DISCIPLINE_MIN_BINS`], [`Limit::DISCIPLINE_MIN_SPAN_MS`] |
+//! | `signing` | [`Config::signing`] | `"off"`, `"sign"`, `"require"` ([`SigningMode`]) |
+//! | `signing_key` | [`Config::signing_key`] | 64 hexadecimal characters, `""` for none ([`SigningKey::parse`]); needed unless `signing` is `"off"` |
+//! | `signing_unsigned_telemetry` | [`Config::signing_unsigned_telemetry`] | `true`, `false` |
+//! | `gcs_ids` | [`Config::gcs_ids`] | up to 8 ids, each [`Limit::GCS_ID`] ([`SystemIds`]) |
+//! | `k40t_allow` | [`Config::k40t_allow`] | ids of [`GUARDED`](crate::access::GUARDED) requests ([`K40tAllow`]) |
 //!
 //! Deserializing checks types, texts and versions; [`Config::validate`] checks the
 //! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
@@ -40,6 +45,7 @@
 
 use core::fmt;
 
+use super::access::{K40tAllow, SigningKey, SigningMode, SystemIds};
 use super::discipline::DisciplineConfig;
 use super::fixes::FixConfig;
 use super::sync::SyncConfig;
@@ -421,6 +427,28 @@ protocol_core::wire_derive! {
         /// the pod keeps UTC).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
         pub tz_minuteswest: i32,
+        /// MAVLink 2 signing on the MAVLink side and the telemetry link (default off; see
+        /// docs/src/security.md).
+        pub signing: SigningMode,
+        /// The signing key (default none; needed unless `signing` is off).
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::access::de::signing_key")
+        )]
+        pub signing_key: Option<SigningKey>,
+        /// With `signing = "require"`: unsigned frames that command nothing (heartbeats,
+        /// time, positions) are still read (default false: refused).
+        pub signing_unsigned_telemetry: bool,
+        /// MAVLink systems whose commands are taken besides the autopilot's (default 255
+        /// and 245).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::access::de::gcs_ids"))]
+        pub gcs_ids: SystemIds,
+        /// The pod's destructive requests that may reach it (default none).
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::access::de::k40t_allow")
+        )]
+        pub k40t_allow: K40tAllow,
     }
 }
 
@@ -443,6 +471,11 @@ impl Config {
         fc_link_timeout: Duration::from_secs(2),
         k40t_geotag_fallback: Some(Duration::from_millis(200)),
         tz_minuteswest: 0,
+        signing: SigningMode::Off,
+        signing_key: None,
+        signing_unsigned_telemetry: false,
+        gcs_ids: SystemIds::DEFAULT,
+        k40t_allow: K40tAllow::NONE,
     };
 
     /// The defaults with another FC protocol.
@@ -481,6 +514,23 @@ impl Config {
         Limit::DISCIPLINE_BIN_MS.check_ms(self.discipline.bin_len)?;
         Limit::DISCIPLINE_MIN_BINS.check(self.discipline.min_bins.into())?;
         Limit::DISCIPLINE_MIN_SPAN_MS.check_ms(self.discipline.min_span)?;
+        if self.signing != SigningMode::Off && self.signing_key.is_none() {
+            return Err(ConfigError {
+                key: "signing_key",
+                problem: Problem::Missing,
+            });
+        }
+        for id in self.gcs_ids.as_slice() {
+            Limit::GCS_ID.check((*id).into())?;
+        }
+        if usize::from(self.gcs_ids.len) > crate::access::MAX_GCS_IDS {
+            return Err(ConfigError {
+                key: "gcs_ids",
+                problem: Problem::TooMany {
+                    max: u8::try_from(crate::access::MAX_GCS_IDS).unwrap_or(u8::MAX),
+                },
+            });
+        }
         Ok(())
     }
 }
@@ -539,9 +589,11 @@ impl Limit {
     pub const DISCIPLINE_MIN_BINS: Self = Self::new("discipline.min_bins", 2, 32);
     /// `discipline.min_span_ms`: 1000..=600000.
     pub const DISCIPLINE_MIN_SPAN_MS: Self = Self::new("discipline.min_span_ms", 1000, 600_000);
+    /// Each of `gcs_ids`: 1..=255 (0 is MAVLink's broadcast id, no sender's).
+    pub const GCS_ID: Self = Self::new("gcs_ids", 1, 255);
 
     /// Every limit above.
-    pub const ALL: [Self; 13] = [
+    pub const ALL: [Self; 14] = [
         Self::FC_BAUD,
         Self::POD_BAUD,
         Self::TZ_MINUTESWEST,
@@ -555,6 +607,7 @@ impl Limit {
         Self::DISCIPLINE_BIN_MS,
         Self::DISCIPLINE_MIN_BINS,
         Self::DISCIPLINE_MIN_SPAN_MS,
+        Self::GCS_ID,
     ];
 
     const fn new(key: &'static str, min: i64, max: i64) -> Self {
@@ -606,7 +659,7 @@ protocol_core::wire_derive! {
 }
 
 impl ConfigError {
-    const fn text(key: &'static str, rule: TextRule) -> Self {
+    pub(crate) const fn text(key: &'static str, rule: TextRule) -> Self {
         Self {
             key,
             problem: Problem::Text(rule),
@@ -629,6 +682,18 @@ protocol_core::wire_derive! {
         },
         /// A text that breaks its rule.
         Text(TextRule),
+        /// A value needed by another key's value is absent.
+        Missing,
+        /// A list longer than allowed.
+        TooMany {
+            /// The most allowed.
+            max: u8,
+        },
+        /// An id that is not one of the pod's destructive requests.
+        NotGuarded {
+            /// The id given.
+            value: i64,
+        },
     }
 }
 
@@ -640,6 +705,8 @@ protocol_core::wire_derive! {
         Ascii(u8),
         /// 1 to this many printable ASCII characters (space included).
         Printable(u8),
+        /// Exactly this many hexadecimal characters.
+        Hex(u8),
     }
 }
 
@@ -653,6 +720,13 @@ impl fmt::Display for Problem {
             Problem::Text(TextRule::Printable(n)) => {
                 write!(f, "expected 1 to {n} printable ASCII characters")
             }
+            Problem::Text(TextRule::Hex(n)) => write!(f, "expected {n} hexadecimal characters"),
+            Problem::Missing => f.write_str("needed (signing is on)"),
+            Problem::TooMany { max } => write!(f, "more than {max} values"),
+            Problem::NotGuarded { value } => write!(
+                f,
+                "{value:#08x} is not one of the pod's destructive requests (docs/src/security.md)"
+            ),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! [`Counters`] (read any time).
 
 use super::time::Instant;
+use crate::access::Refusal;
 use protocol_core::k40t::{AckCode, Address, CrcCoverage};
 
 protocol_core::wire_derive! {
@@ -106,6 +107,26 @@ protocol_core::wire_derive! {
             /// The telemetry link is the source.
             telemetry: bool,
         },
+        /// A frame or command the bridge would not take (see docs/src/security.md).
+        Refused {
+            /// The link it came on.
+            port: Port,
+            /// Why.
+            reason: Refusal,
+            /// What: the MAVLink message id (a command's MAV_CMD for COMMAND_LONG and
+            /// COMMAND_INT), or the K40T request's id.
+            id: u32,
+            /// The sender: its MAVLink system id (K40T: 0).
+            sender: u8,
+        },
+        /// The MAVLink signing key changed (SETUP_SIGNING from the autopilot's system,
+        /// signed with the key in use): `on` false when it turned signing off.
+        SigningKeyChanged {
+            /// The link it came on.
+            port: Port,
+            /// A key is in use now.
+            on: bool,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -154,6 +175,13 @@ protocol_core::wire_derive! {
         pub geotags: u32,
         /// GPS requests answered with a failure.
         pub geotags_failed: u32,
+        /// Signed MAVLink frames dropped: signature not the key's, replayed or stale.
+        pub signature_failures: u32,
+        /// Unsigned MAVLink frames refused while signing is required.
+        pub unsigned_refused: u32,
+        /// Commands refused for their sender (MAVLink) or because they are destructive
+        /// and not allowed (K40T requests).
+        pub commands_refused: u32,
     }
 }
 

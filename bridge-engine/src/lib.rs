@@ -62,6 +62,7 @@
     )
 )]
 
+pub mod access;
 pub mod config;
 pub mod discipline;
 pub mod event;
@@ -74,6 +75,7 @@ pub mod queue;
 pub mod sync;
 pub mod time;
 
+pub use access::{K40tAllow, Refusal, SigningKey, SigningMode, SystemIds};
 pub use config::{Config, FcProtocol, GcuIdentity, PodConfig, SiyiIdentity, ViewlinkIdentity};
 pub use event::{Counters, Event, Port};
 pub use pod::PodState;
@@ -415,7 +417,7 @@ impl Engine {
             pod_deframer: Deframer::new(K40tFraming::any()),
             core: EngineState {
                 fc: FcSide::new(&config),
-                pod: PodDriver::new(config.pod),
+                pod: PodDriver::new(config.pod).with_allow(config.k40t_allow),
                 time: TimeDiscipline::new(config.discipline),
                 sync: SyncScheduler::new(config.sync),
                 fixes: FixHistory::new(config.fixes),

@@ -65,6 +65,25 @@ impl Ctx<'_> {
         self.out.counters.fc_ignored = self.out.counters.fc_ignored.saturating_add(1);
     }
 
+    /// Refuses a frame or command: counted by `reason` and reported with the link, the
+    /// id and the sender.
+    pub(crate) fn refuse(&mut self, reason: crate::access::Refusal, id: u32, sender: u8) {
+        use crate::access::Refusal as R;
+        let c = &mut self.out.counters;
+        let n = match reason {
+            R::BadSignature | R::Replayed | R::Stale => &mut c.signature_failures,
+            R::Unsigned => &mut c.unsigned_refused,
+            R::Sender | R::Guarded => &mut c.commands_refused,
+        };
+        *n = n.saturating_add(1);
+        self.out.event(Event::Refused {
+            port: self.to,
+            reason,
+            id,
+            sender,
+        });
+    }
+
     /// Sends `cmd` to the pod; `fc_id` is the FC protocol's id of the command (for the
     /// event). Returns the K40T base id used, `None` when the pod has no equivalent.
     pub(crate) fn command(&mut self, fc_id: u16, cmd: Command) -> Option<u16> {
@@ -380,7 +399,7 @@ impl TelemetryLink {
         (config.fc != super::FcProtocol::Mavlink).then(|| {
             FcLink::new(
                 protocol_core::mavlink::MavlinkFraming::new(),
-                mavlink::TelemetrySide::new(),
+                mavlink::TelemetrySide::new(config),
             )
         })
     }
@@ -449,7 +468,7 @@ impl FcSide {
             #[cfg(feature = "mavlink")]
             super::FcProtocol::Mavlink => FcSide::Mavlink(FcLink::new(
                 protocol_core::mavlink::MavlinkFraming::new(),
-                mavlink::MavlinkSide::new(),
+                mavlink::MavlinkSide::new(config),
             )),
             super::FcProtocol::K40t => FcSide::K40t(FcLink::new(
                 protocol_core::k40t::K40tFraming::any(),

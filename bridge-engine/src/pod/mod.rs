@@ -102,9 +102,18 @@ pub(crate) struct PodDriver {
     pending: [Option<Pending>; PENDING],
     superseded: [Option<Outstanding>; SUPERSEDED],
     motion: MotionState,
+    /// Which of the pod's destructive requests an FC command may become.
+    allow: crate::access::K40tAllow,
 }
 
 impl PodDriver {
+    /// The driver with `allow` as the destructive requests FC commands may become (the
+    /// default: none).
+    pub(crate) const fn with_allow(mut self, allow: crate::access::K40tAllow) -> Self {
+        self.allow = allow;
+        self
+    }
+
     pub(crate) fn new(cfg: PodConfig) -> Self {
         PodDriver {
             cfg,
@@ -142,6 +151,7 @@ impl PodDriver {
                 dial: None,
                 fc_at: None,
             },
+            allow: crate::access::K40tAllow::NONE,
         }
     }
 

@@ -98,22 +98,6 @@ impl serde::Serialize for SecretKey {
     }
 }
 
-#[cfg(feature = "bake")]
-impl databake::Bake for SecretKey {
-    fn bake(&self, env: &databake::CrateEnv) -> databake::TokenStream {
-        env.insert("protocol_core");
-        let bytes = self.0.bake(env);
-        databake::quote! { protocol_core::mavlink::SecretKey::new(#bytes) }
-    }
-}
-
-#[cfg(feature = "bake")]
-impl databake::BakeSize for SecretKey {
-    fn borrows_size(&self) -> usize {
-        0
-    }
-}
-
 /// The signature value: the first 48 bits of SHA-256(`key` ‖ `signed`), `signed` being
 /// the frame from its STX to the end of the signature's timestamp.
 #[must_use]

@@ -44,12 +44,16 @@ use crate::fixes::{Fix, Velocity};
 use crate::time::{Duration, Instant};
 use protocol_core::mavlink::dialect::{
     GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavType,
-    SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    SETUP_SIGNING_DATA, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
-use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
+use protocol_core::mavlink::{
+    self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, Signer,
+};
 
 use super::super::{Ctx, clamp_i16};
 use super::math;
+use super::signing::{Check, LinkSigning};
+use crate::access::Refusal;
 
 /// The autopilot's component id.
 pub(super) const AUTOPILOT: u8 = 1;
@@ -205,10 +209,12 @@ pub(super) struct Autopilot {
     /// The first SYSTEM_TIME with a set clock since the autopilot was learnt.
     first_time: Option<Instant>,
     sync: Timesync,
+    /// MAVLink signing on this link.
+    pub(super) signing: LinkSigning,
 }
 
 impl Autopilot {
-    pub(super) const fn new(own: u8) -> Self {
+    pub(super) fn new(own: u8, config: &crate::Config) -> Self {
         Autopilot {
             sysid: None,
             kind: AutopilotKind::Other,
@@ -231,6 +237,7 @@ impl Autopilot {
                 sent: 0,
                 rng: 0x9E37_79B9,
             },
+            signing: LinkSigning::new(config, 0),
         }
     }
 
@@ -247,15 +254,30 @@ impl Autopilot {
         })
     }
 
+    /// Writes a frame with `write` (signed when the link signs: see
+    /// [`LinkSigning::next_signer`]) and queues it on the link; returns its length when
+    /// queued.
+    fn queue(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        write: impl FnOnce(Option<&Signer<'_>>, &mut [u8]) -> protocol_core::Result<usize>,
+    ) -> Option<usize> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let utc = ctx.time.utc(ctx.now);
+        let signer = self.signing.next_signer(utc);
+        let n = write(signer.as_ref(), &mut buf).ok()?;
+        ctx.reply(buf.get(..n).unwrap_or_default()).then_some(n)
+    }
+
     /// Encodes `msg` from component `comp` and queues it on the link.
     pub(super) fn send(&mut self, ctx: &mut Ctx<'_>, comp: u8, msg: &MavMessage) {
         let Some(header) = self.header(comp) else {
             return;
         };
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = mavlink::encode(msg, &header, &mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
-        }
+        self.queue(ctx, |signer, buf| match signer {
+            Some(s) => mavlink::encode_signed(msg, &header, s, buf),
+            None => mavlink::encode(msg, &header, buf),
+        });
     }
 
     /// Queues a message from component `comp` given as its id and payload (trailing
@@ -268,14 +290,77 @@ impl Autopilot {
             .iter()
             .rposition(|b| *b != 0)
             .map_or(1, |i| i.saturating_add(1));
-        let message = Message::Raw(Raw {
-            id,
-            payload: payload.get(..n).unwrap_or_default(),
+        let packet = Packet::new(
+            header,
+            Message::Raw(Raw {
+                id,
+                payload: payload.get(..n).unwrap_or_default(),
+            }),
+        );
+        self.queue(ctx, |signer, buf| match signer {
+            Some(s) => packet.emit_signed(s, buf),
+            None => packet.emit(buf),
         });
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = Packet::new(header, message).emit(&mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
+    }
+
+    /// Whether a received frame is read at all, by the link's signing (see
+    /// docs/src/security.md): `Some(signed)` to read it, `None` when it was refused
+    /// (counted; a command also reported).
+    pub(super) fn admit(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]) -> Option<bool> {
+        let utc = ctx.time.utc(ctx.now);
+        let view = protocol_core::mavlink::Frame::new_unchecked(frame);
+        let (id, sender) = (view.message_id(), view.system_id());
+        match self.signing.check(frame, utc) {
+            Check::Signed => Some(true),
+            Check::Refused(reason) => {
+                ctx.refuse(reason, id, sender);
+                None
+            }
+            Check::Unsigned if !self.signing.required() => Some(false),
+            Check::Unsigned if is_command(id) => {
+                ctx.refuse(Refusal::Unsigned, id, sender);
+                None
+            }
+            Check::Unsigned if ctx.config.signing_unsigned_telemetry => Some(false),
+            Check::Unsigned => {
+                // Telemetry refused is counted, not reported (it comes many times a
+                // second).
+                let n = &mut ctx.out.counters.unsigned_refused;
+                *n = n.saturating_add(1);
+                None
+            }
         }
+    }
+
+    /// The sender may command the device: the autopilot's system, or a listed ground
+    /// station's.
+    pub(super) fn may_command(&self, ctx: &Ctx<'_>, h: Header) -> bool {
+        self.sysid == Some(h.system_id) || ctx.config.gcs_ids.contains(h.system_id)
+    }
+
+    /// SETUP_SIGNING addressed to this device: taken only from the autopilot's system,
+    /// in a frame signed with the key in use (a key is given once by configuration and
+    /// only replaced by one who holds it; see docs/src/security.md).
+    pub(super) fn setup_signing(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        h: Header,
+        s: &SETUP_SIGNING_DATA,
+        signed: bool,
+    ) -> Took {
+        if !self.addressed(s.target_system, s.target_component, self.own) || s.target_system == 0 {
+            return Took::No;
+        }
+        if !signed {
+            ctx.refuse(Refusal::Unsigned, SETUP_SIGNING_ID, h.system_id);
+        } else if self.sysid != Some(h.system_id) {
+            ctx.refuse(Refusal::Sender, SETUP_SIGNING_ID, h.system_id);
+        } else {
+            let on = self.signing.set_key(s.secret_key, s.initial_timestamp);
+            ctx.out
+                .event(crate::Event::SigningKeyChanged { port: ctx.to, on });
+        }
+        Took::Yes
     }
 
     /// The sender is the autopilot.
@@ -523,10 +608,11 @@ impl Autopilot {
         let Some(header) = self.header(self.own) else {
             return;
         };
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = mavlink::encode(&msg, &header, &mut buf)
-            && ctx.reply(buf.get(..n).unwrap_or_default())
-        {
+        let queued = self.queue(ctx, |signer, buf| match signer {
+            Some(s) => mavlink::encode_signed(&msg, &header, s, buf),
+            None => mavlink::encode(&msg, &header, buf),
+        });
+        if let Some(n) = queued {
             self.sync.outstanding = Some(Request {
                 ts1,
                 sent: ctx.now,
@@ -670,6 +756,15 @@ impl Autopilot {
         });
         true
     }
+}
+
+/// SETUP_SIGNING's message id.
+const SETUP_SIGNING_ID: u32 = 256;
+
+/// Messages that command: COMMAND_INT, COMMAND_LONG, GIMBAL_DEVICE_SET_ATTITUDE,
+/// SETUP_SIGNING. Under required signing they are never read unsigned.
+fn is_command(id: u32) -> bool {
+    matches!(id, 75 | 76 | 284 | SETUP_SIGNING_ID)
 }
 
 /// A message id or interval as a command parameter.

@@ -45,12 +45,14 @@ mod autopilot;
 mod camera;
 mod gimbal;
 mod math;
+mod signing;
 #[cfg(feature = "telemetry")]
 mod telemetry;
 
 #[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
 
+use crate::access::Refusal;
 use crate::pod::PodNotice;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{GpsRequest, Header as PodHeader};
@@ -108,6 +110,7 @@ mod id {
     pub(super) const CAMERA_IMAGE_CAPTURED: u32 = 263;
     pub(super) const GIMBAL_DEVICE_INFORMATION: u32 = 283;
     pub(super) const GIMBAL_DEVICE_ATTITUDE_STATUS: u32 = 285;
+    pub(super) const GIMBAL_DEVICE_SET_ATTITUDE: u32 = 284;
 }
 
 /// One of the device's two components.
@@ -205,9 +208,9 @@ pub(crate) struct MavlinkSide {
 }
 
 impl MavlinkSide {
-    pub(crate) fn new() -> Self {
+    pub(crate) fn new(config: &crate::Config) -> Self {
         MavlinkSide {
-            ap: Autopilot::new(Comp::Gimbal.id()),
+            ap: Autopilot::new(Comp::Gimbal.id(), config),
             next_heartbeat: Instant::ZERO,
             next_status: Instant::ZERO,
             pod_up_since: None,
@@ -229,6 +232,9 @@ impl FcHandler for MavlinkSide {
             ctx.ignored();
             return;
         };
+        let Some(signed) = self.ap.admit(ctx, f) else {
+            return;
+        };
         let header = Header {
             sequence: frame.sequence(),
             system_id: frame.system_id(),
@@ -241,6 +247,11 @@ impl FcHandler for MavlinkSide {
             return;
         }
         match Packet::parse(&frame).map(|p| p.message) {
+            Ok(Message::Known(MavMessage::SETUP_SIGNING(s))) => {
+                if self.ap.setup_signing(ctx, header, &s, signed) == Took::No {
+                    ctx.ignored();
+                }
+            }
             Ok(Message::Known(m)) => self.message(ctx, header, m),
             _ => ctx.ignored(),
         }
@@ -346,7 +357,13 @@ impl MavlinkSide {
                 Some(false) => {}
                 None => ctx.ignored(),
             },
-            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => self.set_attitude(ctx, &s),
+            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => {
+                if self.ap.may_command(ctx, h) {
+                    self.set_attitude(ctx, &s);
+                } else {
+                    ctx.refuse(Refusal::Sender, id::GIMBAL_DEVICE_SET_ATTITUDE, h.system_id);
+                }
+            }
             m => match self.ap.message(ctx, h, &m) {
                 Took::No => ctx.ignored(),
                 Took::Yes => {}
@@ -363,6 +380,15 @@ impl MavlinkSide {
         if !system || (to.is_none() && c.target_component != 0) || self.ap.sysid.is_none() {
             // Someone else's.
             ctx.ignored();
+            return;
+        }
+        if !self.ap.may_command(ctx, c.from) {
+            // Neither the autopilot's system nor a listed ground station's: refused, and
+            // told so when it named a component of this device.
+            ctx.refuse(Refusal::Sender, u32::from(c.command), c.from.system_id);
+            if let Some(comp) = to {
+                self.ack(ctx, comp, c.command, result::DENIED, c.from);
+            }
             return;
         }
         let handled = match c.command {
