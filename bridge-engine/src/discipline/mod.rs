@@ -432,9 +432,10 @@ impl TimeDiscipline {
         if utc_us < self.config.min_utc.as_unix_micros() {
             return Verdict::Rejected;
         }
+        let fc_ms = self.unwrap_fc_ms(fc_ms);
         let Some(m) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(i64::from(fc_ms).checked_mul(1000)?))
+            .and_then(|u| u.checked_sub(fc_ms.checked_mul(1000)?))
         else {
             return Verdict::Rejected;
         };
@@ -461,9 +462,10 @@ impl TimeDiscipline {
         if utc_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::ViaFc) {
             return Verdict::Rejected;
         }
+        let fc_ms = self.unwrap_fc_ms(fc_ms);
         let Some(d) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(i64::from(fc_ms).checked_mul(1000)?))
+            .and_then(|u| u.checked_sub(fc_ms.checked_mul(1000)?))
         else {
             return Verdict::Rejected;
         };
@@ -549,6 +551,28 @@ impl TimeDiscipline {
     }
 
     /// The FC clock's line, when the estimator holds the FC clock and gives a mapping.
+    /// `time_boot_ms` (a `u32` that wraps every 49.7 days) as the FC clock's whole count
+    /// of milliseconds: the wrap that puts it nearest the FC clock fit now (MAVLink:
+    /// TIMESYNC's 64-bit clock; SIYI: its own `time_boot_ms`, unwrapped by the side);
+    /// without a fit, as it is (see docs/src/reliability.md).
+    fn unwrap_fc_ms(&self, fc_ms: u32) -> i64 {
+        const WRAP: i64 = 1 << 32;
+        let raw = i64::from(fc_ms);
+        let expected_ms = i64::try_from(self.now.as_micros())
+            .ok()
+            .and_then(|x| self.fc_line()?.remote_at(x))
+            .map(|us| us.div_euclid(1000));
+        let Some(expected_ms) = expected_ms else {
+            return raw;
+        };
+        let wraps = expected_ms
+            .saturating_sub(raw)
+            .saturating_add(WRAP / 2)
+            .div_euclid(WRAP)
+            .max(0);
+        raw.saturating_add(wraps.saturating_mul(WRAP))
+    }
+
     fn fc_line(&self) -> Option<Line> {
         self.clock
             .usable(&self.config)
