@@ -284,7 +284,6 @@ protocol_core::wire_derive! {
 
 #[cfg(feature = "serde")]
 pub(crate) mod de {
-    use serde::Deserialize as _;
     use serde::de::{Deserializer, Error};
 
     use super::{K40tAllow, SigningKey, SystemIds};
@@ -292,8 +291,17 @@ pub(crate) mod de {
     pub(crate) fn signing_key<'de, D: Deserializer<'de>>(
         d: D,
     ) -> Result<Option<SigningKey>, D::Error> {
-        let text = <&str>::deserialize(d)?;
-        SigningKey::parse(text).map_err(|e| D::Error::custom(e.problem))
+        struct Key;
+        impl serde::de::Visitor<'_> for Key {
+            type Value = Option<SigningKey>;
+            fn expecting(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str("64 hexadecimal characters")
+            }
+            fn visit_str<E: Error>(self, v: &str) -> Result<Self::Value, E> {
+                SigningKey::parse(v).map_err(|e| E::custom(e.problem))
+            }
+        }
+        d.deserialize_str(Key)
     }
 
     /// A list of integers, at most 16 (more is an error of the caller's type).

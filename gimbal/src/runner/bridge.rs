@@ -79,6 +79,15 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
         }
     }
     set(&mut keys, "fc", toml::Value::String(args.fc.name().into()));
+    if let Some(path) = &a.signing_key_file {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("--signing-key-file {}: {e}", path.display()))?;
+        set(
+            &mut keys,
+            "signing_key",
+            toml::Value::String(text.trim().to_owned()),
+        );
+    }
 
     let source = match &args.config_file {
         Some(path) => format!("--config {}: ", path.display()),
