@@ -18,6 +18,7 @@ pub mod pod;
 pub mod px4;
 pub mod qgc;
 pub mod scenario;
+pub mod signing;
 pub mod tasks;
 
 pub use board::{Aircraft, Autopilot, Board, MainLoop};
