@@ -524,6 +524,19 @@ impl BootMs {
     }
 }
 
+/// `raw` (a `u32` millisecond count that wraps every 2^32 ms) as the whole count nearest
+/// `expected_ms` (the same clock known another way: MAVLink SYSTEM_TIME's
+/// `time_boot_ms` against TIMESYNC's 64-bit clock).
+#[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+pub(crate) fn nearest_wrap_ms(raw: u32, expected_ms: u64) -> u64 {
+    const WRAP: u64 = 1 << 32;
+    let wraps = expected_ms
+        .saturating_sub(u64::from(raw))
+        .saturating_add(WRAP / 2)
+        / WRAP;
+    wraps.saturating_mul(WRAP).saturating_add(u64::from(raw))
+}
+
 /// `Duration` and `UtcTime` bake as their `const` constructors (their field is private).
 #[cfg(feature = "bake")]
 mod bake {
@@ -563,6 +576,16 @@ mod bake {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nearest_wrap() {
+        let w = 1u64 << 32;
+        assert_eq!(nearest_wrap_ms(5, 0), 5);
+        assert_eq!(nearest_wrap_ms(5, 4), 5);
+        assert_eq!(nearest_wrap_ms(5, w + 3), w + 5);
+        assert_eq!(nearest_wrap_ms(u32::MAX, w + 3), u64::from(u32::MAX));
+        assert_eq!(nearest_wrap_ms(10, 3 * w - 2), 3 * w + 10);
+    }
 
     #[test]
     fn boot_ms_unwraps_across_2_pow_32_and_not_across_a_reboot() {

@@ -428,14 +428,18 @@ impl TimeDiscipline {
     /// fc_ms·1000]`. Rejected if it contradicts the unpaired lower bound (pairs are
     /// checked again each time `C` is computed). Feed the same 0x30 to
     /// [`utc_via_fc_sample`](Self::utc_via_fc_sample) too: it gives the bound.
-    pub fn utc_fc_pair(&mut self, utc_us: u64, fc_ms: u32) -> Verdict {
+    ///
+    /// `fc_ms` is the FC clock's whole count of milliseconds: `time_boot_ms`, a `u32`
+    /// that wraps every 49.7 days, unwrapped by the caller as its FC clock samples are
+    /// (see docs/src/reliability.md).
+    pub fn utc_fc_pair(&mut self, utc_us: u64, fc_ms: u64) -> Verdict {
         if utc_us < self.config.min_utc.as_unix_micros() {
             return Verdict::Rejected;
         }
-        let fc_ms = self.unwrap_fc_ms(fc_ms);
         let Some(m) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(fc_ms.checked_mul(1000)?))
+            .zip(i64::try_from(fc_ms).ok())
+            .and_then(|(u, ms)| u.checked_sub(ms.checked_mul(1000)?))
         else {
             return Verdict::Rejected;
         };
@@ -457,15 +461,18 @@ impl TimeDiscipline {
     /// [`fc_clock_sample`](Self::fc_clock_sample) (TIMESYNC). `utc_us` 0 or before
     /// [`DisciplineConfig::min_utc`] is rejected; a step of the FC's UTC makes UTC
     /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
-    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u32) -> Verdict {
+    ///
+    /// `fc_ms` is `time_boot_ms` unwrapped to the FC clock of the TIMESYNC samples (it
+    /// wraps every 49.7 days; see docs/src/reliability.md).
+    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u64) -> Verdict {
         self.advance(local);
         if utc_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::ViaFc) {
             return Verdict::Rejected;
         }
-        let fc_ms = self.unwrap_fc_ms(fc_ms);
         let Some(d) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(fc_ms.checked_mul(1000)?))
+            .zip(i64::try_from(fc_ms).ok())
+            .and_then(|(u, ms)| u.checked_sub(ms.checked_mul(1000)?))
         else {
             return Verdict::Rejected;
         };
@@ -551,28 +558,6 @@ impl TimeDiscipline {
     }
 
     /// The FC clock's line, when the estimator holds the FC clock and gives a mapping.
-    /// `time_boot_ms` (a `u32` that wraps every 49.7 days) as the FC clock's whole count
-    /// of milliseconds: the wrap that puts it nearest the FC clock fit now (MAVLink:
-    /// TIMESYNC's 64-bit clock; SIYI: its own `time_boot_ms`, unwrapped by the side);
-    /// without a fit, as it is (see docs/src/reliability.md).
-    fn unwrap_fc_ms(&self, fc_ms: u32) -> i64 {
-        const WRAP: i64 = 1 << 32;
-        let raw = i64::from(fc_ms);
-        let expected_ms = i64::try_from(self.now.as_micros())
-            .ok()
-            .and_then(|x| self.fc_line()?.remote_at(x))
-            .map(|us| us.div_euclid(1000));
-        let Some(expected_ms) = expected_ms else {
-            return raw;
-        };
-        let wraps = expected_ms
-            .saturating_sub(raw)
-            .saturating_add(WRAP / 2)
-            .div_euclid(WRAP)
-            .max(0);
-        raw.saturating_add(wraps.saturating_mul(WRAP))
-    }
-
     fn fc_line(&self) -> Option<Line> {
         self.clock
             .usable(&self.config)

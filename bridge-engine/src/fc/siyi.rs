@@ -224,7 +224,7 @@ impl SiyiSide {
         let s = Self::sample(ctx, boot_ms.saturating_mul(1000), 1000);
         ctx.time.fc_clock_sample(s);
         if let Some(utc) = utc {
-            ctx.time.utc_fc_pair(utc, time_boot_ms);
+            ctx.time.utc_fc_pair(utc, boot_ms);
         }
     }
 

@@ -177,6 +177,9 @@ struct Timesync {
     sent: u8,
     /// Dither state (xorshift32).
     rng: u32,
+    /// The last reply's tc1 (µs of the autopilot's 64-bit boot clock) and the local
+    /// instant its request was queued: SYSTEM_TIME's `time_boot_ms` is unwrapped to it.
+    clock: Option<(Instant, u64)>,
 }
 
 /// What [`Autopilot::message`] did with a message.
@@ -236,6 +239,7 @@ impl Autopilot {
                 answered: false,
                 sent: 0,
                 rng: 0x9E37_79B9,
+                clock: None,
             },
             signing: LinkSigning::new(config, 0),
         }
@@ -430,6 +434,7 @@ impl Autopilot {
         self.sync.next = ctx.now;
         self.sync.outstanding = None;
         self.sync.answered = false;
+        self.sync.clock = None;
         self.sync.sent = 0;
         Some(true)
     }
@@ -652,6 +657,7 @@ impl Autopilot {
         let Ok(tc1_us) = u64::try_from(t.tc1 / 1000) else {
             return Took::Yes;
         };
+        self.sync.clock = Some((req.sent, tc1_us));
         if !self.sync.answered {
             self.sync.answered = true;
             if self
@@ -688,8 +694,16 @@ impl Autopilot {
             return;
         }
         if self.sync.answered {
-            ctx.time
-                .system_time(ctx.now, t.time_unix_usec, t.time_boot_ms);
+            // `time_boot_ms` wraps every 49.7 days, TIMESYNC's clock does not.
+            let boot_ms = self
+                .sync
+                .clock
+                .map_or(u64::from(t.time_boot_ms), |(at, tc1_us)| {
+                    let expected_us =
+                        tc1_us.saturating_add(ctx.now.saturating_duration_since(at).as_micros());
+                    crate::time::nearest_wrap_ms(t.time_boot_ms, expected_us / 1000)
+                });
+            ctx.time.system_time(ctx.now, t.time_unix_usec, boot_ms);
         } else if ctx.now.saturating_duration_since(first) > TIMESYNC_GRACE {
             let s = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(ctx.transit);
             ctx.time.utc_sample(s);

@@ -28,13 +28,31 @@ pub(super) const STREAMS: usize = 8;
 /// How much older than the bridge's timestamp a new stream's first may be: a minute.
 const NEW_STREAM_WINDOW: u64 = 60 * TIMESTAMP_PER_S;
 
-/// One stream's last accepted timestamp.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// One stream (link id, system, component) and its last accepted timestamp, packed
+/// (48 bits, little-endian; all zero: a free slot).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 struct Stream {
-    link_id: u8,
-    system_id: u8,
-    component_id: u8,
-    timestamp: u64,
+    ids: [u8; 3],
+    timestamp: [u8; 6],
+}
+
+impl Stream {
+    fn new(ids: [u8; 3], timestamp: u64) -> Self {
+        let [t0, t1, t2, t3, t4, t5, _, _] = timestamp.to_le_bytes();
+        Stream {
+            ids,
+            timestamp: [t0, t1, t2, t3, t4, t5],
+        }
+    }
+
+    fn timestamp(&self) -> u64 {
+        let [t0, t1, t2, t3, t4, t5] = self.timestamp;
+        u64::from_le_bytes([t0, t1, t2, t3, t4, t5, 0, 0])
+    }
+
+    fn is_free(&self) -> bool {
+        *self == Stream::default()
+    }
 }
 
 /// What a received frame is, as far as signing goes.
@@ -57,7 +75,7 @@ pub(super) struct LinkSigning {
     link_id: u8,
     /// The last timestamp the bridge used or accepted (0: none yet).
     timestamp: u64,
-    streams: [Option<Stream>; STREAMS],
+    streams: [Stream; STREAMS],
 }
 
 impl LinkSigning {
@@ -68,7 +86,7 @@ impl LinkSigning {
             key: config.signing_key.map(|k| SecretKey::new(k.0)),
             link_id,
             timestamp: 0,
-            streams: [None; STREAMS],
+            streams: [Stream::default(); STREAMS],
         }
     }
 
@@ -90,15 +108,15 @@ impl LinkSigning {
         if !signature_matches(frame, &key) {
             return Check::Refused(Refusal::BadSignature);
         }
-        let (link_id, system_id, component_id) =
-            (sig.link_id, view.system_id(), view.component_id());
-        let slot = self.streams.iter().position(|s| {
-            s.is_some_and(|s| {
-                (s.link_id, s.system_id, s.component_id) == (link_id, system_id, component_id)
-            })
-        });
-        match slot.and_then(|i| self.streams.get(i).copied().flatten()) {
-            Some(s) if sig.timestamp <= s.timestamp => return Check::Refused(Refusal::Replayed),
+        let ids = [sig.link_id, view.system_id(), view.component_id()];
+        let slot = self
+            .streams
+            .iter()
+            .position(|s| !s.is_free() && s.ids == ids);
+        match slot.and_then(|i| self.streams.get(i)) {
+            Some(s) if sig.timestamp <= s.timestamp() => {
+                return Check::Refused(Refusal::Replayed);
+            }
             Some(_) => {}
             None => {
                 let local = self.local_timestamp(utc);
@@ -109,12 +127,7 @@ impl LinkSigning {
         }
         let i = slot.unwrap_or_else(|| self.room());
         if let Some(s) = self.streams.get_mut(i) {
-            *s = Some(Stream {
-                link_id,
-                system_id,
-                component_id,
-                timestamp: sig.timestamp,
-            });
+            *s = Stream::new(ids, sig.timestamp);
         }
         self.timestamp = self.timestamp.max(sig.timestamp);
         Check::Signed
@@ -125,7 +138,13 @@ impl LinkSigning {
         self.streams
             .iter()
             .enumerate()
-            .min_by_key(|(_, s)| s.map_or(0, |s| s.timestamp.saturating_add(1)))
+            .min_by_key(|(_, s)| {
+                if s.is_free() {
+                    0
+                } else {
+                    s.timestamp().saturating_add(1)
+                }
+            })
             .map_or(0, |(i, _)| i)
     }
 
@@ -172,7 +191,7 @@ impl LinkSigning {
             }
         }
         self.timestamp = self.timestamp.max(initial);
-        self.streams = [None; STREAMS];
+        self.streams = [Stream::default(); STREAMS];
         self.key.is_some()
     }
 }
