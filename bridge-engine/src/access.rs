@@ -42,9 +42,12 @@ impl SigningKey {
         let mut key = [0u8; 32];
         let bytes = text.as_bytes();
         let ok = bytes.len() == 64
-            && key.iter_mut().zip(bytes.chunks_exact(2)).all(
-                |(k, pair)| match core::str::from_utf8(pair)
-                    .ok()
+            && key.iter_mut().enumerate().all(|(i, k)| {
+                let at = i.saturating_mul(2);
+                match bytes
+                    .get(at..at.saturating_add(2))
+                    .filter(|p| p.iter().all(u8::is_ascii_hexdigit))
+                    .and_then(|p| core::str::from_utf8(p).ok())
                     .and_then(|p| u8::from_str_radix(p, 16).ok())
                 {
                     Some(v) => {
@@ -52,8 +55,8 @@ impl SigningKey {
                         true
                     }
                     None => false,
-                },
-            );
+                }
+            });
         if ok {
             Ok(Some(SigningKey(key)))
         } else {
@@ -353,7 +356,8 @@ mod tests {
         assert_eq!(k.0[1], 0x11);
         assert_eq!(k.0[31], 0xFF);
         assert_eq!(SigningKey::parse(""), Ok(None));
-        for bad in [&hex[1..], "zz", &hex.replace('0', "g")] {
+        let plus = format!("+{}", &hex[1..]);
+        for bad in [&hex[1..], "zz", &hex.replace('0', "g"), &plus] {
             assert_eq!(SigningKey::parse(bad).unwrap_err().key, "signing_key");
         }
         assert_eq!(format!("{k:?}"), "SigningKey(..)");

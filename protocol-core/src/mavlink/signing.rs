@@ -11,8 +11,6 @@
 
 use core::fmt;
 
-use sha2::{Digest, Sha256};
-
 use super::frame::Frame;
 
 /// Bytes of a secret key.
@@ -46,8 +44,9 @@ impl SecretKey {
             return None;
         }
         let mut key = [0u8; KEY_LEN];
-        for (byte, pair) in key.iter_mut().zip(text.chunks_exact(2)) {
-            let [hi, lo] = pair else { return None };
+        for (i, byte) in key.iter_mut().enumerate() {
+            let at = i.saturating_mul(2);
+            let (hi, lo) = (text.get(at)?, text.get(at.saturating_add(1))?);
             *byte = nibble(*hi)?.checked_mul(16)?.checked_add(nibble(*lo)?)?;
         }
         Some(SecretKey(key))
@@ -98,19 +97,61 @@ impl serde::Serialize for SecretKey {
     }
 }
 
+/// SHA-256's initial hash value (FIPS 180-4, 5.3.3).
+const SHA256_IV: [u32; 8] = [
+    0x6a09_e667,
+    0xbb67_ae85,
+    0x3c6e_f372,
+    0xa54f_f53a,
+    0x510e_527f,
+    0x9b05_688c,
+    0x1f83_d9ab,
+    0x5be0_cd19,
+];
+/// SHA-256's block, bytes.
+const BLOCK: usize = 64;
+/// The longest message signed: the key and a whole signed frame but the value, padded
+/// (at least 9 bytes: 0x80 and the 64-bit length) to whole blocks.
+const PADDED_MAX: usize = (KEY_LEN + super::MAX_FRAME_LEN - VALUE_LEN + 9).div_ceil(BLOCK) * BLOCK;
+
 /// The signature value: the first 48 bits of SHA-256(`key` ‖ `signed`), `signed` being
-/// the frame from its STX to the end of the signature's timestamp.
+/// the frame from its STX to the end of the signature's timestamp (longer input is cut
+/// at a whole frame's length).
+///
+/// The message is padded here (FIPS 180-4, 5.1.1) into one fixed buffer and given to
+/// `sha2`'s compression function block by block: two blocks for a frame of up to 87
+/// bytes signed, the usual case.
 #[must_use]
 pub fn signature_value(key: &SecretKey, signed: &[u8]) -> [u8; VALUE_LEN] {
-    let mut h = Sha256::new();
-    h.update(key.as_bytes());
-    h.update(signed);
-    let digest = h.finalize();
-    let mut value = [0u8; VALUE_LEN];
-    for (d, s) in value.iter_mut().zip(digest.iter()) {
-        *d = *s;
+    let mut buf = [0u8; PADDED_MAX];
+    let signed = signed
+        .get(..super::MAX_FRAME_LEN.saturating_sub(VALUE_LEN))
+        .unwrap_or(signed);
+    let len = KEY_LEN.saturating_add(signed.len());
+    let (head, rest) = buf.split_at_mut(KEY_LEN);
+    crate::wire::copy(head, key.as_bytes());
+    crate::wire::copy(rest, signed);
+    if let Some(b) = buf.get_mut(len) {
+        *b = 0x80;
     }
-    value
+    let padded = len.saturating_add(9).div_ceil(BLOCK).saturating_mul(BLOCK);
+    let bits = u64::try_from(len)
+        .unwrap_or(0)
+        .saturating_mul(8)
+        .to_be_bytes();
+    if let Some(dst) = buf.get_mut(padded.saturating_sub(8)..padded) {
+        crate::wire::copy(dst, &bits);
+    }
+    let mut state = SHA256_IV;
+    for block in buf.get(..padded).unwrap_or_default().chunks_exact(BLOCK) {
+        if let Ok(block) = <[u8; BLOCK]>::try_from(block) {
+            sha2::compress256(&mut state, &[block.into()]);
+        }
+    }
+    let [a, b, ..] = state;
+    let [v0, v1, v2, v3] = a.to_be_bytes();
+    let [v4, v5, _, _] = b.to_be_bytes();
+    [v0, v1, v2, v3, v4, v5]
 }
 
 /// The signature timestamp of a UTC instant (µs since the Unix epoch): 10 µs units since
@@ -211,6 +252,38 @@ mod tests {
             100_001
         );
         assert_eq!(timestamp_of_unix_micros(u64::MAX), MAX_TIMESTAMP);
+    }
+
+    /// The padding where block boundaries fall (key + message of 55, 56, 119, 120
+    /// bytes...): the first 48 bits of SHA-256 as Python's hashlib computes them.
+    #[test]
+    fn the_padding_at_every_block_boundary() {
+        let key = SecretKey::new([0x5A; 32]);
+        let hashlib = [
+            (0, "60bf07c488aa"),
+            (1, "e755e8731761"),
+            (22, "070b8bcf1edc"),
+            (23, "b69ca2e41dd9"),
+            (24, "56388157fcda"),
+            (31, "b22aad57203b"),
+            (32, "32606111ebe8"),
+            (55, "c36f8851bc15"),
+            (56, "2ccd2ac3a31f"),
+            (87, "387614153dc0"),
+            (88, "e9cca160a67b"),
+            (119, "f664751bd29e"),
+            (120, "bf047a4a937d"),
+            (200, "bc83878c0a9e"),
+            (267, "f7e8e0cb3566"),
+        ];
+        for (n, want) in hashlib {
+            let data: std::vec::Vec<u8> = (0..n).map(|i| (i * 7 % 256) as u8).collect();
+            let got: std::string::String = signature_value(&key, &data)
+                .iter()
+                .map(|b| std::format!("{b:02x}"))
+                .collect();
+            assert_eq!(got, want, "{n} bytes");
+        }
     }
 
     /// A heartbeat signed by pymavlink 2.4.50 (key 00..1F, link 3, timestamp 123456789):
