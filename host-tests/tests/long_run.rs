@@ -17,7 +17,6 @@ mod engine_scenarios;
 use std::time::Instant as WallClock;
 
 use bridge_engine::Event;
-use gimbal::sim::Autopilot;
 use gimbal::sim::FcReboot;
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::ap_siyi::ApSiyi;

@@ -171,11 +171,7 @@ fn required_signing_refuses_an_unsigned_autopilot() {
         before,
         "an unsigned command is refused"
     );
-    assert!(
-        refusals(&s)
-            .iter()
-            .any(|r| *r == (Refusal::Unsigned, 76, 1))
-    );
+    assert!(refusals(&s).contains(&(Refusal::Unsigned, 76, 1)));
 
     let mut s = signed_ap(SigningMode::Sign, false, false);
     s.run_until(25 * S);
@@ -266,7 +262,10 @@ fn the_k40t_side_refuses_destructive_requests_unless_allowed() {
         &mut frame,
     )
     .unwrap();
-    for allow in [K40tAllow::NONE, K40tAllow::from_list(&[0x0003_0D]).unwrap()] {
+    for allow in [
+        K40tAllow::NONE,
+        K40tAllow::from_list(&[0x0000_030D]).unwrap(),
+    ] {
         let mut c = Config::for_fc(FcProtocol::K40t);
         c.k40t_allow = allow;
         let mut e = Engine::new(c);
@@ -278,7 +277,7 @@ fn the_k40t_side_refuses_destructive_requests_unless_allowed() {
         let to_fc = e.transmit(Port::Fc, &mut buf).map(|n| buf[..n].to_vec());
         if allow == K40tAllow::NONE {
             assert_eq!(to_pod, None, "not forwarded");
-            let ack = k40t::Frame::new_checked(&to_fc.as_deref().unwrap()[..]).unwrap();
+            let ack = k40t::Frame::new_checked(to_fc.as_deref().unwrap()).unwrap();
             assert_eq!(ack.id().kind, Kind::Ack);
             assert_eq!(ack.id().base, FormatSd::ID.base);
             assert_eq!(ack.seq(), 42);
@@ -293,7 +292,7 @@ fn the_k40t_side_refuses_destructive_requests_unless_allowed() {
                 Some(Event::Refused {
                     port: Port::Fc,
                     reason: Refusal::Guarded,
-                    id: 0x0003_0D,
+                    id: 0x0000_030D,
                     sender: 0
                 })
             );

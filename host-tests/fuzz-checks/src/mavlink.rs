@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 26] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -32,6 +32,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 25] = [
     (112, 174),
     (244, 95),
     (253, 83),
+    (256, 71),
     (259, 92),
     (260, 146),
     (261, 179),
