@@ -38,6 +38,11 @@
 //! | `[laser] min_distance_cm`, `max_distance_cm` | [`LaserConfig`] | [`Limit::LASER_MIN_DISTANCE_CM`], [`Limit::LASER_MAX_DISTANCE_CM`] |
 //! | `[discipline] bin_ms`, `min_bins`, `min_span_ms` | [`DisciplineConfig`] | [`Limit::DISCIPLINE_BIN_MS`], [`Limit::DISCIPLINE_MIN_BINS`], [`Limit::DISCIPLINE_MIN_SPAN_MS`] |
 //! | `[mavlink] allow_destructive` | [`MavlinkConfig::allow_destructive`] | `true`, `false` |
+//! | `signing` | [`Config::signing`] | `"off"`, `"sign"`, `"require"` ([`SigningMode`]) |
+//! | `signing_key` | [`Config::signing_key`] | 64 hexadecimal characters, `""` for none ([`SigningKey::parse`]); needed unless `signing` is `"off"` |
+//! | `signing_unsigned_telemetry` | [`Config::signing_unsigned_telemetry`] | `true`, `false` |
+//! | `gcs_ids` | [`Config::gcs_ids`] | up to 8 ids, each [`Limit::GCS_ID`] ([`SystemIds`]) |
+//! | `k40t_allow` | [`Config::k40t_allow`] | ids of [`GUARDED`](crate::access::GUARDED) requests ([`K40tAllow`]) |
 //!
 //! Deserializing checks types, texts and versions; [`Config::validate`] checks the
 //! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
@@ -49,6 +54,7 @@ mod sensors;
 
 pub use sensors::{LaserConfig, LensConfig, URI_LEN, VideoConfig};
 
+use super::access::{K40tAllow, SigningKey, SigningMode, SystemIds};
 use super::discipline::{DisciplineConfig, PpsConfig};
 use super::fixes::FixConfig;
 use super::sync::SyncConfig;
@@ -471,6 +477,28 @@ protocol_core::wire_derive! {
         /// the pod keeps UTC).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
         pub tz_minuteswest: i32,
+        /// MAVLink 2 signing on the MAVLink side and the telemetry link (default off; see
+        /// docs/src/security.md).
+        pub signing: SigningMode,
+        /// The signing key (default none; needed unless `signing` is off).
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::access::de::signing_key")
+        )]
+        pub signing_key: Option<SigningKey>,
+        /// With `signing = "require"`: unsigned frames that command nothing (heartbeats,
+        /// time, positions) are still read (default false: refused).
+        pub signing_unsigned_telemetry: bool,
+        /// MAVLink systems whose commands are taken besides the autopilot's (default 255
+        /// and 245).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "crate::access::de::gcs_ids"))]
+        pub gcs_ids: SystemIds,
+        /// The pod's destructive requests that may reach it (default none).
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::access::de::k40t_allow")
+        )]
+        pub k40t_allow: K40tAllow,
     }
 }
 
@@ -498,6 +526,11 @@ impl Config {
         fc_link_timeout: Duration::from_secs(2),
         k40t_geotag_fallback: Some(Duration::from_millis(200)),
         tz_minuteswest: 0,
+        signing: SigningMode::Off,
+        signing_key: None,
+        signing_unsigned_telemetry: false,
+        gcs_ids: SystemIds::DEFAULT,
+        k40t_allow: K40tAllow::NONE,
     };
 
     /// The defaults with another FC protocol.
@@ -553,6 +586,23 @@ impl Config {
             (Limit::LASER_MAX_DISTANCE_CM, self.laser.max_distance_cm),
         ] {
             limit.check(value.into())?;
+        }
+        if self.signing != SigningMode::Off && self.signing_key.is_none() {
+            return Err(ConfigError {
+                key: "signing_key",
+                problem: Problem::Missing,
+            });
+        }
+        for id in self.gcs_ids.as_slice() {
+            Limit::GCS_ID.check((*id).into())?;
+        }
+        if usize::from(self.gcs_ids.len) > crate::access::MAX_GCS_IDS {
+            return Err(ConfigError {
+                key: "gcs_ids",
+                problem: Problem::TooMany {
+                    max: u8::try_from(crate::access::MAX_GCS_IDS).unwrap_or(u8::MAX),
+                },
+            });
         }
         Ok(())
     }
@@ -612,6 +662,8 @@ impl Limit {
     pub const DISCIPLINE_MIN_BINS: Self = Self::new("discipline.min_bins", 2, 32);
     /// `discipline.min_span_ms`: 1000..=600000.
     pub const DISCIPLINE_MIN_SPAN_MS: Self = Self::new("discipline.min_span_ms", 1000, 600_000);
+    /// Each of `gcs_ids`: 1..=255 (0 is MAVLink's broadcast id, no sender's).
+    pub const GCS_ID: Self = Self::new("gcs_ids", 1, 255);
 
     /// `lens.visible_hfov_1x_cdeg`: 0..=17999 (0: unknown).
     pub const LENS_HFOV_CDEG: Self = Self::new("lens.visible_hfov_1x_cdeg", 0, 17_999);
@@ -635,7 +687,7 @@ impl Limit {
     pub const LASER_MAX_DISTANCE_CM: Self = Self::new("laser.max_distance_cm", 0, 65_535);
 
     /// Every limit above.
-    pub const ALL: [Self; 23] = [
+    pub const ALL: [Self; 24] = [
         Self::FC_BAUD,
         Self::POD_BAUD,
         Self::TZ_MINUTESWEST,
@@ -659,6 +711,7 @@ impl Limit {
         Self::LENS_RESOLUTION_V,
         Self::LASER_MIN_DISTANCE_CM,
         Self::LASER_MAX_DISTANCE_CM,
+        Self::GCS_ID,
     ];
 
     const fn new(key: &'static str, min: i64, max: i64) -> Self {
@@ -710,7 +763,7 @@ protocol_core::wire_derive! {
 }
 
 impl ConfigError {
-    const fn text(key: &'static str, rule: TextRule) -> Self {
+    pub(crate) const fn text(key: &'static str, rule: TextRule) -> Self {
         Self {
             key,
             problem: Problem::Text(rule),
@@ -733,6 +786,18 @@ protocol_core::wire_derive! {
         },
         /// A text that breaks its rule.
         Text(TextRule),
+        /// A value needed by another key's value is absent.
+        Missing,
+        /// A list longer than allowed.
+        TooMany {
+            /// The most allowed.
+            max: u8,
+        },
+        /// An id that is not one of the pod's destructive requests.
+        NotGuarded {
+            /// The id given.
+            value: i64,
+        },
     }
 }
 
@@ -746,6 +811,8 @@ protocol_core::wire_derive! {
         Printable(u8),
         /// 0 to 160 printable ASCII characters, no space (an address).
         Uri,
+        /// Exactly this many hexadecimal characters.
+        Hex(u8),
     }
 }
 
@@ -765,6 +832,13 @@ impl fmt::Display for Problem {
                     "expected up to {URI_LEN} printable ASCII characters, no space"
                 )
             }
+            Problem::Text(TextRule::Hex(n)) => write!(f, "expected {n} hexadecimal characters"),
+            Problem::Missing => f.write_str("needed (signing is on)"),
+            Problem::TooMany { max } => write!(f, "more than {max} values"),
+            Problem::NotGuarded { value } => write!(
+                f,
+                "{value:#08x} is not one of the pod's destructive requests (docs/src/security.md)"
+            ),
         }
     }
 }
@@ -946,6 +1020,8 @@ mod tests {
     }
 
     #[test]
+    // One spoilt Config per key, on the test thread's stack.
+    #[allow(clippy::large_stack_arrays)]
     fn validate_checks_every_key() {
         fn spoilt(spoil: impl FnOnce(&mut Config)) -> Config {
             let mut c = Config::DEFAULT;

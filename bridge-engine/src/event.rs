@@ -2,6 +2,7 @@
 //! [`Counters`] (read any time).
 
 use super::time::Instant;
+use crate::access::Refusal;
 use protocol_core::k40t::{AckCode, Address, CrcCoverage};
 
 protocol_core::wire_derive! {
@@ -157,12 +158,13 @@ protocol_core::wire_derive! {
             /// The address, octets in dotted order.
             address: [u8; 4],
         },
-        /// The bridge itself refused an FC command (the pod was not asked), and why.
-        Refused {
+        /// The bridge declined an FC command it cannot serve (the pod was not asked),
+        /// and why.
+        Declined {
             /// The FC protocol's command id (a MAV_CMD value on the MAVLink side).
             fc_id: u16,
             /// Why.
-            reason: Refusal,
+            reason: Decline,
         },
         /// The clock locked to the PPS edges: the mapping is their line (see
         /// docs/src/bridge/time.md, "PPS").
@@ -175,6 +177,26 @@ protocol_core::wire_derive! {
         /// The PPS line is no longer the mapping: handed back to the FC's UTC (slewed), or
         /// its holdover ended.
         PpsReleased,
+        /// A frame or command the bridge would not take (see docs/src/security.md).
+        Refused {
+            /// The link it came on.
+            port: Port,
+            /// Why.
+            reason: Refusal,
+            /// What: the MAVLink message id (a command's MAV_CMD for COMMAND_LONG and
+            /// COMMAND_INT), or the K40T request's id.
+            id: u32,
+            /// The sender: its MAVLink system id (K40T: 0).
+            sender: u8,
+        },
+        /// The MAVLink signing key changed (SETUP_SIGNING from the autopilot's system,
+        /// signed with the key in use): `on` false when it turned signing off.
+        SigningKeyChanged {
+            /// The link it came on.
+            port: Port,
+            /// A key is in use now.
+            on: bool,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -187,8 +209,8 @@ protocol_core::wire_derive! {
 
 protocol_core::wire_derive! {
     [Eq, Hash]
-    /// Why the bridge refused an FC command ([`Event::Refused`]).
-    pub enum Refusal {
+    /// Why the bridge declined an FC command ([`Event::Declined`]).
+    pub enum Decline {
         /// A parameter the command needs is NaN (not given).
         NotGiven,
         /// A parameter is out of its range.
@@ -211,20 +233,20 @@ protocol_core::wire_derive! {
     }
 }
 
-impl Refusal {
+impl Decline {
     /// The reason as a word, for logs.
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
-            Refusal::NotGiven => "not_given",
-            Refusal::OutOfRange => "out_of_range",
-            Refusal::OtherDevice => "other_device",
-            Refusal::NoStreamAddress => "no_stream_address",
-            Refusal::NoMeasurement => "no_measurement",
-            Refusal::NoLaserReturn => "no_laser_return",
-            Refusal::Frame => "frame",
-            Refusal::NoPosition => "no_position",
-            Refusal::PodLost => "pod_lost",
+            Decline::NotGiven => "not_given",
+            Decline::OutOfRange => "out_of_range",
+            Decline::OtherDevice => "other_device",
+            Decline::NoStreamAddress => "no_stream_address",
+            Decline::NoMeasurement => "no_measurement",
+            Decline::NoLaserReturn => "no_laser_return",
+            Decline::Frame => "frame",
+            Decline::NoPosition => "no_position",
+            Decline::PodLost => "pod_lost",
         }
     }
 }
@@ -275,6 +297,13 @@ protocol_core::wire_derive! {
         pub pps_conflicts: u32,
         /// PPS edges not used: off the line of the previous ones, or out of order.
         pub pps_rejected: u32,
+        /// Signed MAVLink frames dropped: signature not the key's, replayed or stale.
+        pub signature_failures: u32,
+        /// Unsigned MAVLink frames refused while signing is required.
+        pub unsigned_refused: u32,
+        /// Commands refused for their sender (MAVLink) or because they are destructive
+        /// and not allowed (K40T requests).
+        pub commands_refused: u32,
     }
 }
 

@@ -545,6 +545,59 @@ fn days_from_civil(year: u16, month: u8, day: u8) -> Option<u64> {
         .checked_sub(719_468)
 }
 
+/// A millisecond clock sent as a `u32` (an FC's `time_boot_ms`), unwrapped across its
+/// wrap at 2^32 ms (49.7 days) by continuity: a value below the last one is a wrap when
+/// the wrap's span matches the local time since the last within [`BootMs::TOLERANCE`]
+/// (else it is a reboot, which starts again from the value, and the discipline sees the
+/// step).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct BootMs {
+    /// The last value and the local instant it came.
+    last: Option<(u32, Instant)>,
+    /// Wraps so far.
+    wraps: u64,
+}
+
+impl BootMs {
+    /// How far a wrap's span may be from the local time between its two values: a
+    /// frame's transport and the two clocks' drift over the gap, never an FC reboot
+    /// (seconds of silence).
+    pub(crate) const TOLERANCE: Duration = Duration::from_millis(500);
+
+    /// The whole count of milliseconds of `raw`, received at `now`.
+    #[cfg_attr(not(feature = "siyi"), allow(dead_code))]
+    pub(crate) fn unwrap(&mut self, raw: u32, now: Instant) -> u64 {
+        if let Some((last, at)) = self.last
+            && raw < last
+        {
+            let span = u64::from(raw)
+                .saturating_add(1 << 32)
+                .saturating_sub(u64::from(last));
+            let elapsed = now.saturating_duration_since(at).as_millis();
+            if span.abs_diff(elapsed) <= Self::TOLERANCE.as_millis() {
+                self.wraps = self.wraps.saturating_add(1);
+            }
+        }
+        self.last = Some((raw, now));
+        self.wraps
+            .saturating_mul(1 << 32)
+            .saturating_add(u64::from(raw))
+    }
+}
+
+/// `raw` (a `u32` millisecond count that wraps every 2^32 ms) as the whole count nearest
+/// `expected_ms` (the same clock known another way: MAVLink SYSTEM_TIME's
+/// `time_boot_ms` against TIMESYNC's 64-bit clock).
+#[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+pub(crate) fn nearest_wrap_ms(raw: u32, expected_ms: u64) -> u64 {
+    const WRAP: u64 = 1 << 32;
+    let wraps = expected_ms
+        .saturating_sub(u64::from(raw))
+        .saturating_add(WRAP / 2)
+        / WRAP;
+    wraps.saturating_mul(WRAP).saturating_add(u64::from(raw))
+}
+
 /// `Duration` and `UtcTime` bake as their `const` constructors (their field is private).
 #[cfg(feature = "bake")]
 mod bake {
@@ -584,6 +637,32 @@ mod bake {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nearest_wrap() {
+        let w = 1u64 << 32;
+        assert_eq!(nearest_wrap_ms(5, 0), 5);
+        assert_eq!(nearest_wrap_ms(5, 4), 5);
+        assert_eq!(nearest_wrap_ms(5, w + 3), w + 5);
+        assert_eq!(nearest_wrap_ms(u32::MAX, w + 3), u64::from(u32::MAX));
+        assert_eq!(nearest_wrap_ms(10, 3 * w - 2), 3 * w + 10);
+    }
+
+    #[test]
+    fn boot_ms_unwraps_across_2_pow_32_and_not_across_a_reboot() {
+        let mut b = BootMs::default();
+        let at = |ms: u64| Instant::from_millis(1_000_000 + ms);
+        assert_eq!(b.unwrap(u32::MAX - 99, at(0)), u64::from(u32::MAX) - 99);
+        // 150 ms later the clock reads 49: wrapped.
+        assert_eq!(b.unwrap(49, at(150)), (1 << 32) + 49);
+        assert_eq!(b.unwrap(149, at(250)), (1 << 32) + 149);
+        // A reboot: 3 s of silence, then a clock near 0.
+        assert_eq!(b.unwrap(20, at(3_250)), (1 << 32) + 20);
+        // Near the wrap again, a value that does not match the local time: no wrap.
+        let mut b = BootMs::default();
+        b.unwrap(u32::MAX - 10, at(0));
+        assert_eq!(b.unwrap(5_000, at(100)), 5_000);
+    }
 
     #[test]
     fn instant_and_duration_arithmetic() {

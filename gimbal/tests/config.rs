@@ -153,6 +153,11 @@ fn every_key_is_read_and_checked() {
         fc_link_timeout_ms = 1500
         fc_silence_stop_ms = 300
         k40t_geotag_fallback_ms = "off"
+        signing = "require"
+        signing_key = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f"
+        signing_unsigned_telemetry = true
+        gcs_ids = [7]
+        k40t_allow = [0x00030D, 0x000501]
         [sync]
         period_ms = 2000
         width_ms = 20
@@ -236,6 +241,11 @@ fn every_key_is_read_and_checked() {
     want.discipline.min_bins = 3;
     want.discipline.min_span = Duration::from_millis(2000);
     want.mavlink.allow_destructive = true;
+    want.signing = bridge_engine::SigningMode::Require;
+    want.signing_key = Some(bridge_engine::SigningKey(std::array::from_fn(|i| i as u8)));
+    want.signing_unsigned_telemetry = true;
+    want.gcs_ids = bridge_engine::SystemIds::from_list(&[7]).unwrap();
+    want.k40t_allow = bridge_engine::K40tAllow::from_list(&[0x030D, 0x0501]).unwrap();
     assert_eq!(c, want);
     assert_eq!(
         load("k40t_geotag_fallback_ms = 350")
@@ -248,6 +258,10 @@ fn every_key_is_read_and_checked() {
     for limit in Limit::ALL {
         if limit.key == "viewlink.firmware" {
             continue; // a part of a version: below
+        }
+        if limit.key == "gcs_ids" {
+            // Each id of a list: below.
+            continue;
         }
         let (section, key) = limit.key.split_once('.').unwrap_or(("", limit.key));
         let header = if section.is_empty() {
@@ -329,6 +343,25 @@ fn errors_name_the_key() {
             "[lens]\nir_hfov_cdeg = 18000",
             "lens.ir_hfov_cdeg: 18000 is out of range 0..=17999",
         ),
+        ("gcs_ids = [0]", "0 is out of range 1..=255 in `gcs_ids`"),
+        (
+            "gcs_ids = [256]",
+            "256 is out of range 1..=255 in `gcs_ids`",
+        ),
+        (
+            "gcs_ids = [1, 2, 3, 4, 5, 6, 7, 8, 9]",
+            "more than 8 values",
+        ),
+        (
+            "k40t_allow = [0x000302]",
+            "is not one of the pod's destructive requests",
+        ),
+        ("signing = \"sometimes\"", "unknown variant `sometimes`"),
+        (
+            "signing_key = \"abc\"",
+            "expected 64 hexadecimal characters",
+        ),
+        ("signing = \"sign\"", "signing_key: needed"),
     ] {
         let e = load(text).unwrap_err();
         assert!(e.contains(wanted), "{text:?}: {e}");
@@ -449,4 +482,37 @@ fn the_command_line_overrides_the_file() {
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_security_options_set_their_keys() {
+    let dir = std::env::temp_dir().join(format!("gimbal-signing-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let key = dir.join("key.hex");
+    std::fs::write(&key, format!("{}\n", "ab".repeat(32))).unwrap();
+    let (c, _) = config_of(&bridge_args(&[
+        "--signing",
+        "require",
+        "--signing-key-file",
+        key.to_str().unwrap(),
+        "--signing-unsigned-telemetry",
+        "--gcs-ids",
+        "none",
+        "--k40t-allow",
+        "0x00030D,0x000316",
+    ]))
+    .unwrap();
+    assert_eq!(c.signing, bridge_engine::SigningMode::Require);
+    assert_eq!(c.signing_key, Some(bridge_engine::SigningKey([0xAB; 32])));
+    assert!(c.signing_unsigned_telemetry);
+    assert_eq!(c.gcs_ids, bridge_engine::SystemIds::NONE);
+    assert!(c.k40t_allow.allows(0x030D) && c.k40t_allow.allows(0x0316));
+    assert!(!c.k40t_allow.allows(0x030F));
+    // Signing without a key, or a key file that is not one: refused, naming the key.
+    let e = config_of(&bridge_args(&["--signing", "sign"])).unwrap_err();
+    assert!(e.contains("signing_key: needed"), "{e}");
+    std::fs::write(&key, "not a key").unwrap();
+    let e = config_of(&bridge_args(&["--signing-key-file", key.to_str().unwrap()])).unwrap_err();
+    assert!(e.contains("expected 64 hexadecimal characters"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
 }

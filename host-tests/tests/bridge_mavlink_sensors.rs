@@ -6,7 +6,7 @@
 
 mod engine_scenarios;
 
-use bridge_engine::{Config, Event, FcProtocol, Refusal};
+use bridge_engine::{Config, Decline, Event, FcProtocol};
 use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig, MountTarget};
 use gimbal::sim::mav;
@@ -227,9 +227,9 @@ fn camera_source_switches_the_pods_picture_and_the_stream_status_follows() {
         [MavResult::MAV_RESULT_ACCEPTED, MavResult::MAV_RESULT_DENIED]
     );
     assert!(s.events.iter().any(|(_, e)| *e
-        == Event::Refused {
+        == Event::Declined {
             fc_id: 534,
-            reason: Refusal::NotGiven
+            reason: Decline::NotGiven
         }));
 }
 

@@ -370,7 +370,7 @@ fn fly(model: Model, seed: u64) -> Stats {
                 }
             }
             if let (Some(us), Some(ms)) = pending_pair {
-                disc.utc_fc_pair(us, ms);
+                disc.utc_fc_pair(us, ms.into());
                 pending_pair = (None, None);
             }
             disc.poll(local);

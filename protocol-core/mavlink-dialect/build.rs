@@ -47,6 +47,8 @@ const MESSAGES: &[&str] = &[
     "PARAM_EXT_VALUE",
     "PARAM_EXT_SET",
     "PARAM_EXT_ACK",
+    // Signing: the autopilot's system gives the device a new key (docs/src/security.md).
+    "SETUP_SIGNING",
 ];
 
 /// Enumerations no field names but the bridge needs (component ids, result and command

@@ -10,12 +10,10 @@ use super::estimator::{Fed, Line, Point, lower_hull_fit};
 /// an FC clock value), or MAVLink SYSTEM_TIME ([`Shift`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(super) struct FcOffset {
-    /// Unpaired 0x30: (local x, UTC µs).
-    unpaired: [Point; MAX_UTC_VIA_FC],
-    unpaired_len: u8,
-    /// Pairs: `utc − fc_ms·1000`.
-    pairs: [i64; MAX_UTC_VIA_FC],
-    pairs_len: u8,
+    /// Unpaired 0x30: (local x, UTC µs), the newest [`MAX_UTC_VIA_FC`] in a ring.
+    unpaired: Ring<Point>,
+    /// Pairs: `utc − fc_ms·1000`, the newest [`MAX_UTC_VIA_FC`] in a ring.
+    pairs: Ring<i64>,
     /// `C` from MAVLink SYSTEM_TIME (when it feeds the offset: then the only source).
     pub(super) shift: Shift,
 }
@@ -247,41 +245,66 @@ impl Shift {
     }
 }
 
+/// The newest [`MAX_UTC_VIA_FC`] values: the next slot to write goes round for ever (a
+/// count that saturated once stopped it, and one slot was then overwritten for good;
+/// see docs/src/reliability.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Ring<T: Copy> {
+    items: [T; MAX_UTC_VIA_FC],
+    /// Values held (at most the capacity).
+    len: u8,
+    /// The slot the next value goes to.
+    next: u8,
+}
+
+impl<T: Copy> Ring<T> {
+    const fn new(fill: T) -> Self {
+        Ring {
+            items: [fill; MAX_UTC_VIA_FC],
+            len: 0,
+            next: 0,
+        }
+    }
+
+    fn push(&mut self, v: T) {
+        if let Some(slot) = self.items.get_mut(usize::from(self.next)) {
+            *slot = v;
+        }
+        let next = usize::from(self.next).saturating_add(1) % MAX_UTC_VIA_FC;
+        self.next = u8::try_from(next).unwrap_or(0);
+        if usize::from(self.len) < MAX_UTC_VIA_FC {
+            self.len = self.len.saturating_add(1);
+        }
+    }
+
+    fn as_slice(&self) -> &[T] {
+        self.items.get(..usize::from(self.len)).unwrap_or(&[])
+    }
+}
+
 impl FcOffset {
     pub(super) const fn new() -> Self {
         Self {
-            unpaired: [Point { x: 0, y: 0 }; MAX_UTC_VIA_FC],
-            unpaired_len: 0,
-            pairs: [0; MAX_UTC_VIA_FC],
-            pairs_len: 0,
+            unpaired: Ring::new(Point { x: 0, y: 0 }),
+            pairs: Ring::new(0),
             shift: Shift::new(),
         }
     }
 
     pub(super) fn push_unpaired(&mut self, p: Point) {
-        let idx = usize::from(self.unpaired_len) % MAX_UTC_VIA_FC;
-        if let Some(slot) = self.unpaired.get_mut(idx) {
-            *slot = p;
-        }
-        self.unpaired_len = self.unpaired_len.saturating_add(1);
+        self.unpaired.push(p);
     }
 
     pub(super) fn push_pair(&mut self, m: i64) {
-        let idx = usize::from(self.pairs_len) % MAX_UTC_VIA_FC;
-        if let Some(slot) = self.pairs.get_mut(idx) {
-            *slot = m;
-        }
-        self.pairs_len = self.pairs_len.saturating_add(1);
+        self.pairs.push(m);
     }
 
     fn unpaired(&self) -> &[Point] {
-        let n = usize::from(self.unpaired_len).min(MAX_UTC_VIA_FC);
-        self.unpaired.get(..n).unwrap_or(&[])
+        self.unpaired.as_slice()
     }
 
     fn pairs(&self) -> &[i64] {
-        let n = usize::from(self.pairs_len).min(MAX_UTC_VIA_FC);
-        self.pairs.get(..n).unwrap_or(&[])
+        self.pairs.as_slice()
     }
 
     /// The lower bound of `C` from unpaired 0x30 frames and the FC clock fit.
@@ -310,5 +333,28 @@ impl FcOffset {
         best_pair
             .map(|c| (Line::flat(0, c), true))
             .or(bound.map(|c| (Line::flat(0, c), false)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// More than 255 values (the count that once saturated): the ring keeps the newest
+    /// six, every slot in turn.
+    #[test]
+    fn the_rings_keep_the_newest_values_for_ever() {
+        let mut o = FcOffset::new();
+        for m in 0..1_000i64 {
+            o.push_pair(m);
+            o.push_unpaired(Point { x: m, y: m });
+            let mut held: Vec<i64> = o.pairs().to_vec();
+            held.sort_unstable();
+            let first = (m - 5).max(0);
+            assert_eq!(held, (first..=m).collect::<Vec<_>>(), "after {m}");
+            assert!(o.unpaired().iter().any(|p| p.x == m));
+        }
+        // The least pair is the newest six's least.
+        assert_eq!(o.value(None, 0), Some((Line::flat(0, 994), true)));
     }
 }

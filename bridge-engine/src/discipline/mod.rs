@@ -507,13 +507,18 @@ impl TimeDiscipline {
     /// fc_ms·1000]`. Rejected if it contradicts the unpaired lower bound (pairs are
     /// checked again each time `C` is computed). Feed the same 0x30 to
     /// [`utc_via_fc_sample`](Self::utc_via_fc_sample) too: it gives the bound.
-    pub fn utc_fc_pair(&mut self, utc_us: u64, fc_ms: u32) -> Verdict {
+    ///
+    /// `fc_ms` is the FC clock's whole count of milliseconds: `time_boot_ms`, a `u32`
+    /// that wraps every 49.7 days, unwrapped by the caller as its FC clock samples are
+    /// (see docs/src/reliability.md).
+    pub fn utc_fc_pair(&mut self, utc_us: u64, fc_ms: u64) -> Verdict {
         if utc_us < self.config.min_utc.as_unix_micros() {
             return Verdict::Rejected;
         }
         let Some(m) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(i64::from(fc_ms).checked_mul(1000)?))
+            .zip(i64::try_from(fc_ms).ok())
+            .and_then(|(u, ms)| u.checked_sub(ms.checked_mul(1000)?))
         else {
             return Verdict::Rejected;
         };
@@ -536,18 +541,25 @@ impl TimeDiscipline {
     /// [`fc_clock_sample`](Self::fc_clock_sample) (TIMESYNC). `utc_us` 0 or before
     /// [`DisciplineConfig::min_utc`] is rejected; a step of the FC's UTC makes UTC
     /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
-    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u32) -> Verdict {
+    ///
+    /// `fc_ms` is `time_boot_ms` unwrapped to the FC clock of the TIMESYNC samples (it
+    /// wraps every 49.7 days; see docs/src/reliability.md).
+    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u64) -> Verdict {
         self.advance(local);
         if utc_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::ViaFc) {
             return Verdict::Rejected;
         }
-        let Some(d) = i64::try_from(utc_us)
+        let Some((d, b)) = i64::try_from(utc_us)
             .ok()
-            .and_then(|u| u.checked_sub(i64::from(fc_ms).checked_mul(1000)?))
+            .zip(
+                i64::try_from(fc_ms)
+                    .ok()
+                    .and_then(|ms| ms.checked_mul(1000)),
+            )
+            .and_then(|(u, b)| Some((u.checked_sub(b)?, b)))
         else {
             return Verdict::Rejected;
         };
-        let b = i64::from(fc_ms).saturating_mul(1000);
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
         let verdict = match self.fc_offset.shift.push(b, d, tol) {
             Fed::Outlier => Verdict::Outlier,

@@ -223,7 +223,7 @@ fn siyi_pairs_and_fc_reboot() {
             let utc = C + fc_us(t);
             let s = Sample::new(local(t), utc, 1);
             assert_eq!(d.utc_via_fc_sample(s), Verdict::Accepted);
-            assert_eq!(d.utc_fc_pair(utc, ms), Verdict::Accepted);
+            assert_eq!(d.utc_fc_pair(utc, ms.into()), Verdict::Accepted);
         }
         t += 100_000;
     }
@@ -234,7 +234,7 @@ fn siyi_pairs_and_fc_reboot() {
     assert!(got.abs_diff(want) <= 1_000, "{got} {want}");
     // A pair 5 ms below the unpaired bound: rejected.
     assert_eq!(
-        d.utc_fc_pair(C + fc_us(0) - 5_000, fc_ms(0)),
+        d.utc_fc_pair(C + fc_us(0) - 5_000, fc_ms(0).into()),
         Verdict::Rejected
     );
     // FC reboot: time_boot_ms restarts near 0.
@@ -329,7 +329,10 @@ fn siyi_first_mapping_from_one_pair_and_a_rebooted_fc_with_another_utc() {
     assert_eq!(d.state(), DisciplineState::Converging, "no UTC yet");
     let utc = C + fc_us(3_000_000);
     d.utc_via_fc_sample(Sample::new(local(3_000_000), utc, 1));
-    assert_eq!(d.utc_fc_pair(utc, fc_ms(3_000_000)), Verdict::Accepted);
+    assert_eq!(
+        d.utc_fc_pair(utc, fc_ms(3_000_000).into()),
+        Verdict::Accepted
+    );
     assert_eq!(d.state(), DisciplineState::Valid);
     // 10 s on: the clocks' 50 ppm and the millisecond truncation.
     let want = C + fc_us(13_000_000);
@@ -351,7 +354,7 @@ fn siyi_first_mapping_from_one_pair_and_a_rebooted_fc_with_another_utc() {
         if t == 65_000_000 {
             let utc = C + fc_us(t) - 300_000;
             d.utc_via_fc_sample(Sample::new(local(t), utc, 1));
-            d.utc_fc_pair(utc, u32::try_from(fc_new_us / 1000).unwrap());
+            d.utc_fc_pair(utc, fc_new_us / 1000);
             let tr = d.poll(local(t)).unwrap();
             assert!(
                 tr.replaced && tr.utc_lost() && tr.utc_became_valid(),
@@ -369,4 +372,32 @@ fn siyi_first_mapping_from_one_pair_and_a_rebooted_fc_with_another_utc() {
     assert!(replaced);
     let got = d.utc(local(t)).unwrap().as_unix_micros();
     assert!(got.abs_diff(C + fc_us(t) - 300_000) <= 1_500);
+}
+
+/// An FC that sends its UTC with its clock all the time: more than 255 pairs (their ring
+/// once stopped advancing there, one slot overwritten for good and five stale pairs
+/// kept), the FC's crystal 30 ppm slow, so `C` = UTC − FC clock grows 30 µs a second:
+/// UTC stays within 1 ms after 1000 pairs.
+#[test]
+fn more_than_255_pairs_keep_utc_right() {
+    let mut d = TimeDiscipline::default();
+    let mut t = 0u64;
+    while t <= 1_000_000_000 {
+        let ms = fc_ms(t);
+        let s = Sample::new(local(t), u64::from(ms) * 1000, 1000);
+        d.fc_clock_sample(s);
+        if t.is_multiple_of(1_000_000) {
+            // True UTC (the FC's GPS) against the slow FC clock: the pair of one update.
+            d.utc_fc_pair(U0 + t, ms.into());
+        }
+        t += 100_000;
+    }
+    assert_eq!(d.state(), DisciplineState::Valid);
+    let got = d.utc(local(1_000_000_000)).unwrap().as_unix_micros();
+    let want = U0 + 1_000_000_000;
+    assert!(
+        got.abs_diff(want) <= 1_000,
+        "{got} vs {want}: {} us",
+        got.abs_diff(want)
+    );
 }

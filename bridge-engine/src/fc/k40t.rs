@@ -214,6 +214,13 @@ impl K40tSide {
             ctx.out.queue_pod(f, true, false);
             return;
         }
+        if !ctx.config.k40t_allow.allows(id.base) {
+            // One of the pod's destructive requests, not in `k40t_allow`: answered with
+            // the document's failure ACK, never forwarded (docs/src/security.md).
+            ctx.refuse(crate::access::Refusal::Guarded, id.to_u32(), 0);
+            refusal_ack(&frame, header, |ack| ctx.reply(ack));
+            return;
+        }
         // A request: forwarded with the bridge's sequence number on the pod link.
         let pod_seq = ctx.pod.next_seq();
         let slot = self.next_slot % SEQ_MAP;
@@ -286,6 +293,23 @@ impl K40tSide {
             });
         }
     }
+}
+
+/// Hands `out` the ACK of `request` (from its addressee, to its sender, with its
+/// sequence number and CRC coverage) carrying the failure code 0x0001 (K40T external
+/// protocol, table 3.3).
+fn refusal_ack(request: &Frame<&[u8]>, header: Header, out: impl FnOnce(&[u8]) -> bool) {
+    const CODE: [u8; 2] = k40t::ResponseCode::new(k40t::AckCode::Failure).raw;
+    let mut buf = [0u8; k40t::MIN_FRAME_LEN + CODE.len()];
+    let mut ack = Frame::new_unchecked(buf.as_mut_slice());
+    ack.set_start(2);
+    ack.set_dst(header.src);
+    ack.set_src(header.dst);
+    ack.set_seq(header.seq);
+    ack.set_id(k40t::MsgId::new(Kind::Ack, request.id().base));
+    protocol_core::wire::copy(ack.payload_mut(), &CODE);
+    ack.fill_checksum(request.detect_coverage().unwrap_or_default());
+    out(&buf);
 }
 
 /// A motion command that turns the gimbal.

@@ -65,6 +65,25 @@ impl Ctx<'_> {
         self.out.counters.fc_ignored = self.out.counters.fc_ignored.saturating_add(1);
     }
 
+    /// Refuses a frame or command: counted by `reason` and reported with the link, the
+    /// id and the sender.
+    pub(crate) fn refuse(&mut self, reason: crate::access::Refusal, id: u32, sender: u8) {
+        use crate::access::Refusal as R;
+        let c = &mut self.out.counters;
+        let n = match reason {
+            R::BadSignature | R::Replayed | R::Stale => &mut c.signature_failures,
+            R::Unsigned => &mut c.unsigned_refused,
+            R::Sender | R::Guarded => &mut c.commands_refused,
+        };
+        *n = n.saturating_add(1);
+        self.out.event(Event::Refused {
+            port: self.to,
+            reason,
+            id,
+            sender,
+        });
+    }
+
     /// Sends `cmd` to the pod; `fc_id` is the FC protocol's id of the command (for the
     /// event). Returns the K40T base id used, `None` when the pod has no equivalent.
     pub(crate) fn command(&mut self, fc_id: u16, cmd: Command) -> Option<u16> {
@@ -380,11 +399,11 @@ pub(crate) type TelemetryLink = FcLink<mavlink::TelemetrySide, { mavlink::BUF }>
 #[cfg(feature = "telemetry")]
 impl TelemetryLink {
     /// The link, beside any FC side: beside the MAVLink side too, whose own link may give
-    /// no time or fixes (PX4 1.16 in mode Gimbal).
-    pub(crate) fn telemetry() -> Self {
+    /// no time or fixes (PX4 1.16 in mode Gimbal); signed as `config` says.
+    pub(crate) fn telemetry(config: &Config) -> Self {
         FcLink::new(
             protocol_core::mavlink::MavlinkFraming::new(),
-            mavlink::TelemetrySide::new(),
+            mavlink::TelemetrySide::new(config),
         )
     }
 }
@@ -452,7 +471,7 @@ impl FcSide {
             #[cfg(feature = "mavlink")]
             super::FcProtocol::Mavlink => FcSide::Mavlink(FcLink::new(
                 protocol_core::mavlink::MavlinkFraming::new(),
-                mavlink::MavlinkSide::new(),
+                mavlink::MavlinkSide::new(config),
             )),
             super::FcProtocol::K40t => FcSide::K40t(FcLink::new(
                 protocol_core::k40t::K40tFraming::any(),

@@ -68,6 +68,8 @@ pub(crate) struct SiyiSide {
     record_pending: bool,
     /// Sequence number of pushed frames (0x0B, streamed 0x0D).
     push_seq: u16,
+    /// The FC's `time_boot_ms`, unwrapped across 2^32 ms (49.7 days).
+    boot_ms: crate::time::BootMs,
 }
 
 impl SiyiSide {
@@ -82,6 +84,7 @@ impl SiyiSide {
             photo_pending: false,
             record_pending: false,
             push_seq: 0,
+            boot_ms: crate::time::BootMs::default(),
         }
     }
 }
@@ -217,10 +220,11 @@ impl SiyiSide {
         if !ctx.feeds {
             return;
         }
-        let s = Self::sample(ctx, u64::from(time_boot_ms).saturating_mul(1000), 1000);
+        let boot_ms = self.boot_ms.unwrap(time_boot_ms, ctx.now);
+        let s = Self::sample(ctx, boot_ms.saturating_mul(1000), 1000);
         ctx.time.fc_clock_sample(s);
         if let Some(utc) = utc {
-            ctx.time.utc_fc_pair(utc, time_boot_ms);
+            ctx.time.utc_fc_pair(utc, boot_ms);
         }
     }
 

@@ -100,10 +100,23 @@ impl PodDriver {
                     self.send_tracked(now, ai, out);
                 }
                 let request = camera_request(other, &self.state)?;
+                let base = request.base();
+                if !self.allow.allows(base) {
+                    // One of the pod's destructive requests, not allowed (see
+                    // docs/src/security.md).
+                    let n = &mut out.counters.commands_refused;
+                    *n = n.saturating_add(1);
+                    out.event(Event::Refused {
+                        port: crate::Port::Fc,
+                        reason: crate::access::Refusal::Guarded,
+                        id: u32::from(base),
+                        sender: 0,
+                    });
+                    return None;
+                }
                 if let Command::Laser(r) = other {
                     self.state.ranging = r == Ranging::Continuous;
                 }
-                let base = request.base();
                 self.send_tracked(now, request, out);
                 Some(base)
             }

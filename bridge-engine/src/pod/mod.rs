@@ -108,9 +108,18 @@ pub(crate) struct PodDriver {
     motion: MotionState,
     /// When to ask the pod's IP address again (its last query got no answer).
     ip_retry: Option<Instant>,
+    /// Which of the pod's destructive requests an FC command may become.
+    allow: crate::access::K40tAllow,
 }
 
 impl PodDriver {
+    /// The driver with `allow` as the destructive requests FC commands may become (the
+    /// default: none).
+    pub(crate) const fn with_allow(mut self, allow: crate::access::K40tAllow) -> Self {
+        self.allow = allow;
+        self
+    }
+
     pub(crate) fn new(cfg: PodConfig) -> Self {
         PodDriver {
             cfg,
@@ -157,6 +166,7 @@ impl PodDriver {
                 dial: None,
                 fc_at: None,
             },
+            allow: crate::access::K40tAllow::NONE,
         }
     }
 

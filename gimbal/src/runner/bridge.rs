@@ -81,6 +81,15 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
         }
     }
     set(&mut keys, "fc", toml::Value::String(args.fc.name().into()));
+    if let Some(path) = &a.signing_key_file {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("--signing-key-file {}: {e}", path.display()))?;
+        set(
+            &mut keys,
+            "signing_key",
+            toml::Value::String(text.trim().to_owned()),
+        );
+    }
 
     let source = match &args.config_file {
         Some(path) => format!("--config {}: ", path.display()),
@@ -406,7 +415,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
         let sink = |r: &LogRecord| {
             if let Some(file) = &photos
                 && let LogKind::Engine(Event::Photo(p)) = &r.what
-                && let Err(e) = file.borrow_mut().push(&p)
+                && let Err(e) = file.borrow_mut().push(p)
             {
                 out.emit("photo_events_error", json!({"error": e.to_string()}));
             }

@@ -3,7 +3,7 @@
 //! event of the engine does not compile until it has a name here (and in the event table
 //! of docs/src/linux-bridge.md).
 
-use bridge_engine::{Counters, Event};
+use bridge_engine::{Counters, Event, Refusal};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
@@ -24,6 +24,17 @@ pub const fn level_name(l: Level) -> &'static str {
     match l {
         Level::High => "high",
         Level::Low => "low",
+    }
+}
+
+fn refusal_name(r: Refusal) -> &'static str {
+    match r {
+        Refusal::BadSignature => "bad_signature",
+        Refusal::Replayed => "replayed",
+        Refusal::Stale => "stale",
+        Refusal::Unsigned => "unsigned",
+        Refusal::Sender => "sender",
+        Refusal::Guarded => "guarded",
     }
 }
 
@@ -110,9 +121,22 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
         Event::PodIp {
             address: [a, b, c, d],
         } => ("pod_ip", json!({"address": format!("{a}.{b}.{c}.{d}")})),
-        Event::Refused { fc_id, reason } => {
-            ("refused", json!({"fc_id": fc_id, "reason": reason.name()}))
+        Event::Declined { fc_id, reason } => {
+            ("declined", json!({"fc_id": fc_id, "reason": reason.name()}))
         }
+        Event::Refused {
+            port,
+            reason,
+            id,
+            sender,
+        } => (
+            "refused",
+            json!({"port": port_name(port), "reason": refusal_name(reason), "id": id, "sender": sender}),
+        ),
+        Event::SigningKeyChanged { port, on } => (
+            "signing_key_changed",
+            json!({"port": port_name(port), "on": on}),
+        ),
         Event::Dropped { port, frames } => (
             "dropped",
             json!({"port": port_name(port), "frames": frames}),

@@ -380,6 +380,70 @@ pub struct ConfigArgs {
           value_parser = ranged::<u64>(Limit::DISCIPLINE_MIN_SPAN_MS))]
     #[serde(rename = "discipline.min_span_ms")]
     pub discipline_min_span_ms: Option<u64>,
+    /// MAVLink 2 signing on the MAVLink side and the telemetry link: `off`, `sign` (every
+    /// frame sent signed, signed frames checked) or `require` (unsigned frames refused
+    /// too) [default: off]. See the book's security chapter.
+    #[arg(long, value_enum, value_name = "MODE", help_heading = "Security")]
+    #[serde(rename = "signing", skip_serializing_if = "Option::is_none")]
+    pub signing: Option<SigningArg>,
+    /// The MAVLink signing key: a file holding its 64 hexadecimal characters (the
+    /// configuration file's `signing_key`).
+    #[arg(long, value_name = "FILE", help_heading = "Security")]
+    #[serde(skip)] // read by runner::bridge::config_of
+    pub signing_key_file: Option<PathBuf>,
+    /// With `--signing require`: still read unsigned frames that command nothing
+    /// (heartbeats, time, positions).
+    #[arg(long, help_heading = "Security")]
+    #[serde(
+        rename = "signing_unsigned_telemetry",
+        skip_serializing_if = "is_false"
+    )]
+    pub signing_unsigned_telemetry: bool,
+    /// MAVLink systems whose commands are taken besides the autopilot's, comma-separated
+    /// (`none`: the autopilot's only) [default: 255,245].
+    #[arg(long, value_name = "IDS", help_heading = "Security", value_parser = parse_ids)]
+    #[serde(rename = "gcs_ids", skip_serializing_if = "Option::is_none")]
+    pub gcs_ids: Option<Ids>,
+    /// The pod's destructive requests a K40T FC (or a command that maps to one) may send,
+    /// comma-separated K40T ids such as `0x00030D` [default: none].
+    #[arg(long, value_name = "IDS", help_heading = "Security", value_parser = parse_ids)]
+    #[serde(rename = "k40t_allow", skip_serializing_if = "Option::is_none")]
+    pub k40t_allow: Option<Ids>,
+}
+
+/// `--signing`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SigningArg {
+    /// Nothing signed or checked.
+    Off,
+    /// Frames sent signed; signed frames checked.
+    Sign,
+    /// As `sign`, and unsigned frames refused.
+    Require,
+}
+
+/// A list of ids (`--gcs-ids`, `--k40t-allow`): decimal or `0x` hexadecimal numbers,
+/// comma-separated, or `none` (serialized as the file's list).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(transparent)]
+pub struct Ids(pub Vec<i64>);
+
+fn parse_ids(s: &str) -> Result<Ids, String> {
+    if s.eq_ignore_ascii_case("none") {
+        return Ok(Ids(Vec::new()));
+    }
+    s.split(',')
+        .map(|part| {
+            let part = part.trim();
+            match part.strip_prefix("0x").or_else(|| part.strip_prefix("0X")) {
+                Some(hex) => i64::from_str_radix(hex, 16),
+                None => part.parse::<i64>(),
+            }
+            .map_err(|_| format!("{part:?} is not a number"))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Ids)
 }
 
 /// `--k40t-geotag-fallback-ms`: a time or `off` (serialized as the file has it: ms or

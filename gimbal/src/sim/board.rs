@@ -258,6 +258,12 @@ impl Board {
         &self.clock
     }
 
+    /// The FC's UTC steps by `shift_us` at true time `now_us` (see
+    /// [`FcClock::step_utc`]).
+    pub fn step_utc(&mut self, now_us: u64, shift_us: i64) {
+        self.clock.step_utc(now_us, shift_us);
+    }
+
     /// The FC's boot clock (µs) at true time `t_us`.
     #[must_use]
     pub fn fc_us(&self, t_us: u64) -> u64 {

@@ -162,6 +162,22 @@ impl FcClock {
             .any(|b| b.off_at_us <= t_us && t_us < b.at_us)
     }
 
+    /// The FC's UTC steps by `shift_us` at true time `now_us`, its boot clock running on
+    /// (a GPS that corrects a wrong time, a leap second inserted: -1 s): the step is a
+    /// boot of no power-off, whose UTC is the old one carried on, shifted.
+    pub fn step_utc(&mut self, now_us: u64, shift_us: i64) {
+        let carried = i128::from(self.utc_us(now_us));
+        let current = *self.current();
+        self.boots.push(FcBoot {
+            off_at_us: now_us,
+            at_us: now_us,
+            clock_us: self.clock_us(now_us),
+            utc_us: u64::try_from((carried + i128::from(shift_us)).max(0)).unwrap_or(0),
+            utc_valid_at_us: current.utc_valid_at_us.min(now_us),
+            utc_shift_us: current.utc_shift_us + shift_us,
+        });
+    }
+
     /// The power goes off at `now_us`; returns the instant of power-on.
     pub fn reboot(&mut self, now_us: u64, r: FcReboot) -> u64 {
         let at_us = now_us.saturating_add(r.off_us);
@@ -216,6 +232,16 @@ mod tests {
         // The GPS's UTC runs at the true rate, shifted from power-on.
         assert_eq!(c.gps_utc_us(on - 1), 1_000_000_000_000 + on - 1);
         assert_eq!(c.gps_utc_us(on + 5), carried - 250_000 + 5);
+
+        // A UTC step: the boot clock runs on, UTC jumps.
+        let before = c.clock_us(20_000_000);
+        c.step_utc(20_000_000, -1_000_000);
+        assert_eq!(c.clock_us(20_000_000), before);
+        assert_eq!(
+            c.utc_us(20_000_001),
+            carried - 250_000 + 7_000_001 - 1_000_000
+        );
+        assert!(!c.is_off(20_000_000));
 
         // A fast crystal runs fast in every boot.
         let mut c = FcClock::new(100.0, 0, 0, 0);

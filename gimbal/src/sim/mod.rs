@@ -23,6 +23,7 @@ pub mod pps_io;
 pub mod px4;
 pub mod qgc;
 pub mod scenario;
+pub mod signing;
 pub mod tasks;
 
 pub use board::{Aircraft, Autopilot, Board, MainLoop};

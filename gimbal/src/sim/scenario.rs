@@ -63,6 +63,10 @@ pub struct Scenario<F: Peer> {
     pub now_us: u64,
     /// The bridge's clock error against true time, parts per million.
     pub bridge_ppm: i64,
+    /// The bridge's clock at true time 0, µs (1 s by default, so it is never 0; a
+    /// scenario may start it anywhere, e.g. just before its millisecond count passes
+    /// 2^32: docs/src/reliability.md).
+    pub bridge_start_us: u64,
     /// The engine under test.
     pub engine: Engine,
     /// The flight controller.
@@ -102,6 +106,7 @@ impl<F: Peer> Scenario<F> {
         Scenario {
             now_us: 0,
             bridge_ppm,
+            bridge_start_us: 1_000_000,
             fc_line: Line::new(config.fc_baud),
             to_fc_line: Line::new(config.fc_baud),
             pod_line: Line::new(config.pod_baud),
@@ -131,13 +136,15 @@ impl<F: Peer> Scenario<F> {
     /// The bridge's clock (ns) at true time `t_ns`.
     #[must_use]
     pub fn local_ns(&self, t_ns: i128) -> i128 {
-        t_ns + t_ns * i128::from(self.bridge_ppm) / 1_000_000 + 1_000_000_000
+        t_ns + t_ns * i128::from(self.bridge_ppm) / 1_000_000
+            + i128::from(self.bridge_start_us) * 1_000
     }
 
     /// The true time (ns) at which the bridge's clock reads `local_ns`.
     #[must_use]
     pub fn true_of_ns(&self, local_ns: i128) -> i128 {
-        (local_ns - 1_000_000_000) * 1_000_000 / (1_000_000 + i128::from(self.bridge_ppm))
+        (local_ns - i128::from(self.bridge_start_us) * 1_000) * 1_000_000
+            / (1_000_000 + i128::from(self.bridge_ppm))
     }
 
     /// The next PPS edge the bridge captures: (true µs it is handed over, its local ns,
@@ -151,16 +158,16 @@ impl<F: Peer> Scenario<F> {
         Some((due, InstantNs::from_nanos(local), t))
     }
 
-    /// The bridge's clock at true time `t_us` (starting at 1 s, so it is never 0).
+    /// The bridge's clock at true time `t_us` (from [`Scenario::bridge_start_us`]).
     pub fn local(&self, t_us: u64) -> Instant {
         let drift = i128::from(t_us) * i128::from(self.bridge_ppm) / 1_000_000;
-        let l = i128::from(t_us) + drift + 1_000_000;
+        let l = i128::from(t_us) + drift + i128::from(self.bridge_start_us);
         Instant::from_micros(u64::try_from(l.max(0)).unwrap_or(0))
     }
 
     /// The true time at which the bridge's clock reads `at`.
     pub fn true_of(&self, at: Instant) -> u64 {
-        let l = i128::from(at.as_micros()) - 1_000_000;
+        let l = i128::from(at.as_micros()) - i128::from(self.bridge_start_us);
         let t = l * 1_000_000 / (1_000_000 + i128::from(self.bridge_ppm));
         // Round up so that the bridge's clock has reached `at`.
         let mut t = u64::try_from(t.max(0)).unwrap_or(0);

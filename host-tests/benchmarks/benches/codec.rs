@@ -305,6 +305,27 @@ fn mavlink_encode(input: &MavlinkInput) -> usize {
         .sum()
 }
 
+// Encoding with signing: each typed message into a whole signed frame (SHA-256 included).
+#[library_benchmark]
+#[bench::stream(mavlink_set())]
+fn mavlink_encode_signed(input: &MavlinkInput) -> usize {
+    use protocol_core::mavlink::{MAX_FRAME_LEN, SecretKey, Signer, encode_signed};
+    let key = SecretKey::new(benchmarks::BENCH_KEY);
+    let mut out = [0u8; MAX_FRAME_LEN];
+    black_box(&input.1)
+        .iter()
+        .enumerate()
+        .map(|(i, (h, m))| {
+            let signer = Signer {
+                key: &key,
+                link_id: 0,
+                timestamp: 3_500_000_000_000 + i as u64,
+            };
+            encode_signed(m, h, &signer, black_box(&mut out)).unwrap_or(0)
+        })
+        .sum()
+}
+
 // rust-mavlink 0.21's own reader and parser (MavlinkReader::read_message) over the same
 // stream and the same generated types.
 #[library_benchmark]
@@ -367,7 +388,7 @@ fn mavio_messages(stream: &[u8]) -> Vec<mavio::dialects::common::Common> {
 }
 
 // mavio 0.5's receiver and decoder (mavspec's common dialect) over the same stream. It
-// decodes 189 of the 200 frames: its common.xml is older (two MAV_CMD values and a
+// decodes 197 of the 208 frames: its common.xml is older (two MAV_CMD values and a
 // VIDEO_STREAM_TYPE value it does not list), and it refuses a payload longer than its
 // definition (GIMBAL_DEVICE_INFORMATION with the newer gimbal_device_id extension:
 // `V2PayloadIsTooLong`), where MAVLink 2 says to ignore unknown extensions.
@@ -375,7 +396,7 @@ fn mavio_messages(stream: &[u8]) -> Vec<mavio::dialects::common::Common> {
 #[bench::stream(mavlink_set())]
 fn mavio_set_parse(input: &MavlinkInput) -> usize {
     let n = black_box(mavio_messages(black_box(&input.0.bytes))).len();
-    assert_eq!(n, 189);
+    assert_eq!(n, 197);
     n
 }
 
@@ -415,7 +436,8 @@ fn mavio_message(m: &mavio::dialects::common::Common) -> &dyn mavio::Message {
         GimbalDeviceInformation,
         GimbalDeviceSetAttitude,
         GimbalDeviceAttitudeStatus,
-        AutopilotStateForGimbalDevice
+        AutopilotStateForGimbalDevice,
+        SetupSigning
     )
 }
 
@@ -463,6 +485,16 @@ fn bridge_mavlink_set_attitude(run: &mut benchmarks::BridgeRun) -> (usize, usize
     black_box((pod, fc))
 }
 
+// The same on a link that requires signing: each SET_ATTITUDE signed and checked, every
+// frame the engine sends signed.
+#[library_benchmark]
+#[bench::frames(Box::leak(Box::new(benchmarks::bridge_mavlink_set_attitudes_signed())))]
+fn bridge_mavlink_set_attitude_signed(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
+    let (pod, fc) = run.run();
+    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
+    black_box((pod, fc))
+}
+
 // The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
 // state updated).
 #[library_benchmark]
@@ -502,12 +534,14 @@ library_benchmark_group!(
         mavlink_decode,
         mavlink_decode_encode,
         mavlink_encode,
+        mavlink_encode_signed,
         rmav_set_parse,
         rmav_set_encode,
         mavio_set_parse,
         mavio_set_encode,
         bridge_siyi_rate,
         bridge_mavlink_set_attitude,
+        bridge_mavlink_set_attitude_signed,
         bridge_pod_attitude
     ]
 );

@@ -338,18 +338,49 @@ pub fn bridge_pod_attitudes() -> BridgeRun {
     run
 }
 
+/// The key of the signed benchmarks.
+pub const BENCH_KEY: [u8; 32] = [0x42; 32];
+
+/// `frame` signed with [`BENCH_KEY`] at `timestamp`, link 0.
+fn signed(frame: &[u8], timestamp: u64) -> Vec<u8> {
+    use protocol_core::mavlink::{MAX_FRAME_LEN, Packet, SecretKey, Signer};
+    let key = SecretKey::new(BENCH_KEY);
+    let signer = Signer {
+        key: &key,
+        link_id: 0,
+        timestamp,
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let n = Packet::decode(frame)
+        .expect("a frame")
+        .emit_signed(&signer, &mut buf)
+        .expect("signed");
+    buf[..n].to_vec()
+}
+
 /// A MAVLink engine with the pod and FC links up (an attitude report, the autopilot's
 /// HEARTBEAT: the device knows its system id), its queues empty.
 fn mavlink_engine() -> BridgeRun {
+    mavlink_engine_with(false)
+}
+
+/// [`mavlink_engine`]; with `signing`, the engine requires signing with [`BENCH_KEY`] and
+/// the autopilot's heartbeat comes signed.
+fn mavlink_engine_with(signing: bool) -> BridgeRun {
     use bridge_engine::{Config, Duration, Engine, FcProtocol, Instant};
     use protocol_core::mavlink::dialect::{
         HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
     };
+    let mut config = Config {
+        fc: FcProtocol::Mavlink,
+        ..Config::DEFAULT
+    };
+    if signing {
+        config.signing = bridge_engine::SigningMode::Require;
+        config.signing_key = Some(bridge_engine::SigningKey(BENCH_KEY));
+    }
     let mut run = BridgeRun {
-        engine: Engine::new(Config {
-            fc: FcProtocol::Mavlink,
-            ..Config::DEFAULT
-        }),
+        engine: Engine::new(config),
         frames: vec![pod_attitude(0, 0)],
         from_fc: false,
         now: Instant::from_millis(1000),
@@ -364,11 +395,15 @@ fn mavlink_engine() -> BridgeRun {
         system_status: MavState::MAV_STATE_STANDBY,
         mavlink_version: 3,
     });
-    run.frames = vec![mavlink_frame(0, &heartbeat)];
+    let hb = mavlink_frame(0, &heartbeat);
+    run.frames = vec![if signing { signed(&hb, SIGNED_T0) } else { hb }];
     run.from_fc = true;
     run.run();
     run
 }
+
+/// The first timestamp of the signed benchmarks' frames (2026).
+const SIGNED_T0: u64 = 3_500_000_000_000;
 
 /// A MAVLink 2 frame from the autopilot (1/1).
 fn mavlink_frame(seq: u8, m: &protocol_core::mavlink::MavMessage) -> Vec<u8> {
@@ -411,6 +446,21 @@ pub fn bridge_mavlink_set_attitudes() -> BridgeRun {
             });
             mavlink_frame(i as u8 + 1, &set)
         })
+        .collect();
+    run
+}
+
+/// [`bridge_mavlink_set_attitudes`] on a link that requires signing: each frame signed
+/// (its timestamp one above the last), checked by the engine, and every frame the engine
+/// sends signed.
+#[must_use]
+pub fn bridge_mavlink_set_attitudes_signed() -> BridgeRun {
+    let frames = bridge_mavlink_set_attitudes().frames;
+    let mut run = mavlink_engine_with(true);
+    run.frames = frames
+        .iter()
+        .enumerate()
+        .map(|(i, f)| signed(f, SIGNED_T0 + 1 + i as u64))
         .collect();
     run
 }

@@ -248,13 +248,49 @@ pub fn run(data: &[u8]) {
     run_with(PROTOCOLS[which], &frames().fc[which], input);
 }
 
+/// Target `bridge_k40t_allow`: the K40T side with the allow-list of the pod's destructive
+/// requests the first two bytes give (bit `i` allows `GUARDED[i]`), its FC frames every
+/// K40T request (the destructive ones among them), with the properties of [`run`]: a
+/// refused request answered with a valid ACK, never forwarded.
+pub fn run_k40t_allow(data: &[u8]) {
+    let mut input = Input::new(data);
+    let bits = u16::from_le_bytes([input.byte(), input.byte()]);
+    let config = Config {
+        fc: FcProtocol::K40t,
+        k40t_allow: bridge_engine::K40tAllow { bits },
+        ..Config::DEFAULT
+    };
+    run_config(config, &frames().fc[3], input);
+}
+
+/// Seeds of `bridge_k40t_allow`: the K40T seeds of [`seeds`] with no, some and every
+/// destructive request allowed.
+#[must_use]
+pub fn k40t_allow_seeds() -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for bits in [0u16, 0x0155, 0xFFFF] {
+        for s in seeds_with(&[], &frames().fc[3]).into_iter().step_by(3) {
+            let mut v = bits.to_le_bytes().to_vec();
+            v.extend(s);
+            out.push(v);
+        }
+    }
+    out
+}
+
 /// Runs the program in `input` with the FC side `protocol`, whose valid frames are
 /// `fc_frames` (the frame op picks from them).
-pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
+pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], input: Input<'_>) {
     let config = Config {
         fc: protocol,
         ..Config::DEFAULT
     };
+    run_config(config, fc_frames, input);
+}
+
+/// [`run_with`] with the engine configured as `config` (its FC side the protocol).
+pub fn run_config(config: Config, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
+    let protocol = config.fc;
     let mut engine = Engine::new(config);
     let mut now = Instant::from_millis(1);
     let frames = frames();
@@ -362,9 +398,19 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
         )),
         FcProtocol::Mavlink => {
             // The autopilot is heard first (the device takes its system id).
-            engine.receive(now, Port::Fc, &crate::bridge_mavlink::autopilot_heartbeat());
+            // Signed when the engine signs (with the key the fuzz target gives it, at a
+            // timestamp newer than any it was fed).
+            let sign = |f: Vec<u8>| match config.signing {
+                bridge_engine::SigningMode::Off => f,
+                _ => crate::bridge_mavlink::signed(&f, crate::bridge_mavlink::FUZZ_KEY, u64::MAX),
+            };
+            engine.receive(
+                now,
+                Port::Fc,
+                &sign(crate::bridge_mavlink::autopilot_heartbeat()),
+            );
             drain(engine, protocol);
-            Some(crate::bridge_mavlink::probe_request())
+            Some(sign(crate::bridge_mavlink::probe_request()))
         }
     }
     .expect("the probe request encodes");

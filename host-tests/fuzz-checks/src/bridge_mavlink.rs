@@ -28,7 +28,7 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, encode};
 
-use crate::bridge::{Input, run_with, seeds_with};
+use crate::bridge::{Input, run_config, run_with, seeds_with};
 
 fn frame(sys: u8, comp: u8, seq: u8, msg: &MavMessage) -> Vec<u8> {
     let header = Header {
@@ -510,6 +510,95 @@ pub fn fc_frames() -> &'static [Vec<u8>] {
 /// Runs one program; panics when a property fails.
 pub fn run(data: &[u8]) {
     run_with(FcProtocol::Mavlink, fc_frames(), Input::new(data));
+}
+
+/// The key the signing target's engine holds.
+pub const FUZZ_KEY: [u8; 32] = *b"fuzzing the bridge's signing key";
+
+/// `frame` signed with `key` at `timestamp` (its 48 bits); unchanged when it does not
+/// decode.
+#[must_use]
+pub fn signed(frame: &[u8], key: [u8; 32], timestamp: u64) -> Vec<u8> {
+    let key = protocol_core::mavlink::SecretKey::new(key);
+    let signer = protocol_core::mavlink::Signer {
+        key: &key,
+        link_id: 0,
+        timestamp: timestamp.min(protocol_core::mavlink::MAX_TIMESTAMP),
+    };
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    match Packet::decode(frame).map(|p| p.emit_signed(&signer, &mut buf)) {
+        Ok(Ok(n)) => buf[..n].to_vec(),
+        _ => frame.to_vec(),
+    }
+}
+
+/// The signing target's FC frames: each of [`fc_frames`] signed with the key at growing
+/// timestamps (the fuzzer's repeats are replays), then with another key, then a minute
+/// and more too old, and SETUP_SIGNING from the autopilot signed and unsigned.
+#[must_use]
+pub fn signed_frames() -> &'static [Vec<u8>] {
+    static FRAMES: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    FRAMES.get_or_init(|| {
+        const T0: u64 = 3_500_000_000_000;
+        let plain = fc_frames();
+        let mut out: Vec<Vec<u8>> = Vec::new();
+        for (i, f) in plain.iter().enumerate().take(120) {
+            let t = T0 + i as u64 * 1_000;
+            out.push(signed(f, FUZZ_KEY, t));
+        }
+        out.push(signed(&plain[0], [7; 32], T0));
+        out.push(signed(&plain[1], FUZZ_KEY, T0 - 7_000_000));
+        let setup = |key: [u8; 32], t: u64| {
+            MavMessage::SETUP_SIGNING(protocol_core::mavlink::dialect::SETUP_SIGNING_DATA {
+                initial_timestamp: t,
+                target_system: 1,
+                target_component: 154,
+                secret_key: key,
+            })
+        };
+        let rotate = frame(1, 1, 9, &setup(FUZZ_KEY, T0));
+        out.push(signed(&rotate, FUZZ_KEY, T0 + 500_000));
+        out.push(rotate);
+        out.push(signed(
+            &frame(1, 1, 9, &setup([0; 32], 0)),
+            FUZZ_KEY,
+            T0 + 600_000,
+        ));
+        out.push(plain[0].clone());
+        out
+    })
+}
+
+/// Target `bridge_signed`: the MAVLink side signing (the first byte: `"sign"` when even,
+/// `"require"` when odd, with unsigned telemetry read when its bit 1 is set) with the
+/// properties of [`run`]; the probe then comes signed.
+pub fn run_signed(data: &[u8]) {
+    let Some((&mode, rest)) = data.split_first() else {
+        return;
+    };
+    let mut config = bridge_engine::Config::for_fc(FcProtocol::Mavlink);
+    config.signing = if mode & 1 == 0 {
+        bridge_engine::SigningMode::Sign
+    } else {
+        bridge_engine::SigningMode::Require
+    };
+    config.signing_key = Some(bridge_engine::SigningKey(FUZZ_KEY));
+    config.signing_unsigned_telemetry = mode & 2 != 0;
+    run_config(config, signed_frames(), Input::new(rest));
+}
+
+/// Seeds of the signing target: [`seeds`] over the signed frames, in both modes.
+#[must_use]
+pub fn signed_seeds() -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for mode in [0u8, 1, 3] {
+        for s in seeds_with(&[], signed_frames()).into_iter().step_by(4) {
+            let mut v = vec![mode];
+            v.extend(s);
+            out.push(v);
+        }
+    }
+    out
 }
 
 /// Seeds: the frames in raw bytes and as frame ops, between pod reports, waits and drains.

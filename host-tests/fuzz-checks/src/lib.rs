@@ -22,7 +22,11 @@
 //! - **bridge**: the bridge engine fed arbitrary FC and pod bytes and times, for each FC
 //!   protocol: no panic, the queues within their bounds, every output frame valid, a
 //!   valid FC request answered (see [`bridge`]); **bridge_mavlink** the same with the
-//!   MAVLink side (see [`bridge_mavlink`]).
+//!   MAVLink side (see [`bridge_mavlink`]); **bridge_signed** the MAVLink side signing,
+//!   its FC frames signed with the key, another key, stale, SETUP_SIGNING
+//!   ([`bridge_mavlink::run_signed`]); **bridge_k40t_allow** the K40T side with an
+//!   allow-list of the pod's destructive requests the fuzzer picks
+//!   ([`bridge::run_k40t_allow`]).
 
 pub mod bridge;
 pub mod bridge_mavlink;
@@ -88,6 +92,14 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "bridge_mavlink",
         run: bridge_mavlink::run,
+    },
+    Target {
+        name: "bridge_signed",
+        run: bridge_mavlink::run_signed,
+    },
+    Target {
+        name: "bridge_k40t_allow",
+        run: bridge::run_k40t_allow,
     },
     Target {
         name: "gcu_deframe",

@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 36] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 37] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -34,6 +34,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 36] = [
     (132, 85),
     (244, 95),
     (253, 83),
+    (256, 71),
     (259, 92),
     (260, 146),
     (261, 179),

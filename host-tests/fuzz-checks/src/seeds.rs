@@ -203,6 +203,8 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         "resync" => crate::resync::seeds(),
         "bridge" => crate::bridge::seeds(),
         "bridge_mavlink" => crate::bridge_mavlink::seeds(),
+        "bridge_signed" => crate::bridge_mavlink::signed_seeds(),
+        "bridge_k40t_allow" => crate::bridge::k40t_allow_seeds(),
         _ => panic!("no target {name}"),
     }
 }

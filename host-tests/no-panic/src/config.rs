@@ -2,7 +2,7 @@
 //! every `Limit`, the texts' parsers on opaque text, and `ConfigError`'s message.
 
 use bridge_engine::config::{ConfigError, Limit};
-use bridge_engine::{Config, SiyiIdentity, ViewlinkIdentity};
+use bridge_engine::{Config, K40tAllow, SigningKey, SiyiIdentity, SystemIds, ViewlinkIdentity};
 use core::fmt::{self, Write};
 use core::hint::black_box;
 
@@ -31,4 +31,11 @@ pub fn exercise(input: &[u8], _out: &mut [u8]) {
     show(SiyiIdentity::parse_hardware_id(text));
     show(ViewlinkIdentity::parse_model(text));
     show(ViewlinkIdentity::firmware_text(black_box([0; 3])));
+    show(SigningKey::parse(text));
+    let ids: [i64; 12] = black_box([0; 12]);
+    let n = black_box(0usize);
+    show(SystemIds::from_list(ids.get(..n).unwrap_or_default()));
+    show(K40tAllow::from_list(ids.get(..n).unwrap_or_default()));
+    let allow = black_box(K40tAllow::NONE);
+    black_box(allow.allows(black_box(0)));
 }

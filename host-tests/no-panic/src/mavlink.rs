@@ -71,6 +71,26 @@ pub fn exercise(input: &[u8], out: &mut [u8]) {
     if let Ok(p) = Packet::decode(input) {
         black_box((p.buffer_len(), p.emit(&mut *out)));
     }
+    // Signing: the check, the fill, signed encoding, the key's text, the timestamp.
+    let key = SecretKey::new(black_box([0u8; KEY_LEN]));
+    black_box(signature_matches(input, &key));
+    black_box(signature_value(&key, input));
+    let signer = Signer {
+        key: &key,
+        link_id: b,
+        timestamp: black_box(0),
+    };
+    if let Message::Known(known) = &m {
+        black_box(encode_signed(known, &header, &signer, &mut *out));
+    }
+    if let Ok(p) = Packet::decode(input) {
+        black_box(p.emit_signed(&signer, &mut *out));
+    }
+    fill_signature(&mut *out, &key);
+    black_box(SecretKey::from_hex(
+        core::str::from_utf8(input).unwrap_or_default(),
+    ));
+    black_box(timestamp_of_unix_micros(black_box(0)));
     black_box(message_info(id));
     black_box(dialect::decode(id, input).is_ok());
     if let Ok(known) = dialect::decode(id, input) {

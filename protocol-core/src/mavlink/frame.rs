@@ -54,8 +54,8 @@ pub fn checksum(covered: &[u8], crc_extra: u8) -> u16 {
 
 wire_derive! {
     [Eq, Hash]
-    /// The signature of a signed MAVLink 2 frame, as received. This crate does not verify
-    /// signatures (that needs SHA-256 and the link's secret key) and signs nothing.
+    /// The signature of a signed MAVLink 2 frame (see
+    /// [`signature_matches`](super::signature_matches) and [`Signer`](super::Signer)).
     pub struct Signature {
         /// The link id.
         pub link_id: u8,

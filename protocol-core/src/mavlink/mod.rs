@@ -15,10 +15,11 @@
 //! The message set: HEARTBEAT 0, SYSTEM_TIME 2, GPS_RAW_INT 24, ATTITUDE 30,
 //! GLOBAL_POSITION_INT 33, REQUEST_DATA_STREAM 66, COMMAND_INT 75, COMMAND_LONG 76,
 //! COMMAND_ACK 77, FILE_TRANSFER_PROTOCOL 110, TIMESYNC 111, CAMERA_TRIGGER 112,
-//! DISTANCE_SENSOR 132, MESSAGE_INTERVAL 244, STATUSTEXT 253, CAMERA_INFORMATION 259,
-//! CAMERA_SETTINGS 260, STORAGE_INFORMATION 261, CAMERA_CAPTURE_STATUS 262,
-//! CAMERA_IMAGE_CAPTURED 263, VIDEO_STREAM_INFORMATION 269, VIDEO_STREAM_STATUS 270,
-//! CAMERA_FOV_STATUS 271, CAMERA_TRACKING_IMAGE_STATUS 275, CAMERA_THERMAL_RANGE 277,
+//! DISTANCE_SENSOR 132, MESSAGE_INTERVAL 244, STATUSTEXT 253, SETUP_SIGNING 256,
+//! CAMERA_INFORMATION 259, CAMERA_SETTINGS 260, STORAGE_INFORMATION 261,
+//! CAMERA_CAPTURE_STATUS 262, CAMERA_IMAGE_CAPTURED 263, VIDEO_STREAM_INFORMATION 269,
+//! VIDEO_STREAM_STATUS 270, CAMERA_FOV_STATUS 271, CAMERA_TRACKING_IMAGE_STATUS 275,
+//! CAMERA_THERMAL_RANGE 277,
 //! GIMBAL_MANAGER_INFORMATION 280, GIMBAL_MANAGER_STATUS 281, GIMBAL_DEVICE_INFORMATION
 //! 283, GIMBAL_DEVICE_SET_ATTITUDE 284, GIMBAL_DEVICE_ATTITUDE_STATUS 285,
 //! AUTOPILOT_STATE_FOR_GIMBAL_DEVICE 286, PARAM_EXT_REQUEST_READ 320,
@@ -35,9 +36,12 @@
 //!   [`Message::Raw`] (id, payload) and verifies nothing. A known id whose content the
 //!   dialect cannot represent (an enumeration value common.xml does not list, e.g. an
 //!   ArduPilot-only `MAV_CMD`) is [`Message::Raw`] too, never an error.
-//! - **Signing**: signed frames (incompatibility flag 0x01) are framed, checked and
-//!   decoded; their [`Signature`] is kept and re-emitted, not verified. [`encode`] writes
-//!   unsigned frames. Any other incompatibility flag is rejected (the spec's rule).
+//! - **Signing** (MAVLink "Message Signing"): signed frames (incompatibility flag 0x01)
+//!   are framed, checked and decoded; their [`Signature`] is kept and re-emitted.
+//!   [`signature_matches`] checks one against a [`SecretKey`]; [`encode_signed`] and
+//!   [`Packet::emit_signed`] write signed frames, [`encode`] unsigned ones. Which signed
+//!   frames to accept (timestamps per stream) is the receiver's state (the bridge's: see
+//!   docs/src/security.md). Any other incompatibility flag is rejected (the spec's rule).
 //! - **Trailing zeros**: [`encode`] drops trailing zero bytes of the payload (at least one
 //!   byte stays), as MAVLink 2 senders do; decoding zero-extends a short payload and
 //!   ignores bytes past the message's length (extension fields of a newer definition).
@@ -84,6 +88,7 @@
 //! ```
 
 mod frame;
+mod signing;
 
 pub use frame::{
     CHECKSUM_LEN, Frame, HEADER_LEN, IFLAG_SIGNED, MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MIN_FRAME_LEN,
@@ -92,13 +97,17 @@ pub use frame::{
 /// The generated message types (rust-mavlink's), trimmed to this crate's message set.
 pub use gimbal_mavlink_dialect as dialect;
 pub use gimbal_mavlink_dialect::{MavMessage, MessageData, MessageInfo, message_info};
+pub use signing::{
+    EPOCH_UNIX_S, KEY_LEN, MAX_TIMESTAMP, SecretKey, Signer, TIMESTAMP_PER_S, VALUE_LEN,
+    fill_signature, signature_matches, signature_value, timestamp_of_unix_micros,
+};
 
 use crate::{Error, Result};
 
 /// Every message id of the dialect, in id order.
 pub const CATALOG: &[u32] = &[
-    0, 2, 24, 30, 33, 66, 75, 76, 77, 110, 111, 112, 132, 244, 253, 259, 260, 261, 262, 263, 269,
-    270, 271, 275, 277, 280, 281, 283, 284, 285, 286, 320, 321, 322, 323, 324,
+    0, 2, 24, 30, 33, 66, 75, 76, 77, 110, 111, 112, 132, 244, 253, 256, 259, 260, 261, 262, 263,
+    269, 270, 271, 275, 277, 280, 281, 283, 284, 285, 286, 320, 321, 322, 323, 324,
 ];
 
 wire_derive! {
@@ -292,6 +301,23 @@ impl<'a> Packet<'a> {
             buf,
         )
     }
+
+    /// Encodes the packet as a frame signed by `signer` (its own signature, if any, is
+    /// not used) and returns its length.
+    ///
+    /// # Errors
+    /// As [`Packet::emit`].
+    pub fn emit_signed(&self, signer: &Signer<'_>, buf: &mut [u8]) -> Result<usize> {
+        let n = emit_frame(
+            &self.message,
+            self.header,
+            self.compat_flags,
+            Some(&signer.unfilled()),
+            buf,
+        )?;
+        fill_signature(buf.get_mut(..n).unwrap_or_default(), signer.key);
+        Ok(n)
+    }
 }
 
 /// Encodes one message as a whole unsigned MAVLink 2 frame into `buf` (payload
@@ -315,6 +341,34 @@ pub fn encode(message: &MavMessage, header: &Header, buf: &mut [u8]) -> Result<u
         None,
         buf,
     )
+}
+
+/// Encodes one message as a whole MAVLink 2 frame signed by `signer` into `buf` and
+/// returns its length (13 bytes more than [`encode`]'s).
+///
+/// # Errors
+/// As [`encode`].
+pub fn encode_signed(
+    message: &MavMessage,
+    header: &Header,
+    signer: &Signer<'_>,
+    buf: &mut [u8],
+) -> Result<usize> {
+    let mut payload = [0u8; MAX_PAYLOAD_LEN];
+    let n = dialect::encode(message, &mut payload);
+    let id = dialect::Message::message_id(message);
+    let crc_extra = message_info(id).ok_or(Error::UnknownId)?.crc_extra;
+    let n = write_frame(
+        *header,
+        id,
+        payload.get(..n).unwrap_or_default(),
+        crc_extra,
+        0,
+        Some(&signer.unfilled()),
+        buf,
+    )?;
+    fill_signature(buf.get_mut(..n).unwrap_or_default(), signer.key);
+    Ok(n)
 }
 
 fn emit_frame(

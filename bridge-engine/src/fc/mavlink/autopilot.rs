@@ -45,12 +45,16 @@ use crate::fixes::{Fix, Velocity};
 use crate::time::{Duration, Instant};
 use protocol_core::mavlink::dialect::{
     GLOBAL_POSITION_INT_DATA, GPS_RAW_INT_DATA, GpsFixType, HEARTBEAT_DATA, MavAutopilot, MavCmd,
-    MavType, SYSTEM_TIME_DATA, TIMESYNC_DATA,
+    MavType, SETUP_SIGNING_DATA, SYSTEM_TIME_DATA, TIMESYNC_DATA,
 };
-use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw};
+use protocol_core::mavlink::{
+    self, Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, Signer,
+};
 
 use super::super::{Ctx, clamp_i16};
 use super::math;
+use super::signing::{Check, LinkSigning};
+use crate::access::Refusal;
 
 /// The autopilot's component id.
 pub(super) const AUTOPILOT: u8 = 1;
@@ -178,6 +182,9 @@ struct Timesync {
     sent: u8,
     /// Dither state (xorshift32).
     rng: u32,
+    /// The last reply's tc1 (µs of the autopilot's 64-bit boot clock) and the local
+    /// instant its request was queued: SYSTEM_TIME's `time_boot_ms` is unwrapped to it.
+    clock: Option<(Instant, u64)>,
 }
 
 /// What [`Autopilot::message`] did with a message.
@@ -213,10 +220,12 @@ pub(super) struct Autopilot {
     /// When the autopilot was learnt, until it answers a request for time or position or
     /// sends either (then `None`), or [`Event::NoTimeOrFixes`] has been said.
     silent_since: Option<Instant>,
+    /// MAVLink signing on this link.
+    pub(super) signing: LinkSigning,
 }
 
 impl Autopilot {
-    pub(super) const fn new(own: u8) -> Self {
+    pub(super) fn new(own: u8, config: &crate::Config) -> Self {
         Autopilot {
             sysid: None,
             kind: AutopilotKind::Other,
@@ -239,7 +248,9 @@ impl Autopilot {
                 answered: false,
                 sent: 0,
                 rng: 0x9E37_79B9,
+                clock: None,
             },
+            signing: LinkSigning::new(config, 0),
         }
     }
 
@@ -256,15 +267,30 @@ impl Autopilot {
         })
     }
 
+    /// Writes a frame with `write` (signed when the link signs: see
+    /// [`LinkSigning::next_signer`]) and queues it on the link; returns its length when
+    /// queued.
+    fn queue(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        write: impl FnOnce(Option<&Signer<'_>>, &mut [u8]) -> protocol_core::Result<usize>,
+    ) -> Option<usize> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let utc = ctx.time.utc(ctx.now);
+        let signer = self.signing.next_signer(utc);
+        let n = write(signer.as_ref(), &mut buf).ok()?;
+        ctx.reply(buf.get(..n).unwrap_or_default()).then_some(n)
+    }
+
     /// Encodes `msg` from component `comp` and queues it on the link.
     pub(super) fn send(&mut self, ctx: &mut Ctx<'_>, comp: u8, msg: &MavMessage) {
         let Some(header) = self.header(comp) else {
             return;
         };
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = mavlink::encode(msg, &header, &mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
-        }
+        self.queue(ctx, |signer, buf| match signer {
+            Some(s) => mavlink::encode_signed(msg, &header, s, buf),
+            None => mavlink::encode(msg, &header, buf),
+        });
     }
 
     /// Queues a message from component `comp` given as its id and payload (trailing
@@ -277,14 +303,77 @@ impl Autopilot {
             .iter()
             .rposition(|b| *b != 0)
             .map_or(1, |i| i.saturating_add(1));
-        let message = Message::Raw(Raw {
-            id,
-            payload: payload.get(..n).unwrap_or_default(),
+        let packet = Packet::new(
+            header,
+            Message::Raw(Raw {
+                id,
+                payload: payload.get(..n).unwrap_or_default(),
+            }),
+        );
+        self.queue(ctx, |signer, buf| match signer {
+            Some(s) => packet.emit_signed(s, buf),
+            None => packet.emit(buf),
         });
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = Packet::new(header, message).emit(&mut buf) {
-            ctx.reply(buf.get(..n).unwrap_or_default());
+    }
+
+    /// Whether a received frame is read at all, by the link's signing (see
+    /// docs/src/security.md): `Some(signed)` to read it, `None` when it was refused
+    /// (counted; a command also reported).
+    pub(super) fn admit(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]) -> Option<bool> {
+        let utc = ctx.time.utc(ctx.now);
+        let view = protocol_core::mavlink::Frame::new_unchecked(frame);
+        let (id, sender) = (view.message_id(), view.system_id());
+        match self.signing.check(frame, utc) {
+            Check::Signed => Some(true),
+            Check::Refused(reason) => {
+                ctx.refuse(reason, id, sender);
+                None
+            }
+            Check::Unsigned if !self.signing.required() => Some(false),
+            Check::Unsigned if is_command(id) => {
+                ctx.refuse(Refusal::Unsigned, id, sender);
+                None
+            }
+            Check::Unsigned if ctx.config.signing_unsigned_telemetry => Some(false),
+            Check::Unsigned => {
+                // Telemetry refused is counted, not reported (it comes many times a
+                // second).
+                let n = &mut ctx.out.counters.unsigned_refused;
+                *n = n.saturating_add(1);
+                None
+            }
         }
+    }
+
+    /// The sender may command the device: the autopilot's system, or a listed ground
+    /// station's.
+    pub(super) fn may_command(&self, ctx: &Ctx<'_>, h: Header) -> bool {
+        self.sysid == Some(h.system_id) || ctx.config.gcs_ids.contains(h.system_id)
+    }
+
+    /// SETUP_SIGNING addressed to this device: taken only from the autopilot's system,
+    /// in a frame signed with the key in use (a key is given once by configuration and
+    /// only replaced by one who holds it; see docs/src/security.md).
+    pub(super) fn setup_signing(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        h: Header,
+        s: &SETUP_SIGNING_DATA,
+        signed: bool,
+    ) -> Took {
+        if !self.addressed(s.target_system, s.target_component, self.own) || s.target_system == 0 {
+            return Took::No;
+        }
+        if !signed {
+            ctx.refuse(Refusal::Unsigned, SETUP_SIGNING_ID, h.system_id);
+        } else if self.sysid != Some(h.system_id) {
+            ctx.refuse(Refusal::Sender, SETUP_SIGNING_ID, h.system_id);
+        } else {
+            let on = self.signing.set_key(s.secret_key, s.initial_timestamp);
+            ctx.out
+                .event(crate::Event::SigningKeyChanged { port: ctx.to, on });
+        }
+        Took::Yes
     }
 
     /// The sender is the autopilot.
@@ -355,6 +444,7 @@ impl Autopilot {
         self.sync.next = ctx.now;
         self.sync.outstanding = None;
         self.sync.answered = false;
+        self.sync.clock = None;
         self.sync.sent = 0;
         Some(true)
     }
@@ -558,10 +648,11 @@ impl Autopilot {
         let Some(header) = self.header(self.own) else {
             return;
         };
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        if let Ok(n) = mavlink::encode(&msg, &header, &mut buf)
-            && ctx.reply(buf.get(..n).unwrap_or_default())
-        {
+        let queued = self.queue(ctx, |signer, buf| match signer {
+            Some(s) => mavlink::encode_signed(&msg, &header, s, buf),
+            None => mavlink::encode(&msg, &header, buf),
+        });
+        if let Some(n) = queued {
             self.sync.outstanding = Some(Request {
                 ts1,
                 sent: ctx.now,
@@ -602,6 +693,7 @@ impl Autopilot {
         let Ok(tc1_us) = u64::try_from(t.tc1 / 1000) else {
             return Took::Yes;
         };
+        self.sync.clock = Some((req.sent, tc1_us));
         if !self.sync.answered {
             self.sync.answered = true;
             if self
@@ -641,8 +733,16 @@ impl Autopilot {
             return;
         }
         if self.sync.answered {
-            ctx.time
-                .system_time(ctx.now, t.time_unix_usec, t.time_boot_ms);
+            // `time_boot_ms` wraps every 49.7 days, TIMESYNC's clock does not.
+            let boot_ms = self
+                .sync
+                .clock
+                .map_or(u64::from(t.time_boot_ms), |(at, tc1_us)| {
+                    let expected_us =
+                        tc1_us.saturating_add(ctx.now.saturating_duration_since(at).as_micros());
+                    crate::time::nearest_wrap_ms(t.time_boot_ms, expected_us / 1000)
+                });
+            ctx.time.system_time(ctx.now, t.time_unix_usec, boot_ms);
         } else if ctx.now.saturating_duration_since(first) > TIMESYNC_GRACE {
             let s = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(ctx.transit);
             ctx.time.utc_sample(s);
@@ -709,6 +809,15 @@ impl Autopilot {
         });
         true
     }
+}
+
+/// SETUP_SIGNING's message id.
+const SETUP_SIGNING_ID: u32 = 256;
+
+/// Messages that command: COMMAND_INT, COMMAND_LONG, GIMBAL_DEVICE_SET_ATTITUDE,
+/// SETUP_SIGNING. Under required signing they are never read unsigned.
+fn is_command(id: u32) -> bool {
+    matches!(id, 75 | 76 | 284 | SETUP_SIGNING_ID)
 }
 
 /// A message id or interval as a command parameter.

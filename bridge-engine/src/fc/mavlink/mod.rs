@@ -55,6 +55,7 @@ mod params;
 mod roi;
 mod sensors;
 mod settings;
+mod signing;
 #[cfg(feature = "telemetry")]
 mod telemetry;
 mod tracking;
@@ -63,6 +64,7 @@ mod video;
 #[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
 
+use crate::access::Refusal;
 use crate::pod::PodNotice;
 use crate::time::{Duration, Instant};
 use protocol_core::k40t::{GpsRequest, Header as PodHeader};
@@ -139,6 +141,7 @@ mod id {
     pub(super) const CAMERA_FOV_STATUS: u32 = 271;
     pub(super) const CAMERA_TRACKING_IMAGE_STATUS: u32 = 275;
     pub(super) const CAMERA_THERMAL_RANGE: u32 = 277;
+    pub(super) const GIMBAL_DEVICE_SET_ATTITUDE: u32 = 284;
 }
 
 /// One of the device's two components.
@@ -257,9 +260,9 @@ pub(crate) struct MavlinkSide {
 }
 
 impl MavlinkSide {
-    pub(crate) fn new() -> Self {
+    pub(crate) fn new(config: &crate::Config) -> Self {
         MavlinkSide {
-            ap: Autopilot::new(Comp::Gimbal.id()),
+            ap: Autopilot::new(Comp::Gimbal.id(), config),
             next_heartbeat: Instant::ZERO,
             next_status: Instant::ZERO,
             pod_up_since: None,
@@ -288,6 +291,9 @@ impl FcHandler for MavlinkSide {
             ctx.ignored();
             return;
         };
+        let Some(signed) = self.ap.admit(ctx, f) else {
+            return;
+        };
         let header = Header {
             sequence: frame.sequence(),
             system_id: frame.system_id(),
@@ -314,6 +320,11 @@ impl FcHandler for MavlinkSide {
             _ => {}
         }
         match Packet::parse(&frame).map(|p| p.message) {
+            Ok(Message::Known(MavMessage::SETUP_SIGNING(s))) => {
+                if self.ap.setup_signing(ctx, header, &s, signed) == Took::No {
+                    ctx.ignored();
+                }
+            }
             Ok(Message::Known(m)) => self.message(ctx, header, m),
             _ => ctx.ignored(),
         }
@@ -455,7 +466,13 @@ impl MavlinkSide {
                 Some(false) => {}
                 None => ctx.ignored(),
             },
-            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => self.set_attitude(ctx, &s),
+            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => {
+                if self.ap.may_command(ctx, h) {
+                    self.set_attitude(ctx, &s);
+                } else {
+                    ctx.refuse(Refusal::Sender, id::GIMBAL_DEVICE_SET_ATTITUDE, h.system_id);
+                }
+            }
             m => match self.ap.message(ctx, h, &m) {
                 Took::No => ctx.ignored(),
                 Took::Yes => {}
@@ -472,6 +489,15 @@ impl MavlinkSide {
         if !system || (to.is_none() && c.target_component != 0) || self.ap.sysid.is_none() {
             // Someone else's.
             ctx.ignored();
+            return;
+        }
+        if !self.ap.may_command(ctx, c.from) {
+            // Neither the autopilot's system nor a listed ground station's: refused, and
+            // told so when it named a component of this device.
+            ctx.refuse(Refusal::Sender, u32::from(c.command), c.from.system_id);
+            if let Some(comp) = to {
+                self.ack(ctx, comp, c.command, result::DENIED, c.from);
+            }
             return;
         }
         let handled = match c.command {

@@ -19,7 +19,7 @@
 //!   where it is. A GIMBAL_DEVICE_SET_ATTITUDE that moves the gimbal, or tracking, ends
 //!   the pointing.
 
-use crate::event::{Event, Refusal};
+use crate::event::{Decline, Event};
 use crate::fc::Ctx;
 use crate::gimbal::Command;
 use crate::time::Duration;
@@ -76,7 +76,7 @@ impl MavlinkSide {
             frame::GLOBAL | frame::GLOBAL_INT => false,
             frame::GLOBAL_RELATIVE_ALT | frame::GLOBAL_RELATIVE_ALT_INT => true,
             _ => {
-                self.refused(ctx, c.command, Refusal::Frame);
+                self.refused(ctx, c.command, Decline::Frame);
                 self.ack(ctx, Comp::Gimbal, c.command, result::DENIED, c.from);
                 return;
             }
@@ -87,13 +87,13 @@ impl MavlinkSide {
             && alt_m > -100_000.0
             && alt_m < 100_000.0;
         if !valid {
-            self.refused(ctx, c.command, Refusal::OutOfRange);
+            self.refused(ctx, c.command, Decline::OutOfRange);
             self.ack(ctx, Comp::Gimbal, c.command, result::DENIED, c.from);
             return;
         }
         let Some((here, rel_mm)) = Self::aircraft(ctx).filter(|_| self.vehicle(ctx.now).is_some())
         else {
-            self.refused(ctx, c.command, Refusal::NoPosition);
+            self.refused(ctx, c.command, Decline::NoPosition);
             self.ack(
                 ctx,
                 Comp::Gimbal,

@@ -39,7 +39,7 @@
 //!   frame (the pod's roll and pitch, its yaw plus the aircraft's heading); the fields of
 //!   view ([`super::fov`]).
 
-use crate::event::Refusal;
+use crate::event::Decline;
 use crate::fc::Ctx;
 use crate::gimbal::{Command, Ranging};
 use crate::time::{Duration, Instant, UtcTime};
@@ -163,7 +163,7 @@ impl MavlinkSide {
             cmd::VIDEO_START_STREAMING | cmd::VIDEO_STOP_STREAMING
         );
         if !ctx.pod().link && !streaming {
-            self.refused(ctx, c.command, Refusal::PodLost);
+            self.refused(ctx, c.command, Decline::PodLost);
             self.ack(
                 ctx,
                 Comp::Camera,
@@ -212,12 +212,12 @@ impl MavlinkSide {
             }
             id::CAMERA_THERMAL_RANGE => {
                 let r = if !is_our_stream(arg) {
-                    self.refused(ctx, c.command, Refusal::OtherDevice);
+                    self.refused(ctx, c.command, Decline::OtherDevice);
                     result::DENIED
                 } else if Self::measuring(ctx) {
                     result::ACCEPTED
                 } else {
-                    self.refused(ctx, c.command, Refusal::NoMeasurement);
+                    self.refused(ctx, c.command, Decline::NoMeasurement);
                     result::TEMPORARILY_REJECTED
                 };
                 self.ack(ctx, Comp::Camera, c.command, r, c.from);
@@ -234,7 +234,7 @@ impl MavlinkSide {
                         return true;
                     }
                 }
-                self.refused(ctx, c.command, Refusal::PodLost);
+                self.refused(ctx, c.command, Decline::PodLost);
                 self.ack(
                     ctx,
                     Comp::Camera,
@@ -272,7 +272,7 @@ impl MavlinkSide {
                         .thermal
                         .set(now, us, THERMAL_DEFAULT, THERMAL_LEAST)
                 } else {
-                    self.refused(ctx, c.command, Refusal::OtherDevice);
+                    self.refused(ctx, c.command, Decline::OtherDevice);
                     self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
                     return true;
                 }
@@ -284,7 +284,7 @@ impl MavlinkSide {
         let r = if ok {
             result::ACCEPTED
         } else {
-            self.refused(ctx, c.command, Refusal::NotGiven);
+            self.refused(ctx, c.command, Decline::NotGiven);
             result::DENIED
         };
         self.ack(ctx, Comp::Camera, c.command, r, c.from);
@@ -295,12 +295,12 @@ impl MavlinkSide {
     /// pod's.
     fn distance_interval(&mut self, ctx: &mut Ctx<'_>, c: &Cmd, us: f32) -> bool {
         if us.is_nan() {
-            self.refused(ctx, c.command, Refusal::NotGiven);
+            self.refused(ctx, c.command, Decline::NotGiven);
             self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
             return true;
         }
         if !ctx.pod().link {
-            self.refused(ctx, c.command, Refusal::PodLost);
+            self.refused(ctx, c.command, Decline::PodLost);
             self.ack(
                 ctx,
                 Comp::Camera,
@@ -355,7 +355,7 @@ impl MavlinkSide {
                     self.distance_sensor(ctx, dm);
                 } else {
                     if ok {
-                        self.refused(ctx, c, Refusal::NoLaserReturn);
+                        self.refused(ctx, c, Decline::NoLaserReturn);
                     }
                     self.ack(ctx, Comp::Camera, c, result::FAILED, from);
                 }

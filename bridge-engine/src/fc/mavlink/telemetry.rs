@@ -42,9 +42,9 @@ pub(crate) struct TelemetrySide {
 }
 
 impl TelemetrySide {
-    pub(crate) const fn new() -> Self {
+    pub(crate) fn new(config: &crate::Config) -> Self {
         TelemetrySide {
-            ap: Autopilot::new(TELEMETRY_COMPONENT),
+            ap: Autopilot::new(TELEMETRY_COMPONENT, config),
             next_heartbeat: Instant::ZERO,
             images: 0,
         }
@@ -106,6 +106,9 @@ impl FcHandler for TelemetrySide {
         let Ok(frame) = Frame::new_checked(f) else {
             return;
         };
+        let Some(signed) = self.ap.admit(ctx, f) else {
+            return;
+        };
         let h = Header {
             sequence: frame.sequence(),
             system_id: frame.system_id(),
@@ -114,6 +117,10 @@ impl FcHandler for TelemetrySide {
         let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
             return;
         };
+        if let MavMessage::SETUP_SIGNING(s) = &m {
+            self.ap.setup_signing(ctx, h, s, signed);
+            return;
+        }
         if let MavMessage::HEARTBEAT(hb) = &m {
             if self.ap.heartbeat(ctx, h, hb) == Some(true) {
                 self.next_heartbeat = ctx.now;

@@ -22,7 +22,7 @@
 //!   SET_MESSAGE_INTERVAL(275) asks (QGroundControl: 500 ms while it tracks, −1 after;
 //!   0: every second).
 
-use crate::event::Refusal;
+use crate::event::Decline;
 use crate::fc::Ctx;
 use crate::gimbal::{Command, Target};
 use crate::time::{Duration, Instant};
@@ -162,7 +162,7 @@ impl MavlinkSide {
             _ => (None, c.param(1)),
         };
         if !ours(camera) {
-            self.refused(ctx, c.command, Refusal::OtherDevice);
+            self.refused(ctx, c.command, Decline::OtherDevice);
             self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
             return;
         }
@@ -178,7 +178,7 @@ impl MavlinkSide {
             None => None,
         };
         if asked.is_some() && target.is_none() {
-            self.refused(ctx, c.command, Refusal::NotGiven);
+            self.refused(ctx, c.command, Decline::NotGiven);
             self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
             return;
         }

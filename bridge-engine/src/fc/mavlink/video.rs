@@ -26,7 +26,7 @@
 //!   ACK after the pod's. NDVI (3) is not the pod's: UNSUPPORTED.
 
 use crate::config::URI_LEN;
-use crate::event::{Event, Refusal};
+use crate::event::{Decline, Event};
 use crate::fc::Ctx;
 use crate::gimbal::{Command, View};
 use crate::time::{Duration, Instant};
@@ -217,10 +217,10 @@ impl MavlinkSide {
     /// the result, and the message after an ACCEPTED ACK.
     pub(super) fn video_request(&mut self, ctx: &mut Ctx<'_>, c: &Cmd, msg: u32, arg: f32) {
         let r = if !is_our_stream(arg) {
-            self.refused(ctx, c.command, Refusal::OtherDevice);
+            self.refused(ctx, c.command, Decline::OtherDevice);
             result::DENIED
         } else if Self::stream_uri(ctx).is_none() {
-            self.refused(ctx, c.command, Refusal::NoStreamAddress);
+            self.refused(ctx, c.command, Decline::NoStreamAddress);
             result::TEMPORARILY_REJECTED
         } else {
             result::ACCEPTED
@@ -240,10 +240,10 @@ impl MavlinkSide {
     pub(super) fn video_command(&mut self, ctx: &mut Ctx<'_>, c: &Cmd) {
         if c.command != cmd::SET_CAMERA_SOURCE {
             let r = if !is_our_stream(c.param(1)) {
-                self.refused(ctx, c.command, Refusal::OtherDevice);
+                self.refused(ctx, c.command, Decline::OtherDevice);
                 result::DENIED
             } else if Self::stream_uri(ctx).is_none() {
-                self.refused(ctx, c.command, Refusal::NoStreamAddress);
+                self.refused(ctx, c.command, Decline::NoStreamAddress);
                 result::DENIED
             } else {
                 result::ACCEPTED
@@ -254,7 +254,7 @@ impl MavlinkSide {
         // param1: the camera (0 all, NaN not given, or this one).
         let device = c.param(1);
         if !(device.is_nan() || param_is(device, 0) || param_is(device, Comp::Camera.id())) {
-            self.refused(ctx, c.command, Refusal::OtherDevice);
+            self.refused(ctx, c.command, Decline::OtherDevice);
             self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
             return;
         }
@@ -271,7 +271,7 @@ impl MavlinkSide {
             Some(_) if split => View::Split,
             Some(v) => v,
             None if primary.is_nan() => {
-                self.refused(ctx, c.command, Refusal::NotGiven);
+                self.refused(ctx, c.command, Decline::NotGiven);
                 self.ack(ctx, Comp::Camera, c.command, result::DENIED, c.from);
                 return;
             }
@@ -326,9 +326,9 @@ impl MavlinkSide {
     }
 
     /// An event saying the bridge refused `command`.
-    pub(super) fn refused(&mut self, ctx: &mut Ctx<'_>, command: u16, reason: Refusal) {
+    pub(super) fn refused(&mut self, ctx: &mut Ctx<'_>, command: u16, reason: Decline) {
         let _ = self;
-        ctx.out.event(Event::Refused {
+        ctx.out.event(Event::Declined {
             fc_id: command,
             reason,
         });

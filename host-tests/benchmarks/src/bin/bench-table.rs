@@ -86,7 +86,8 @@ fn main() {
     let (mav, _) = benchmarks::mavlink_stream();
     let mav_frames = mav.frames.len();
     println!(
-        "| **MAVLink 2**, protocol_core::mavlink (the bridge's 25 messages, {mav_frames} frames, {} bytes) | | | | |",
+        "| **MAVLink 2**, protocol_core::mavlink (the bridge's {} messages, {mav_frames} frames, {} bytes) | | | | |",
+        protocol_core::mavlink::CATALOG.len(),
         mav.bytes.len()
     );
     row("checksum alone (floor)", "mavlink_checksum", mav_frames);
@@ -96,6 +97,11 @@ fn main() {
     row(
         "encode (typed message to frame)",
         "mavlink_encode",
+        mav_frames,
+    );
+    row(
+        "encode, signed (SHA-256 included)",
+        "mavlink_encode_signed",
         mav_frames,
     );
     println!("| **rust-mavlink 0.21** own reader/encoder, same stream and types | | | | |");
@@ -116,6 +122,11 @@ fn main() {
     row(
         "MAVLink SET_ATTITUDE in, K40T angle out",
         "bridge_mavlink_set_attitude",
+        frames,
+    );
+    row(
+        "the same, signing required (in checked, out signed)",
+        "bridge_mavlink_set_attitude_signed",
         frames,
     );
     row(
@@ -157,6 +168,16 @@ fn main() {
         "MAVLink: deframe / checksum floor",
         "mavlink_deframe",
         "mavlink_checksum",
+    );
+    ratio(
+        "MAVLink encode: signed / unsigned",
+        "mavlink_encode_signed",
+        "mavlink_encode",
+    );
+    ratio(
+        "MAVLink side per frame: signed / unsigned",
+        "bridge_mavlink_set_attitude_signed",
+        "bridge_mavlink_set_attitude",
     );
     ratio(
         "MAVLink: rust-mavlink reader + parse / mavio",

@@ -1,0 +1,335 @@
+//! MAVLink 2 signing on one link (the MAVLink side's, or the telemetry link), after the
+//! MAVLink specification's "Message Signing": the key in use, the timestamp the bridge
+//! signs with, and the last timestamp of each stream that signed to it (see
+//! docs/src/security.md).
+//!
+//! - **Checking.** A signed frame counts only if its signature is the key's and its
+//!   timestamp is newer than the last of its stream (link id, system, component); a new
+//!   stream's first timestamp may be at most a minute older than the bridge's own. The
+//!   streams are a fixed table of [`STREAMS`]: when it is full the stream with the oldest
+//!   timestamp makes room (its next frame is then a new stream's, within the minute).
+//! - **Signing.** Every frame is signed with a timestamp above the last one used and at
+//!   least the bridge's UTC (once known) and the newest accepted from the link, so it never
+//!   goes back. Across a reboot the bridge remembers nothing: before UTC is known and
+//!   before a signed frame was accepted on the link, it has no timestamp it can vouch for
+//!   (one below a previous boot's would be refused as a replay) and sends its frames
+//!   unsigned. It speaks only after the autopilot's HEARTBEAT, whose signature carries the
+//!   autopilot's timestamp: with a signing autopilot that comes first.
+
+use crate::Config;
+use crate::access::{Refusal, SigningMode};
+use crate::time::UtcTime;
+use protocol_core::mavlink::{
+    Frame, SecretKey, Signer, TIMESTAMP_PER_S, signature_matches, timestamp_of_unix_micros,
+};
+
+/// Streams whose timestamps are kept.
+pub(super) const STREAMS: usize = 8;
+/// How much older than the bridge's timestamp a new stream's first may be: a minute.
+const NEW_STREAM_WINDOW: u64 = 60 * TIMESTAMP_PER_S;
+
+/// One stream (link id, system, component) and its last accepted timestamp, packed
+/// (48 bits, little-endian; all zero: a free slot).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct Stream {
+    ids: [u8; 3],
+    timestamp: [u8; 6],
+}
+
+impl Stream {
+    fn new(ids: [u8; 3], timestamp: u64) -> Self {
+        let [t0, t1, t2, t3, t4, t5, _, _] = timestamp.to_le_bytes();
+        Stream {
+            ids,
+            timestamp: [t0, t1, t2, t3, t4, t5],
+        }
+    }
+
+    fn timestamp(&self) -> u64 {
+        let [t0, t1, t2, t3, t4, t5] = self.timestamp;
+        u64::from_le_bytes([t0, t1, t2, t3, t4, t5, 0, 0])
+    }
+
+    fn is_free(&self) -> bool {
+        *self == Stream::default()
+    }
+}
+
+/// What a received frame is, as far as signing goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Check {
+    /// Signed with the key, newer than its stream's last: taken.
+    Signed,
+    /// Unsigned, or signing is off: the caller decides by the mode.
+    Unsigned,
+    /// Signed, and not to be taken.
+    Refused(Refusal),
+}
+
+/// Signing on one link.
+#[derive(Debug, Clone)]
+pub(super) struct LinkSigning {
+    mode: SigningMode,
+    key: Option<SecretKey>,
+    /// The link id the bridge's signatures name.
+    link_id: u8,
+    /// The last timestamp the bridge used or accepted (0: none yet).
+    timestamp: u64,
+    streams: [Stream; STREAMS],
+}
+
+impl LinkSigning {
+    /// Signing as `config` says, signatures naming `link_id`.
+    pub(super) fn new(config: &Config, link_id: u8) -> Self {
+        LinkSigning {
+            mode: config.signing,
+            key: config.signing_key.map(|k| SecretKey::new(k.0)),
+            link_id,
+            timestamp: 0,
+            streams: [Stream::default(); STREAMS],
+        }
+    }
+
+    /// Unsigned frames are refused (commands always, the rest unless configured).
+    pub(super) fn required(&self) -> bool {
+        self.mode == SigningMode::Require && self.key.is_some()
+    }
+
+    /// Checks a received frame's signature and timestamp (a frame taken updates its
+    /// stream and the bridge's timestamp).
+    pub(super) fn check(&mut self, frame: &[u8], utc: Option<UtcTime>) -> Check {
+        let view = Frame::new_unchecked(frame);
+        let (Some(key), Some(sig)) = (
+            self.key.filter(|_| self.mode != SigningMode::Off),
+            view.signature(),
+        ) else {
+            return Check::Unsigned;
+        };
+        if !signature_matches(frame, &key) {
+            return Check::Refused(Refusal::BadSignature);
+        }
+        let ids = [sig.link_id, view.system_id(), view.component_id()];
+        let slot = self
+            .streams
+            .iter()
+            .position(|s| !s.is_free() && s.ids == ids);
+        match slot.and_then(|i| self.streams.get(i)) {
+            Some(s) if sig.timestamp <= s.timestamp() => {
+                return Check::Refused(Refusal::Replayed);
+            }
+            Some(_) => {}
+            None => {
+                let local = self.local_timestamp(utc);
+                if sig.timestamp.saturating_add(NEW_STREAM_WINDOW) < local {
+                    return Check::Refused(Refusal::Stale);
+                }
+            }
+        }
+        let i = slot.unwrap_or_else(|| self.room());
+        if let Some(s) = self.streams.get_mut(i) {
+            *s = Stream::new(ids, sig.timestamp);
+        }
+        self.timestamp = self.timestamp.max(sig.timestamp);
+        Check::Signed
+    }
+
+    /// A free slot, or the one whose stream signed longest ago.
+    fn room(&self) -> usize {
+        self.streams
+            .iter()
+            .enumerate()
+            .min_by_key(|(_, s)| {
+                if s.is_free() {
+                    0
+                } else {
+                    s.timestamp().saturating_add(1)
+                }
+            })
+            .map_or(0, |(i, _)| i)
+    }
+
+    /// The bridge's timestamp now: the last used or accepted, and its UTC.
+    fn local_timestamp(&self, utc: Option<UtcTime>) -> u64 {
+        let from_utc = utc.map_or(0, |u| timestamp_of_unix_micros(u.as_unix_micros()));
+        self.timestamp.max(from_utc)
+    }
+
+    /// The signer of the next frame (`None`: unsigned, signing off or no timestamp the
+    /// bridge can vouch for yet; see the module documentation). Each call uses a new
+    /// timestamp.
+    pub(super) fn next_signer(&mut self, utc: Option<UtcTime>) -> Option<Signer<'_>> {
+        if self.mode == SigningMode::Off {
+            return None;
+        }
+        let key = self.key.as_ref()?;
+        let local = self
+            .timestamp
+            .max(utc.map_or(0, |u| timestamp_of_unix_micros(u.as_unix_micros())));
+        if local == 0 {
+            return None;
+        }
+        let timestamp = self.timestamp.saturating_add(1).max(local);
+        self.timestamp = timestamp;
+        Some(Signer {
+            key,
+            link_id: self.link_id,
+            timestamp,
+        })
+    }
+
+    /// SETUP_SIGNING: a new key from now (all zero with timestamp 0: signing off on this
+    /// link until the next reboot), the timestamp at least `initial`, every stream
+    /// forgotten. Returns whether a key is in use.
+    pub(super) fn set_key(&mut self, key: [u8; 32], initial: u64) -> bool {
+        let key = SecretKey::new(key);
+        if key.is_zero() && initial == 0 {
+            self.key = None;
+        } else {
+            self.key = Some(key);
+            if self.mode == SigningMode::Off {
+                self.mode = SigningMode::Sign;
+            }
+        }
+        self.timestamp = self.timestamp.max(initial);
+        self.streams = [Stream::default(); STREAMS];
+        self.key.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::access::SigningKey;
+    use protocol_core::mavlink::dialect::{
+        HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
+    };
+    use protocol_core::mavlink::{self, Header, MAX_FRAME_LEN, MavMessage, encode_signed};
+
+    const KEY: [u8; 32] = [7; 32];
+
+    fn signing(mode: SigningMode) -> LinkSigning {
+        let mut c = Config::DEFAULT;
+        c.signing = mode;
+        c.signing_key = Some(SigningKey(KEY));
+        LinkSigning::new(&c, 0)
+    }
+
+    fn frame(key: [u8; 32], link_id: u8, sysid: u8, timestamp: u64) -> Vec<u8> {
+        let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_QUADROTOR,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        });
+        let header = Header {
+            sequence: 0,
+            system_id: sysid,
+            component_id: 1,
+        };
+        let key = SecretKey::new(key);
+        let signer = Signer {
+            key: &key,
+            link_id,
+            timestamp,
+        };
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let n = encode_signed(&hb, &header, &signer, &mut buf).unwrap();
+        buf[..n].to_vec()
+    }
+
+    const T0: u64 = 3_500_000_000_000;
+
+    #[test]
+    fn frames_are_taken_once_in_order_within_the_window() {
+        let mut s = signing(SigningMode::Require);
+        assert!(s.required());
+        assert_eq!(s.check(&frame(KEY, 0, 1, T0), None), Check::Signed);
+        // Replayed, or older: refused; newer: taken.
+        assert_eq!(
+            s.check(&frame(KEY, 0, 1, T0), None),
+            Check::Refused(Refusal::Replayed)
+        );
+        assert_eq!(
+            s.check(&frame(KEY, 0, 1, T0 - 1), None),
+            Check::Refused(Refusal::Replayed)
+        );
+        assert_eq!(s.check(&frame(KEY, 0, 1, T0 + 1), None), Check::Signed);
+        // Another key: refused.
+        assert_eq!(
+            s.check(&frame([8; 32], 0, 1, T0 + 2), None),
+            Check::Refused(Refusal::BadSignature)
+        );
+        // A new stream (another link id) within the minute: taken; older: stale.
+        assert_eq!(
+            s.check(&frame(KEY, 1, 1, T0 - 59 * TIMESTAMP_PER_S), None),
+            Check::Signed
+        );
+        assert_eq!(
+            s.check(&frame(KEY, 2, 1, T0 - 61 * TIMESTAMP_PER_S), None),
+            Check::Refused(Refusal::Stale)
+        );
+        // Unsigned frames: the caller's to judge.
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let signed = frame(KEY, 0, 1, T0);
+        let hb = mavlink::Packet::decode(&signed).unwrap();
+        let n = mavlink::Packet::new(hb.header, hb.message)
+            .emit(&mut buf)
+            .unwrap();
+        assert_eq!(s.check(&buf[..n], None), Check::Unsigned);
+    }
+
+    #[test]
+    fn a_full_table_makes_room_for_new_streams() {
+        let mut s = signing(SigningMode::Sign);
+        for sysid in 1..=20u8 {
+            let t = T0 + u64::from(sysid);
+            assert_eq!(s.check(&frame(KEY, 0, sysid, t), None), Check::Signed);
+        }
+        // The newest streams are remembered.
+        assert_eq!(
+            s.check(&frame(KEY, 0, 20, T0 + 20), None),
+            Check::Refused(Refusal::Replayed)
+        );
+    }
+
+    #[test]
+    fn the_timestamp_never_goes_back() {
+        let mut s = signing(SigningMode::Sign);
+        // No UTC, nothing accepted: nothing to vouch for.
+        assert!(s.next_signer(None).is_none());
+        let utc = UtcTime::from_unix_micros(1_767_225_600_000_000);
+        let from_utc = timestamp_of_unix_micros(utc.as_unix_micros());
+        let a = s.next_signer(Some(utc)).unwrap().timestamp;
+        assert_eq!(a, from_utc);
+        let b = s.next_signer(Some(utc)).unwrap().timestamp;
+        assert_eq!(b, a + 1);
+        // UTC steps back a second (a leap second, a corrected clock): still forward.
+        let back = UtcTime::from_unix_micros(utc.as_unix_micros() - 1_000_000);
+        assert_eq!(s.next_signer(Some(back)).unwrap().timestamp, b + 1);
+        // An accepted frame from the future pulls it forward.
+        let ahead = from_utc + 500 * TIMESTAMP_PER_S;
+        assert_eq!(s.check(&frame(KEY, 0, 1, ahead), None), Check::Signed);
+        assert_eq!(s.next_signer(None).unwrap().timestamp, ahead + 1);
+        // Off: nothing signed, nothing checked.
+        let mut off = signing(SigningMode::Off);
+        assert!(off.next_signer(Some(utc)).is_none());
+        assert_eq!(off.check(&frame([9; 32], 0, 1, 5), None), Check::Unsigned);
+    }
+
+    #[test]
+    fn setup_signing_changes_the_key_or_turns_it_off() {
+        let mut s = signing(SigningMode::Require);
+        assert_eq!(s.check(&frame(KEY, 0, 1, T0), None), Check::Signed);
+        assert!(s.set_key([3; 32], T0 + 10));
+        assert_eq!(
+            s.check(&frame(KEY, 0, 1, T0 + 20), None),
+            Check::Refused(Refusal::BadSignature)
+        );
+        assert_eq!(s.check(&frame([3; 32], 0, 1, T0 + 20), None), Check::Signed);
+        assert!(!s.set_key([0; 32], 0));
+        assert!(!s.required());
+        assert!(s.next_signer(None).is_none());
+    }
+}
