@@ -424,46 +424,33 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             out.emit_at(t, name, fields);
         };
         let bridge = host::bridge_with_pps(&shared, links, pin, pps, sink, || {});
-        // A simulated peer on its side's wires (traced both ways), or nothing.
+        // A simulated peer on its side's wires (the bridge's output and input, their
+        // sinks), traced both ways; or nothing.
         macro_rules! sim_peer {
-            ($on:expr, $sim:expr, $side:literal, $tx:expr, $rx:expr, $out:expr, $in:expr, $baud:expr) => {
+            ($on:expr, $sim:expr, $side:literal, $wires:expr, $baud:expr) => {
                 async {
                     if $on {
+                        let (bridge_tx, bridge_rx, out, into) = $wires;
                         let rx = TapRead {
-                            inner: $tx,
+                            inner: bridge_tx,
                             tap: trace($side, "tx"),
                         };
                         let tx = TapWrite {
-                            inner: $rx,
+                            inner: bridge_rx,
                             tap: trace($side, "rx"),
                         };
-                        run_peer($sim, WireRx::new(rx, $out), WireTx::new(tx, $in), $baud).await
+                        run_peer($sim, WireRx::new(rx, out), WireTx::new(tx, into), $baud).await
                     } else {
                         core::future::pending().await
                     }
                 }
             };
         }
-        let fc_peer = sim_peer!(
-            args.fc_port.is_sim(),
-            &fc_sim,
-            "fc",
-            &links.fc_tx,
-            &links.fc_rx,
-            &fc_out,
-            &fc_in,
-            config.fc_baud
-        );
-        let pod_peer = sim_peer!(
-            args.pod_port.is_sim(),
-            &pod_sim,
-            "pod",
-            &links.pod_tx,
-            &links.pod_rx,
-            &pod_out,
-            &pod_in,
-            config.pod_baud
-        );
+        let (fc_on, pod_on) = (args.fc_port.is_sim(), args.pod_port.is_sim());
+        let fc_wires = (&links.fc_tx, &links.fc_rx, &fc_out, &fc_in);
+        let fc_peer = sim_peer!(fc_on, &fc_sim, "fc", fc_wires, config.fc_baud);
+        let pod_wires = (&links.pod_tx, &links.pod_rx, &pod_out, &pod_in);
+        let pod_peer = sim_peer!(pod_on, &pod_sim, "pod", pod_wires, config.pod_baud);
         let mut next_photo = photo_every.map(|p| start_us + p);
         let mut next_counters = counters_every.map(|p| start_us + p);
         let mut next_status = start_us;

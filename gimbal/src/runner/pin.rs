@@ -206,22 +206,22 @@ mod tests {
     #[test]
     fn rtc_specs() {
         let p = |s: &str| s.parse::<RtcSpec>();
-        assert_eq!(p("log"), Ok(RtcSpec::Log));
-        assert_eq!(
-            p("gpiochip0:17"),
-            Ok(RtcSpec::Gpio(GpioSpec::new("/dev/gpiochip0", 17, false)))
-        );
-        assert_eq!(
-            p("/dev/gpiochip4:3:active-low"),
-            Ok(RtcSpec::Gpio(GpioSpec::new("/dev/gpiochip4", 3, true)))
-        );
-        assert_eq!(
-            p("tcp-listen:0"),
-            Ok(RtcSpec::Tcp(PortSpec::TcpListen {
-                host: None,
-                port: 0
-            }))
-        );
+        let gpio = |chip: &str, line, low| Ok(RtcSpec::Gpio(GpioSpec::new(chip, line, low)));
+        let listen = RtcSpec::Tcp(PortSpec::TcpListen {
+            host: None,
+            port: 0,
+        });
+        for (text, want) in [
+            ("log", Ok(RtcSpec::Log)),
+            ("gpiochip0:17", gpio("/dev/gpiochip0", 17, false)),
+            (
+                "/dev/gpiochip4:3:active-low",
+                gpio("/dev/gpiochip4", 3, true),
+            ),
+            ("tcp-listen:0", Ok(listen)),
+        ] {
+            assert_eq!(p(text), want, "{text}");
+        }
         for bad in [
             "",
             "gpio",

@@ -684,16 +684,16 @@ mod tests {
         Box::leak(Box::new(HostPipe::new()))
     }
 
-    /// A pump with no taps.
-    fn pump(
+    /// Starts a pump with no taps, `label` on `spec` (panics when it cannot).
+    fn start_pump(
         label: &'static str,
         spec: &str,
         baud: u32,
         out: &Output,
         pipes: (Option<&'static HostPipe>, Option<&'static HostPipe>),
         faults: Option<CableFaults>,
-    ) -> Pump {
-        Pump {
+    ) -> PortHandle {
+        start(Pump {
             label,
             spec: spec.parse().unwrap(),
             baud,
@@ -703,7 +703,8 @@ mod tests {
             tap_in: None,
             tap_out: None,
             faults,
-        }
+        })
+        .unwrap()
     }
 
     /// Waits (up to `tries` times `step_ms`) until at least `count` events named `name`
@@ -870,15 +871,7 @@ mod tests {
         let out = Output::capture();
         let (incoming, outgoing) = (pipe(), pipe());
         let pipes = (Some(incoming), Some(outgoing));
-        start(pump(
-            "fc",
-            "tcp-listen:127.0.0.1:0",
-            115_200,
-            &out,
-            pipes,
-            None,
-        ))
-        .unwrap();
+        start_pump("fc", "tcp-listen:127.0.0.1:0", 115_200, &out, pipes, None);
         let listening = out.captured();
         assert_eq!(listening[0]["event"], "port_listening");
         let address = listening[0]["address"].as_str().unwrap().to_string();
@@ -926,15 +919,14 @@ mod tests {
         let (incoming, outgoing) = (pipe(), pipe());
         let cable = CableFaults::new(Faults::bit_errors(1.0, 9));
         let (pipes, faults) = ((Some(incoming), Some(outgoing)), Some(cable.clone()));
-        start(pump(
+        start_pump(
             "pod",
             "tcp-listen:127.0.0.1:0",
             115_200,
             &out,
             pipes,
             faults,
-        ))
-        .unwrap();
+        );
         let address = out.captured()[0]["address"].as_str().unwrap().to_string();
         let mut client = TcpStream::connect(&address).unwrap();
         client.write_all(&[0x00, 0x0F]).unwrap();
@@ -966,15 +958,7 @@ mod tests {
         let out = Output::capture();
         let (incoming, outgoing) = (pipe(), pipe());
         let pipes = (Some(incoming), Some(outgoing));
-        start(pump(
-            "pod",
-            &format!("{path}:57600"),
-            57_600,
-            &out,
-            pipes,
-            None,
-        ))
-        .unwrap();
+        start_pump("pod", &format!("{path}:57600"), 57_600, &out, pipes, None);
         let opened = out.captured();
         assert_eq!(opened[0]["event"], "port_opened");
         assert_eq!(opened[0]["device"], path.as_str());
@@ -1005,15 +989,7 @@ mod tests {
         let out = Output::capture();
         let incoming = pipe();
         let spec = format!("tcp:127.0.0.1:{port}");
-        start(pump(
-            "pod",
-            &spec,
-            115_200,
-            &out,
-            (Some(incoming), None),
-            None,
-        ))
-        .unwrap();
+        start_pump("pod", &spec, 115_200, &out, (Some(incoming), None), None);
         let errors = wait_for_events(&out, "port_error", 2, 400, 10);
         assert!(errors.len() >= 2, "{errors:?}");
         assert_eq!(errors[0]["port"], "pod");

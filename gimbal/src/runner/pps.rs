@@ -53,12 +53,6 @@ impl FromStr for PpsSpec {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        if s == "sim" {
-            return Ok(PpsSpec::Sim);
-        }
-        if s.starts_with("tcp:") || s.starts_with("tcp-listen:") {
-            return s.parse().map(PpsSpec::Tcp);
-        }
         let bad = || {
             format!(
                 "`{s}` is not a PPS source: expected gpiochipN:LINE[:active-low], /dev/ppsN, \
@@ -66,13 +60,17 @@ impl FromStr for PpsSpec {
             )
         };
         let rest = s.strip_prefix("/dev/").unwrap_or(s);
-        if let Some(n) = rest.strip_prefix("pps") {
-            if n.is_empty() || !n.bytes().all(|b| b.is_ascii_digit()) {
-                return Err(bad());
+        match rest.strip_prefix("pps") {
+            _ if s == "sim" => Ok(PpsSpec::Sim),
+            _ if s.starts_with("tcp:") || s.starts_with("tcp-listen:") => {
+                s.parse().map(PpsSpec::Tcp)
             }
-            return Ok(PpsSpec::Device(PathBuf::from(format!("/dev/{rest}"))));
+            Some(n) if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) => {
+                Ok(PpsSpec::Device(PathBuf::from(format!("/dev/{rest}"))))
+            }
+            Some(_) => Err(bad()),
+            None => GpioSpec::parse(s).map(PpsSpec::Gpio).ok_or_else(bad),
         }
-        GpioSpec::parse(s).map(PpsSpec::Gpio).ok_or_else(bad)
     }
 }
 

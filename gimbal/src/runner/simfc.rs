@@ -161,11 +161,7 @@ impl AnyFc {
     /// Turns the mount at these rates, °/s (yaw positive right, pitch positive up).
     /// False for the K40T FC (it sends no motion).
     pub fn set_rates(&mut self, yaw_dps: f64, pitch_dps: f64) -> bool {
-        let siyi = ap_siyi::MountTarget::Rate {
-            yaw_dps,
-            pitch_dps,
-            yaw_is_ef: false,
-        };
+        let siyi = ap_siyi::MountTarget::body_rate(yaw_dps, pitch_dps);
         let rate = MountTarget::Rate {
             pitch_dps,
             yaw_dps,

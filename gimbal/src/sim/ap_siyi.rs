@@ -35,9 +35,9 @@
 //! bridge's time sync is [`Autopilot::fc_utc_us`], which follows the FC's UTC of the
 //! boot in effect.
 
-use super::FcClock;
 use super::board::{Autopilot, Board, board_field};
 use super::describe::SiyiFrames;
+use super::pilot::ClockSettings;
 use super::pilot::Pilot;
 use protocol_core::Direction;
 use protocol_core::siyi::{
@@ -132,6 +132,18 @@ pub enum MountTarget {
     },
 }
 
+impl MountTarget {
+    /// Turn at these body-frame rates (deg/s).
+    #[must_use]
+    pub fn body_rate(yaw_dps: f64, pitch_dps: f64) -> Self {
+        MountTarget::Rate {
+            yaw_dps,
+            pitch_dps,
+            yaw_is_ef: false,
+        }
+    }
+}
+
 /// A reply the driver received, with the true time of its arrival.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Received {
@@ -207,13 +219,7 @@ impl ApSiyi {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApSiyiConfig) -> Self {
-        let clock = FcClock::new(
-            config.ppm,
-            config.boot_us,
-            config.utc_at_zero_us,
-            config.utc_valid_at_us,
-        );
-        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
+        let board = Board::scheduler_50hz(config.clock(), config.seed, config.loop_jitter_us);
         ApSiyi {
             config,
             board,
@@ -621,10 +627,9 @@ impl Pilot for ApSiyi {
     type Frames = SiyiFrames;
 
     fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|(_, id)| *id == 0x30)
-            .map(|(t, _)| *t)
+        // 0x30: SIYI's UTC.
+        let utc = |&(t, id): &(u64, u8)| (id == 0x30).then_some(t);
+        self.sent.iter().find_map(utc)
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|(_, yaw, pitch, _)| (yaw, pitch))
@@ -634,11 +639,7 @@ impl Pilot for ApSiyi {
         self.target = Some(MountTarget::Angle { yaw_deg, pitch_deg });
     }
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
-        self.target = Some(MountTarget::Rate {
-            yaw_dps,
-            pitch_dps,
-            yaw_is_ef: false,
-        });
+        self.target = Some(MountTarget::body_rate(yaw_dps, pitch_dps));
     }
     /// Zoom rate: -1 out, 0 hold, 1 in (repeated at 1 Hz while non-zero).
     fn zoom(&mut self, rate: i8) {

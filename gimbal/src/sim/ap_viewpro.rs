@@ -49,9 +49,9 @@
 //! complement (x86 SITL's behaviour; a negative float converted to `uint16_t` is
 //! undefined in C++).
 
-use super::FcClock;
 use super::board::{Autopilot, Board, board_field};
 use super::describe::ViewlinkFrames;
+use super::pilot::ClockSettings;
 use super::pilot::Pilot;
 use protocol_core::viewlink::{
     self, A1, AbsoluteAngle, C1, C2, Date, E1, E2, FrameCounter, Handshake, LrfCommand, M,
@@ -201,13 +201,7 @@ impl ApViewpro {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApViewproConfig) -> Self {
-        let clock = FcClock::new(
-            config.ppm,
-            config.boot_us,
-            config.utc_at_zero_us,
-            config.utc_valid_at_us,
-        );
-        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
+        let board = Board::scheduler_50hz(config.clock(), config.seed, config.loop_jitter_us);
         ApViewpro {
             config,
             board,
@@ -697,10 +691,10 @@ impl Pilot for ApViewpro {
     type Frames = ViewlinkFrames;
 
     fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|(t, id, _)| *id == 0xB1 && self.board.clock().utc_valid(*t))
-            .map(|(t, _, _)| *t)
+        // 0xB1: M_AHRS, whose date and time count once the FC's UTC is valid.
+        let valid = |t: u64| self.board.clock().utc_valid(t);
+        let utc = |(t, id, _): &(u64, u8, Vec<u8>)| (*id == 0xB1 && valid(*t)).then_some(*t);
+        self.sent.iter().find_map(utc)
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         self.attitude.map(|a| (a.yaw_deg, a.pitch_deg))
@@ -710,11 +704,7 @@ impl Pilot for ApViewpro {
         self.target = Some(MountTarget::Angle { yaw_deg, pitch_deg });
     }
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
-        self.target = Some(MountTarget::Rate {
-            yaw_dps,
-            pitch_dps,
-            yaw_is_ef: false,
-        });
+        self.target = Some(MountTarget::body_rate(yaw_dps, pitch_dps));
     }
     fn zoom(&mut self, rate: i8) {
         self.set_zoom_rate(f64::from(rate));

@@ -41,10 +41,10 @@
 //! Time is true time in µs. The reference for the bridge's time sync is the GPS's UTC,
 //! [`ApXfRobot::gps_utc_us`] (the FC only relays the time of the last fix).
 
-use super::FcClock;
 use super::board::{Autopilot, Board, board_field};
 use super::describe::GcuFrames;
 use super::mount_target::MountTarget;
+use super::pilot::ClockSettings;
 use super::pilot::Pilot;
 use protocol_core::gcu::{
     self, Header, HostFrames, HostMain, HostPacket, HostStatus, HostSub, Message, Raw,
@@ -279,13 +279,7 @@ impl ApXfRobot {
     /// A driver that starts at true time 0.
     #[must_use]
     pub fn new(config: ApXfRobotConfig) -> Self {
-        let clock = FcClock::new(
-            config.ppm,
-            config.boot_us,
-            config.utc_at_zero_us,
-            config.gps_valid_at_us,
-        );
-        let board = Board::scheduler_50hz(clock, config.seed, config.loop_jitter_us);
+        let board = Board::scheduler_50hz(config.clock(), config.seed, config.loop_jitter_us);
         ApXfRobot {
             config,
             target: None,

@@ -269,10 +269,9 @@ impl Pilot for FcK40t {
     type Frames = K40tFrames;
 
     fn first_utc_sent_us(&self) -> Option<u64> {
-        self.sent
-            .iter()
-            .find(|(_, _, id)| *id == 0x00_030E)
-            .map(|(t, _, _)| *t)
+        // 0x00030E: the K40T time sync.
+        let sync = |&(t, _, id): &(u64, u8, u32)| (id == 0x00_030E).then_some(t);
+        self.sent.iter().find_map(sync)
     }
     fn mount_angles(&self) -> Option<(f64, f64)> {
         let (_, _, a) = self.received_of::<GimbalAttitude>().pop()?;

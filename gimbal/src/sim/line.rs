@@ -15,6 +15,7 @@ use super::faults::Damage;
 pub const CHUNK: usize = 16;
 
 /// One direction of a serial link.
+#[derive(Debug)]
 pub struct Line {
     baud: u32,
     /// When the transmitter is free again.
@@ -27,17 +28,6 @@ pub struct Line {
     pub bytes_sent: u64,
     /// What the line does to the bytes as they are written (nothing by default).
     pub damage: Damage,
-}
-
-impl std::fmt::Debug for Line {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Line")
-            .field("baud", &self.baud)
-            .field("busy_until_us", &self.busy_until_us)
-            .field("in_flight", &self.in_flight.len())
-            .field("bytes_sent", &self.bytes_sent)
-            .finish_non_exhaustive()
-    }
 }
 
 impl Line {

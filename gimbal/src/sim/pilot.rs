@@ -101,3 +101,24 @@ impl Seeded for FcK40t {
         FcK40t::default()
     }
 }
+
+/// Settings that describe an FC's clock (crystal error, boot, UTC).
+pub trait ClockSettings {
+    /// The FC's clock.
+    fn clock(&self) -> FcClock;
+}
+
+macro_rules! clock_settings {
+    ($($config:ident: $utc_valid_at_us:ident),*) => {$(
+        impl ClockSettings for $config {
+            fn clock(&self) -> FcClock {
+                FcClock::new(self.ppm, self.boot_us, self.utc_at_zero_us, self.$utc_valid_at_us)
+            }
+        }
+    )*};
+}
+clock_settings!(
+    ApSiyiConfig: utc_valid_at_us,
+    ApViewproConfig: utc_valid_at_us,
+    ApXfRobotConfig: gps_valid_at_us
+);

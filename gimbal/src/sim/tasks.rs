@@ -46,7 +46,7 @@ use super::pps_io::{CapturedPps, ComparePin, PpsWiring};
 use super::scenario::SilentFc;
 
 /// One direction of a link as the peer sees it: counts, records, cuts or changes bytes.
-#[derive(Default)]
+#[derive(Debug, Default)]
 pub struct Wire {
     /// The cable is cut: bytes are lost (counted in [`Wire::lost`]).
     pub cut: bool,
@@ -67,17 +67,6 @@ pub struct Wire {
     pub hold_until_us: u64,
     /// What the wire does to the bytes (nothing by default).
     pub damage: Damage,
-}
-
-impl core::fmt::Debug for Wire {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("Wire")
-            .field("cut", &self.cut)
-            .field("bytes", &self.bytes)
-            .field("lost", &self.lost)
-            .field("chunks", &self.log.len())
-            .finish_non_exhaustive()
-    }
 }
 
 impl Wire {

@@ -28,6 +28,22 @@ fn command_fields(message: &Message<'_>) -> Result<Value, String> {
     }
 }
 
+/// A package's direction, version, main frame and sub frame (when present) as fields.
+fn head(
+    fields: &mut Map<String, Value>,
+    direction: &str,
+    version: u8,
+    main: Value,
+    sub: Option<Value>,
+) {
+    fields.insert("direction".into(), json!(direction));
+    fields.insert("version".into(), json!(version));
+    fields.insert("main".into(), main);
+    if let Some(sub) = sub {
+        fields.insert("sub".into(), sub);
+    }
+}
+
 /// Decodes one checksum-valid package of either direction.
 pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     let frame = Frame::new_checked(bytes).map_err(|e| e.to_string())?;
@@ -35,24 +51,18 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, String> {
     let mut fields = Map::new();
     let (name, msg_id) = match packet {
         Packet::Host(p) => {
-            let main = p.frames.main;
-            fields.insert("direction".into(), json!("host"));
-            fields.insert("version".into(), json!(p.header.version));
-            fields.insert("main".into(), to_value(&main)?);
-            if p.frames.sub != HostSub::ABSENT {
-                fields.insert("sub".into(), to_value(&p.frames.sub)?);
-            }
+            let sub = p.frames.sub != HostSub::ABSENT;
+            let sub = sub.then(|| to_value(&p.frames.sub)).transpose()?;
+            let main = to_value(&p.frames.main)?;
+            head(&mut fields, "host", p.header.version, main, sub);
             fields.insert("command".into(), command_fields(&p.message)?);
             (p.message.name().to_string(), p.message.id())
         }
         Packet::Gcu(p) => {
-            let main = p.frames.main;
-            fields.insert("direction".into(), json!("gcu"));
-            fields.insert("version".into(), json!(p.header.version));
-            fields.insert("main".into(), to_value(&main)?);
-            if p.frames.sub != GcuSub::ABSENT {
-                fields.insert("sub".into(), to_value(&p.frames.sub)?);
-            }
+            let sub = p.frames.sub != GcuSub::ABSENT;
+            let sub = sub.then(|| to_value(&p.frames.sub)).transpose()?;
+            let main = to_value(&p.frames.main)?;
+            head(&mut fields, "gcu", p.header.version, main, sub);
             fields.insert("execution".into(), to_value(&p.feedback.execution)?);
             if !p.feedback.extra.is_empty() {
                 fields.insert("extra".into(), json!(hex(p.feedback.extra)));

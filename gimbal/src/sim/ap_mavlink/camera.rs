@@ -87,15 +87,16 @@ impl ApMavlink {
     }
 
     pub(super) fn camera_update(&mut self) {
-        let ms = self.board.fc_ms();
         let Some(sysid) = self.camera_found else {
             return;
         };
+        // Nothing but the information request until the camera has answered it.
         if self.camera_info.is_none() {
-            let id = CAMERA_INFORMATION_DATA::ID;
-            self.last_cam_req_ms = self.ask_every_second(self.last_cam_req_ms, id, (sysid, CAMERA));
+            let (last, id) = (self.last_cam_req_ms, CAMERA_INFORMATION_DATA::ID);
+            self.last_cam_req_ms = self.ask_every_second(last, id, (sysid, CAMERA));
             return;
         }
+        let ms = self.board.fc_ms();
         if self.config.capture_status_requests {
             let (last, misses) = self.capture_req;
             let wait = if misses >= 3 { 10_000 } else { 1_000 };

@@ -86,17 +86,21 @@ impl ApMavlink {
         stamp_us.saturating_sub(byte_us * (len + after) as u64)
     }
 
+    /// ArduPilot's HEARTBEAT: its vehicle type, autopilot ArduPilot.
+    fn own_heartbeat(&self) -> MavMessage {
+        let mavtype = match self.config.vehicle {
+            ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
+            ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
+        };
+        mav::autopilot_heartbeat(mavtype, MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA)
+    }
+
     /// The GCS send processing: heartbeat, own TIMESYNC request, due streams.
     pub(super) fn update_send(&mut self) {
         let ms = self.board.fc_ms();
         if self.last_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
             self.last_heartbeat_ms = Some(ms);
-            let mavtype = match self.config.vehicle {
-                ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
-                ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
-            };
-            let autopilot = MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
-            self.send(&mav::autopilot_heartbeat(mavtype, autopilot));
+            self.send(&self.own_heartbeat());
         }
         if self.last_timesync_ms.is_none_or(|l| ms - l >= 10_000) {
             self.last_timesync_ms = Some(ms);
@@ -350,12 +354,7 @@ impl ApMavlink {
         let ms = self.board.fc_ms();
         if self.ground_heartbeat_ms.is_none_or(|l| ms - l >= 1000) {
             self.ground_heartbeat_ms = Some(ms);
-            let mavtype = match self.config.vehicle {
-                ApVehicle::Copter => MavType::MAV_TYPE_QUADROTOR,
-                ApVehicle::Plane => MavType::MAV_TYPE_FIXED_WING,
-            };
-            let autopilot = MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA;
-            g.send(&mav::autopilot_heartbeat(mavtype, autopilot));
+            g.send(&self.own_heartbeat());
         }
         self.ground = Some(g);
     }

@@ -10,6 +10,13 @@ use protocol_core::mavlink::dialect::{
     MavAutopilot, MavModeFlag, MavResult, MavState, MavType, MessageData as _, SYSTEM_TIME_DATA,
 };
 
+/// A simulated ArduPilot with its default settings but for what `set` changes.
+fn ap_with(set: impl FnOnce(&mut ApMavlinkConfig)) -> ApMavlink {
+    let mut config = ApMavlinkConfig::default();
+    set(&mut config);
+    ApMavlink::new(config)
+}
+
 /// The device: the FC's system, the gimbal's component.
 fn device() -> Endpoint {
     Endpoint::new(1, GIMBAL)
@@ -101,10 +108,9 @@ fn timesync_trial(
 
 #[test]
 fn ardupilot_answers_timesync_with_the_uart_receive_estimate_of_the_request_start() {
-    let mut ap = ApMavlink::new(ApMavlinkConfig {
-        ppm: 23.0,
-        jitter_us: 0,
-        ..ApMavlinkConfig::default()
+    let mut ap = ap_with(|c| {
+        c.ppm = 23.0;
+        c.jitter_us = 0;
     });
     assert_eq!(ap.loop_rate_hz(), 400);
     let mut d = Driver::new();
@@ -136,10 +142,9 @@ fn ardupilot_answers_timesync_with_the_uart_receive_estimate_of_the_request_star
 
 #[test]
 fn ardupilot_timesync_estimate_with_payload_size_reading() {
-    let mut ap = ApMavlink::new(ApMavlinkConfig {
-        jitter_us: 0,
-        timesync_len: TimesyncLen::PayloadSize,
-        ..ApMavlinkConfig::default()
+    let mut ap = ap_with(|c| {
+        c.jitter_us = 0;
+        c.timesync_len = TimesyncLen::PayloadSize;
     });
     let mut d = Driver::new();
     let byte = byte_us(115_200);
@@ -156,9 +161,8 @@ fn ardupilot_timesync_estimate_with_payload_size_reading() {
         );
     }
     // The frame reading on the same request is within a byte.
-    let mut ap = ApMavlink::new(ApMavlinkConfig {
-        jitter_us: 0,
-        ..ApMavlinkConfig::default()
+    let mut ap = ap_with(|c| {
+        c.jitter_us = 0;
     });
     let mut d = Driver::new();
     let msg = timesync_request(3_000_000_000, (0, 0));
@@ -168,19 +172,14 @@ fn ardupilot_timesync_estimate_with_payload_size_reading() {
 
 #[test]
 fn ardupilot_loop_phase_sweeps_the_ms_grid_and_system_time_gives_the_utc_shift() {
-    let mut ap = ApMavlink::new(ApMavlinkConfig {
-        ppm: 11.0,
-        utc_valid_at_us: 1_000_000,
-        ..ApMavlinkConfig::default()
+    let mut ap = ap_with(|c| {
+        c.ppm = 11.0;
+        c.utc_valid_at_us = 1_000_000;
     });
     let mut d = Driver::new();
     let mut dev = device();
-    d.send(
-        &mut ap,
-        10_000,
-        &mut dev,
-        &set_interval(SYSTEM_TIME_DATA::ID, 100_000.0),
-    );
+    let system_time_at_10_hz = set_interval(SYSTEM_TIME_DATA::ID, 100_000.0);
+    d.send(&mut ap, 10_000, &mut dev, &system_time_at_10_hz);
     d.run_until(&mut ap, 31_000_000);
     assert!(ap.acks.is_empty());
     let frames = d.frames();
@@ -237,18 +236,13 @@ fn ardupilot_loop_phase_sweeps_the_ms_grid_and_system_time_gives_the_utc_shift()
 
 #[test]
 fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
-    let mut ap = ApMavlink::new(ApMavlinkConfig {
-        camera: false,
-        ..ApMavlinkConfig::default()
+    let mut ap = ap_with(|c| {
+        c.camera = false;
     });
     let mut d = Driver::new();
     let mut dev = device();
-    d.send(
-        &mut ap,
-        50_000,
-        &mut dev,
-        &heartbeat(MavType::MAV_TYPE_GIMBAL),
-    );
+    let gimbal_heartbeat = heartbeat(MavType::MAV_TYPE_GIMBAL);
+    d.send(&mut ap, 50_000, &mut dev, &gimbal_heartbeat);
     d.run_until(&mut ap, 100_000);
     assert_eq!(ap.mount_found, Some(1));
     let info = MavMessage::GIMBAL_DEVICE_INFORMATION(GIMBAL_DEVICE_INFORMATION_DATA {
@@ -283,10 +277,9 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
     assert!((98..=103).contains(&states), "{states}");
 
     // Plane's 50 Hz loop refuses the 50 Hz AUTOPILOT_STATE: never initialised.
-    let mut plane = ApMavlink::new(ApMavlinkConfig {
-        vehicle: ApVehicle::Plane,
-        camera: false,
-        ..ApMavlinkConfig::default()
+    let mut plane = ap_with(|c| {
+        c.vehicle = ApVehicle::Plane;
+        c.camera = false;
     });
     let mut d = Driver::new();
     let mut dev = device();
