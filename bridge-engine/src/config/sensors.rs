@@ -73,7 +73,7 @@ impl Default for LensConfig {
     }
 }
 
-/// Bytes of [`VideoConfig::uri`] (MAVLink's VIDEO_STREAM_INFORMATION `uri`, char[160]).
+/// Bytes of [`VideoConfig::uri`] (MAVLink's VIDEO_STREAM_INFORMATION `uri`, `char[160]`).
 pub const URI_LEN: usize = 160;
 
 protocol_core::wire_derive! {

@@ -25,7 +25,7 @@ impl TimeDiscipline {
     }
 
     /// A PPS edge (the module's on-time edge) captured at local `edge`. It is labelled
-    /// with its UTC second (see the [module documentation](self), "PPS") and fitted.
+    /// with its UTC second (see docs/src/bridge/time.md, "PPS") and fitted.
     pub fn pps_edge(&mut self, edge: InstantNs) -> PpsVerdict {
         let local = edge.instant();
         self.advance(local);
