@@ -165,12 +165,7 @@ fn replies_carry_the_pods_attitude_zoom_range_and_recording_at_ardupilots_offset
     s.run_until(2 * S);
     assert_eq!(s.fc.texts_with("hw:")[0].1, "XFRobot: hw:2.3 fw:4.5");
     // Right and down: ArduPilot's body-frame yaw positive right, pitch positive up.
-    s.fc.target = Some(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -40.0,
-        yaw_deg: 35.0,
-        yaw_is_ef: false,
-    });
+    s.fc.target = Some(MountTarget::body_angles(-40.0, 35.0));
     s.run_for(4 * S);
     let g = s.pod.gimbal();
     assert!(
@@ -226,12 +221,7 @@ fn replies_carry_the_pods_attitude_zoom_range_and_recording_at_ardupilots_offset
 #[test]
 fn set_attitude_reaches_the_pod_as_angles_with_the_right_signs_and_no_flood() {
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -45.0,
-        yaw_deg: 30.0,
-        yaw_is_ef: false,
-    });
+    s.fc.target = Some(MountTarget::body_angles(-45.0, 30.0));
     s.run_for(S);
     let (_, _, a) = *s.pod.received_of::<GimbalAngle>().last().unwrap();
     assert_eq!((a.yaw_direction, a.yaw_cdeg), (YawMotion::Right, 3000));
@@ -1075,12 +1065,7 @@ fn floods_on_both_ports_lose_no_valid_package() {
 #[test]
 fn replies_carry_the_laser_targets_position_and_the_thermal_status() {
     let mut s = healthy_scenario();
-    s.fc.target = Some(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -40.0,
-        yaw_deg: 35.0,
-        yaw_is_ef: false,
-    });
+    s.fc.target = Some(MountTarget::body_angles(-40.0, 35.0));
     // No distance yet: no target.
     s.run_for(2 * S);
     assert_eq!(s.fc.replies.last().unwrap().target(), (0, 0, 0));

@@ -187,12 +187,7 @@ fn the_bridge_asks_copter_for_time_and_position_and_syncs_the_pod() {
 #[test]
 fn vehicle_relative_angles_reach_the_pod_and_ardupilot_reads_the_pods_attitude() {
     let mut s = healthy_ap();
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -45.0,
-        yaw_deg: 30.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-45.0, 30.0));
     s.run_for(3 * S);
     let set = &s.fc.set_attitudes.last().unwrap().1;
     assert_eq!(set.flags, GimbalDeviceFlags::empty());
@@ -522,12 +517,7 @@ fn a_plane_at_50_hz_refuses_the_autopilot_state_and_its_driver_never_moves_the_m
     };
     let mut s = ap_scenario(ap, PodSimConfig::default());
     s.run_until(4 * S);
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -30.0,
-        yaw_deg: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-30.0, 0.0));
     s.run_until(20 * S);
     assert!(s.fc.mount_refused && !s.fc.mount_initialised);
     assert!(

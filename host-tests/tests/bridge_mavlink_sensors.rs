@@ -333,12 +333,7 @@ fn last_tracking(q: &Qgc) -> CAMERA_TRACKING_IMAGE_STATUS_DATA {
 #[test]
 fn tracking_a_rectangle_and_a_point_as_the_pods_exact_boxes() {
     let mut s = ap_default();
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -20.0,
-        yaw_deg: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-20.0, 0.0));
     s.run_until(10 * S);
     let cam = qgc(&mut s).camera.as_ref().unwrap().info.clone().unwrap();
     assert!(cam.flags.contains(
@@ -384,12 +379,7 @@ fn tracking_a_rectangle_and_a_point_as_the_pods_exact_boxes() {
     assert!((3..=5).contains(&n), "{n}");
     // The autopilot moves the gimbal: tracking is switched off first, the status IDLE.
     let t0 = s.now_us;
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -40.0,
-        yaw_deg: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-40.0, 0.0));
     s.run_for(3 * S);
     let off = s
         .pod
@@ -491,12 +481,7 @@ fn distances_after(q: &Qgc, t0: u64) -> Vec<DISTANCE_SENSOR_DATA> {
 #[test]
 fn distance_sensor_with_the_gimbals_orientation_when_asked() {
     let mut s = ap_default();
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -45.0,
-        yaw_deg: 30.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-45.0, 30.0));
     s.run_until(10 * S);
     // Not ranging by itself.
     assert!(qgc(&mut s).distances.is_empty());
@@ -607,12 +592,7 @@ fn fov_status_says_where_the_camera_looks() {
     let mut config = mavlink_config();
     config.lens.visible_hfov_1x_cdeg = 6000;
     let mut s = ap_qgc(config, ApMavlinkConfig::default(), PodSimConfig::default());
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -45.0,
-        yaw_deg: 30.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(-45.0, 30.0));
     s.run_until(10 * S);
     // QGroundControl asked after CAMERA_SETTINGS: its hfov shown.
     let hfov = qgc(&mut s).hfov.expect("a field of view");
@@ -695,12 +675,7 @@ fn fov_status_says_where_the_camera_looks() {
         );
     }
     // Above the horizon without a range: at infinity.
-    s.fc.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: 10.0,
-        yaw_deg: 0.0,
-        yaw_is_ef: false,
-    });
+    s.fc.set_target(MountTarget::body_angles(10.0, 0.0));
     s.run_for(3 * S);
     let t0 = s.now_us;
     s.run_for(2 * S);

@@ -29,6 +29,9 @@ use gimbal::sim::pps_io::PpsWiring;
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
 use gimbal::sim::tasks::{Bench, Outcome};
 
+mod spread;
+use spread::{abs_spread, range};
+
 const S: u64 = 1_000_000;
 /// Length of each flight.
 const FLIGHT: u64 = 150 * S;
@@ -110,26 +113,19 @@ fn flight<P, T>(out: &Outcome<P, T>) -> Flight {
 
 /// Prints and checks a side's flights.
 fn report(label: &str, flights: &[Flight]) {
-    let mut all: Vec<i64> = flights.iter().flat_map(|f| f.errors_ns.clone()).collect();
-    assert!(all.len() >= 40, "{label}: {} syncs", all.len());
-    all.sort_by_key(|e| e.abs());
-    let pct = |p: usize| all[(all.len() * p / 100).min(all.len() - 1)].abs();
-    let (p50, p99, max) = (pct(50), pct(99), all.last().unwrap().abs());
-    let lock: Vec<f64> = flights
-        .iter()
-        .map(|f| f.lock_to_sync_us as f64 / 1e6)
-        .collect();
+    let all: Vec<i64> = flights.iter().flat_map(|f| f.errors_ns.clone()).collect();
+    let s = abs_spread(&all).expect("syncs");
+    assert!(s.count >= 40, "{label}: {} syncs", s.count);
+    let (lock_min, lock_max) = range(flights.iter().map(|f| f.lock_to_sync_us as f64 / 1e6));
     println!(
         "{label}: PPS-locked edge |error| p50 {:.3} µs, p99 {:.3} µs, max {:.3} µs over {} \
-         syncs; first locked sync {:.1}–{:.1} s after the first labelled edge",
-        p50 as f64 / 1e3,
-        p99 as f64 / 1e3,
-        max as f64 / 1e3,
-        all.len(),
-        lock.iter().copied().fold(f64::MAX, f64::min),
-        lock.iter().copied().fold(0.0, f64::max),
+         syncs; first locked sync {lock_min:.1}–{lock_max:.1} s after the first labelled edge",
+        s.p50 as f64 / 1e3,
+        s.p99 as f64 / 1e3,
+        s.max as f64 / 1e3,
+        s.count,
     );
-    assert!(p99 < 1_000, "{label}: p99 {p99} ns");
+    assert!(s.p99 < 1_000, "{label}: p99 {} ns", s.p99);
     for f in flights {
         assert!(f.lock_to_sync_us <= 12 * S, "{label}: {f:?}");
     }

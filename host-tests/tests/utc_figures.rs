@@ -24,6 +24,9 @@ use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
 use gimbal::sim::tasks::{Bench, Outcome};
 
+mod spread;
+use spread::{abs_spread, range};
+
 const S: u64 = 1_000_000;
 /// Steady state: syncs from this instant on (the fit converges about 32 s after the
 /// first samples).
@@ -83,29 +86,21 @@ fn flight<P: Pilot>(out: &Outcome<P, ApMavlink>) -> Flight {
 
 /// Prints and checks a side's flights.
 fn report(label: &str, flights: &[Flight], p99_max_us: i64, max_us: i64, first_max_us: i64) {
-    let mut all: Vec<i64> = flights.iter().flat_map(|f| f.steady_us.clone()).collect();
-    assert!(all.len() > 100, "{label}: {} syncs", all.len());
-    all.sort_by_key(|e| e.abs());
-    let pct = |p: usize| all[(all.len() * p / 100).min(all.len() - 1)].abs();
-    let (p50, p99, max) = (pct(50), pct(99), all.last().unwrap().abs());
-    let delays: Vec<f64> = flights
-        .iter()
-        .map(|f| f.first_delay_us as f64 / 1e6)
-        .collect();
+    let all: Vec<i64> = flights.iter().flat_map(|f| f.steady_us.clone()).collect();
+    let s = abs_spread(&all).expect("syncs");
+    assert!(s.count > 100, "{label}: {} syncs", s.count);
+    let (delay_min, delay_max) = range(flights.iter().map(|f| f.first_delay_us as f64 / 1e6));
     let firsts: Vec<i64> = flights.iter().map(|f| f.first_error_us).collect();
     println!(
         "{label}: steady |error| p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms over {} syncs; \
-         first sync {:.1}–{:.1} s after the first UTC, error {:?} µs",
-        p50 as f64 / 1e3,
-        p99 as f64 / 1e3,
-        max as f64 / 1e3,
-        all.len(),
-        delays.iter().copied().fold(f64::MAX, f64::min),
-        delays.iter().copied().fold(0.0, f64::max),
-        firsts,
+         first sync {delay_min:.1}–{delay_max:.1} s after the first UTC, error {firsts:?} µs",
+        s.p50 as f64 / 1e3,
+        s.p99 as f64 / 1e3,
+        s.max as f64 / 1e3,
+        s.count,
     );
-    assert!(p99 < p99_max_us, "{label}: p99 {p99} µs");
-    assert!(max < max_us, "{label}: max {max} µs");
+    assert!(s.p99 < p99_max_us, "{label}: p99 {} µs", s.p99);
+    assert!(s.max < max_us, "{label}: max {} µs", s.max);
     for f in flights {
         assert!(
             f.first_delay_us <= 12 * S,

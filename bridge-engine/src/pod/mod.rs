@@ -33,6 +33,7 @@ mod ack;
 mod command;
 mod motion;
 mod sensors;
+#[cfg(feature = "mavlink")]
 mod settings;
 mod state;
 #[cfg(test)]

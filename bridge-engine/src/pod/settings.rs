@@ -9,8 +9,6 @@ use crate::Outputs;
 use crate::time::Instant;
 use protocol_core::k40t::{IrParamsQuery, Request, VisibleParamsQuery};
 
-// Only the MAVLink side's camera settings ask for these.
-#[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
 impl PodDriver {
     /// Sends a setting (or a one-off camera request such as 0x00030D) and tracks it for
     /// its ACK; returns its base id. Settings are idempotent: retried as the driver

@@ -744,12 +744,7 @@ impl Pilot for ApXfRobot {
     }
 
     fn point(&mut self, yaw_deg: f64, pitch_deg: f64) {
-        self.target = Some(MountTarget::Angle {
-            roll_deg: 0.0,
-            pitch_deg,
-            yaw_deg,
-            yaw_is_ef: false,
-        });
+        self.target = Some(MountTarget::body_angles(pitch_deg, yaw_deg));
     }
     fn turn(&mut self, yaw_dps: f64, pitch_dps: f64) {
         self.target = Some(MountTarget::Rate {

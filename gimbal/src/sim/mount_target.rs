@@ -44,3 +44,17 @@ pub enum MountTarget {
         alt_m: f64,
     },
 }
+
+impl MountTarget {
+    /// Hold these angles (degrees) without roll, yaw from the nose: what a pilot's or a
+    /// ground station's angle command usually is.
+    #[must_use]
+    pub const fn body_angles(pitch_deg: f64, yaw_deg: f64) -> Self {
+        Self::Angle {
+            roll_deg: 0.0,
+            pitch_deg,
+            yaw_deg,
+            yaw_is_ef: false,
+        }
+    }
+}

@@ -420,21 +420,14 @@ impl Px4 {
         if target != (self.config.sysid, AUTOPILOT) {
             return false;
         }
-        let finite = |v: f32| v.is_finite();
         self.target = match command {
-            MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW
-                if finite(params[0]) && finite(params[1]) =>
-            {
-                Some(Px4Target::Angle {
-                    pitch_deg: f64::from(params[0]),
-                    yaw_deg: f64::from(params[1]),
-                    yaw_absolute: (params[4] as u32) & 16 != 0,
-                })
+            // Nothing set: the gimbal holds still.
+            MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW => {
+                Some(manager::pitchyaw_target(params).unwrap_or(Px4Target::Rate {
+                    pitch_dps: 0.0,
+                    yaw_dps: 0.0,
+                }))
             }
-            MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW => Some(Px4Target::Rate {
-                pitch_dps: f64::from(if finite(params[2]) { params[2] } else { 0.0 }),
-                yaw_dps: f64::from(if finite(params[3]) { params[3] } else { 0.0 }),
-            }),
             MavCmd::MAV_CMD_DO_SET_ROI_LOCATION => {
                 let Some((x, y, z)) = xy else {
                     return false;

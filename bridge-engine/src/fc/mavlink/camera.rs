@@ -416,12 +416,7 @@ impl MavlinkSide {
         if to == Some(Comp::Gimbal) {
             return false;
         }
-        // The message's own parameter: param2 of REQUEST_MESSAGE, param1 of the others.
-        let arg = if c.command == cmd::REQUEST_MESSAGE {
-            c.param(2)
-        } else {
-            c.param(1)
-        };
+        let arg = c.message_param();
         let r = match msg {
             id::CAMERA_INFORMATION => {
                 // With the stream's address too, when the pod tells it at once.

@@ -191,6 +191,16 @@ impl Cmd {
             .unwrap_or(f32::NAN)
     }
 
+    /// The requested message's own parameter (a stream id, a storage id, an image
+    /// index): param2 of REQUEST_MESSAGE, param1 of the older REQUEST_* commands.
+    fn message_param(&self) -> f32 {
+        if self.command == cmd::REQUEST_MESSAGE {
+            self.param(2)
+        } else {
+            self.param(1)
+        }
+    }
+
     /// From a COMMAND_LONG or COMMAND_INT payload as sent (zero-extended): the layout both
     /// share where it matters (seven 4-byte parameters, the command at byte 28, the
     /// targets at 30 and 31), for any MAV_CMD value, known to the dialect or not.

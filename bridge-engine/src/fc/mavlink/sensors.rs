@@ -193,11 +193,7 @@ impl MavlinkSide {
         if to == Some(Comp::Gimbal) {
             return false;
         }
-        let arg = if c.command == cmd::REQUEST_MESSAGE {
-            c.param(2)
-        } else {
-            c.param(1)
-        };
+        let arg = c.message_param();
         match msg {
             id::VIDEO_STREAM_INFORMATION | id::VIDEO_STREAM_STATUS => {
                 self.video_request(ctx, c, msg, arg);

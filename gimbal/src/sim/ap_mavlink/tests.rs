@@ -255,12 +255,7 @@ fn ardupilot_mount_updates_at_50_hz_in_the_400_hz_loop() {
     d.send(&mut ap, 150_000, &mut dev, &info);
     d.run_until(&mut ap, 200_000);
     assert!(ap.mount_initialised);
-    ap.set_target(MountTarget::Angle {
-        roll_deg: 0.0,
-        pitch_deg: -30.0,
-        yaw_deg: 10.0,
-        yaw_is_ef: false,
-    });
+    ap.set_target(MountTarget::body_angles(-30.0, 10.0));
     d.run_until(&mut ap, 2_200_000);
     let times: Vec<u64> = ap.set_attitudes.iter().map(|(t, _)| *t).collect();
     assert!((99..=101).contains(&times.len()), "{}", times.len());

@@ -159,23 +159,12 @@ impl Px4 {
                 }
             }
             MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW => {
-                let flags = c.param5 as u32;
-                if c.param1.is_finite() && c.param2.is_finite() {
-                    self.target = Some(Px4Target::Angle {
-                        pitch_deg: f64::from(c.param1),
-                        yaw_deg: f64::from(c.param2),
-                        yaw_absolute: flags & YAW_LOCK != 0,
-                    });
-                    MavResult::MAV_RESULT_ACCEPTED
-                } else if c.param3.is_finite() || c.param4.is_finite() {
-                    let r = |v: f32| if v.is_finite() { f64::from(v) } else { 0.0 };
-                    self.target = Some(Px4Target::Rate {
-                        pitch_dps: r(c.param3),
-                        yaw_dps: r(c.param4),
-                    });
-                    MavResult::MAV_RESULT_ACCEPTED
-                } else {
-                    MavResult::MAV_RESULT_DENIED
+                match pitchyaw_target([c.param1, c.param2, c.param3, c.param4, c.param5]) {
+                    Some(t) => {
+                        self.target = Some(t);
+                        MavResult::MAV_RESULT_ACCEPTED
+                    }
+                    None => MavResult::MAV_RESULT_DENIED,
                 }
             }
             MavCmd::MAV_CMD_DO_GIMBAL_MANAGER_CONFIGURE => {
@@ -224,5 +213,27 @@ impl Px4 {
             pitch_dps: rate(f.f32_at(24)),
             yaw_dps: rate(f.f32_at(28)),
         });
+    }
+}
+
+/// MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW's parameters 1 to 5 as the gimbal input: angles when
+/// p1 and p2 are given, else rates when p3 or p4 is (NaN is unset, an unset rate 0);
+/// `None` when neither.
+pub(super) fn pitchyaw_target(p: [f32; 5]) -> Option<Px4Target> {
+    let [pitch, yaw, pitch_rate, yaw_rate, flags] = p;
+    if pitch.is_finite() && yaw.is_finite() {
+        Some(Px4Target::Angle {
+            pitch_deg: f64::from(pitch),
+            yaw_deg: f64::from(yaw),
+            yaw_absolute: (flags as u32) & YAW_LOCK != 0,
+        })
+    } else if pitch_rate.is_finite() || yaw_rate.is_finite() {
+        let r = |v: f32| if v.is_finite() { f64::from(v) } else { 0.0 };
+        Some(Px4Target::Rate {
+            pitch_dps: r(pitch_rate),
+            yaw_dps: r(yaw_rate),
+        })
+    } else {
+        None
     }
 }
