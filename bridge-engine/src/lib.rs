@@ -460,6 +460,13 @@ impl Engine {
         self.core.time.utc(at)
     }
 
+    /// The aircraft's newest position from the source in force (the FC link or the
+    /// telemetry link), when one came: what `gimbal bridge` logs as its `fix` events.
+    #[must_use]
+    pub fn latest_fix(&self) -> Option<fixes::Fix> {
+        self.core.fixes.latest()
+    }
+
     /// Where the UTC discipline stands.
     #[must_use]
     pub fn utc_state(&self) -> DisciplineState {

@@ -62,6 +62,14 @@ pub enum Command {
     /// photos) with the frames it causes on both links, each time sync with its UTC and
     /// error, each geotag with the interpolated fix, and a summary table.
     Demo(DemoArgs),
+    /// Write a flight's bridge log as one self-contained HTML page: time syncs and their
+    /// error, the track with every photo and geotag, the links, and a summary.
+    ///
+    /// Reads the JSON lines of `gimbal bridge --events json` (or `gimbal demo --events
+    /// json`). A bad line (cut off, an unknown event, another log version) is reported
+    /// with its line number, on stderr and in the page, and the rest is drawn. Exit 1
+    /// only when the log cannot be read or holds no event at all.
+    Report(ReportArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     ///
     /// For example: `gimbal completions bash > ~/.local/share/bash-completion/completions/gimbal`.
@@ -78,7 +86,7 @@ pub struct DemoArgs {
     #[arg(long, value_enum, ignore_case = true, default_value = "siyi")]
     pub fc: Fc,
     /// Simulated seconds to fly (a photo every 15 s after 51 s).
-    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(10..=3600))]
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(10..=7200))]
     pub seconds: u32,
     /// Attach the same simulated ArduPilot's MAVLink port to the bridge's telemetry
     /// link (SIYI, Viewlink, GCU): UTC and fixes from TIMESYNC, SYSTEM_TIME and the
@@ -90,6 +98,23 @@ pub struct DemoArgs {
     /// errors are shown in µs against the GNSS's UTC.
     #[arg(long)]
     pub pps: bool,
+    /// `human`: the story and the summary; `json`: the run's events as `gimbal bridge
+    /// --events json` prints them (each time sync with its measured error, `error_us`),
+    /// for `gimbal report`.
+    #[arg(long, value_enum, default_value_t = EventFormat::Human)]
+    pub events: EventFormat,
+}
+
+/// `gimbal report`.
+#[derive(Debug, Clone, Args)]
+pub struct ReportArgs {
+    /// The log: the JSON lines of `gimbal bridge --events json` (or `gimbal demo --events
+    /// json`).
+    #[arg(value_name = "LOG")]
+    pub log: PathBuf,
+    /// The page to write [default: LOG with the extension `.html`].
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
 }
 
 /// A protocol the capture decoder knows.
@@ -233,6 +258,22 @@ mod tests {
             panic!("not sim-fc")
         };
         assert_eq!(f.faults, Some(Faults::NONE));
+    }
+
+    #[test]
+    fn report_and_demo_json_command_lines() {
+        let cli = Cli::try_parse_from(words("gimbal report flight.jsonl -o page.html")).unwrap();
+        let Command::Report(r) = cli.command else {
+            panic!("not report")
+        };
+        assert_eq!(r.log, PathBuf::from("flight.jsonl"));
+        assert_eq!(r.output, Some(PathBuf::from("page.html")));
+        let cli = Cli::try_parse_from(words("gimbal demo --seconds 7200 --events json")).unwrap();
+        let Command::Demo(d) = cli.command else {
+            panic!("not demo")
+        };
+        assert_eq!((d.seconds, d.events), (7200, EventFormat::Json));
+        assert!(Cli::try_parse_from(words("gimbal demo --seconds 7201")).is_err());
     }
 
     #[test]

@@ -38,6 +38,7 @@ use bridge_engine::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::K40tFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
+use crate::runner::bench_log::BenchLog;
 use crate::sim::Autopilot;
 use crate::sim::ap_mavlink::ApMavlink;
 use crate::sim::ap_siyi::ApSiyi;
@@ -439,8 +440,20 @@ fn demo_pps(utc_at_zero_us: u64) -> PpsWiring {
     }
 }
 
-fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
-    let wall = WallInstant::now();
+/// A demo flight flown: what the run left and what the story needs besides.
+struct Flown<P> {
+    o: Outcome<P, ApMavlink>,
+    steps: Vec<(u64, Step)>,
+    recorded: bool,
+    fc_baud: u32,
+    pod_baud: u32,
+}
+
+/// Flies the scripted flight with `P`; `each(bench, now_us)` runs every 100 ms of it.
+fn fly<P: Pilot>(
+    opts: &DemoOptions,
+    mut each: impl FnMut(&Bench<P, ApMavlink>, u64),
+) -> io::Result<Flown<P>> {
     let steps = script(opts.seconds);
     let fc = P::with_seed(1);
     let telemetry = if opts.telemetry {
@@ -474,7 +487,77 @@ fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Sum
             step.apply(&mut *b.fc.borrow_mut());
             next += 1;
         }
+        each(b, t);
     });
+    Ok(Flown {
+        o,
+        steps,
+        recorded,
+        fc_baud,
+        pod_baud,
+    })
+}
+
+/// Runs the demo and writes its events to `out` as `gimbal bridge --events json`
+/// writes them ([`crate::runner::bench_log`]), each `time_sync` with its measured error
+/// (`error_us`, against the truth the story's errors are measured against), after a
+/// `demo_started` line (`fc`, `seconds`, `telemetry`, `pps`, `log_version`).
+///
+/// # Errors
+/// Those of writing to `out`; `--telemetry` with an FC that has no MAVLink port.
+pub fn run_json(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<()> {
+    match opts.fc {
+        FcProtocol::Siyi => json_with::<ApSiyi>(opts, out),
+        FcProtocol::Viewlink => json_with::<ApViewpro>(opts, out),
+        FcProtocol::Gcu => json_with::<ApXfRobot>(opts, out),
+        FcProtocol::K40t => json_with::<FcK40t>(opts, out),
+        FcProtocol::Mavlink => json_with::<ApMavlink>(opts, out),
+    }
+}
+
+fn json_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<()> {
+    let mut log = BenchLog::new(
+        "demo_started",
+        serde_json::json!({"fc": fc_name(opts.fc), "seconds": opts.seconds,
+                           "telemetry": opts.telemetry, "pps": opts.pps}),
+    );
+    let f = fly::<P>(opts, |b, t| log.sample(b, t))?;
+    let lines = log.finish(&f.o, |edge_us, utc_ms| {
+        Some(i128::from(utc_ms) * 1_000_000 - truth_ns(&f.o, edge_us))
+    });
+    for l in lines {
+        writeln!(out, "{}", serde_json::Value::Object(l))?;
+    }
+    Ok(())
+}
+
+/// The true UTC at a sync's rising edge, ns since the Unix epoch: the GNSS's UTC at the
+/// compare's edge with PPS, else the FC's (with a telemetry link: its MAVLink port's).
+fn truth_ns<P: Pilot>(o: &Outcome<P, ApMavlink>, edge_us: u64) -> i128 {
+    let edge = bridge_engine::Instant::from_micros(edge_us);
+    let edge_ns = o
+        .rtc_edges_ns
+        .iter()
+        .find(|(l, at)| *l == Level::High && at.instant() == edge)
+        .map_or(i128::from(edge_us) * 1_000, |(_, at)| {
+            i128::from(at.as_nanos())
+        });
+    match (&o.pps, &o.telemetry) {
+        (Some(w), _) => w.utc_ns_at_local(edge_ns),
+        (None, Some(t)) => i128::from(t.fc_utc_us(edge_us)) * 1_000,
+        (None, None) => i128::from(o.fc.true_utc_us(edge_us)) * 1_000,
+    }
+}
+
+fn run_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<Summary> {
+    let wall = WallInstant::now();
+    let Flown {
+        o,
+        steps,
+        recorded,
+        fc_baud,
+        pod_baud,
+    } = fly::<P>(opts, |_, _| {})?;
     let wall = wall.elapsed();
 
     let mut lines = Vec::new();
@@ -624,21 +707,7 @@ fn story<P: Pilot>(
             } => {
                 syncs += 1;
                 let edge_us = edge.as_micros();
-                // The truth, ns: the GNSS's UTC at the compare's edge with PPS, else the
-                // FC's (with a telemetry link: its MAVLink port's) at the edge.
-                let edge_ns = o
-                    .rtc_edges_ns
-                    .iter()
-                    .find(|(l, at)| *l == Level::High && at.instant() == edge)
-                    .map_or(i128::from(edge_us) * 1_000, |(_, at)| {
-                        i128::from(at.as_nanos())
-                    });
-                let truth_ns = match (&o.pps, &o.telemetry) {
-                    (Some(w), _) => w.utc_ns_at_local(edge_ns),
-                    (None, Some(t)) => i128::from(t.fc_utc_us(edge_us)) * 1_000,
-                    (None, None) => i128::from(o.fc.true_utc_us(edge_us)) * 1_000,
-                };
-                let err_ns = i128::from(utc_ms) * 1_000_000 - truth_ns;
+                let err_ns = i128::from(utc_ms) * 1_000_000 - truth_ns(o, edge_us);
                 let err = err_ns / 1_000;
                 errors.push(u64::try_from(err_ns.unsigned_abs()).unwrap_or(u64::MAX));
                 if pps_locked_at.is_some_and(|l| t >= l) {

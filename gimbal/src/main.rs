@@ -12,8 +12,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
-use gimbal::cli::{Cli, Command, DecodeArgs};
+use gimbal::cli::{Cli, Command, DecodeArgs, EventFormat};
 use gimbal::demo;
+use gimbal::report;
 use gimbal::runner::output::Output;
 use gimbal::runner::{bridge, sims};
 use gimbal::tool::{self, looks_like_hex, parse_hex};
@@ -110,7 +111,29 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 pps: a.pps,
             };
             let mut out = std::io::stdout().lock();
-            demo::run(&opts, &mut out).map_err(|e| Failure::Runtime(format!("demo: {e}")))?;
+            match a.events {
+                EventFormat::Human => demo::run(&opts, &mut out).map(|_| ()),
+                EventFormat::Json => demo::run_json(&opts, &mut out),
+            }
+            .map_err(|e| Failure::Runtime(format!("demo: {e}")))?;
+            Ok(())
+        }
+        Command::Report(a) => {
+            let output = a
+                .output
+                .clone()
+                .unwrap_or_else(|| report::default_output(&a.log));
+            let r = report::run(&a.log, &output).map_err(Failure::Runtime)?;
+            for w in r.warnings() {
+                eprintln!("gimbal report: {}: {w}", a.log.display());
+            }
+            eprintln!(
+                "gimbal report: wrote {} ({} KiB; {} lines read, {} not understood)",
+                output.display(),
+                r.html.len().div_ceil(1024),
+                r.log.lines,
+                r.warnings().len()
+            );
             Ok(())
         }
         Command::Completions { shell } => {

@@ -246,6 +246,7 @@ fn every_subcommand_has_help_and_completions_are_generated() {
         "bridge",
         "sim-fc",
         "sim-pod",
+        "report",
         "completions",
     ];
     for sub in subcommands {
@@ -362,6 +363,17 @@ fn bridge_with_simulated_ports_traces_decoded_frames_both_ways() {
         .collect();
     assert_eq!(names[0], "bridge_started");
     assert_eq!(events[0]["fc"], "viewlink");
+    assert_eq!(events[0]["log_version"], 1);
+    // The track: a fix at most once a second, with its position.
+    let fixes: Vec<&Value> = events.iter().filter(|e| e["event"] == "fix").collect();
+    assert!((1..=3).contains(&fixes.len()), "{} fixes", fixes.len());
+    assert!(
+        fixes[0]["lat_e7"].as_i64().is_some_and(|l| l != 0),
+        "{}",
+        fixes[0]
+    );
+    let at: Vec<u64> = fixes.iter().map(|f| f["t_us"].as_u64().unwrap()).collect();
+    assert!(at.windows(2).all(|w| w[1] >= w[0] + 1_000_000), "{at:?}");
     assert!(
         names.contains(&"fc_link_up") && names.contains(&"pod_link_up"),
         "{names:?}"
@@ -477,4 +489,37 @@ fn ctrl_c_stops_the_bridge_cleanly() {
     assert!((1.0..5.0).contains(&secs), "{secs}");
     assert_eq!(events.last().unwrap()["event"], "counters");
     assert!(events.iter().any(|e| e["event"] == "fc_link_up"));
+}
+
+#[test]
+fn report_writes_a_page_and_lists_the_lines_it_could_not_read() {
+    let dir = std::env::temp_dir().join(format!("gimbal-cli-report-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let log = dir.join("flight.jsonl");
+    let o = gimbal(&["demo", "--seconds", "30", "--events", "json"], None);
+    let mut lines = stdout_lines(&o);
+    assert!(
+        lines[0].starts_with(r#"{"t_us":0,"event":"demo_started""#),
+        "{}",
+        lines[0]
+    );
+    lines[2].truncate(10);
+    std::fs::write(&log, lines.join("\n")).expect("written");
+    let o = gimbal(&["report", log.to_str().expect("UTF-8")], None);
+    assert!(o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("flight.jsonl: line 3: cut off (truncated JSON)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("wrote "), "{stderr}");
+    let page = std::fs::read_to_string(dir.join("flight.html")).expect("the page, beside the log");
+    assert!(page.starts_with("<!DOCTYPE html>") && page.contains("<svg"));
+    let o = gimbal(
+        &["report", "/nonexistent/flight.jsonl", "-o", "x.html"],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/flight.jsonl"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -260,6 +260,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             "fc_faults": args.fc_faults.map(|f| f.to_string()),
             "pod_faults": args.pod_faults.map(|f| f.to_string()),
             "version": env!("CARGO_PKG_VERSION"),
+            "log_version": events::LOG_VERSION,
         }),
     );
 
@@ -404,6 +405,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     let photo_every = args.sim_photo_every.map(secs_to_us);
     let counters_every = args.counters_every.map(secs_to_us);
 
+    let mut fixes = events::FixSampler::default();
     let mut fc_watch = FcWatcher::default();
     let mut pod_watch = PodWatcher::default();
     let ended = host::run(Clock::Real, || async {
@@ -466,6 +468,11 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             }
             if args.pod_port.is_sim() {
                 pod_watch.check(&pod_sim.borrow(), out);
+            }
+            if let Some((t, name, fields)) =
+                fixes.take(shared.with(|e: &mut Engine| e.latest_fix()))
+            {
+                out.emit_at(t, name, fields);
             }
             if let (Some(at), Some(every)) = (next_counters, counters_every)
                 && now >= at

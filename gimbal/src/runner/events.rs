@@ -3,10 +3,54 @@
 //! event of the engine does not compile until it has a name here (and in the event table
 //! of docs/src/linux-bridge.md).
 
+use bridge_engine::fixes::Fix;
 use bridge_engine::{Counters, Event, Refusal};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
+
+/// The version of the JSON event log, in the first line's `log_version`
+/// (`bridge_started`, `demo_started`): 1 is the log with `fix` events. A reader
+/// (`gimbal report`) warns on another version and reads what it knows.
+pub const LOG_VERSION: u64 = 1;
+
+/// At most one `fix` event in this many µs (the track of the flight, not every fix).
+pub const FIX_EVERY_US: u64 = 1_000_000;
+
+/// The aircraft's newest fix as a `fix` event: its time (the fix's own local instant,
+/// µs), name and fields (`lat_e7`, `lon_e7`, `alt_msl_dm`, `rel_alt_dm`, `yaw_cdeg`).
+#[must_use]
+pub fn fix_event(f: &Fix) -> (u64, &'static str, Value) {
+    (
+        f.at.as_micros(),
+        "fix",
+        json!({"lat_e7": f.lat_e7, "lon_e7": f.lon_e7, "alt_msl_dm": f.alt_msl_dm,
+               "rel_alt_dm": f.rel_alt_dm, "yaw_cdeg": f.yaw_cdeg}),
+    )
+}
+
+/// Picks the fixes worth a `fix` event: a fix at least [`FIX_EVERY_US`] after the last
+/// one logged (the first one at once).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct FixSampler {
+    last_us: Option<u64>,
+}
+
+impl FixSampler {
+    /// The `fix` event for the engine's newest fix, when it is due.
+    pub fn take(&mut self, newest: Option<Fix>) -> Option<(u64, &'static str, Value)> {
+        let f = newest?;
+        let at = f.at.as_micros();
+        if self
+            .last_us
+            .is_some_and(|last| at < last.saturating_add(FIX_EVERY_US))
+        {
+            return None;
+        }
+        self.last_us = Some(at);
+        Some(fix_event(&f))
+    }
+}
 
 /// `fc` or `pod`.
 #[must_use]
@@ -253,6 +297,35 @@ mod tests {
         ] {
             assert_eq!(ev(LogKind::Engine(e)), (42, name, json!({})));
         }
+    }
+
+    #[test]
+    fn fixes_are_logged_once_a_second() {
+        let fix = |us: u64| Fix {
+            at: Instant::from_micros(us),
+            lat_e7: 473_977_419,
+            lon_e7: 85_455_938,
+            alt_msl_dm: 4_880,
+            rel_alt_dm: 500,
+            yaw_cdeg: 1_250,
+            roll_cdeg: 0,
+            pitch_cdeg: 0,
+            velocity: None,
+        };
+        let mut s = FixSampler::default();
+        assert_eq!(s.take(None), None);
+        let first = s.take(Some(fix(2_000_000)));
+        assert_eq!(
+            first,
+            Some((
+                2_000_000,
+                "fix",
+                json!({"lat_e7": 473_977_419, "lon_e7": 85_455_938, "alt_msl_dm": 4_880,
+                       "rel_alt_dm": 500, "yaw_cdeg": 1_250})
+            ))
+        );
+        assert_eq!(s.take(Some(fix(2_900_000))), None);
+        assert_eq!(s.take(Some(fix(3_000_000))).map(|e| e.0), Some(3_000_000));
     }
 
     #[test]

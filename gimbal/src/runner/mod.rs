@@ -1,8 +1,9 @@
 //! The Linux bridge runner behind `gimbal bridge`, `gimbal sim-fc` and `gimbal sim-pod`:
 //! ports (serial, TCP, simulators) pumped by std threads into the bridge's pipes, the
 //! RTC_IO output, the PPS input, the photo event file, and the events printed as text or
-//! JSON lines.
+//! JSON lines; a task bench's run as the same JSON lines ([`bench_log`]).
 
+pub mod bench_log;
 pub mod bridge;
 pub mod events;
 pub mod options;

@@ -6,7 +6,7 @@ use serde_json::{Value, json};
 
 use super::output::Output;
 use super::simfc::AnyFc;
-use crate::sim::pod::{SimPod, SyncOutcome};
+use crate::sim::pod::{GpsReplyRecord, PhotoRecord, SimPod, SyncOutcome, SyncRecord};
 
 /// snake_case name of a sync outcome.
 #[must_use]
@@ -17,6 +17,26 @@ pub const fn outcome_name(o: SyncOutcome) -> &'static str {
         SyncOutcome::EdgeTooOld => "edge_too_old",
         SyncOutcome::EdgeAfterFrameStart => "edge_after_frame_start",
     }
+}
+
+/// A 0x00030E the simulated pod handled, as a `sim_pod_sync` event's fields.
+#[must_use]
+pub fn pod_sync_fields(s: &SyncRecord) -> Value {
+    json!({"utc_ms": s.unix_ms, "outcome": outcome_name(s.outcome),
+           "edge_to_frame_us": s.delay_us})
+}
+
+/// A photo the simulated pod took, as a `sim_pod_photo` event's fields.
+#[must_use]
+pub fn pod_photo_fields(p: &PhotoRecord) -> Value {
+    json!({"pod_utc_ms": p.pod_unix_ms, "shot": p.shot})
+}
+
+/// A GPS reply the simulated pod got, as a `sim_pod_gps_reply` event's fields.
+#[must_use]
+pub fn pod_gps_reply_fields(r: &GpsReplyRecord) -> Value {
+    json!({"code": format!("{:?}", r.reply.code.code()),
+           "time_matches": r.time_matches, "latency_us": r.latency_us})
 }
 
 /// The simulated FC's health changes (`sim_fc_health`).
@@ -70,26 +90,15 @@ impl PodWatcher {
     /// Prints what is new.
     pub fn check(&mut self, pod: &SimPod, out: &Output) {
         for s in pod.syncs().get(self.syncs..).unwrap_or_default() {
-            out.emit(
-                "sim_pod_sync",
-                json!({"utc_ms": s.unix_ms, "outcome": outcome_name(s.outcome),
-                       "edge_to_frame_us": s.delay_us}),
-            );
+            out.emit("sim_pod_sync", pod_sync_fields(s));
         }
         self.syncs = pod.syncs().len();
         for p in pod.photos().get(self.photos..).unwrap_or_default() {
-            out.emit(
-                "sim_pod_photo",
-                json!({"pod_utc_ms": p.pod_unix_ms, "shot": p.shot}),
-            );
+            out.emit("sim_pod_photo", pod_photo_fields(p));
         }
         self.photos = pod.photos().len();
         for r in pod.gps_replies().get(self.replies..).unwrap_or_default() {
-            out.emit(
-                "sim_pod_gps_reply",
-                json!({"code": format!("{:?}", r.reply.code.code()),
-                       "time_matches": r.time_matches, "latency_us": r.latency_us}),
-            );
+            out.emit("sim_pod_gps_reply", pod_gps_reply_fields(r));
         }
         self.replies = pod.gps_replies().len();
     }

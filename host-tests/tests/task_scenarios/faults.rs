@@ -14,7 +14,7 @@ use gimbal::sim::faults::Faults;
 use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{AckSeq, PodSimConfig, SimPod, SyncOutcome};
 use gimbal::sim::tasks::{Bench, Cable, Outcome};
-use protocol_core::k40t::{self, AckCode, Address, CrcCoverage, Header, TakePhoto};
+use protocol_core::k40t::AckCode;
 
 use super::{S, TICK, events};
 
@@ -289,19 +289,6 @@ pub fn pod_reboots<P: Pilot>(grace_us: u64, back_us: u64) {
     }
 }
 
-/// A photo taken by the pod's own app (K40T address 0x01/0x01), whatever the FC does.
-fn app_photo(pod: &mut SimPod, now_us: u64) {
-    let header = Header {
-        dst: Address::POD,
-        src: Address::APP,
-        seq: 0,
-        coverage: CrcCoverage::ExcludeStx,
-    };
-    let mut buf = [0u8; k40t::MAX_FRAME_LEN];
-    let n = k40t::encode(&TakePhoto::default(), &header, &mut buf).expect("encodes");
-    pod.receive(now_us, &buf[..n]);
-}
-
 /// The FC cable is pulled for 3 s at 30 s while the pod turns: the pod stops within
 /// 0.6 s (FC sides that steer by rates), syncs go on in holdover within 30 ms, photos the
 /// pod takes (from its app) 0.8 s into the pull get the newest fix carried forward with
@@ -319,7 +306,7 @@ pub fn fc_cable_pulled<P: Pilot>(stops: bool) {
             b.wires.pull(Cable::Fc, t, BACK - PULL);
         }
         if t == PULL + 800_000 || t == PULL + 2 * S {
-            app_photo(&mut b.pod.borrow_mut(), t);
+            b.pod.borrow_mut().photo_from_app(t);
         }
         if t == 40 * S {
             b.fc.borrow_mut().turn(0.0, 0.0);

@@ -429,6 +429,25 @@ impl SimPod {
         self.now_us
     }
 
+    /// A photo asked at `now_us` by the pod's own app (K40T address 0x01/0x01, a
+    /// 0x000302 of its own), whatever the FC does.
+    pub fn photo_from_app(&mut self, now_us: u64) {
+        let header = Header {
+            dst: Address::POD,
+            src: Address::APP,
+            seq: 0,
+            coverage: CrcCoverage::ExcludeStx,
+        };
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        if let Ok(n) = k40t::encode(
+            &protocol_core::k40t::TakePhoto::default(),
+            &header,
+            &mut buf,
+        ) {
+            self.receive(now_us, buf.get(..n).unwrap_or_default());
+        }
+    }
+
     /// Bytes from the bridge, all arrived at `now_us`.
     pub fn receive(&mut self, now_us: u64, bytes: &[u8]) {
         let now = self.enter(now_us);
