@@ -84,8 +84,8 @@ protocol_core::wire_derive! {
         Geotag {
             /// The time of day asked, ms since midnight UTC.
             time_of_day_ms: u32,
-            /// A fix was given (else the reply carried a failure code).
-            answered: bool,
+            /// `None`: a fix was given; else why the reply carried the failure code.
+            missed: Option<GeotagMiss>,
         },
         /// A photo's time and place, as the geotag answer gave them (after
         /// [`Event::Geotag`] with a fix): the UTC the pod asked for (its time of day on
@@ -204,6 +204,41 @@ protocol_core::wire_derive! {
             /// Frames dropped.
             frames: u8,
         },
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Why a geotag request got the failure code ([`Event::Geotag`]).
+    pub enum GeotagMiss {
+        /// The bridge does not know UTC, or the time of day asked is not one (so the
+        /// instant asked is unknown).
+        UtcUnknown,
+        /// No fix has been received.
+        NoFix,
+        /// The instant asked is further than the hold limit from any fix kept.
+        OutOfRange,
+    }
+}
+
+impl GeotagMiss {
+    /// The reason as a word, for logs.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            GeotagMiss::UtcUnknown => "utc_unknown",
+            GeotagMiss::NoFix => "no_fix",
+            GeotagMiss::OutOfRange => "out_of_range",
+        }
+    }
+}
+
+impl From<crate::fixes::GeotagError> for GeotagMiss {
+    fn from(e: crate::fixes::GeotagError) -> Self {
+        match e {
+            crate::fixes::GeotagError::NoFix => GeotagMiss::NoFix,
+            crate::fixes::GeotagError::OutOfRange => GeotagMiss::OutOfRange,
+        }
     }
 }
 

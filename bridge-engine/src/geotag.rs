@@ -18,7 +18,7 @@
 
 use super::Outputs;
 use super::discipline::TimeDiscipline;
-use super::event::Event;
+use super::event::{Event, GeotagMiss};
 use super::fixes::{Fix, FixHistory};
 use super::pod::PodDriver;
 use super::time::{Instant, TimeOfDay, UtcTime};
@@ -66,8 +66,8 @@ impl Geotagger {
         out: &mut Outputs,
     ) {
         if let Some(w) = self.waiting.take() {
-            let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
-            self.answer(w.header, w.request, fix, pod, out);
+            let fix = fixes.at(w.at).map(|f| (w.utc, f));
+            self.answer(w.header, w.request, fix.map_err(Into::into), pod, out);
         }
         let asked = TimeOfDay::new(
             request.hour,
@@ -78,7 +78,7 @@ impl Geotagger {
         .and_then(|tod| time.utc(now)?.nearest_with_time_of_day(tod))
         .and_then(|utc| Some((time.local_of(utc)?, utc)));
         let Some((at, utc)) = asked else {
-            self.answer(header, request, None, pod, out);
+            self.answer(header, request, Err(GeotagMiss::UtcUnknown), pod, out);
             return;
         };
         let newest = fixes.latest().map(|f| f.at);
@@ -98,8 +98,8 @@ impl Geotagger {
             });
             return;
         }
-        let fix = fixes.at(at).ok().map(|f| (utc, f));
-        self.answer(header, request, fix, pod, out);
+        let fix = fixes.at(at).map(|f| (utc, f));
+        self.answer(header, request, fix.map_err(Into::into), pod, out);
     }
 
     /// Answers the waiting request once a fix at or after its instant is in, or at its
@@ -117,8 +117,8 @@ impl Geotagger {
         let covered = fixes.latest().is_some_and(|f| f.at >= w.at);
         if covered || now >= w.deadline {
             self.waiting = None;
-            let fix = fixes.at(w.at).ok().map(|f| (w.utc, f));
-            self.answer(w.header, w.request, fix, pod, out);
+            let fix = fixes.at(w.at).map(|f| (w.utc, f));
+            self.answer(w.header, w.request, fix.map_err(Into::into), pod, out);
         }
     }
 
@@ -132,11 +132,11 @@ impl Geotagger {
         &mut self,
         header: Header,
         request: GpsRequest,
-        fix: Option<(UtcTime, Fix)>,
+        fix: Result<(UtcTime, Fix), GeotagMiss>,
         pod: &mut PodDriver,
         out: &mut Outputs,
     ) {
-        if let Some((utc, fix)) = fix {
+        if let Ok((utc, fix)) = fix {
             self.photo = Some(Photo { utc, fix });
         }
         answer(header, request, fix, pod, out);
@@ -154,7 +154,7 @@ impl Geotagger {
 fn answer(
     header: Header,
     request: GpsRequest,
-    fix: Option<(UtcTime, Fix)>,
+    fix: Result<(UtcTime, Fix), GeotagMiss>,
     pod: &mut PodDriver,
     out: &mut Outputs,
 ) {
@@ -166,7 +166,7 @@ fn answer(
         millisecond: request.millisecond,
         ..GpsReply::default()
     };
-    if let Some((utc, f)) = fix {
+    if let Ok((utc, f)) = fix {
         out.event(Event::Photo(crate::event::PhotoEvent {
             utc_us: utc.as_unix_micros(),
             lat_e7: f.lat_e7,
@@ -187,7 +187,7 @@ fn answer(
         reply.pitch_cdeg = f.pitch_cdeg;
     }
     pod.send_gps_reply(header, reply, out);
-    let answered = fix.is_some();
+    let answered = fix.is_ok();
     let c = &mut out.counters;
     if answered {
         c.geotags = c.geotags.saturating_add(1);
@@ -203,6 +203,6 @@ fn answer(
     .map_or(0, TimeOfDay::millis_of_day);
     out.event(Event::Geotag {
         time_of_day_ms,
-        answered,
+        missed: fix.err(),
     });
 }

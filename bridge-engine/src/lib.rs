@@ -79,7 +79,7 @@ pub use access::{K40tAllow, Refusal, SigningKey, SigningMode, SystemIds};
 pub use config::{
     Config, FcProtocol, GcuIdentity, MavlinkConfig, PodConfig, SiyiIdentity, ViewlinkIdentity,
 };
-pub use event::{Counters, Decline, Event, PhotoEvent, Port};
+pub use event::{Counters, Decline, Event, GeotagMiss, PhotoEvent, Port};
 pub use pod::PodState;
 pub use time::{Duration, Instant, InstantNs, UtcTime};
 

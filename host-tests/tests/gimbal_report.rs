@@ -4,7 +4,7 @@
 //! SVG; it loads nothing; bad lines are reported with their numbers while the rest is
 //! drawn.
 
-use bridge_engine::{Config, Event};
+use bridge_engine::{Config, Event, GeotagMiss};
 use gimbal::demo::{self, DemoOptions};
 use gimbal::report::figures::{MarkKind, Refusal};
 use gimbal::report::log::Link;
@@ -205,7 +205,7 @@ fn a_faulty_flight_report_shows_the_link_drops_reboots_and_refusals() {
         .filter(|s| s.outcome == SyncOutcome::Applied)
         .count();
     let geotags = count(&o, |e| matches!(e, Event::Geotag { .. }));
-    let answered = count(&o, |e| matches!(e, Event::Geotag { answered: true, .. }));
+    let answered = count(&o, |e| matches!(e, Event::Geotag { missed: None, .. }));
     assert_eq!(f.syncs.len(), syncs);
     assert_eq!(f.pod_syncs.as_ref().map(|p| p.0), Some(applied));
     assert_eq!((f.geotags.len(), f.geotags_answered()), (geotags, answered));
@@ -214,7 +214,17 @@ fn a_faulty_flight_report_shows_the_link_drops_reboots_and_refusals() {
     assert_eq!((geotags, answered), (5, 4));
     let refused: Vec<_> = f.geotags.iter().filter(|g| g.refusal.is_some()).collect();
     assert_eq!(refused.len(), 1);
-    assert_eq!(refused[0].refusal, Some(Refusal::NoFix));
+    assert_eq!(
+        count(&o, |e| matches!(
+            e,
+            Event::Geotag {
+                missed: Some(GeotagMiss::OutOfRange),
+                ..
+            }
+        )),
+        1
+    );
+    assert_eq!(refused[0].refusal, Some(Refusal::OutOfRange));
     assert!((82.0..83.0).contains(&refused[0].t_s), "{}", refused[0].t_s);
     assert!(refused[0].at_m.is_some(), "drawn on the track");
 

@@ -128,10 +128,11 @@ fn ardupilot_is_healthy_commands_turn_the_pod_and_syncs_are_applied() {
     assert_eq!(r.pod.photos().len(), 1);
     let reply = r.pod.gps_replies().last().expect("a GPS reply");
     assert_eq!(reply.reply.code.code(), protocol_core::k40t::AckCode::Ok);
-    assert!(r.records.iter().any(|x| matches!(
-        x.what,
-        LogKind::Engine(Event::Geotag { answered: true, .. })
-    )));
+    assert!(
+        r.records
+            .iter()
+            .any(|x| matches!(x.what, LogKind::Engine(Event::Geotag { missed: None, .. })))
+    );
 }
 
 const BOUNDS: Bounds = Bounds {

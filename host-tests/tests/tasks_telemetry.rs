@@ -66,7 +66,7 @@ fn syncs_and_geotag(o: &Outcome<ApSiyi, ApMavlink>) {
     assert_eq!(reply.reply.code.code(), AckCode::Ok);
     assert!(
         o.events()
-            .any(|(_, e)| matches!(e, Event::Geotag { answered: true, .. }))
+            .any(|(_, e)| matches!(e, Event::Geotag { missed: None, .. }))
     );
     assert!(o.fc.healthy(), "{:?}", o.fc.health_log());
     assert_eq!(o.records_dropped, 0);

@@ -21,22 +21,47 @@ pub struct SyncPoint {
     pub error_us: Option<f64>,
 }
 
-/// Why a geotag was answered without a fix, as far as the log tells.
+/// Why a geotag was answered without a fix: the `reason` of the bridge's `geotag` event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Refusal {
-    /// UTC was not known when the pod asked (no `utc_valid` in force).
+    /// `utc_unknown`: the bridge did not know UTC (or the time of day asked was not one).
     UtcUnknown,
-    /// UTC was known: the fix history had no fix near the instant asked.
+    /// `no_fix`: no fix had been received.
     NoFix,
+    /// `out_of_range`: no fix kept was near enough the instant asked.
+    OutOfRange,
+    /// The event gave no reason the report knows.
+    NotGiven,
 }
 
 impl Refusal {
+    /// Every reason, in the order the page lists them.
+    pub const ALL: [Refusal; 4] = [
+        Refusal::UtcUnknown,
+        Refusal::NoFix,
+        Refusal::OutOfRange,
+        Refusal::NotGiven,
+    ];
+
+    /// The event's `reason`.
+    #[must_use]
+    pub fn from_reason(reason: Option<&str>) -> Self {
+        match reason {
+            Some("utc_unknown") => Refusal::UtcUnknown,
+            Some("no_fix") => Refusal::NoFix,
+            Some("out_of_range") => Refusal::OutOfRange,
+            _ => Refusal::NotGiven,
+        }
+    }
+
     /// The reason, for the page.
     #[must_use]
     pub const fn text(self) -> &'static str {
         match self {
             Refusal::UtcUnknown => "UTC unknown",
-            Refusal::NoFix => "no fix near the instant",
+            Refusal::NoFix => "no fix received",
+            Refusal::OutOfRange => "no fix near the instant",
+            Refusal::NotGiven => "reason not in the log",
         }
     }
 }
@@ -293,7 +318,6 @@ pub fn figures(log: &Log) -> Figures {
         ..Figures::default()
     };
     let mut links = LinkBuilder::default();
-    let mut utc_known = false;
     let mut pending_photo: Option<(u64, Pos)> = None;
     let mut applied = 0usize;
     let mut not_applied: Vec<(String, usize)> = Vec::new();
@@ -317,13 +341,9 @@ pub fn figures(log: &Log) -> Figures {
                 kind: MarkKind::PortLost,
             }),
             Rec::UtcValid { .. } => {
-                utc_known = true;
                 f.utc_valid_at_s.get_or_insert(t);
             }
-            Rec::UtcLost => {
-                utc_known = false;
-                f.utc_lost += 1;
-            }
+            Rec::UtcLost => f.utc_lost += 1,
             Rec::TimeSource { telemetry } => {
                 f.sources.push((t, *telemetry));
                 // The telemetry link's row: up while it is the time source (grey else:
@@ -362,17 +382,14 @@ pub fn figures(log: &Log) -> Figures {
             Rec::Geotag {
                 time_of_day_ms,
                 answered,
+                reason,
             } => {
                 let photo = if *answered {
                     pending_photo.take()
                 } else {
                     None
                 };
-                let refusal = match (answered, utc_known) {
-                    (true, _) => None,
-                    (false, false) => Some(Refusal::UtcUnknown),
-                    (false, true) => Some(Refusal::NoFix),
-                };
+                let refusal = (!answered).then(|| Refusal::from_reason(reason.as_deref()));
                 geotags.push((
                     GeotagPoint {
                         t_s: t,
@@ -547,13 +564,13 @@ mod tests {
 {"t_us":1000000,"event":"pod_link_up"}
 {"t_us":1100000,"event":"fc_link_up"}
 {"t_us":2000000,"event":"fix","lat_e7":473977419,"lon_e7":85455938,"alt_msl_dm":4880}
-{"t_us":2500000,"event":"geotag","time_of_day_ms":1000,"answered":false}
+{"t_us":2500000,"event":"geotag","time_of_day_ms":1000,"answered":false,"reason":"utc_unknown"}
 {"t_us":3000000,"event":"utc_valid","error_bound_us":11000,"converged":false}
 {"t_us":3000000,"event":"fix","lat_e7":473978319,"lon_e7":85455938,"alt_msl_dm":4880}
 {"t_us":10000000,"event":"time_sync","utc_ms":1795428040000,"edge_us":10000000,"error_bound_us":3000,"error_us":-40.0}
 {"t_us":12000000,"event":"photo","utc_us":1795428042000000,"lat_e7":473977419,"lon_e7":85457256,"alt_msl_dm":4880}
 {"t_us":12000000,"event":"geotag","time_of_day_ms":36042000,"answered":true}
-{"t_us":14000000,"event":"geotag","time_of_day_ms":36044000,"answered":false}
+{"t_us":14000000,"event":"geotag","time_of_day_ms":36044000,"answered":false,"reason":"out_of_range"}
 {"t_us":15000000,"event":"pod_link_down"}
 {"t_us":18000000,"event":"pod_link_up"}
 {"t_us":20000000,"event":"time_sync","utc_ms":1795428050000,"edge_us":20000000,"error_bound_us":1000,"error_us":20.0}
@@ -585,7 +602,7 @@ mod tests {
         assert_eq!(f.geotags[1].refusal, None);
         let (e, n) = f.geotags[1].at_m.expect("drawn");
         assert!((e - 9.9315).abs() < 1e-3 && n.abs() < 1e-9, "{e} {n}");
-        assert_eq!(f.geotags[2].refusal, Some(Refusal::NoFix));
+        assert_eq!(f.geotags[2].refusal, Some(Refusal::OutOfRange));
         assert_eq!(f.geotags[2].line, 11);
         // A refusal is drawn on the track nearest in time: the fix at 3 s.
         assert_eq!(f.geotags[2].at_m, Some((f.track[1].1, f.track[1].2)));

@@ -81,6 +81,8 @@ pub enum Rec {
         time_of_day_ms: u64,
         /// A fix was given.
         answered: bool,
+        /// Why not (`reason`), when the log says.
+        reason: Option<String>,
     },
     /// `photo`: a geotag answered with a fix.
     Photo {
@@ -379,6 +381,7 @@ fn record(event: &str, o: &Map<String, Value>) -> Parsed {
             Ok(Rec::Geotag {
                 time_of_day_ms: u("time_of_day_ms")?,
                 answered: b("answered")?,
+                reason: s("reason").ok().map(str::to_string),
             })
         })(),
         "photo" => (|| {

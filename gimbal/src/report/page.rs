@@ -135,16 +135,13 @@ pub fn summary_rows(f: &Figures) -> Vec<(&'static str, String)> {
         f.edge_to_frame_max_us
             .map_or_else(|| "–".to_string(), |d| format!("max {}", us(d as f64))),
     ));
-    let refused: Vec<String> = [
-        super::figures::Refusal::UtcUnknown,
-        super::figures::Refusal::NoFix,
-    ]
-    .iter()
-    .filter_map(|r| {
-        let n = f.geotags.iter().filter(|g| g.refusal == Some(*r)).count();
-        (n > 0).then(|| format!("{n} {}", r.text()))
-    })
-    .collect();
+    let refused: Vec<String> = super::figures::Refusal::ALL
+        .iter()
+        .filter_map(|r| {
+            let n = f.geotags.iter().filter(|g| g.refusal == Some(*r)).count();
+            (n > 0).then(|| format!("{n} {}", r.text()))
+        })
+        .collect();
     rows.push((
         "geotags answered",
         format!(
@@ -343,7 +340,7 @@ pub fn page(name: &str, log: &Log, f: &Figures) -> String {
     plot(&mut out, plots::bound_histogram(f));
 
     out.push_str("<h2>2. Photos and geotags</h2>\n");
-    out.push_str("<p>The track is the aircraft's position from the bridge's <code>fix</code> events (once a second), in metres east and north of the first fix (equirectangular: fine over a flight's few kilometres). A photo is drawn at the fix the bridge gave the pod; a refused geotag at the track's point nearest in time, with its reason as the log tells it.</p>\n");
+    out.push_str("<p>The track is the aircraft's position from the bridge's <code>fix</code> events (once a second), in metres east and north of the first fix (equirectangular: fine over a flight's few kilometres). A photo is drawn at the fix the bridge gave the pod; a refused geotag at the track's point nearest in time, with the reason the bridge logged.</p>\n");
     plot(&mut out, plots::track(f));
     let rows = f.geotags.iter().take(PHOTO_ROWS).map(|g| {
         let (utc, lat, lon) = match g.photo {

@@ -116,10 +116,17 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
         ),
         Event::Geotag {
             time_of_day_ms,
-            answered,
+            missed: None,
         } => (
             "geotag",
-            json!({"time_of_day_ms": time_of_day_ms, "answered": answered}),
+            json!({"time_of_day_ms": time_of_day_ms, "answered": true}),
+        ),
+        Event::Geotag {
+            time_of_day_ms,
+            missed: Some(why),
+        } => (
+            "geotag",
+            json!({"time_of_day_ms": time_of_day_ms, "answered": false, "reason": why.name()}),
         ),
         Event::Photo(p) => ("photo", serde_json::to_value(p).unwrap_or(Value::Null)),
         Event::PpsLocked { first_edge } => (
@@ -233,7 +240,7 @@ pub fn counters(c: &Counters) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bridge_engine::{Duration, Instant};
+    use bridge_engine::{Duration, GeotagMiss, Instant};
     use protocol_core::k40t::AckCode;
 
     fn ev(what: LogKind) -> (u64, &'static str, Value) {
@@ -279,12 +286,23 @@ mod tests {
         assert_eq!(
             ev(LogKind::Engine(Event::Geotag {
                 time_of_day_ms: 36_000_000,
-                answered: true
+                missed: None
             })),
             (
                 42,
                 "geotag",
                 json!({"time_of_day_ms": 36_000_000, "answered": true})
+            )
+        );
+        assert_eq!(
+            ev(LogKind::Engine(Event::Geotag {
+                time_of_day_ms: 36_000_000,
+                missed: Some(GeotagMiss::OutOfRange)
+            })),
+            (
+                42,
+                "geotag",
+                json!({"time_of_day_ms": 36_000_000, "answered": false, "reason": "out_of_range"})
             )
         );
         for (e, name) in [

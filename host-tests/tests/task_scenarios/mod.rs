@@ -271,7 +271,7 @@ pub fn sync_and_geotag<P: Pilot>(b: Bounds, label: &str) -> SyncFigures {
         );
     }
     if b.bridge_geotags {
-        let answered = events(&o, |e| matches!(e, Event::Geotag { answered: true, .. }));
+        let answered = events(&o, |e| matches!(e, Event::Geotag { missed: None, .. }));
         assert_eq!(answered.len(), 2);
     }
     assert_eq!(o.records_dropped, 0);
