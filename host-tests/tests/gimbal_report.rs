@@ -316,6 +316,95 @@ fn bad_lines_are_reported_with_their_numbers_and_the_rest_is_drawn() {
     self_contained(html);
 }
 
+/// Values at the ends of their types (u64::MAX times, ±1e308 errors, coordinates out of
+/// the globe, one instant for the whole flight) still give a page: plotters' axes are kept
+/// finite and wide enough for their ticks (a range lost in rounding once made it loop).
+#[test]
+fn extreme_values_are_drawn() {
+    let log = r#"{"t_us":0,"event":"bridge_started","fc":"siyi","log_version":1}
+{"t_us":18446744073709551615,"event":"time_sync","utc_ms":18446744073709551615,"edge_us":18446744073709551615,"error_bound_us":18446744073709551615,"error_us":1e308}
+{"t_us":10,"event":"time_sync","utc_ms":1,"edge_us":1,"error_bound_us":0,"error_us":-1e308}
+{"t_us":5,"event":"fix","lat_e7":2147483647,"lon_e7":-2147483648,"alt_msl_dm":-2147483648}
+{"t_us":6,"event":"fix","lat_e7":-2147483648,"lon_e7":2147483647,"alt_msl_dm":2147483647}
+{"t_us":7,"event":"geotag","time_of_day_ms":99999999999,"answered":false,"reason":"<script>"}
+{"t_us":8,"event":"photo","utc_us":0,"lat_e7":0,"lon_e7":0,"alt_msl_dm":0}
+{"t_us":9,"event":"pod_link_down"}
+{"t_us":3,"event":"pod_link_up"}
+{"t_us":-5,"event":"fc_link_up"}
+"#;
+    let r = report::report("extreme", log);
+    assert_eq!(r.warnings(), ["line 10: fc_link_up: no \"t_us\""]);
+    assert_eq!(r.figures.syncs.len(), 2);
+    assert_eq!(r.figures.track.len(), 2);
+    assert_eq!(r.figures.geotags[0].refusal, Some(Refusal::NotGiven));
+    assert_eq!(svgs(&r.html).len(), 4);
+    self_contained(&r.html);
+    // One instant for everything, far from zero.
+    let one = r#"{"t_us":1000000000000000,"event":"time_sync","utc_ms":5,"edge_us":5,"error_bound_us":7,"error_us":3.0}
+{"t_us":1000000000000000,"event":"fix","lat_e7":1,"lon_e7":1,"alt_msl_dm":1}
+"#;
+    let r = report::report("one instant", one);
+    assert_eq!(r.figures.syncs.len(), 1);
+    self_contained(&r.html);
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+    /// Any mix of the events the report reads, with any values in their fields (and
+    /// some lines cut), in any order: a page, every line accounted for, nothing loaded
+    /// from elsewhere.
+    #[test]
+    fn any_values_in_any_order_give_a_page(
+        lines in proptest::collection::vec(
+            (0usize..16, proptest::prelude::any::<u64>(), proptest::prelude::any::<i32>(),
+             proptest::prelude::any::<i32>(), proptest::num::f64::NORMAL, 0usize..200),
+            1..120,
+        )
+    ) {
+        const TEMPLATES: [&str; 16] = [
+            r#"{"t_us":T,"event":"time_sync","utc_ms":U,"edge_us":U,"error_bound_us":U,"error_us":F}"#,
+            r#"{"t_us":T,"event":"fix","lat_e7":A,"lon_e7":B,"alt_msl_dm":A}"#,
+            r#"{"t_us":T,"event":"photo","utc_us":U,"lat_e7":B,"lon_e7":A,"alt_msl_dm":B}"#,
+            r#"{"t_us":T,"event":"geotag","time_of_day_ms":U,"answered":false,"reason":"no_fix"}"#,
+            r#"{"t_us":T,"event":"geotag","time_of_day_ms":U,"answered":true}"#,
+            r#"{"t_us":T,"event":"pod_link_down"}"#,
+            r#"{"t_us":T,"event":"pod_link_up"}"#,
+            r#"{"t_us":T,"event":"fc_link_down"}"#,
+            r#"{"t_us":T,"event":"fc_link_up"}"#,
+            r#"{"t_us":T,"event":"utc_valid","error_bound_us":U,"converged":true}"#,
+            r#"{"t_us":T,"event":"utc_lost"}"#,
+            r#"{"t_us":T,"event":"edge_to_frame","delay_us":U,"len":28}"#,
+            r#"{"t_us":T,"event":"sim_pod_sync","utc_ms":U,"outcome":"applied"}"#,
+            r#"{"t_us":T,"event":"fc_silence_stop"}"#,
+            r#"{"t_us":T,"event":"time_source","telemetry":true}"#,
+            r#"{"t_us":T,"event":"counters","fc_garbage_bytes":U,"pod_rejected":A}"#,
+        ];
+        let mut text = String::from(r#"{"t_us":0,"event":"bridge_started","fc":"gcu","log_version":1}"#);
+        text.push('\n');
+        let mut blank = 0;
+        for &(k, u, a, b, f, cut) in &lines {
+            // Times within a day mostly, some anywhere.
+            let t = if u % 4 == 0 { u } else { u % 86_400_000_000 };
+            let line = TEMPLATES[k]
+                .replace('T', &t.to_string())
+                .replace('U', &(u / 3).to_string())
+                .replace('A', &a.to_string())
+                .replace('B', &b.to_string())
+                .replace('F', &format!("{f:e}"));
+            let line = line.get(..cut.min(line.len())).unwrap_or(&line);
+            blank += usize::from(line.is_empty());
+            text.push_str(line);
+            text.push('\n');
+        }
+        let r = report::report("any", &text);
+        proptest::prop_assert_eq!(svgs(&r.html).len(), 4);
+        self_contained(&r.html);
+        let unread = r.log.diagnostics.len();
+        // Blank lines are passed over; every other one is read or reported.
+        proptest::prop_assert_eq!(r.log.records.len() + unread, lines.len() - blank);
+    }
+}
+
 #[test]
 fn files_that_hold_no_log_are_errors() {
     let dir = std::env::temp_dir().join(format!("gimbal-report-{}", std::process::id()));

@@ -81,14 +81,29 @@ fn legend<'a, 'b: 'a>(
         .map_err(|e| e.to_string())
 }
 
+/// The largest magnitude drawn: values beyond it (a log can hold 1e308) are drawn at it.
+const AXIS_LIMIT: f64 = 1e15;
+
 /// A range that is never empty, with a margin.
+///
+/// Whatever the log holds, the axis is one plotters can place its ticks on: finite, within
+/// ±1e15, and at least a millionth of its magnitude wide (plotters steps from one tick to
+/// the next, and a step lost in rounding would never end).
 fn range(lo: f64, hi: f64) -> std::ops::Range<f64> {
-    let (lo, hi) = if lo.is_finite() && hi.is_finite() && hi > lo {
+    let sane = |v: f64| {
+        if v.is_finite() {
+            v.clamp(-AXIS_LIMIT, AXIS_LIMIT)
+        } else {
+            0.0
+        }
+    };
+    let (lo, hi) = (sane(lo.min(hi)), sane(lo.max(hi)));
+    let least = (lo.abs().max(hi.abs()) * 1e-6).max(1.0);
+    let (lo, hi) = if hi - lo >= least {
         (lo, hi)
-    } else if lo.is_finite() {
-        (lo - 1.0, lo + 1.0)
     } else {
-        (0.0, 1.0)
+        let mid = lo / 2.0 + hi / 2.0;
+        (mid - least / 2.0, mid + least / 2.0)
     };
     let m = (hi - lo) * 0.03;
     (lo - m)..(hi + m)
@@ -114,13 +129,13 @@ pub fn time(f: &Figures) -> Result<String, String> {
     let bound: Vec<(f64, f64)> = f
         .syncs
         .iter()
-        .map(|s| (s.t_s / unit, s.bound_us as f64))
+        .map(|s| (s.t_s / unit, (s.bound_us as f64).min(AXIS_LIMIT)))
         .collect();
     let bound = thin::min_max(&bound, SERIES_BUCKETS);
     let errors: Vec<(f64, f64)> = f
         .syncs
         .iter()
-        .filter_map(|s| Some((s.t_s / unit, s.error_us?)))
+        .filter_map(|s| Some((s.t_s / unit, s.error_us?.clamp(-AXIS_LIMIT, AXIS_LIMIT))))
         .collect();
     let errors = thin::min_max(&errors, SERIES_BUCKETS);
     let top = bound
