@@ -38,6 +38,7 @@ use bridge_engine::{Config, Event, FcProtocol, Level};
 use protocol_core::k40t::K40tFraming;
 use protocol_core::wire::{Deframer, Event as WireEvent, Framing};
 
+use crate::report::figures::quantile;
 use crate::runner::bench_log::BenchLog;
 use crate::sim::Autopilot;
 use crate::sim::ap_mavlink::ApMavlink;
@@ -414,15 +415,6 @@ fn metres_apart(a: (i32, i32), b: (i32, i32)) -> f64 {
     let dn = f64::from(a.0 - b.0) * 1e-7 * 111_320.0;
     let de = f64::from(a.1 - b.1) * 1e-7 * 111_320.0 * lat.to_radians().cos();
     dn.hypot(de)
-}
-
-/// `v` (sorted) at quantile `q`.
-fn quantile(sorted: &[u64], q: f64) -> Option<u64> {
-    if sorted.is_empty() {
-        return None;
-    }
-    let i = ((sorted.len() - 1) as f64 * q).round() as usize;
-    sorted.get(i).copied()
 }
 
 /// The demo's GNSS module: fixed from the start (the FC's UTC comes later: the pulses

@@ -29,7 +29,7 @@ use gimbal::sim::pod::PodSimConfig;
 use gimbal::sim::scenario::Scenario;
 use protocol_core::k40t::AckCode;
 
-use engine_scenarios::{MS, S, scenario};
+use engine_scenarios::{S, scenario};
 
 /// An hour, µs.
 const HOUR: u64 = 3_600 * S;
@@ -178,7 +178,6 @@ fn check_flight<F: Pilot>(s: &Scenario<F>, found: &mut Found, label: &str, cycle
         assert!(r.time_matches);
         found.geotags_ok += 1;
     }
-    let _ = MS;
 }
 
 #[test]

@@ -232,8 +232,9 @@ pub fn metres(origin: Pos, p: Pos) -> (f64, f64) {
     (east, north)
 }
 
-/// The value at quantile `q` of sorted values (nearest rank, as the demo's).
-fn quantile<T: Copy>(sorted: &[T], q: f64) -> Option<T> {
+/// The value at quantile `q` of sorted values (nearest rank); the demo's summary uses it
+/// too, so that the page and the summary agree.
+pub(crate) fn quantile<T: Copy>(sorted: &[T], q: f64) -> Option<T> {
     #[allow(
         clippy::cast_precision_loss,
         clippy::cast_possible_truncation,
