@@ -346,6 +346,18 @@ fn extreme_values_are_drawn() {
     let r = report::report("one instant", one);
     assert_eq!(r.figures.syncs.len(), 1);
     self_contained(&r.html);
+    // A sync whose edge lies far after every line's time: the span covers it (a point
+    // millions of widths off its axis overflowed plotters' pixel arithmetic).
+    let late = r#"{"t_us":10,"event":"time_sync","utc_ms":5,"edge_us":3000000000000,"error_bound_us":7}
+{"t_us":20,"event":"fix","lat_e7":1,"lon_e7":1,"alt_msl_dm":1}
+"#;
+    let r = report::report("late edge", late);
+    assert!(
+        (r.figures.end_s - 3_000_000.0).abs() < 1e-6,
+        "{}",
+        r.figures.end_s
+    );
+    assert_eq!(svgs(&r.html).len(), 4);
 }
 
 proptest::proptest! {

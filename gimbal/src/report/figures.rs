@@ -365,7 +365,10 @@ pub fn figures(log: &Log) -> Figures {
                 error_us,
                 ..
             } => {
+                // The edge's own instant: the flight's span covers it (the plots' axes
+                // are drawn over the span).
                 let at = secs(*edge_us);
+                f.end_s = f.end_s.max(at);
                 f.first_sync_at_s.get_or_insert(at);
                 f.syncs.push(SyncPoint {
                     t_s: at,
