@@ -533,7 +533,8 @@ bridge_benches! {
 #[library_benchmark]
 #[bench::blocks(leak(signing::compress_input()))]
 fn sha256_compress(blocks: &Vec<[u8; 64]>) -> [u32; 8] {
-    let mut state = signing::SHA256_IV;
+    // Any state: a compression's work does not depend on its values.
+    let mut state = [0u32; 8];
     for block in black_box(blocks) {
         sha2::compress256(&mut state, &[(*block).into()]);
     }

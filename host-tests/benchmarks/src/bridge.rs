@@ -342,18 +342,7 @@ pub(crate) fn mavlink_config(signing: bool) -> Config {
 /// autopilot's HEARTBEAT, signed when the configuration signs: the device knows its
 /// system id), its queues empty.
 pub(crate) fn mavlink_engine(config: Config, pod_acks: bool) -> (Engine, Instant) {
-    use protocol_core::mavlink::dialect::{
-        HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
-    };
-    let heartbeat = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-        custom_mode: 0,
-        mavtype: MavType::MAV_TYPE_QUADROTOR,
-        autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-        base_mode: MavModeFlag::empty(),
-        system_status: MavState::MAV_STATE_STANDBY,
-        mavlink_version: 3,
-    });
-    let hb = mavlink_frame(0, &heartbeat);
+    let hb = fuzz_checks::bridge_mavlink::autopilot_heartbeat();
     let signing = config.signing_key.is_some();
     let hb = if signing { signed(&hb, SIGNED_T0) } else { hb };
     running(config, hb, pod_acks)

@@ -21,18 +21,6 @@ pub const BLOCK: usize = 64;
 /// SHA-256's padding adds at least 9 bytes: 0x80 and the message's length in bits.
 const PADDING_MIN: usize = 9;
 
-/// SHA-256's initial hash value (FIPS 180-4, 5.3.3).
-pub const SHA256_IV: [u32; 8] = [
-    0x6a09_e667,
-    0xbb67_ae85,
-    0x3c6e_f372,
-    0xa54f_f53a,
-    0x510e_527f,
-    0x9b05_688c,
-    0x1f83_d9ab,
-    0x5be0_cd19,
-];
-
 /// Blocks the `sha256_compress` benchmark compresses, one a call.
 pub const COMPRESS_BLOCKS: usize = 64;
 

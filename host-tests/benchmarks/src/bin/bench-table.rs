@@ -2,8 +2,8 @@
 //! gungraun's JSON summaries (`cargo bench --bench codec -- --output-format=json`, one
 //! line per benchmark), one file per opt-level: `bench-table z.json 3.json
 //! baseline.tsv`. Each row per frame (or per request) beside its figure of the baseline
-//! (2026-11-27), its change marked `**` beyond ±10 %; then the ratios, and the signing
-//! rows against their floor (SHA-256 compressions). Used by `scripts/bench`.
+//! (2026-11-27), its changes at z and at 3 marked `**` beyond ±10 %; then the ratios, and
+//! the signing rows against their floor (SHA-256 compressions). Used by `scripts/bench`.
 
 use std::collections::HashMap;
 
@@ -30,8 +30,8 @@ fn counts(path: &str) -> HashMap<String, u64> {
         .collect()
 }
 
-/// The baseline's instructions per frame at z, by benchmark.
-fn baseline(path: &str) -> HashMap<String, f64> {
+/// The baseline's instructions per frame at z and at 3, by benchmark.
+fn baseline(path: &str) -> HashMap<String, (f64, f64)> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
     text.lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
@@ -41,7 +41,7 @@ fn baseline(path: &str) -> HashMap<String, f64> {
                 f[i].parse::<f64>()
                     .unwrap_or_else(|e| panic!("{line}: {e}"))
             };
-            (f[0].to_string(), num(2) / num(1))
+            (f[0].to_string(), (num(2) / num(1), num(3) / num(1)))
         })
         .collect()
 }
@@ -50,7 +50,7 @@ fn baseline(path: &str) -> HashMap<String, f64> {
 struct Figures {
     z: HashMap<String, u64>,
     o3: HashMap<String, u64>,
-    before: HashMap<String, f64>,
+    before: HashMap<String, (f64, f64)>,
 }
 
 impl Figures {
@@ -68,27 +68,21 @@ impl Figures {
         )
     }
 
-    /// One row: totals, per unit, the baseline's per unit and the change at z.
+    /// One row: totals, per unit, the baseline's per unit at z and the changes at z and 3.
     fn row(&self, label: &str, key: &str, units: usize) {
         let (a, b) = (Self::get(&self.z, key), Self::get(&self.o3, key));
-        let per = a as f64 / units as f64;
-        let (was, change) = match self.before.get(key) {
-            Some(w) => {
-                let c = (per / w - 1.0) * 100.0;
-                let mark = if c.abs() > 10.0 { "**" } else { "" };
-                (format!("{w:.0}"), format!("{mark}{c:+.1} %{mark}"))
-            }
-            None => ("—".to_string(), "new".to_string()),
+        let (pz, p3) = (a as f64 / units as f64, b as f64 / units as f64);
+        let change = |now: f64, was: f64| {
+            let c = (now / was - 1.0) * 100.0;
+            let mark = if c.abs() > 10.0 { "**" } else { "" };
+            format!("{mark}{c:+.1} %{mark}")
+        };
+        let (was, cz, c3) = match self.before.get(key) {
+            Some(&(wz, w3)) => (format!("{wz:.0}"), change(pz, wz), change(p3, w3)),
+            None => ("—".to_string(), "new".to_string(), "new".to_string()),
         };
         println!(
-            "| {:<44} | {:>9} | {:>6.0} | {:>9} | {:>6.0} | {:>7} | {:>10} |",
-            label,
-            a,
-            per,
-            b,
-            b as f64 / units as f64,
-            was,
-            change
+            "| {label:<44} | {a:>9} | {pz:>6.0} | {b:>9} | {p3:>6.0} | {was:>7} | {cz:>10} | {c3:>10} |"
         );
     }
 
@@ -105,7 +99,7 @@ impl Figures {
 }
 
 fn section(title: &str) {
-    println!("| {title} | | | | | | |");
+    println!("| {title} | | | | | | | |");
 }
 
 fn main() {
@@ -126,17 +120,17 @@ fn main() {
     ];
     println!(
         "Instructions (Callgrind, x86-64), whole run and per frame (per request for the bridge \
-         engine); opt-level z is the firmware's release profile. 2026-11-27: z per frame then; \
-         change: z per frame since, ** beyond ±10 %."
+         engine); opt-level z is the firmware's release profile. 2026-11-27 z: per frame then; \
+         change: per frame since, at z and at 3, ** beyond ±10 %."
     );
     println!();
     println!(
-        "| {:<44} | {:>9} | {:>6} | {:>9} | {:>6} | {:>7} | {:>10} |",
-        "stream / stage", "z", "/frame", "3", "/frame", "2026-11-27", "change"
+        "| {:<44} | {:>9} | {:>6} | {:>9} | {:>6} | {:>7} | {:>10} | {:>10} |",
+        "stream / stage", "z", "/frame", "3", "/frame", "2026-11-27 z", "change z", "change 3"
     );
     println!(
-        "| {:-<44} | {:->9}:| {:->6}:| {:->9}:| {:->6}:| {:->7}:| {:->10}:|",
-        "", "", "", "", "", "", ""
+        "| {:-<44} | {:->9}:| {:->6}:| {:->9}:| {:->6}:| {:->7}:| {:->10}:| {:->10}:|",
+        "", "", "", "", "", "", "", ""
     );
     let k40t_frames = streams[0].2.frames.len();
     for (key, name, s) in &streams {
@@ -196,7 +190,7 @@ fn main() {
             bridge::bridge_mavlink_set_attitudes(false),
         ),
         (
-            "the same, signing required (in checked, out signed)",
+            "the same, signing required (each frame in checked)",
             "bridge_mavlink_set_attitude_signed",
             bridge::bridge_mavlink_set_attitudes(true),
         ),
