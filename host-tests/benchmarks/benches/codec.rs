@@ -8,8 +8,9 @@
 use std::hint::black_box;
 use std::io::Read;
 
-use benchmarks::{CHUNK, Stream, deframe};
-use gungraun::{library_benchmark, library_benchmark_group, main};
+use benchmarks::bridge::{self, BridgeRun};
+use benchmarks::{CHUNK, Stream, camera, deframe, signing};
+use gungraun::{library_benchmark, library_benchmark_group};
 use mavlink::dialects::common::MavMessage;
 use mavlink::{MavlinkReader, MavlinkVersion, MessageData};
 
@@ -310,7 +311,7 @@ fn mavlink_encode(input: &MavlinkInput) -> usize {
 #[bench::stream(mavlink_set())]
 fn mavlink_encode_signed(input: &MavlinkInput) -> usize {
     use protocol_core::mavlink::{MAX_FRAME_LEN, SecretKey, Signer, encode_signed};
-    let key = SecretKey::new(benchmarks::BENCH_KEY);
+    let key = SecretKey::new(bridge::BENCH_KEY);
     let mut out = [0u8; MAX_FRAME_LEN];
     black_box(&input.1)
         .iter()
@@ -387,59 +388,62 @@ fn mavio_messages(stream: &[u8]) -> Vec<mavio::dialects::common::Common> {
     out
 }
 
+/// The frames of `s` that mavio decodes, each given alone to a receiver of its own.
+fn mavio_decodable(s: &Stream) -> usize {
+    s.frames().map(|f| mavio_messages(f).len()).sum()
+}
+
+/// The bridge's set, and how many of its frames mavio decodes.
+fn mavio_input() -> &'static (MavlinkInput, usize) {
+    let set = benchmarks::mavlink_stream();
+    let decodable = mavio_decodable(&set.0);
+    leak((set, decodable))
+}
+
 // mavio 0.5's receiver and decoder (mavspec's common dialect) over the same stream. It
-// decodes 197 of the 208 frames: its common.xml is older (two MAV_CMD values and a
-// VIDEO_STREAM_TYPE value it does not list), and it refuses a payload longer than its
+// decodes fewer frames than the set has: its common.xml is older (MAV_CMD and
+// VIDEO_STREAM_TYPE values it does not list), and it refuses a payload longer than its
 // definition (GIMBAL_DEVICE_INFORMATION with the newer gimbal_device_id extension:
-// `V2PayloadIsTooLong`), where MAVLink 2 says to ignore unknown extensions.
+// `V2PayloadIsTooLong`), where MAVLink 2 says to ignore unknown extensions. The streaming
+// receiver must decode every frame that a receiver of its own decodes (counted in the
+// setup): none lost beside one it refuses.
 #[library_benchmark]
-#[bench::stream(mavlink_set())]
-fn mavio_set_parse(input: &MavlinkInput) -> usize {
-    let n = black_box(mavio_messages(black_box(&input.0.bytes))).len();
-    assert_eq!(n, 197);
+#[bench::stream(mavio_input())]
+fn mavio_set_parse(input: &(MavlinkInput, usize)) -> usize {
+    let n = black_box(mavio_messages(black_box(&input.0.0.bytes))).len();
+    assert_eq!(n, input.1, "frames mavio decodes in the stream");
     n
 }
 
-/// mavio's frame builder takes one message type (`&dyn Message`), not the dialect enum.
-fn mavio_message(m: &mavio::dialects::common::Common) -> &dyn mavio::Message {
-    use mavio::dialects::common::Common as C;
-    macro_rules! each {
-        ($($v:ident),*) => {
-            match m {
-                $(C::$v(x) => x,)*
-                _ => unreachable!("not in the bridge's set"),
-            }
-        };
+/// A message of mavio's common dialect as the `&dyn Message` its frame builder takes
+/// (the dialect's enum implements the message traits, not `Message` itself): each call
+/// goes to the enum's own.
+struct AnyCommon<'a>(&'a mavio::dialects::common::Common);
+
+impl mavio::protocol::MessageSpec for AnyCommon<'_> {
+    fn id(&self) -> mavio::protocol::MessageId {
+        self.0.id()
     }
-    each!(
-        Heartbeat,
-        SystemTime,
-        GpsRawInt,
-        Attitude,
-        GlobalPositionInt,
-        RequestDataStream,
-        CommandInt,
-        CommandLong,
-        CommandAck,
-        Timesync,
-        CameraTrigger,
-        MessageInterval,
-        Statustext,
-        CameraInformation,
-        CameraSettings,
-        StorageInformation,
-        CameraCaptureStatus,
-        CameraImageCaptured,
-        VideoStreamInformation,
-        GimbalManagerInformation,
-        GimbalManagerStatus,
-        GimbalDeviceInformation,
-        GimbalDeviceSetAttitude,
-        GimbalDeviceAttitudeStatus,
-        AutopilotStateForGimbalDevice,
-        SetupSigning
-    )
+
+    fn min_supported_mavlink_version(&self) -> mavio::protocol::MavLinkVersion {
+        self.0.min_supported_mavlink_version()
+    }
+
+    fn crc_extra(&self) -> mavio::protocol::CrcExtra {
+        self.0.crc_extra()
+    }
 }
+
+impl mavio::protocol::IntoPayload for AnyCommon<'_> {
+    fn encode(
+        &self,
+        version: mavio::protocol::MavLinkVersion,
+    ) -> Result<mavio::protocol::Payload, mavio::error::SpecError> {
+        self.0.encode(version)
+    }
+}
+
+impl mavio::Message for AnyCommon<'_> {}
 
 // mavio 0.5's frame builder and serializer (each message of the stream, decoded by mavio
 // in the setup).
@@ -448,59 +452,93 @@ fn mavio_message(m: &mavio::dialects::common::Common) -> &dyn mavio::Message {
 fn mavio_set_encode(messages: &Vec<mavio::dialects::common::Common>) -> usize {
     use mavio::protocol::V2;
     let mut out = [0u8; 280];
-    let mut n = 0;
+    let (mut n, mut frames) = (0, 0);
     for (i, m) in black_box(messages).iter().enumerate() {
         let Ok(builder) = mavio::Frame::builder()
             .sequence(i as u8)
             .system_id(1)
             .component_id(154)
             .version(V2)
-            .message(mavio_message(m))
+            .message(&AnyCommon(m))
         else {
             continue;
         };
         n += builder.build().serialize(&mut out).unwrap_or(0);
+        frames += 1;
     }
+    assert_eq!(
+        frames,
+        messages.len(),
+        "every message mavio decoded builds a frame"
+    );
     n
 }
 
-// The bridge engine, per FC frame translated: a SIYI 0x07 rate command in (deframe,
-// decode, translate), a K40T gimbal control out (encode, queue, taken by the driver).
-#[library_benchmark]
-#[bench::frames(Box::leak(Box::new(benchmarks::bridge_siyi_rates())))]
-fn bridge_siyi_rate(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
-    let (pod, fc) = run.run();
-    // A gimbal control per command (and the odd retry of the pod driver's own query).
-    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
-    black_box((pod, fc))
+/// A bridge run, measured: replayed, and the same frames out as in the recording.
+fn replay(run: &mut BridgeRun) -> (usize, usize) {
+    let out = run.run();
+    assert_eq!(
+        out,
+        run.expected(),
+        "the replay sends what the recording sent"
+    );
+    black_box(out)
 }
 
-// The bridge engine, per FC frame translated: a MAVLink GIMBAL_DEVICE_SET_ATTITUDE in
-// (deframe, check, decode, quaternion to angles, translate), a K40T angle command out.
-#[library_benchmark]
-#[bench::frames(Box::leak(Box::new(benchmarks::bridge_mavlink_set_attitudes())))]
-fn bridge_mavlink_set_attitude(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
-    let (pod, fc) = run.run();
-    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
-    black_box((pod, fc))
+/// A bridge run of the benchmarks' library, leaked.
+fn bridge(run: BridgeRun) -> &'static mut BridgeRun {
+    Box::leak(Box::new(run))
 }
 
-// The same on a link that requires signing: each SET_ATTITUDE signed and checked, every
-// frame the engine sends signed.
-#[library_benchmark]
-#[bench::frames(Box::leak(Box::new(benchmarks::bridge_mavlink_set_attitudes_signed())))]
-fn bridge_mavlink_set_attitude_signed(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
-    let (pod, fc) = run.run();
-    assert!(pod >= benchmarks::BRIDGE_RUN_FRAMES, "{pod} pod frames");
-    black_box((pod, fc))
+/// Declares a benchmark per bridge run: `name: constructor(args)`.
+macro_rules! bridge_benches {
+    ($($name:ident: $run:expr;)*) => {$(
+        #[library_benchmark]
+        #[bench::run(bridge($run))]
+        fn $name(run: &mut BridgeRun) -> (usize, usize) {
+            replay(run)
+        }
+    )*};
 }
 
-// The bridge engine, per pod attitude report absorbed (deframe, check, decode, pod
-// state updated).
+bridge_benches! {
+    // A SIYI 0x07 rate command in (deframe, decode, translate), a K40T gimbal control out
+    // (encode, queue, taken by the driver).
+    bridge_siyi_rate: bridge::bridge_siyi_rates();
+    // A MAVLink GIMBAL_DEVICE_SET_ATTITUDE in (deframe, check, decode, quaternion to
+    // angles, translate), a K40T angle command out.
+    bridge_mavlink_set_attitude: bridge::bridge_mavlink_set_attitudes(false);
+    // The same on a link that requires signing: each SET_ATTITUDE signed and checked,
+    // every frame the engine sends signed.
+    bridge_mavlink_set_attitude_signed: bridge::bridge_mavlink_set_attitudes(true);
+    // A pod attitude report absorbed (deframe, check, decode, pod state updated).
+    bridge_pod_attitude: bridge::bridge_pod_attitudes();
+    // The camera (component 100): a PARAM_EXT_REQUEST_READ in, its PARAM_EXT_VALUE out.
+    camera_param_read: camera::settings_reads();
+    // A PARAM_EXT_SET in, the K40T set command out, the pod's ACK in, PARAM_EXT_ACK out.
+    camera_param_set: camera::settings_sets();
+    // An FTP ReadFile of the camera definition in, 239 bytes of it out.
+    camera_ftp_read: camera::definition_reads(false);
+    // The same, signing required.
+    camera_ftp_read_signed: camera::definition_reads(true);
+    // CAMERA_TRACK_RECTANGLE in, the K40T box out, the pod's ACK in, COMMAND_ACK and
+    // CAMERA_TRACKING_IMAGE_STATUS out.
+    camera_track_rectangle: camera::tracking_rectangles();
+    // REQUEST_MESSAGE(VIDEO_STREAM_INFORMATION) in, COMMAND_ACK and the information out.
+    camera_video_information: camera::video_information_requests();
+}
+
+// One SHA-256 compression (sha2's `compress256`, software, as on the MCU), one block a
+// call as the signing code calls it: the floor under MAVLink 2 signing.
 #[library_benchmark]
-#[bench::frames(Box::leak(Box::new(benchmarks::bridge_pod_attitudes())))]
-fn bridge_pod_attitude(run: &mut benchmarks::BridgeRun) -> (usize, usize) {
-    black_box(run.run())
+#[bench::blocks(leak(signing::compress_input()))]
+fn sha256_compress(blocks: &Vec<[u8; 64]>) -> [u32; 8] {
+    // Any state: a compression's work does not depend on its values.
+    let mut state = [0u32; 8];
+    for block in black_box(blocks) {
+        sha2::compress256(&mut state, &[(*block).into()]);
+    }
+    black_box(state)
 }
 
 library_benchmark_group!(
@@ -542,8 +580,61 @@ library_benchmark_group!(
         bridge_siyi_rate,
         bridge_mavlink_set_attitude,
         bridge_mavlink_set_attitude_signed,
-        bridge_pod_attitude
+        bridge_pod_attitude,
+        camera_param_read,
+        camera_param_set,
+        camera_ftp_read,
+        camera_ftp_read_signed,
+        camera_track_rectangle,
+        camera_video_information,
+        sha256_compress
     ]
 );
 
-main!(library_benchmark_groups = codec);
+/// gungraun's harness (`cargo bench`, and gungraun-runner running this binary under
+/// Callgrind).
+mod harness {
+    use super::codec;
+
+    gungraun::main!(library_benchmark_groups = codec);
+
+    pub fn run() {
+        main();
+    }
+}
+
+/// The smoke run: every benchmark of the group once, natively, without Callgrind or
+/// gungraun-runner (its setup, the measured function and their checks), each named as it
+/// runs; a benchmark that panics fails the run.
+fn smoke() {
+    use gungraun::__internal::InternalBenchRunMode;
+    let mut count = 0;
+    for (group, (name, _, benches)) in codec::__BENCHES.iter().enumerate() {
+        for bench in 0..benches.len() {
+            println!("smoke: {name}");
+            codec::__run(InternalBenchRunMode::Default, group, bench, None);
+            count += 1;
+        }
+    }
+    let set = benchmarks::mavlink_stream().0;
+    println!(
+        "smoke: mavio decodes {} of the set's {} frames",
+        mavio_decodable(&set),
+        set.frames.len()
+    );
+    println!("smoke: {count} benchmarks ran once");
+}
+
+/// `cargo bench` (which passes `--bench`) and gungraun-runner (`--gungraun-run`) get
+/// gungraun's harness; anything else (`cargo test --benches`, `-- --smoke`) the smoke run.
+fn main() {
+    let measured = std::env::args()
+        .skip(1)
+        .any(|a| a == "--bench" || a == "--gungraun-run");
+    let smoke_asked = std::env::args().skip(1).any(|a| a == "--smoke");
+    if measured && !smoke_asked {
+        harness::run();
+    } else {
+        smoke();
+    }
+}
