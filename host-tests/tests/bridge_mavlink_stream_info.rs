@@ -44,7 +44,11 @@ fn uri(s: &Scenario<ApMavlink>) -> Option<String> {
 
 /// VIDEO_STREAM_INFORMATION messages the ground station got.
 fn informations(s: &Scenario<ApMavlink>) -> usize {
-    gcs(s).received.iter().filter(|(_, _, id)| *id == 269).count()
+    gcs(s)
+        .received
+        .iter()
+        .filter(|(_, _, id)| *id == 269)
+        .count()
 }
 
 #[test]
@@ -81,7 +85,11 @@ fn camera_information_carries_the_focal_length_the_pod_reports() {
         .as_ref()
         .and_then(|c| c.info.clone())
         .expect("camera information");
-    assert!((info.focal_length - 4.5).abs() < 1e-6, "{}", info.focal_length);
+    assert!(
+        (info.focal_length - 4.5).abs() < 1e-6,
+        "{}",
+        info.focal_length
+    );
     // A configured focal length wins over the pod's.
     let mut config = Config::for_fc(FcProtocol::Mavlink);
     config.lens.focal_length_min_um = 6_300;
@@ -92,5 +100,9 @@ fn camera_information_carries_the_focal_length_the_pod_reports() {
         .as_ref()
         .and_then(|c| c.info.clone())
         .expect("camera information");
-    assert!((info.focal_length - 6.3).abs() < 1e-6, "{}", info.focal_length);
+    assert!(
+        (info.focal_length - 6.3).abs() < 1e-6,
+        "{}",
+        info.focal_length
+    );
 }
