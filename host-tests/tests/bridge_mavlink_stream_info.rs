@@ -74,35 +74,28 @@ fn a_client_that_never_asks_gets_the_stream_address_and_its_changes() {
     assert_eq!(informations(&s), before + 1);
 }
 
+/// The focal length of the CAMERA_INFORMATION the ground station got, 10 s after the
+/// start with the bridge configured as `config`.
+fn focal_length_mm(config: Config) -> f32 {
+    let mut s = scenario(config, PodSimConfig::default());
+    s.run_until(10 * S);
+    gcs(&s)
+        .camera
+        .as_ref()
+        .and_then(|c| c.info.clone())
+        .expect("camera information")
+        .focal_length
+}
+
 #[test]
 fn camera_information_carries_the_focal_length_the_pod_reports() {
     // The simulated pod reports 4.50 mm at 1x in its 0x000005 (0.01 mm); the bridge's
     // lens configuration has no focal length.
-    let mut s = scenario(Config::for_fc(FcProtocol::Mavlink), PodSimConfig::default());
-    s.run_until(10 * S);
-    let info = gcs(&s)
-        .camera
-        .as_ref()
-        .and_then(|c| c.info.clone())
-        .expect("camera information");
-    assert!(
-        (info.focal_length - 4.5).abs() < 1e-6,
-        "{}",
-        info.focal_length
-    );
+    let f = focal_length_mm(Config::for_fc(FcProtocol::Mavlink));
+    assert!((f - 4.5).abs() < 1e-6, "{f}");
     // A configured focal length wins over the pod's.
     let mut config = Config::for_fc(FcProtocol::Mavlink);
     config.lens.focal_length_min_um = 6_300;
-    let mut s = scenario(config, PodSimConfig::default());
-    s.run_until(10 * S);
-    let info = gcs(&s)
-        .camera
-        .as_ref()
-        .and_then(|c| c.info.clone())
-        .expect("camera information");
-    assert!(
-        (info.focal_length - 6.3).abs() < 1e-6,
-        "{}",
-        info.focal_length
-    );
+    let f = focal_length_mm(config);
+    assert!((f - 6.3).abs() < 1e-6, "{f}");
 }

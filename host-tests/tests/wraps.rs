@@ -8,7 +8,7 @@
 
 mod engine_scenarios;
 
-use bridge_engine::{Config, Event, FcProtocol};
+use bridge_engine::Event;
 use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
