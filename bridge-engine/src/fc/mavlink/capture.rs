@@ -224,37 +224,54 @@ impl Captures {
             .map(|(_, i)| i)
     }
 
-    /// The slots in the order of their photos (empty ones last).
+    /// The slots in the order of their photos (then `SHOTS`, no slot, for the empty
+    /// ones). Selection, not a sort: eight slots, and no sort routine in the firmware.
     fn in_order(&self) -> [usize; SHOTS] {
-        let mut slots: [usize; SHOTS] = core::array::from_fn(|i| i);
-        slots.sort_unstable_by_key(|&i| {
-            self.shots
-                .get(i)
-                .copied()
-                .flatten()
-                .map_or(u64::MAX, |s| u64::from(s.order))
-        });
+        let mut slots = [SHOTS; SHOTS];
+        let mut last: Option<u32> = None;
+        for slot in &mut slots {
+            let next = self
+                .shots
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| s.map(|s| (s.order, i)))
+                .filter(|(order, _)| last.is_none_or(|l| *order > l))
+                .min();
+            if let Some((order, i)) = next {
+                *slot = i;
+                last = Some(order);
+            }
+        }
         slots
     }
 
     /// Requests given out of order (one named an instant before an older photo's still
     /// unreported: it came late, or went to a photo ACKed before an older one) move so
-    /// that the photos keep the order of the instants their requests named.
+    /// that the photos keep the order of the instants their requests named: the
+    /// earliest request goes to the oldest photo that has one, and so on.
     fn keep_request_order(&mut self) {
         let named = |s: &Option<Shot>| s.and_then(|s| s.asked.filter(|a| a.0.is_some()));
-        let mut asked: [Option<(Option<Instant>, Instant)>; SHOTS] = [None; SHOTS];
-        for (a, s) in asked.iter_mut().zip(&self.shots) {
-            *a = named(s);
-        }
-        // Instants first in time, the empty ones last.
-        asked.sort_unstable_by_key(|a| a.map_or((1, None), |a| (0, a.0)));
-        let mut requests = asked.into_iter().flatten();
+        let asked: [Option<(Option<Instant>, Instant)>; SHOTS] =
+            core::array::from_fn(|i| self.shots.get(i).and_then(named));
+        let mut given = [false; SHOTS];
         for i in self.in_order() {
-            if let Some(s) = self.shots.get_mut(i)
-                && named(s).is_some()
-                && let (Some(s), Some(a)) = (s.as_mut(), requests.next())
-            {
-                s.asked = Some(a);
+            if self.shots.get(i).and_then(named).is_none() {
+                continue;
+            }
+            let earliest = asked
+                .iter()
+                .zip(&given)
+                .enumerate()
+                .filter_map(|(j, (a, g))| a.filter(|_| !*g).map(|a| (a.0, j)))
+                .min();
+            let Some((_, j)) = earliest else {
+                return;
+            };
+            if let Some(g) = given.get_mut(j) {
+                *g = true;
+            }
+            if let (Some(Some(s)), Some(a)) = (self.shots.get_mut(i), asked.get(j).copied()) {
+                s.asked = a;
             }
         }
     }
