@@ -11,11 +11,15 @@ from mavsdk.plugins.camera import Camera
 from rig import CAMERA, GIMBAL_COMPONENT, Rig, attempt, wait_for
 
 RIG = None
+# One camera plugin for the module, as an app holds one (each plugin MAVSDK makes fetches
+# the camera definition again).
+CAMERA_PLUGIN = None
 
 
 def setUpModule():
-    global RIG
+    global RIG, CAMERA_PLUGIN
     RIG = Rig("ardupilot").start()
+    CAMERA_PLUGIN = Camera(RIG.system)
 
 
 def tearDownModule():
@@ -30,7 +34,7 @@ FOCAL_LENGTH_1X_MM = 4.5
 
 class ArduPilotCameraTest(unittest.TestCase):
     def test_the_stream_address_and_the_focal_length_through_mavsdks_api(self):
-        camera = Camera(RIG.system)
+        camera = CAMERA_PLUGIN
         # MAVSDK's own getters: the stream's address as the pod told it, and the focal
         # length the pod reports (the bridge's lens configuration has none).
         info = wait_for(
@@ -47,7 +51,7 @@ class ArduPilotCameraTest(unittest.TestCase):
         self.assertAlmostEqual(cams[0].focal_length_mm, FOCAL_LENGTH_1X_MM, places=3)
 
     def test_camera_listed_and_one_photo_one_capture(self):
-        camera = Camera(RIG.system)
+        camera = CAMERA_PLUGIN
         cams = wait_for(
             "camera 100 listed",
             lambda: [c for c in camera.camera_list().cameras if c.component_id == CAMERA],
