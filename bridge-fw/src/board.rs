@@ -246,7 +246,7 @@ pub fn init() -> Board {
             CountingMode::EdgeAlignedUp,
         );
         embassy_stm32::pac::TIM2.arr().write_value(u32::MAX);
-        let clock = crate::tim2::TickClock::new();
+        let clock = crate::tim2::read_tick_clock();
         let rtc_pin: PwmPin<'static, peripherals::TIM2, timer::Ch3> =
             PwmPin::new(p.PA2, OutputType::PushPull);
         (

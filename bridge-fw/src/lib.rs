@@ -55,6 +55,7 @@ mod log;
 mod pps;
 mod rtc_io;
 mod shared;
+mod tick_clock;
 mod watchdog;
 
 #[cfg(feature = "host")]
@@ -68,6 +69,7 @@ pub use log::{EventSink, log_task};
 pub use pps::{NoPps, PpsInput, pps_task};
 pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
+pub use tick_clock::TickClock;
 pub use watchdog::watchdog_task;
 
 pub use bridge_engine::{

@@ -5,14 +5,14 @@
 //!
 //! **Ticks and the engine's clock.** The engine's clock is embassy-time's (TIM15, 1 MHz,
 //! from the same 80 MHz as TIM2: the two never drift apart). At start-up both counters
-//! are read in one critical section; from then on a TIM2 count maps to the engine's
-//! clock in nanoseconds by that pair: `ns = us0·1000 + (ticks − ticks0)·12.5`. The pair is
-//! read a few cycles apart, so the mapping may be off by up to a microsecond; that
-//! offset is the same for every capture and every compare (both are converted by it), so
-//! it cancels between a PPS edge in and the RTC_IO edge out, and only the engine's
-//! millisecond-scale inputs (serial time stamps) see it. A 32-bit count wraps every
-//! 53.7 s: a capture or compare value is extended with the engine's clock, which is
-//! always within a microsecond of it.
+//! are read in one critical section ([`read_tick_clock`]); from then on a TIM2 count maps
+//! to the engine's clock in nanoseconds by that pair, and a capture or compare value is
+//! extended across the count's 32-bit wrap (every 53.7 s) with the engine's clock: that
+//! arithmetic is [`TickClock`]'s, in the library, tested on the host. The pair is read a
+//! few cycles apart, so the mapping may be off by up to a microsecond; that offset is the
+//! same for every capture and every compare (both are converted by it), so it cancels
+//! between a PPS edge in and the RTC_IO edge out, and only the engine's millisecond-scale
+//! inputs (serial time stamps) see it.
 //!
 //! **Capture.** embassy-stm32's [`InputCapture`] (its interrupt wakes the task; the value
 //! is the capture register's, latched by the edge itself). **Compare.** The registers
@@ -22,7 +22,7 @@
 //! counter past it) is forced at once and reported with the clock's instant.
 
 use bridge_engine::{Duration, Instant, InstantNs, Level, PinAction};
-use bridge_fw::{PpsInput, RtcIo};
+use bridge_fw::{PpsInput, RtcIo, TickClock};
 use embassy_stm32::pac;
 use embassy_stm32::pac::timer::vals::Ocm;
 use embassy_stm32::peripherals::TIM2;
@@ -30,67 +30,20 @@ use embassy_stm32::timer::Channel;
 use embassy_stm32::timer::input_capture::InputCapture;
 use embassy_stm32::timer::simple_pwm::PwmPin;
 
-/// TIM2 ticks per microsecond (80 MHz).
-const TICKS_PER_US: u64 = 80;
 /// How long before an edge the compare is armed: the engine keeps a planned edge as it is
 /// within its sync lead (2 ms), and a compare needs only its registers written.
 const ARM_LEAD: Duration = Duration::from_millis(1);
 /// CH3's index (0-based) in the PAC's per-channel fields, and its CCMR register.
 const CH3: usize = 2;
 
-/// The relation between TIM2's count and the engine's clock, read once.
-#[derive(Debug, Clone, Copy)]
-pub struct TickClock {
-    /// The engine's clock (µs) and TIM2's count, read together.
-    us0: u64,
-    ticks0: u32,
-}
-
-impl TickClock {
-    /// Reads both counters in one critical section. TIM2 must be counting at 80 MHz.
-    pub fn new() -> Self {
-        critical_section::with(|_| {
-            let ticks0 = pac::TIM2.cnt().read();
-            let us0 = embassy_time::Instant::now().as_micros();
-            TickClock { us0, ticks0 }
-        })
-    }
-
-    /// The count `ticks` (32 bits, within 26 s of `now_us`) extended to 64 bits, as
-    /// ticks since `ticks0`.
-    fn extend(&self, ticks: u32, now_us: u64) -> i64 {
-        let expected = now_us.saturating_sub(self.us0).saturating_mul(TICKS_PER_US);
-        // The low 32 bits of the expected count since ticks0; the difference to the
-        // value read is small and signed.
-        #[allow(clippy::cast_possible_truncation)]
-        let expected_low = (expected as u32).wrapping_add(self.ticks0);
-        #[allow(clippy::cast_possible_wrap)]
-        let delta = ticks.wrapping_sub(expected_low) as i32;
-        i64::try_from(expected)
-            .unwrap_or(i64::MAX)
-            .saturating_add(i64::from(delta))
-    }
-
-    /// The engine's instant (ns) of the count `ticks` read near `now_us`.
-    pub fn instant_of(&self, ticks: u32, now_us: u64) -> InstantNs {
-        // 12.5 ns a tick: ×25/2.
-        let since = self.extend(ticks, now_us).saturating_mul(25) / 2;
-        let ns = i64::try_from(self.us0.saturating_mul(1_000))
-            .unwrap_or(i64::MAX)
-            .saturating_add(since);
-        InstantNs::from_nanos(u64::try_from(ns).unwrap_or(0))
-    }
-
-    /// The count (low 32 bits) at the engine's instant `at`, to the nearest tick.
-    pub fn ticks_at(&self, at: InstantNs) -> u32 {
-        let since_ns = i128::from(at.as_nanos()) - i128::from(self.us0) * 1_000;
-        // ×2/25, rounded.
-        let ticks = (since_ns * 2 + 12).div_euclid(25);
-        // The low 32 bits: wrapping is the counter's own.
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-        let low = ticks as u32;
-        low.wrapping_add(self.ticks0)
-    }
+/// Reads TIM2's count and the engine's clock in one critical section. TIM2 must be
+/// counting at 80 MHz.
+pub fn read_tick_clock() -> TickClock {
+    critical_section::with(|_| {
+        let ticks0 = pac::TIM2.cnt().read();
+        let us0 = embassy_time::Instant::now().as_micros();
+        TickClock::from_reading(us0, ticks0)
+    })
 }
 
 /// The PPS input: TIM2 CH1's capture of the configured edge.

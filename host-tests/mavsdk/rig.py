@@ -168,15 +168,19 @@ class Rig:
                 f"--- bridge ---\n{self.bridge.tail()}")
 
     def stop(self):
-        for p in (self.bridge, self.sim):
-            if p is not None:
-                p.stop()
+        # The client first, then the bridge and the autopilot: MAVSDK 4.1 was seen to die
+        # by SIGSEGV in one of its own threads when the system it holds cameras of went
+        # away under it (the bridge stopped first, two Camera plugins of the system
+        # alive; docs/src/testing.md, "Real clients").
         if self.mavsdk is not None:
             self.mavsdk.destroy()
             self.mavsdk = None
         if self.mav is not None:
             self.mav.close()
             self.mav = None
+        for p in (self.bridge, self.sim):
+            if p is not None:
+                p.stop()
 
     def recv(self, msg_type, predicate=lambda m: True, timeout_s=10):
         """pymavlink: the next message of `msg_type` that `predicate` accepts (bounded)."""

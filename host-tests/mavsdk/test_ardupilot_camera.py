@@ -1,20 +1,25 @@
 """MAVSDK's camera plugin through the simulated ArduPilot (Copter, `MNT1_TYPE` 6 and
-`CAM1_TYPE` 6, its GCS link on UDP, routing as ArduPilot routes): the camera listed and
-a photo's capture information (docs/src/testing.md)."""
+`CAM1_TYPE` 6, its GCS link on UDP, routing as ArduPilot routes): the camera listed, its
+focal length, the stream's RTSP address, and a photo's capture information
+(docs/src/testing.md)."""
 
 import threading
 import unittest
 
 from mavsdk.plugins.camera import Camera
 
-from rig import CAMERA, GIMBAL_COMPONENT, Rig, wait_for
+from rig import CAMERA, GIMBAL_COMPONENT, Rig, attempt, wait_for
 
 RIG = None
+# One camera plugin for the module, as an app holds one (each plugin MAVSDK makes fetches
+# the camera definition again).
+CAMERA_PLUGIN = None
 
 
 def setUpModule():
-    global RIG
+    global RIG, CAMERA_PLUGIN
     RIG = Rig("ardupilot").start()
+    CAMERA_PLUGIN = Camera(RIG.system)
 
 
 def tearDownModule():
@@ -22,9 +27,31 @@ def tearDownModule():
         RIG.stop()
 
 
+# The simulated pod's address (0x000312) and its focal length at 1x (0x000005, 0.01 mm).
+STREAM_URI = "rtsp://192.168.144.64:558/live/single"
+FOCAL_LENGTH_1X_MM = 4.5
+
+
 class ArduPilotCameraTest(unittest.TestCase):
+    def test_the_stream_address_and_the_focal_length_through_mavsdks_api(self):
+        camera = CAMERA_PLUGIN
+        # MAVSDK's own getters: the stream's address as the pod told it, and the focal
+        # length the pod reports (the bridge's lens configuration has none).
+        info = wait_for(
+            "the video stream information with its address",
+            lambda: (lambda i: i if i is not None and i.settings.uri else None)(
+                attempt(lambda: camera.get_video_stream_info(CAMERA))),
+            20)
+        self.assertEqual(info.settings.uri, STREAM_URI)
+        self.assertEqual(info.stream_id, 1)
+        cams = wait_for(
+            "camera 100 listed",
+            lambda: [c for c in camera.camera_list().cameras if c.component_id == CAMERA],
+            15)
+        self.assertAlmostEqual(cams[0].focal_length_mm, FOCAL_LENGTH_1X_MM, places=3)
+
     def test_camera_listed_and_one_photo_one_capture(self):
-        camera = Camera(RIG.system)
+        camera = CAMERA_PLUGIN
         cams = wait_for(
             "camera 100 listed",
             lambda: [c for c in camera.camera_list().cameras if c.component_id == CAMERA],

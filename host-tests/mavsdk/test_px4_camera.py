@@ -46,8 +46,9 @@ class Px4CameraTest(unittest.TestCase):
         (info,) = camera_listed(self.camera)
         self.assertEqual(info.vendor_name, "K40T")
         self.assertEqual(info.model_name, "K40T four-sensor pod")
-        # Unknown lens facts pass through as NaN / 0, as MAVSDK copies them.
-        self.assertTrue(math.isnan(info.focal_length_mm) or info.focal_length_mm == 0)
+        # The focal length the pod reports (0x000005: 4.50 mm at 1x), as MAVSDK copies
+        # it; the bridge's lens configuration has none.
+        self.assertAlmostEqual(info.focal_length_mm, 4.5, places=3)
         self.assertTrue({1, CAMERA, GIMBAL_COMPONENT} <= RIG.components(), RIG.components())
         # Only the camera is a camera: the gimbal NACKs camera requests.
         self.assertEqual(len(self.camera.camera_list().cameras), 1)

@@ -149,7 +149,14 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     }
     assert!(!f.contains(CameraCapFlags::CAMERA_CAP_FLAGS_HAS_TRACKING_GEO_STATUS));
     assert_eq!((cam.resolution_h, cam.resolution_v), (4000, 3000));
-    assert!(cam.focal_length.is_nan() && cam.sensor_size_h.is_nan());
+    // The focal length the pod reports (0x000005: 4.50 mm at 1x); no sensor size
+    // configured: unknown.
+    assert!(
+        (cam.focal_length - 4.5).abs() < 1e-6,
+        "{}",
+        cam.focal_length
+    );
+    assert!(cam.sensor_size_h.is_nan());
     assert_eq!(cam.firmware_version.to_le_bytes(), [2, 0, 1, 0]);
     assert_eq!(&cam.cam_definition_uri[..19], b"mftp://k40t.xml.xz\0");
     assert_eq!(cam.cam_definition_version, 1);

@@ -169,8 +169,11 @@ fn replies_are_paced_and_bounded_on_the_fc_link() {
     for w in data.windows(2) {
         assert!(w[1] - w[0] >= 30 * MS, "{} us apart", w[1] - w[0]);
     }
+    // Paced 34.6 ms apart; each read at the autopilot's loop, up to ~5 ms late, which
+    // moves the mean of 8 by up to 0.6 ms (measured 33.8 to 34.4 ms as the phase of the
+    // device's other frames moves; unpaced replies would be 23 ms apart).
     let mean = (data[data.len() - 1] - data[0]) / (data.len() as u64 - 1);
-    assert!(mean >= 34 * MS, "{mean} us apart on average");
+    assert!(mean >= 33 * MS, "{mean} us apart on average");
     // The device's own traffic goes on: the attitude status at 10 Hz, nothing dropped.
     let (from, to) = (t[0], t[t.len() - 1] + 100 * MS);
     let statuses =

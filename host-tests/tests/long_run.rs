@@ -3,14 +3,17 @@
 //! through the engine-level scenario (simulated lines and clocks).
 //!
 //! Each four-hour cycle: the autopilot and the pod power on, the aircraft flies for
-//! three minutes (the gimbal turning, a photo every 20 s), one fault in turn (the FC cable
-//! pulled for 5 s, the pod rebooted, the FC silent for 30 s, bit errors on both lines for
-//! 30 s), then both power off for the rest of the cycle while the bridge runs on alone
-//! (the ground hours cost nothing to simulate; the bridge's clock, counters and state
-//! live through them). Checked: every time sync the bridge sent within 20 ms of the FC's
-//! true UTC at its edge, every geotag the pod got OK where the aircraft was, most photos
-//! geotagged, no time-out of a request nor a dropped event, the counters sane at the end.
-//! The wall time and the simulated time are printed.
+//! three minutes (the gimbal turning, a photo every 20 s), one fault in turn at its third
+//! photo (the FC cable pulled for 5 s, the pod rebooted, the FC silent for 30 s, bit
+//! errors on both lines for the flight's last 80 s), then both power off for the rest of
+//! the cycle while the bridge runs on alone (the ground hours cost nothing to simulate;
+//! the bridge's clock, counters and state live through them). Checked, per side against
+//! bounds about 3 times the measured worst case: every time sync the bridge sent within
+//! the side's bound of the FC's true UTC at its edge; every geotag the pod got OK where
+//! the aircraft was; at most the side's bound of photos not geotagged; no time-out of a
+//! request (a command to the pod unACKed after its tries, a GPS request of the pod
+//! unanswered) outside a fault; no dropped event; the counters sane at the end. The wall
+//! time, the simulated time and the figures are printed.
 
 mod engine_scenarios;
 
@@ -39,8 +42,21 @@ const DAYS: u64 = 7;
 const CYCLE: u64 = 4 * HOUR;
 /// Each flight's length.
 const FLIGHT: u64 = 180 * S;
-/// A time sync this far from the FC's true UTC is wrong.
-const SYNC_BOUND_US: i64 = 20_000;
+/// A fault starts this far into each flight (its third photo).
+const FAULT_AT: u64 = 80 * S;
+/// A request may still time out this long after its fault ended (a photo's ACK wait, a
+/// GPS request's time-out).
+const FAULT_TAIL: u64 = 5 * S;
+
+/// A side's bounds, about 3 times its measured worst case (the runs are deterministic:
+/// the figures are the same on every run).
+#[derive(Debug, Clone, Copy)]
+struct Bounds {
+    /// A time sync this far from the FC's true UTC is wrong.
+    sync_us: i64,
+    /// Photos not geotagged (a fault's) in the week, at most.
+    missed_geotags: usize,
+}
 
 /// What one long run found.
 #[derive(Debug, Default)]
@@ -49,9 +65,13 @@ struct Found {
     worst_sync_us: i64,
     photos: usize,
     geotags_ok: usize,
+    /// Commands to the pod that got no ACK after all their tries (`Event::PodTimeout`).
+    pod_timeouts: usize,
+    /// The pod's GPS requests that timed out unanswered.
+    gps_unanswered: usize,
 }
 
-fn long_run<F: Pilot>(label: &str, seed: u64) -> Found {
+fn long_run<F: Pilot>(label: &str, seed: u64, bounds: Bounds) -> Found {
     let wall = WallClock::now();
     let mut s = scenario(F::with_seed(seed), PodSimConfig::default(), 18);
     let mut found = Found::default();
@@ -86,7 +106,7 @@ fn long_run<F: Pilot>(label: &str, seed: u64) -> Found {
         // bridge still writes its MAVLink frames into it: they cost the run's time only).
         s.pull_fc_cable(off);
         s.run_until(start + CYCLE);
-        check_flight(&s, &mut found, label, cycle);
+        check_flight(&s, &mut found, label, cycle, bounds);
         // The simulators' and the scenario's records of the cycle are checked: keep
         // the run's memory flat.
         s.events.clear();
@@ -94,12 +114,14 @@ fn long_run<F: Pilot>(label: &str, seed: u64) -> Found {
     }
     let c = s.engine.counters();
     println!(
-        "{label}: {DAYS} days simulated in {:.1} s of wall time; {} syncs (worst {} us), {}/{} photos geotagged; {c:?}",
+        "{label}: {DAYS} days simulated in {:.1} s of wall time; {} syncs (worst {} us), {}/{} photos geotagged; {} pod time-outs, {} GPS requests unanswered, all in faults; {c:?}",
         wall.elapsed().as_secs_f64(),
         found.syncs,
         found.worst_sync_us,
         found.geotags_ok,
-        found.photos
+        found.photos,
+        found.pod_timeouts,
+        found.gps_unanswered
     );
     // Counters sane: every kind of traffic counted, nothing saturated, nothing lost.
     for n in [
@@ -117,7 +139,10 @@ fn long_run<F: Pilot>(label: &str, seed: u64) -> Found {
         // answers the pod itself.
         assert!(c.geotags as usize >= found.geotags_ok, "{c:?}");
     }
-    assert!(found.geotags_ok * 10 >= found.photos * 8, "{found:?}");
+    assert!(
+        found.photos - found.geotags_ok <= bounds.missed_geotags,
+        "{found:?}, {bounds:?}"
+    );
     assert!(found.syncs >= 42 * 8, "{found:?}");
     found
 }
@@ -138,21 +163,59 @@ fn fault<F: Pilot>(s: &mut Scenario<F>, cycle: u64) {
     }
 }
 
+/// How long the cycle's fault lasts ([`fault`]).
+fn fault_length(cycle: u64) -> u64 {
+    match cycle % 4 {
+        0 => 5 * S,
+        1 => 3 * S,
+        2 => 30 * S,
+        // From the third photo to the flight's end.
+        _ => 80 * S,
+    }
+}
+
 /// The cycle's time syncs (every one the bridge sent, against the FC's true UTC at its
-/// edge) and geotags (every OK one where the aircraft was at the shot).
-fn check_flight<F: Pilot>(s: &Scenario<F>, found: &mut Found, label: &str, cycle: u64) {
-    for (_, e) in &s.events {
+/// edge), geotags (every OK one where the aircraft was at the shot) and time-outs (each
+/// within the cycle's fault).
+fn check_flight<F: Pilot>(
+    s: &Scenario<F>,
+    found: &mut Found,
+    label: &str,
+    cycle: u64,
+    bounds: Bounds,
+) {
+    let fault_from = cycle * CYCLE + FAULT_AT;
+    let in_fault =
+        |t: u64| (fault_from..=fault_from + fault_length(cycle) + FAULT_TAIL).contains(&t);
+    for (t, e) in &s.events {
+        if let Event::PodTimeout { base } = *e {
+            assert!(
+                in_fault(*t),
+                "{label}, cycle {cycle}: 0x{base:04x} timed out at {t} us, outside the fault"
+            );
+            found.pod_timeouts += 1;
+        }
         let Event::TimeSync { edge, utc_ms, .. } = *e else {
             continue;
         };
         let at = s.true_of(edge);
         let err = i64::try_from(utc_ms * 1000).unwrap() - s.fc.true_utc_us(at) as i64;
         assert!(
-            err.abs() < SYNC_BOUND_US,
+            err.abs() < bounds.sync_us,
             "{label}, cycle {cycle}: a sync {err} us off at {at} us"
         );
         found.syncs += 1;
         found.worst_sync_us = found.worst_sync_us.max(err.abs());
+    }
+    let asked = s.pod.gps_requests();
+    let first = asked.partition_point(|r| r.at_us < cycle * CYCLE);
+    for r in asked[first..].iter().filter(|r| r.timed_out) {
+        assert!(
+            in_fault(r.at_us),
+            "{label}, cycle {cycle}: a GPS request at {} us unanswered, outside the fault",
+            r.at_us
+        );
+        found.gps_unanswered += 1;
     }
     let photos = s.pod.photos();
     let from = photos.partition_point(|p| p.at_us < cycle * CYCLE);
@@ -180,27 +243,67 @@ fn check_flight<F: Pilot>(s: &Scenario<F>, found: &mut Found, label: &str, cycle
     }
 }
 
+// Measured (deterministic runs): worst sync 5.4 ms, 1 photo of 202 not geotagged.
 #[test]
 fn seven_days_siyi() {
-    long_run::<ApSiyi>("SIYI", 1);
+    long_run::<ApSiyi>(
+        "SIYI",
+        1,
+        Bounds {
+            sync_us: 16_000,
+            missed_geotags: 3,
+        },
+    );
 }
 
+// Measured: worst sync 2.0 ms, 1 of 203 not geotagged.
 #[test]
 fn seven_days_viewlink() {
-    long_run::<ApViewpro>("Viewlink", 2);
+    long_run::<ApViewpro>(
+        "Viewlink",
+        2,
+        Bounds {
+            sync_us: 6_000,
+            missed_geotags: 3,
+        },
+    );
 }
 
+// Measured: worst sync 7.0 ms, 5 of 199 not geotagged.
 #[test]
 fn seven_days_gcu() {
-    long_run::<ApXfRobot>("GCU", 3);
+    long_run::<ApXfRobot>(
+        "GCU",
+        3,
+        Bounds {
+            sync_us: 21_000,
+            missed_geotags: 15,
+        },
+    );
 }
 
+// Measured: worst sync 0.74 ms, 6 of 202 not geotagged.
 #[test]
 fn seven_days_k40t() {
-    long_run::<FcK40t>("K40T", 4);
+    long_run::<FcK40t>(
+        "K40T",
+        4,
+        Bounds {
+            sync_us: 2_200,
+            missed_geotags: 18,
+        },
+    );
 }
 
+// Measured: worst sync 0.28 ms, 1 of 204 not geotagged.
 #[test]
 fn seven_days_mavlink() {
-    long_run::<ApMavlink>("MAVLink", 5);
+    long_run::<ApMavlink>(
+        "MAVLink",
+        5,
+        Bounds {
+            sync_us: 850,
+            missed_geotags: 3,
+        },
+    );
 }

@@ -8,7 +8,7 @@
 
 mod engine_scenarios;
 
-use bridge_engine::{Config, Event, FcProtocol};
+use bridge_engine::Event;
 use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};
 use gimbal::sim::ap_siyi::{ApSiyi, ApSiyiConfig};
@@ -262,20 +262,46 @@ fn a_utc_step_and_a_leap_second_from_the_autopilot() {
     }
 }
 
-/// The engine's counters after a wrap scenario are sane: a short check that the
-/// K40T side's configuration is the default here (no guarded request refused).
+/// An ordinary flight through every MAVLink wrap at once refuses nothing: the bridge's
+/// millisecond count and ArduPilot's `time_boot_ms` pass 2^32 ms, the pod's sequence
+/// numbers pass 255, with photos and time syncs throughout. Nothing the autopilot or the
+/// pod sends is refused, declined or unanswered (the default configuration: no signing,
+/// every K40T request allowed).
 #[test]
 fn no_refusal_in_ordinary_flights() {
-    let mut s = scenario(
-        ApMavlink::new(ApMavlinkConfig::default()),
-        PodSimConfig::default(),
-        0,
-    );
-    s.run_until(40 * S);
+    let ap = ApMavlinkConfig {
+        boot_us: WRAP_US - 50 * S,
+        ..ApMavlinkConfig::default()
+    };
+    let pod = PodSimConfig {
+        seq_start: 250,
+        ..PodSimConfig::default()
+    };
+    let mut s = scenario(ApMavlink::new(ap), pod, 0);
+    s.bridge_start_us = WRAP_US - 40 * S;
+    s.run_until(30 * S);
+    photo_geotagged(&mut s);
+    s.run_until(80 * S);
+    // The wraps happened: the bridge's count is 40 s past 2^32 ms.
+    let after = s.fc.status.as_ref().expect("a status").data.time_boot_ms;
+    assert!((39_000..41_000).contains(&after), "{after}");
+    photo_geotagged(&mut s);
+    // Measured 43 us at worst, bound 130 us.
+    syncs_right(&s, 0, 130, 5);
     let c = s.engine.counters();
     assert_eq!(
         (c.commands_refused, c.signature_failures, c.unsigned_refused),
         (0, 0, 0)
     );
-    let _ = Config::for_fc(FcProtocol::Mavlink);
+    let refused = s.events_where(|e| {
+        matches!(
+            e,
+            Event::Refused { .. }
+                | Event::Declined { .. }
+                | Event::PodRefused { .. }
+                | Event::PodTimeout { .. }
+        )
+    });
+    assert!(refused.is_empty(), "{refused:?}");
+    assert_eq!(s.fc.health_log().len(), 1, "{:?}", s.fc.health_log());
 }

@@ -82,6 +82,9 @@ pub struct QgcConfig {
     pub client: ClientStyle,
     /// Burst replies of the definition's download lost on the way (by number, from 0).
     pub drop_burst_replies: Vec<usize>,
+    /// It asks for VIDEO_STREAM_INFORMATION (QGroundControl); MAVSDK 4.1 never does, and
+    /// takes what comes.
+    pub asks_for_streams: bool,
 }
 
 impl Default for QgcConfig {
@@ -93,6 +96,7 @@ impl Default for QgcConfig {
             command_tries: 3,
             client: ClientStyle::Qgc,
             drop_burst_replies: Vec::new(),
+            asks_for_streams: true,
         }
     }
 }
@@ -709,7 +713,7 @@ impl Qgc {
             return;
         }
         for slot in 0..4 {
-            if now < c.next_try[slot] {
+            if now < c.next_try[slot] || (slot == 3 && !self.config.asks_for_streams) {
                 continue;
             }
             let alt = c.tries[slot] % 2 == 1;

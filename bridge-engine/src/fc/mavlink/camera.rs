@@ -1,11 +1,14 @@
 //! The camera (component 100): Camera Protocol v2 as ArduPilot (`CAM1_TYPE` 6) and
 //! QGroundControl use it.
 //!
-//! - **CAMERA_INFORMATION**: a "basic" camera (no definition file): photo, video, modes
-//!   (the K40T has a photo and a video mode, 0x000300, and its document says it ignores
-//!   photos in video mode and recording in photo mode), basic zoom and focus; no
-//!   video-stream information (the bridge does not know the pod's stream address). Sent
-//!   once the pod is known, with its camera version (0x000317).
+//! - **CAMERA_INFORMATION** on request: photo, video, modes (the K40T has a photo and a
+//!   video mode, 0x000300, and its document says it ignores photos in video mode and
+//!   recording in photo mode), basic zoom and focus, the camera definition, the sensors'
+//!   flags; its camera version (0x000317); the focal length configured
+//!   (`lens.focal_length_min_um`), else the one the pod reports in its visible-light
+//!   status (0x000005, 0.01 mm: the focal length at the zoom of the moment), else NaN.
+//!   A VIDEO_STREAM_INFORMATION follows it while the stream's address is known (MAVSDK
+//!   reads the camera's information and never asks for the stream's).
 //! - **Commands** and what reaches the pod: IMAGE_START_CAPTURE single (0x000302; a
 //!   repeated capture sequence number, param4, is a retransmission: ACKed, not shot
 //!   again) or every `param2` seconds (at least 1 s) `param3` times (0: until
@@ -476,10 +479,19 @@ impl MavlinkSide {
             }
         };
         let px = |v: u32| u16::try_from(v).unwrap_or(0);
+        // The configured focal length, else the one the pod reports (0x000005, 0.01 mm).
+        let reported = ctx
+            .pod()
+            .visible
+            .map_or(0, |v| u32::from(v.focal_length_10um).saturating_mul(10));
+        let focal_length_um = match lens.focal_length_min_um {
+            0 => reported,
+            configured => configured,
+        };
         let msg = MavMessage::CAMERA_INFORMATION(CAMERA_INFORMATION_DATA {
             time_boot_ms: boot_ms(ctx),
             firmware_version: version(ctx.pod().camera_version),
-            focal_length: mm(lens.focal_length_min_um),
+            focal_length: mm(focal_length_um),
             sensor_size_h: mm(lens.sensor_width_um),
             sensor_size_v: mm(lens.sensor_height_um),
             flags,
@@ -494,6 +506,9 @@ impl MavlinkSide {
             camera_device_id: 0,
         });
         self.send(ctx, Comp::Camera, &msg);
+        // The stream's address follows, asked or not: MAVSDK (4.1) reads the camera's
+        // information and never asks for its stream's.
+        self.video_information(ctx);
     }
 
     fn camera_settings(&mut self, ctx: &mut Ctx<'_>) {

@@ -24,6 +24,18 @@
 //! either). The request's "lens
 //! enable" byte is not used: the document does not say what it means for a request.
 //!
+//! **Photo order.** Each photo gets its place in the order the photos were taken when it
+//! becomes known (a command in the order the commands went, a series' photo when its
+//! request comes), and everything is matched by that order, never by where a photo is
+//! kept: the pod driver reports the ACK of the newest photo command only (a newer command
+//! supersedes an older one's, whose ACK is then absorbed), so an ACK or a time-out is the
+//! newest command's; a request goes to the oldest photo it can be of; and a request that
+//! names an instant before a photo still unreported came out of order and takes that
+//! photo's place (the photos keep the order of the instants their requests named).
+//! Photos are reported in that order: a photo whose geotag is answered waits for the
+//! older ones still in flight (at most [`SHOT_WAIT`]); a command the pod refused or never
+//! answered, which is no photo, is reported at once.
+//!
 //! **Report**, once the photo's geotag has been answered (a fix at or after its instant
 //! came, or the geotagger's wait is over): `capture_result` 1 with the photo's UTC (the
 //! instant the request named) and the geotag's position; 0 with no position when the
@@ -44,14 +56,19 @@ use protocol_core::mavlink::dialect::{CAMERA_IMAGE_CAPTURED_DATA, CharArray, Mav
 use super::gimbal::{PITCH_SHOWN, boot_ms};
 use super::{Comp, MavlinkSide, math};
 
-/// Photos in flight at once (ACK, request or geotag pending).
-const SHOTS: usize = 4;
+/// Photos in flight at once (ACK, request or geotag pending, or waiting for an older
+/// photo): photos commanded 150 ms apart that the pod takes 400 ms later, each waiting
+/// for the requests of the commands before its instant, keep six in flight.
+const SHOTS: usize = 8;
 /// A photo the pod ACKed asks its position within this, or it is reported without.
 const GPS_WAIT: Duration = Duration::from_secs(1);
 /// Beyond the engine's wait for the next fix (250 ms): the geotag has been answered.
 const GEOTAG_WAIT: Duration = Duration::from_millis(300);
 /// A photo whose ACK never comes is given up after this.
 const SHOT_WAIT: Duration = Duration::from_secs(2);
+/// A photo whose request named an instant after another photo's command, whose request
+/// has not come yet, waits this long for it (that request may name an earlier instant).
+const REORDER_WAIT: Duration = Duration::from_secs(1);
 /// A request no photo claimed is kept this long, for a series status that may follow.
 const HELD: Duration = Duration::from_millis(500);
 /// A series with no request for this long (beyond its time-lapse period) has ended.
@@ -64,9 +81,11 @@ const BEFORE_COMMAND: Duration = Duration::from_millis(10);
 /// A photo on its way.
 #[derive(Debug, Clone, Copy)]
 struct Shot {
+    /// Its place in the order the photos were taken.
+    order: u32,
     /// When the photo command went, or (a series' photo) its request came.
     since: Instant,
-    /// The pod's ACK: when, and OK (a series' photo: its request).
+    /// The pod's ACK of its command: when, and OK (a series' photo: its request).
     acked: Option<(Instant, bool)>,
     /// The GPS request: the instant it named (`None`: no UTC to map it) and when it came.
     asked: Option<(Option<Instant>, Instant)>,
@@ -96,6 +115,10 @@ pub(super) struct Captures {
     series_until: Option<Instant>,
     /// A request no photo claimed: the instant it named, when it came.
     held: Option<(Option<Instant>, Instant)>,
+    /// The next photo's place in the order.
+    next_order: u32,
+    /// The newest photo command (its order) while its ACK is awaited.
+    commanded: Option<u32>,
     /// Photos reported (the next image index).
     pub(super) image_count: i32,
     /// The last report.
@@ -110,63 +133,192 @@ impl Captures {
         self.shots.iter().any(Option::is_some)
     }
 
-    /// When the captures have work.
+    /// When the captures have work: the oldest photo's deadline (every other photo
+    /// waits for it), and the deadlines of the commands not yet known to be photos (a
+    /// command that made none is reported at once).
     pub(super) fn poll_at(&self) -> Option<Instant> {
+        let first = self.oldest(|_| true);
         let shots = self
             .shots
             .iter()
-            .flatten()
-            .map(|s| match (s.acked, s.asked) {
-                (_, Some((_, when))) => when.saturating_add(GEOTAG_WAIT),
-                (Some((at, _)), None) => at.saturating_add(GPS_WAIT),
-                (None, None) => s.since.saturating_add(SHOT_WAIT),
-            });
+            .enumerate()
+            .filter_map(|(i, s)| s.map(|s| (i, s)))
+            .filter(|(i, s)| Some(*i) == first || !is_photo(s))
+            .filter_map(|(_, s)| self.deadline(&s));
         let held = self.held.map(|(_, when)| when.saturating_add(HELD));
         shots.chain(held).chain(self.series_until).min()
     }
 
-    /// Puts a shot in a free slot (all taken: the oldest is reported first by the caller).
-    fn put(&mut self, shot: Shot) {
-        if let Some(slot) = self.shots.iter_mut().find(|s| s.is_none()) {
-            *slot = Some(shot);
+    /// When photo `s` is done at the latest (`None`: now).
+    fn deadline(&self, s: &Shot) -> Option<Instant> {
+        match (s.acked, s.asked) {
+            (_, Some((Some(at), when))) => {
+                Some(when.saturating_add(if self.may_precede(s.order, at) {
+                    REORDER_WAIT
+                } else {
+                    GEOTAG_WAIT
+                }))
+            }
+            (_, Some((None, _))) | (Some((_, false)), None) => None,
+            (Some((at, true)), None) => Some(at.saturating_add(GPS_WAIT)),
+            (None, None) => Some(s.since.saturating_add(SHOT_WAIT)),
         }
     }
+
+    /// Photo `s` is done at `now` (the newest fix at `fix`): its geotag answered (a fix
+    /// at or after its instant, and no other request can come before it), or its
+    /// deadline passed.
+    fn done(&self, s: &Shot, now: Instant, fix: Option<Instant>) -> bool {
+        let answered = match s.asked {
+            Some((Some(at), _)) => fix.is_some_and(|f| f >= at) && !self.may_precede(s.order, at),
+            _ => false,
+        };
+        answered || self.deadline(s).is_none_or(|d| now >= d)
+    }
+
+    /// Another photo's request may still come and name an instant before `at`: a photo
+    /// command went before `at` and its request has not come, or a commanded burst has
+    /// photos to come.
+    fn may_precede(&self, order: u32, at: Instant) -> bool {
+        self.burst_left > 0
+            || self.shots.iter().flatten().any(|o| {
+                o.order != order
+                    && o.asked.is_none()
+                    && o.acked.is_none_or(|a| a.1)
+                    && o.since <= at.saturating_add(BEFORE_COMMAND)
+            })
+    }
+
+    /// Puts a shot, next in the order, in a free slot (all taken: the oldest is reported
+    /// first by the caller); returns its slot.
+    fn put(&mut self, since: Instant, acked: Option<(Instant, bool)>) -> Option<usize> {
+        let order = self.next_order;
+        self.next_order = order.wrapping_add(1);
+        let i = self.shots.iter().position(Option::is_none)?;
+        if let Some(slot) = self.shots.get_mut(i) {
+            *slot = Some(Shot {
+                order,
+                since,
+                acked,
+                asked: None,
+                failed: false,
+            });
+        }
+        Some(i)
+    }
+
+    /// The slot of the photo with place `order`.
+    fn slot_of(&self, order: u32) -> Option<usize> {
+        self.shots
+            .iter()
+            .position(|s| s.is_some_and(|s| s.order == order))
+    }
+
+    /// The slot of the oldest photo (first in the order) that `f` accepts.
+    fn oldest(&self, f: impl Fn(&Shot) -> bool) -> Option<usize> {
+        self.shots
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.filter(|s| f(s)).map(|s| (s.order, i)))
+            .min()
+            .map(|(_, i)| i)
+    }
+
+    /// The slots in the order of their photos (then `SHOTS`, no slot, for the empty
+    /// ones). Selection, not a sort: eight slots, and no sort routine in the firmware.
+    fn in_order(&self) -> [usize; SHOTS] {
+        let mut slots = [SHOTS; SHOTS];
+        let mut last: Option<u32> = None;
+        for slot in &mut slots {
+            let next = self
+                .shots
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| s.map(|s| (s.order, i)))
+                .filter(|(order, _)| last.is_none_or(|l| *order > l))
+                .min();
+            if let Some((order, i)) = next {
+                *slot = i;
+                last = Some(order);
+            }
+        }
+        slots
+    }
+
+    /// Requests given out of order (one named an instant before an older photo's still
+    /// unreported: it came late, or went to a photo ACKed before an older one) move so
+    /// that the photos keep the order of the instants their requests named: the
+    /// earliest request goes to the oldest photo that has one, and so on.
+    fn keep_request_order(&mut self) {
+        let named = |s: &Option<Shot>| s.and_then(|s| s.asked.filter(|a| a.0.is_some()));
+        let asked: [Option<(Option<Instant>, Instant)>; SHOTS] =
+            core::array::from_fn(|i| self.shots.get(i).and_then(named));
+        let mut given = [false; SHOTS];
+        for i in self.in_order() {
+            if self.shots.get(i).and_then(named).is_none() {
+                continue;
+            }
+            let earliest = asked
+                .iter()
+                .zip(&given)
+                .enumerate()
+                .filter_map(|(j, (a, g))| a.filter(|_| !*g).map(|a| (a.0, j)))
+                .min();
+            let Some((_, j)) = earliest else {
+                return;
+            };
+            if let Some(g) = given.get_mut(j) {
+                *g = true;
+            }
+            if let (Some(Some(s)), Some(a)) = (self.shots.get_mut(i), asked.get(j).copied()) {
+                s.asked = a;
+            }
+        }
+    }
+}
+
+/// The photo was taken: the pod ACKed its command, or asked for its position, and did not
+/// report it failed.
+fn is_photo(s: &Shot) -> bool {
+    (s.asked.is_some() || s.acked.is_some_and(|a| a.1)) && !s.failed
 }
 
 impl MavlinkSide {
     /// A photo command went to the pod.
     pub(super) fn capture_commanded(&mut self, ctx: &mut Ctx<'_>) {
         self.make_room(ctx);
-        self.camera.captures.put(Shot {
-            since: ctx.now,
-            acked: None,
-            asked: None,
-            failed: false,
-        });
+        let c = &mut self.camera.captures;
+        let order = c.next_order;
+        c.commanded = c.put(ctx.now, None).map(|_| order);
     }
 
     /// Every slot taken: the oldest is reported with what it has.
     fn make_room(&mut self, ctx: &mut Ctx<'_>) {
-        if self.camera.captures.shots.iter().all(Option::is_some) {
-            self.finish_shot(ctx, 0);
+        let c = &self.camera.captures;
+        if c.shots.iter().all(Option::is_some)
+            && let Some(i) = c.oldest(|_| true)
+        {
+            self.finish_shot(ctx, i);
         }
     }
 
-    /// The pod answered a photo command (or never did: `ok` false).
+    /// The pod answered the newest photo command (or never did: `ok` false).
     pub(super) fn capture_acked(&mut self, ctx: &mut Ctx<'_>, ok: bool) {
         let c = &mut self.camera.captures;
-        let Some(i) = c
-            .shots
-            .iter()
-            .position(|s| s.is_some_and(|s| s.acked.is_none()))
-        else {
+        let Some(i) = c.commanded.take().and_then(|o| c.slot_of(o)) else {
+            // Reported already (its request came and its geotag was answered).
             return;
         };
-        if let Some(Some(s)) = c.shots.get_mut(i) {
-            s.acked = Some((ctx.now, ok));
+        let Some(Some(s)) = c.shots.get_mut(i) else {
+            return;
+        };
+        if !ok && s.asked.is_some() {
+            // The pod asked for the photo's position: it shot.
+            return;
         }
+        s.acked = Some((ctx.now, ok));
         if !ok {
-            self.finish_shot(ctx, i);
+            self.finish_shots(ctx);
             return;
         }
         // The pod shoots as its photo mode says (0x000003).
@@ -208,7 +360,13 @@ impl MavlinkSide {
             | PhotoState::SdAbnormal
             | PhotoState::SdFormatError => {
                 // The newest photo in flight is the one that failed.
-                if let Some(s) = c.shots.iter_mut().rev().flatten().next() {
+                let newest = c.shots.iter().flatten().map(|s| s.order).max();
+                if let Some(s) = c
+                    .shots
+                    .iter_mut()
+                    .flatten()
+                    .find(|s| Some(s.order) == newest)
+                {
                     s.failed = true;
                 }
             }
@@ -219,12 +377,14 @@ impl MavlinkSide {
     /// A photo of a series (its request came at `asked`).
     fn series_photo(&mut self, ctx: &mut Ctx<'_>, asked: (Option<Instant>, Instant)) {
         self.make_room(ctx);
-        self.camera.captures.put(Shot {
-            since: asked.1,
-            acked: Some((asked.1, true)),
-            asked: Some(asked),
-            failed: false,
-        });
+        let c = &mut self.camera.captures;
+        let Some(i) = c.put(asked.1, Some((asked.1, true))) else {
+            return;
+        };
+        if let Some(Some(s)) = c.shots.get_mut(i) {
+            s.asked = Some(asked);
+        }
+        c.keep_request_order();
     }
 
     /// The pod asks for a position (see the module documentation for which request is
@@ -236,24 +396,19 @@ impl MavlinkSide {
         let asked = (at, ctx.now);
         let c = &mut self.camera.captures;
         // A commanded photo the request may be of: not asked about, and not taken before
-        // its command went.
+        // its command went. The oldest the pod ACKed; else the oldest not yet ACKed (the
+        // request says it shoots; a command superseded by a newer one gets no ACK).
         let open = |s: &Shot| {
             s.asked.is_none() && at.is_none_or(|at| at.saturating_add(BEFORE_COMMAND) >= s.since)
         };
-        // The oldest photo the pod ACKed; else the oldest not yet ACKed (the request says
-        // it shoots).
         let pick = c
-            .shots
-            .iter()
-            .position(|s| s.is_some_and(|s| open(&s) && s.acked.is_some_and(|a| a.1)))
-            .or_else(|| {
-                c.shots
-                    .iter()
-                    .position(|s| s.is_some_and(|s| open(&s) && s.acked.is_none()))
-            });
-        if let Some(Some(s)) = pick.and_then(|i| c.shots.get_mut(i)) {
-            s.asked = Some(asked);
-            s.acked = s.acked.or(Some((ctx.now, true)));
+            .oldest(|s| open(s) && s.acked.is_some_and(|a| a.1))
+            .or_else(|| c.oldest(|s| open(s) && s.acked.is_none()));
+        if let Some(i) = pick {
+            if let Some(Some(s)) = c.shots.get_mut(i) {
+                s.asked = Some(asked);
+            }
+            c.keep_request_order();
             return;
         }
         if c.burst_left > 0 {
@@ -288,23 +443,22 @@ impl MavlinkSide {
         self.finish_shots(ctx);
     }
 
-    /// Reports every photo whose geotag is answered (or no longer expected).
+    /// Reports, in the order taken, every photo whose geotag is answered (or no longer
+    /// expected); a photo waits for the older ones still in flight. A command that made
+    /// no photo is reported at once (it takes no index).
     pub(super) fn finish_shots(&mut self, ctx: &mut Ctx<'_>) {
-        for i in 0..SHOTS {
-            let Some(s) = self.camera.captures.shots.get(i).copied().flatten() else {
+        let mut older_in_flight = false;
+        let fix = ctx.fixes.latest().map(|f| f.at);
+        for i in self.camera.captures.in_order() {
+            let c = &self.camera.captures;
+            let Some(s) = c.shots.get(i).copied().flatten() else {
                 continue;
             };
-            let done = match (s.acked, s.asked) {
-                (_, Some((Some(at), when))) => {
-                    ctx.fixes.latest().is_some_and(|f| f.at >= at)
-                        || ctx.now.saturating_duration_since(when) >= GEOTAG_WAIT
-                }
-                (_, Some((None, _))) | (Some((_, false)), None) => true,
-                (Some((at, true)), None) => ctx.now.saturating_duration_since(at) >= GPS_WAIT,
-                (None, None) => ctx.now.saturating_duration_since(s.since) >= SHOT_WAIT,
-            };
-            if done {
+            let done = c.done(&s, ctx.now, fix);
+            if done && !(older_in_flight && is_photo(&s)) {
                 self.finish_shot(ctx, i);
+            } else if !done {
+                older_in_flight = true;
             }
         }
     }
@@ -314,8 +468,7 @@ impl MavlinkSide {
         let Some(s) = self.camera.captures.shots.get_mut(i).and_then(Option::take) else {
             return;
         };
-        // A photo exists: the pod ACKed (or asked for) it and did not report it failed.
-        let photo = s.acked.is_some_and(|a| a.1) && !s.failed;
+        let photo = is_photo(&s);
         // The photo's instant: the one its request named, else its ACK's.
         let at = match s.asked {
             Some((at, _)) => at,

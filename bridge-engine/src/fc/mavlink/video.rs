@@ -16,8 +16,9 @@
 //! - **Requests:** REQUEST_MESSAGE(269 or 270) with param2 0 (or NaN: MAVSDK on PX4) for
 //!   every stream or 1, and the deprecated MAV_CMD_REQUEST_VIDEO_STREAM_INFORMATION and
 //!   _STATUS (2504, 2505, param1 the stream); another stream id is DENIED. A
-//!   VIDEO_STREAM_STATUS goes out unasked when the flags, the resolution or the field of
-//!   view change (at most two a second).
+//!   VIDEO_STREAM_INFORMATION goes out unasked when the address becomes known and when it
+//!   changes (MAVSDK 4.1 never asks for it), a VIDEO_STREAM_STATUS when the flags, the
+//!   resolution or the field of view change (at most two a second).
 //! - **Commands:** VIDEO_START_STREAMING and VIDEO_STOP_STREAMING (2502, 2503) for stream
 //!   1 (or 0, all) are ACCEPTED at once: an RTSP stream is connection-based, the pod
 //!   always serves it; another id is DENIED. MAV_CMD_SET_CAMERA_SOURCE (534): param2
@@ -55,9 +56,21 @@ struct Told {
     hfov: u16,
 }
 
+/// Where the stream's address comes from (what an unasked VIDEO_STREAM_INFORMATION
+/// follows).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Address {
+    /// `video.uri`.
+    Configured,
+    /// The pod's IP (0x000312).
+    Pod([u8; 4]),
+}
+
 /// The stream's state on the MAVLink side.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Video {
+    /// The address the last VIDEO_STREAM_INFORMATION (asked or not) carried.
+    told_address: Option<Address>,
     /// What the last VIDEO_STREAM_STATUS (asked or not) said.
     told: Option<Told>,
     /// When the last unasked one went.
@@ -116,12 +129,20 @@ fn pod_uri(ip: [u8; 4]) -> [u8; URI_LEN] {
 }
 
 impl MavlinkSide {
+    /// Where the stream's address comes from, when known.
+    fn stream_address(ctx: &Ctx<'_>) -> Option<Address> {
+        if ctx.config.video.configured_uri().is_some() {
+            return Some(Address::Configured);
+        }
+        ctx.pod().ip.map(Address::Pod)
+    }
+
     /// The stream's address, when known.
     pub(super) fn stream_uri(ctx: &Ctx<'_>) -> Option<[u8; URI_LEN]> {
-        if ctx.config.video.configured_uri().is_some() {
-            return Some(ctx.config.video.uri);
+        match Self::stream_address(ctx)? {
+            Address::Configured => Some(ctx.config.video.uri),
+            Address::Pod(ip) => Some(pod_uri(ip)),
         }
-        ctx.pod().ip.map(pod_uri)
     }
 
     fn stream(ctx: &Ctx<'_>) -> Stream {
@@ -171,6 +192,7 @@ impl MavlinkSide {
         let Some(uri) = Self::stream_uri(ctx) else {
             return;
         };
+        self.video.told_address = Self::stream_address(ctx);
         let s = Self::stream(ctx);
         let msg = MavMessage::VIDEO_STREAM_INFORMATION(VIDEO_STREAM_INFORMATION_DATA {
             framerate: s.framerate,
@@ -284,10 +306,16 @@ impl MavlinkSide {
         self.await_pod(ctx, c, base);
     }
 
-    /// Tells a change of the stream's flags, resolution or field of view unasked.
+    /// Tells unasked the stream's address when it becomes known or changes
+    /// (VIDEO_STREAM_INFORMATION: MAVSDK 4.1 never asks for it, and builds its stream
+    /// information from VIDEO_STREAM_STATUS, which has no address), and a change of its
+    /// flags, resolution or field of view (VIDEO_STREAM_STATUS).
     pub(super) fn video_poll(&mut self, ctx: &mut Ctx<'_>) {
-        if Self::stream_uri(ctx).is_none() {
+        let Some(address) = Self::stream_address(ctx) else {
             return;
+        };
+        if self.video.told_address != Some(address) {
+            self.video_information(ctx);
         }
         let s = Self::stream(ctx);
         let now = Told {

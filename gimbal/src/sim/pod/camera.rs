@@ -205,9 +205,12 @@ impl SimPod {
             second,
             millisecond,
         };
-        let seq = self.send(t, &request);
+        let late = photo.and_then(|p| self.config.photo_gps_late_us.get(&p).copied());
+        let sent_us = t.saturating_add(late.unwrap_or(0));
+        let (id, payload) = message(&request);
+        let seq = self.send_payload(sent_us, id, payload);
         self.gps_requests.push(GpsRequestRecord {
-            at_us: t,
+            at_us: sent_us,
             seq,
             request,
             pod_unix_ms,

@@ -202,6 +202,10 @@ pub struct PodSimConfig {
     pub focus_duration_us: u64,
     /// Delay between a photo request and the shot (and its GPS request).
     pub photo_gps_delay_us: u64,
+    /// The GPS request of photo N (0-based, in the order the pod took them) leaves the
+    /// pod this much after the photo, naming the photo's instant all the same: requests
+    /// that reach the bridge out of the order of their photos.
+    pub photo_gps_late_us: BTreeMap<usize, u64>,
     /// Interval between the shots of a burst.
     pub burst_interval_us: u64,
     /// Send status frames for a single shot too.
@@ -276,6 +280,7 @@ impl Default for PodSimConfig {
             focal_length_1x_10um: 450,
             focus_duration_us: 500_000,
             photo_gps_delay_us: 20_000,
+            photo_gps_late_us: BTreeMap::new(),
             burst_interval_us: 300_000,
             single_shot_status: false,
             enforce_capture_mode: false,
