@@ -188,6 +188,14 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             "signing_key_changed",
             json!({"port": port_name(port), "on": on}),
         ),
+        Event::OtherAutopilot { port, sysid } => (
+            "other_autopilot",
+            json!({"port": port_name(port), "sysid": sysid}),
+        ),
+        Event::StoreRecord { key, problem } => (
+            "store_record",
+            json!({"key": format!("0x{key:04x}"), "problem": problem.name()}),
+        ),
         Event::Dropped { port, frames } => (
             "dropped",
             json!({"port": port_name(port), "frames": frames}),
