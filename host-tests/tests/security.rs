@@ -166,6 +166,7 @@ fn required_signing_refuses_an_unsigned_autopilot() {
     s.run_until(25 * S);
     assert!(!s.pod.syncs().is_empty(), "time from unsigned telemetry");
     let before = s.pod.photo_requests();
+    let refused = s.engine.counters().unsigned_refused;
     s.fc.take_picture();
     s.run_for(3 * S);
     assert_eq!(
@@ -173,7 +174,12 @@ fn required_signing_refuses_an_unsigned_autopilot() {
         before,
         "an unsigned command is refused"
     );
-    assert!(refusals(&s).contains(&(Refusal::Unsigned, 2000, 1)));
+    // ArduPilot's own unsigned requests (REQUEST_MESSAGE) are refused too: one event a
+    // second for the stream, every refusal counted.
+    assert!(s.engine.counters().unsigned_refused > refused);
+    let r = refusals(&s);
+    assert!(r.contains(&(Refusal::Unsigned, 512, 1)), "{r:?}");
+    assert!(r.len() <= 25 + 3, "at most one a second: {}", r.len());
 
     let mut s = signed_ap(SigningMode::Sign, false, false);
     s.run_until(25 * S);
