@@ -235,6 +235,7 @@ pub fn record_event(r: &LogRecord) -> (u64, &'static str, Value) {
         LogKind::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
         LogKind::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
         LogKind::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
+        LogKind::StoreError(key) => ("store_error", json!({"key": format!("0x{key:04x}")})),
     };
     (r.at.as_micros(), name, fields)
 }
