@@ -11,12 +11,9 @@ use bridge_engine::{
     Config, Engine, Event, FcProtocol, Instant, MAX_FRAME_LEN, Port, Refusal, SigningKey,
     SigningMode,
 };
-use fuzz_checks::bridge_mavlink::signed;
+use fuzz_checks::bridge_mavlink::{autopilot_heartbeat_of, ftp_from, param_set_from, signed};
 use protocol_core::k40t::{self, Address, GimbalAttitude, GpsRequest, Kind, MsgId, TimeSync};
-use protocol_core::mavlink::dialect::{
-    COMMAND_LONG_DATA, CharArray, FILE_TRANSFER_PROTOCOL_DATA, HEARTBEAT_DATA, MavAutopilot,
-    MavCmd, MavModeFlag, MavParamExtType, MavState, MavType, PARAM_EXT_SET_DATA,
-};
+use protocol_core::mavlink::dialect::{COMMAND_LONG_DATA, HEARTBEAT_DATA, MavCmd, MavParamExtType};
 use protocol_core::mavlink::{self, Header, MavMessage};
 
 const KEY: [u8; 32] = *b"the bridge's 32-byte signing key";
@@ -39,18 +36,7 @@ fn mav(sys: u8, comp: u8, msg: &MavMessage) -> Vec<u8> {
 }
 
 fn heartbeat(sys: u8) -> Vec<u8> {
-    mav(
-        sys,
-        1,
-        &MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 0,
-            mavtype: MavType::MAV_TYPE_QUADROTOR,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-            base_mode: MavModeFlag::empty(),
-            system_status: MavState::MAV_STATE_ACTIVE,
-            mavlink_version: 3,
-        }),
-    )
+    autopilot_heartbeat_of(sys)
 }
 
 /// IMAGE_START_CAPTURE (one photo) to the camera of system 1, from `(sys, comp)`.
@@ -66,32 +52,16 @@ fn photo(sys: u8, comp: u8) -> Vec<u8> {
 }
 
 fn param_set(sys: u8, name: &str, value: u8) -> Vec<u8> {
-    let mut id = [0u8; 16];
-    id[..name.len()].copy_from_slice(name.as_bytes());
-    let mut v = [0u8; 128];
-    v[0] = value;
-    let msg = MavMessage::PARAM_EXT_SET(PARAM_EXT_SET_DATA {
-        target_system: 1,
-        target_component: 100,
-        param_id: CharArray::from(id),
-        param_value: CharArray::from(v),
-        param_type: MavParamExtType::MAV_PARAM_EXT_TYPE_UINT8,
-    });
-    mav(sys, 190, &msg)
+    param_set_from(
+        sys,
+        name,
+        u32::from(value),
+        MavParamExtType::MAV_PARAM_EXT_TYPE_UINT8,
+    )
 }
 
 fn ftp(sys: u8, opcode: u8, data: &[u8]) -> Vec<u8> {
-    let mut payload = [0u8; 251];
-    payload[3] = opcode;
-    payload[4] = data.len() as u8;
-    payload[12..12 + data.len()].copy_from_slice(data);
-    let msg = MavMessage::FILE_TRANSFER_PROTOCOL(FILE_TRANSFER_PROTOCOL_DATA {
-        target_network: 0,
-        target_system: 1,
-        target_component: 100,
-        payload,
-    });
-    mav(sys, 190, &msg)
+    ftp_from(sys, 0, opcode, data.len() as u8, 0, data)
 }
 
 /// A pod report (its attitude), as the pod sends it.

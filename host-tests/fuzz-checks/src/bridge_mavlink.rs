@@ -61,8 +61,14 @@ fn long(cmd: MavCmd, p: [f32; 7], target: (u8, u8)) -> MavMessage {
 /// The autopilot's HEARTBEAT (system 1, ArduPilot, quadrotor).
 #[must_use]
 pub fn autopilot_heartbeat() -> Vec<u8> {
+    autopilot_heartbeat_of(1)
+}
+
+/// An ArduPilot quadrotor's HEARTBEAT from system `sys`.
+#[must_use]
+pub fn autopilot_heartbeat_of(sys: u8) -> Vec<u8> {
     frame(
-        1,
+        sys,
         1,
         0,
         &MavMessage::HEARTBEAT(HEARTBEAT_DATA {
@@ -125,6 +131,12 @@ fn unknown_command() -> Vec<u8> {
 
 /// A FILE_TRANSFER_PROTOCOL request from QGroundControl (255/190) to 1/100.
 fn ftp(seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
+    ftp_from(255, seq, opcode, size, offset, data)
+}
+
+/// A FILE_TRANSFER_PROTOCOL request from system `sys` (component 190) to 1/100.
+#[must_use]
+pub fn ftp_from(sys: u8, seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
     let mut payload = [0u8; 251];
     payload[..2].copy_from_slice(&seq.to_le_bytes());
     payload[3] = opcode;
@@ -137,11 +149,18 @@ fn ftp(seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
         target_component: 100,
         payload,
     });
-    frame(255, 190, 11, &msg)
+    frame(sys, 190, 11, &msg)
 }
 
 /// A PARAM_EXT_SET of `name` with `value` typed `ty`, to 1/100.
 fn param_set(name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
+    param_set_from(255, name, value, ty)
+}
+
+/// A PARAM_EXT_SET of `name` with `value` typed `ty`, from system `sys` (component 190)
+/// to 1/100.
+#[must_use]
+pub fn param_set_from(sys: u8, name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
     let mut id = [0u8; 16];
     id[..name.len()].copy_from_slice(name.as_bytes());
     let mut v = [0u8; 128];
@@ -153,7 +172,7 @@ fn param_set(name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
         param_value: CharArray::from(v),
         param_type: ty,
     });
-    frame(255, 190, 12, &msg)
+    frame(sys, 190, 12, &msg)
 }
 
 /// The camera definition's download and the extended parameters, as QGroundControl and
