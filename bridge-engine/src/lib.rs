@@ -476,8 +476,17 @@ struct EngineState {
     tel: Option<fc::TelemetryLink>,
     /// The telemetry link is the source of UTC and fixes.
     tel_source: bool,
-    /// The first input's check of the restored records was made.
-    restore_checked: bool,
+    /// Whether the first input, which says which records were not restored, has come.
+    first_input: FirstInput,
+}
+
+/// Before or after the engine's first input ([`EngineState::report`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FirstInput {
+    /// Not yet: records may still be restored.
+    Awaited,
+    /// Come.
+    Seen,
 }
 
 impl Engine {
@@ -502,7 +511,7 @@ impl Engine {
                 #[cfg(feature = "telemetry")]
                 tel: Some(fc::TelemetryLink::telemetry(&config)),
                 tel_source: false,
-                restore_checked: false,
+                first_input: FirstInput::Awaited,
                 config,
             },
         }
@@ -851,10 +860,13 @@ impl EngineState {
     /// What changed since the last report; starts collecting again. The first report
     /// (the first input) says which records the bridge needs were not restored.
     fn report(&mut self) -> Changes {
-        if !self.restore_checked {
-            self.restore_checked = true;
+        if self.first_input == FirstInput::Awaited {
+            self.first_input = FirstInput::Seen;
             for port in [Port::Fc, Port::Telemetry] {
-                if self.signing_of(port).is_some_and(|s| s.restore_missing()) {
+                if self
+                    .signing_of(port)
+                    .is_some_and(fc::LinkSigning::restore_missing)
+                {
                     self.out.event(Event::StoreRecord {
                         key: store::Key::signing(port).0,
                         problem: store::Problem::Missing,
