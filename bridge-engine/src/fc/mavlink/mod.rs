@@ -7,8 +7,13 @@
 //!
 //! - **Identity.** Both components send HEARTBEAT at 1 Hz (type 26 GIMBAL and 30 CAMERA,
 //!   autopilot INVALID) with the system id of the autopilot, learnt from its own
-//!   HEARTBEAT (component 1); nothing is sent before it is heard. Each component numbers
-//!   its frames itself.
+//!   HEARTBEAT (component 1) and then pinned (`autopilot_sysid`, `autopilot_forget_ms`:
+//!   another autopilot's heartbeat changes nothing); nothing is sent before it is heard.
+//!   Each component numbers its frames itself.
+//! - **The gate.** Every message that changes something ([`GATED`](crate::access::GATED):
+//!   commands, GIMBAL_DEVICE_SET_ATTITUDE, PARAM_EXT_SET, PARAM_SET, FTP writes,
+//!   SETUP_SIGNING) passes the sender and signing rules before any handler reads it
+//!   (docs/src/security.md, "The gate").
 //! - **Commands** (COMMAND_LONG and COMMAND_INT, any MAV_CMD value) addressed to the
 //!   device's system (or 0) and to one of its components (or 0, broadcast: ArduPilot 4.5
 //!   and 4.6 send camera commands to 0/0): each one a component acts on is answered with

@@ -7,7 +7,9 @@
 //! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
 //! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
 //! It serves no commands: commands for it are left alone (they are not its business; a
-//! ground station's broadcast reaches every component). Each photo the pod geotags goes
+//! ground station's broadcast reaches every component), after the gate that every
+//! message changing something passes on both MAVLink links (docs/src/security.md, "The
+//! gate": one for it from a system that may not command is refused and reported). Each photo the pod geotags goes
 //! out as CAMERA_IMAGE_CAPTURED (broadcast: the photo's UTC on the disciplined clock, the
 //! fix interpolated there, the aircraft's attitude), which the autopilot forwards to the
 //! ground station and its telemetry log records (docs/src/bridge/telemetry.md).
