@@ -4,6 +4,9 @@
 //! pod's destructive requests.
 
 mod engine_scenarios;
+// Issue 33's promises, each as an attacker would try it (one test binary with these).
+#[path = "security/promises.rs"]
+mod promises;
 
 use bridge_engine::{
     Config, Engine, Event, FcProtocol, Instant, K40tAllow, MAX_FRAME_LEN, Port, Refusal,

@@ -490,7 +490,7 @@ fn a_minute_of_wrong_key_frames_displaces_no_sync_or_geotag_event() {
 /// same messages, ids, and FTP opcodes.
 #[test]
 fn the_chapter_lists_the_gated_messages_of_the_code() {
-    let chapter = include_str!("../../docs/src/security.md");
+    let chapter = include_str!("../../../docs/src/security.md");
     let start = chapter
         .find("| id | message | what it changes |")
         .expect("the gate's table in docs/src/security.md");
