@@ -262,6 +262,118 @@ impl K40tAllow {
     }
 }
 
+/// A MAVLink message that changes something on the bridge or the pod: taken only from an
+/// allowed sender (the autopilot's system or one of `gcs_ids`) and, while signing is
+/// required, only signed ([`GATED`]; docs/src/security.md, "The gate").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Gated {
+    /// The message id.
+    pub id: u32,
+    /// Its MAVLink name.
+    pub name: &'static str,
+    /// Where its target system lies in the payload (its target component follows).
+    pub target_at: usize,
+    /// The operations gated (`None`: every one): the MAVLink FTP opcodes that write,
+    /// create, remove, truncate or rename (its reads and lists stay open).
+    pub opcodes: Option<&'static [u8]>,
+    /// What it changes.
+    pub changes: &'static str,
+}
+
+/// Where a FILE_TRANSFER_PROTOCOL payload carries the opcode (after the target network,
+/// system and component, the sequence number and the session).
+const FTP_OPCODE_AT: usize = 6;
+
+/// The MAVLink FTP opcodes that change files (MAVLink FTP: CreateFile 6, WriteFile 7,
+/// RemoveFile 8, CreateDirectory 9, RemoveDirectory 10, OpenFileWO 11, TruncateFile 12,
+/// Rename 13).
+pub const FTP_WRITES: [u8; 8] = [6, 7, 8, 9, 10, 11, 12, 13];
+
+/// Every MAVLink message that changes anything, on the MAVLink side and the telemetry link
+/// alike: the one table the gate reads (and the security chapter lists; a test compares
+/// them). Everything else reads or reports: heartbeats, time, positions, the parameter and
+/// FTP reads.
+pub const GATED: [Gated; 7] = [
+    Gated {
+        id: 76,
+        name: "COMMAND_LONG",
+        target_at: 30,
+        opcodes: None,
+        changes: "every command: the camera's (photos, video, zoom, focus, mode, SET_CAMERA_*), tracking, storage format and reset, ROI, message intervals, requests for messages",
+    },
+    Gated {
+        id: 75,
+        name: "COMMAND_INT",
+        target_at: 30,
+        opcodes: None,
+        changes: "as COMMAND_LONG",
+    },
+    Gated {
+        id: 284,
+        name: "GIMBAL_DEVICE_SET_ATTITUDE",
+        target_at: 30,
+        opcodes: None,
+        changes: "where the gimbal points",
+    },
+    Gated {
+        id: 323,
+        name: "PARAM_EXT_SET",
+        target_at: 0,
+        opcodes: None,
+        changes: "a camera setting (a K40T set command at the pod)",
+    },
+    Gated {
+        id: 23,
+        name: "PARAM_SET",
+        target_at: 4,
+        opcodes: None,
+        changes: "a parameter of the bridge",
+    },
+    Gated {
+        id: 110,
+        name: "FILE_TRANSFER_PROTOCOL",
+        target_at: 1,
+        opcodes: Some(&FTP_WRITES),
+        changes: "a file: writes, opens for writing, creation, removal, truncation, renaming",
+    },
+    Gated {
+        id: 256,
+        name: "SETUP_SIGNING",
+        target_at: 8,
+        opcodes: None,
+        changes: "the signing key",
+    },
+];
+
+impl Gated {
+    /// The entry of [`GATED`] that a message of `id` with `payload` (as sent: MAVLink 2
+    /// trims trailing zeros) falls under, `None` when it changes nothing.
+    #[must_use]
+    pub fn of(id: u32, payload: &[u8]) -> Option<&'static Gated> {
+        let g = GATED.iter().find(|g| g.id == id)?;
+        match g.opcodes {
+            None => Some(g),
+            Some(ops) => {
+                let op = payload.get(FTP_OPCODE_AT).copied().unwrap_or(0);
+                ops.contains(&op).then_some(g)
+            }
+        }
+    }
+
+    /// The target system and component of a message of this kind (zero when trimmed).
+    #[must_use]
+    pub fn target(&self, payload: &[u8]) -> (u8, u8) {
+        let at = |i: usize| payload.get(i).copied().unwrap_or(0);
+        (at(self.target_at), at(self.target_at.saturating_add(1)))
+    }
+
+    /// A command (COMMAND_LONG, COMMAND_INT): its MAV_CMD names it in reports.
+    #[must_use]
+    pub fn is_command(&self) -> bool {
+        matches!(self.id, 75 | 76)
+    }
+}
+
 protocol_core::wire_derive! {
     [Eq, Hash]
     /// Why the bridge refused a frame or a command ([`Event::Refused`](crate::Event)).

@@ -43,6 +43,8 @@
 //! | `signing_unsigned_telemetry` | [`Config::signing_unsigned_telemetry`] | `true`, `false` |
 //! | `gcs_ids` | [`Config::gcs_ids`] | up to 8 ids, each [`Limit::GCS_ID`] ([`SystemIds`]) |
 //! | `k40t_allow` | [`Config::k40t_allow`] | ids of [`GUARDED`](crate::access::GUARDED) requests ([`K40tAllow`]) |
+//! | `autopilot_sysid` | [`Config::autopilot_sysid`] | [`Limit::AUTOPILOT_SYSID`] (0: learn) |
+//! | `autopilot_forget_ms` | [`Config::autopilot_forget`] | [`Limit::AUTOPILOT_FORGET_MS`] |
 //!
 //! Deserializing checks types, texts and versions; [`Config::validate`] checks the
 //! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
@@ -499,6 +501,19 @@ protocol_core::wire_derive! {
             serde(deserialize_with = "crate::access::de::k40t_allow")
         )]
         pub k40t_allow: K40tAllow,
+        /// The autopilot's MAVLink system id on the MAVLink side and the telemetry link
+        /// (default 0: learnt from the first autopilot-type HEARTBEAT after power-on, then
+        /// pinned; see docs/src/security.md).
+        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
+        pub autopilot_sysid: u8,
+        /// With `autopilot_sysid` 0: a learnt autopilot is forgotten (the next
+        /// autopilot-type HEARTBEAT is learnt) after this long without its HEARTBEAT
+        /// (default 30 s).
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "autopilot_forget_ms", deserialize_with = "de::ms")
+        )]
+        pub autopilot_forget: Duration,
     }
 }
 
@@ -531,6 +546,8 @@ impl Config {
         signing_unsigned_telemetry: false,
         gcs_ids: SystemIds::DEFAULT,
         k40t_allow: K40tAllow::NONE,
+        autopilot_sysid: 0,
+        autopilot_forget: Duration::from_secs(30),
     };
 
     /// The defaults with another FC protocol.
@@ -559,6 +576,8 @@ impl Config {
         }
         Limit::SYNC_PERIOD_MS.check_ms(self.sync.period)?;
         Limit::SYNC_WIDTH_MS.check_ms(self.sync.width)?;
+        Limit::AUTOPILOT_SYSID.check(self.autopilot_sysid.into())?;
+        Limit::AUTOPILOT_FORGET_MS.check_ms(self.autopilot_forget)?;
         if !self.siyi.hardware_id.is_ascii() {
             return Err(ConfigError::text("siyi.hardware_id", TextRule::Ascii(12)));
         }
@@ -664,6 +683,11 @@ impl Limit {
     pub const DISCIPLINE_MIN_SPAN_MS: Self = Self::new("discipline.min_span_ms", 1000, 600_000);
     /// Each of `gcs_ids`: 1..=255 (0 is MAVLink's broadcast id, no sender's).
     pub const GCS_ID: Self = Self::new("gcs_ids", 1, 255);
+    /// `autopilot_sysid`: 0..=255 (0: learn the first autopilot heard).
+    pub const AUTOPILOT_SYSID: Self = Self::new("autopilot_sysid", 0, 255);
+    /// `autopilot_forget_ms`: 3000..=3600000 (3 s, the heartbeat's own time-out, to an
+    /// hour).
+    pub const AUTOPILOT_FORGET_MS: Self = Self::new("autopilot_forget_ms", 3000, 3_600_000);
 
     /// `lens.visible_hfov_1x_cdeg`: 0..=17999 (0: unknown).
     pub const LENS_HFOV_CDEG: Self = Self::new("lens.visible_hfov_1x_cdeg", 0, 17_999);
@@ -687,7 +711,7 @@ impl Limit {
     pub const LASER_MAX_DISTANCE_CM: Self = Self::new("laser.max_distance_cm", 0, 65_535);
 
     /// Every limit above.
-    pub const ALL: [Self; 24] = [
+    pub const ALL: [Self; 26] = [
         Self::FC_BAUD,
         Self::POD_BAUD,
         Self::TZ_MINUTESWEST,
@@ -712,6 +736,8 @@ impl Limit {
         Self::LASER_MIN_DISTANCE_CM,
         Self::LASER_MAX_DISTANCE_CM,
         Self::GCS_ID,
+        Self::AUTOPILOT_SYSID,
+        Self::AUTOPILOT_FORGET_MS,
     ];
 
     const fn new(key: &'static str, min: i64, max: i64) -> Self {

@@ -1,7 +1,7 @@
 //! What the engine reports for logging: [`Event`]s (small, `Copy`, queued) and
 //! [`Counters`] (read any time).
 
-use super::time::Instant;
+use super::time::{Duration, Instant};
 use crate::access::Refusal;
 use protocol_core::k40t::{AckCode, Address, CrcCoverage};
 
@@ -197,6 +197,24 @@ protocol_core::wire_derive! {
             /// A key is in use now.
             on: bool,
         },
+        /// An autopilot-type HEARTBEAT from another system than the autopilot the link
+        /// is pinned to (`autopilot_sysid`, or the first heard): counted
+        /// ([`Counters::other_autopilots`]), reported once per system and link, and
+        /// changes nothing (see docs/src/security.md, "The autopilot's system").
+        OtherAutopilot {
+            /// The link it came on.
+            port: Port,
+            /// Its system id.
+            sysid: u8,
+        },
+        /// A record of the bridge's persistent store was not restored: the bridge starts
+        /// on that record's defaults ([`crate::store`]).
+        StoreRecord {
+            /// The record's key ([`crate::store::Key`]; `0xFFFF`: the whole store).
+            key: u16,
+            /// What was wrong.
+            problem: crate::store::Problem,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -339,52 +357,170 @@ protocol_core::wire_derive! {
         /// Commands refused for their sender (MAVLink) or because they are destructive
         /// and not allowed (K40T requests).
         pub commands_refused: u32,
+        /// Signed MAVLink frames refused: signature not the key's.
+        pub refused_bad_signature: u32,
+        /// Signed MAVLink frames refused: not newer than their stream's last (a replay).
+        pub refused_replayed: u32,
+        /// Signed MAVLink frames refused: opening a stream over a minute older than the
+        /// bridge's timestamp.
+        pub refused_stale: u32,
+        /// MAVLink messages that change something, refused for their sender.
+        pub refused_sender: u32,
+        /// The pod's destructive requests refused (not in `k40t_allow`).
+        pub refused_guarded: u32,
+        /// Refusals counted but not reported as an event: one of the same reason and
+        /// stream was reported less than a second before, or refusal events already wait.
+        pub refusals_unreported: u32,
+        /// HEARTBEATs of an autopilot other than the one the link is pinned to.
+        pub other_autopilots: u32,
     }
 }
 
-/// A bounded event queue; the oldest event goes when it is full.
+/// A bounded event queue. When it is full a new event displaces the oldest refusal
+/// ([`Event::Refused`]) waiting, else the oldest event; a refusal never displaces another
+/// event and waits only while fewer than [`REFUSALS_WAITING`] refusals do: refusals, which
+/// a peer on a link can cause at will, never push out time-sync, geotag or PPS events.
 #[derive(Debug, Clone)]
 pub(crate) struct EventQueue {
+    /// Oldest first; the first `len` are events.
     items: [Option<Event>; EVENTS],
-    head: usize,
     len: usize,
 }
 
 /// Events the queue holds.
 pub(crate) const EVENTS: usize = 16;
+/// Refusal events that may wait at once.
+pub(crate) const REFUSALS_WAITING: usize = 4;
+
+/// What [`EventQueue::push`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Pushed {
+    /// Queued.
+    Queued,
+    /// Queued, and an older event was dropped for it.
+    Displaced,
+    /// Not queued: a refusal, with the queue full or enough refusals waiting.
+    NotQueued,
+}
+
+const fn is_refusal(e: &Event) -> bool {
+    matches!(e, Event::Refused { .. })
+}
 
 impl EventQueue {
     pub(crate) const fn new() -> Self {
         EventQueue {
             items: [None; EVENTS],
-            head: 0,
             len: 0,
         }
     }
 
-    /// Queues `e`; returns false when an older event was dropped for it.
-    pub(crate) fn push(&mut self, e: Event) -> bool {
-        let kept = self.len < EVENTS;
-        if !kept {
-            self.head = (self.head.saturating_add(1)) % EVENTS;
-            self.len = self.len.saturating_sub(1);
+    fn waiting(&self) -> impl Iterator<Item = &Event> {
+        self.items.iter().take(self.len).flatten()
+    }
+
+    /// Queues `e` (see the type's documentation).
+    pub(crate) fn push(&mut self, e: Event) -> Pushed {
+        let mut pushed = Pushed::Queued;
+        if is_refusal(&e) {
+            let refusals = self.waiting().filter(|w| is_refusal(w)).count();
+            if refusals >= REFUSALS_WAITING || self.len >= EVENTS {
+                return Pushed::NotQueued;
+            }
+        } else if self.len >= EVENTS {
+            let victim = self.waiting().position(is_refusal).unwrap_or(0);
+            self.remove(victim);
+            pushed = Pushed::Displaced;
         }
-        let at = (self.head.saturating_add(self.len)) % EVENTS;
-        if let Some(slot) = self.items.get_mut(at) {
+        if let Some(slot) = self.items.get_mut(self.len) {
             *slot = Some(e);
+            self.len = self.len.saturating_add(1);
         }
-        self.len = self.len.saturating_add(1);
-        kept
+        pushed
+    }
+
+    /// Takes the event at `i` out, the later ones moving up.
+    fn remove(&mut self, i: usize) -> Option<Event> {
+        if i >= self.len {
+            return None;
+        }
+        // From the last event down to `i`, each slot takes the one after it.
+        let mut carry = None;
+        for slot in self.items.iter_mut().take(self.len).skip(i).rev() {
+            core::mem::swap(slot, &mut carry);
+        }
+        self.len = self.len.saturating_sub(1);
+        carry
     }
 
     pub(crate) fn pop(&mut self) -> Option<Event> {
-        if self.len == 0 {
-            return None;
+        self.remove(0)
+    }
+}
+
+/// A refusal of the same reason and stream is reported at most once in this time (the
+/// rest are counted).
+pub const REFUSAL_REPORT_PERIOD: Duration = Duration::from_secs(1);
+/// Streams whose last report is remembered.
+const REPORTED_STREAMS: usize = 8;
+
+/// One refusal stream's last report: the link, the reason, the sender (MAVLink system and
+/// component; K40T: 0, 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Reported {
+    port: Port,
+    reason: Refusal,
+    from: (u8, u8),
+    at: Instant,
+}
+
+/// Which refusals are reported as events: at most one per reason and stream per
+/// [`REFUSAL_REPORT_PERIOD`] (a peer that sends a thousand bad frames a second makes one
+/// event a second; the counters count every one).
+#[derive(Debug, Clone)]
+pub(crate) struct RefusalReports {
+    recent: [Option<Reported>; REPORTED_STREAMS],
+}
+
+impl RefusalReports {
+    pub(crate) const fn new() -> Self {
+        RefusalReports {
+            recent: [None; REPORTED_STREAMS],
         }
-        let e = self.items.get_mut(self.head).and_then(Option::take);
-        self.head = (self.head.saturating_add(1)) % EVENTS;
-        self.len = self.len.saturating_sub(1);
-        e
+    }
+
+    /// Whether a refusal of `reason` from `from` on `port` at `now` is reported; notes it
+    /// when it is (a new stream takes the slot reported longest ago).
+    pub(crate) fn due(
+        &mut self,
+        now: Instant,
+        port: Port,
+        reason: Refusal,
+        from: (u8, u8),
+    ) -> bool {
+        let same = |r: &Reported| r.port == port && r.reason == reason && r.from == from;
+        let slot = self.recent.iter().position(|r| r.is_some_and(|r| same(&r)));
+        if let Some(r) = slot.and_then(|i| self.recent.get(i)).copied().flatten()
+            && now.saturating_duration_since(r.at) < REFUSAL_REPORT_PERIOD
+        {
+            return false;
+        }
+        let i = slot.unwrap_or_else(|| {
+            self.recent
+                .iter()
+                .enumerate()
+                .min_by_key(|(_, r)| r.map(|r| r.at))
+                .map_or(0, |(i, _)| i)
+        });
+        if let Some(r) = self.recent.get_mut(i) {
+            *r = Some(Reported {
+                port,
+                reason,
+                from,
+                at: now,
+            });
+        }
+        true
     }
 }
 
@@ -396,10 +532,15 @@ mod tests {
     fn event_queue_keeps_the_newest() {
         let mut q = EventQueue::new();
         for i in 0..EVENTS + 3 {
-            let kept = q.push(Event::PodTimeout {
+            let pushed = q.push(Event::PodTimeout {
                 base: u16::try_from(i).unwrap(),
             });
-            assert_eq!(kept, i < EVENTS);
+            let expected = if i < EVENTS {
+                Pushed::Queued
+            } else {
+                Pushed::Displaced
+            };
+            assert_eq!(pushed, expected);
         }
         let mut bases = vec![];
         while let Some(Event::PodTimeout { base }) = q.pop() {
@@ -410,5 +551,73 @@ mod tests {
             (3..u16::try_from(EVENTS + 3).unwrap()).collect::<Vec<_>>()
         );
         assert_eq!(q.pop(), None);
+    }
+
+    fn refused(sender: u8) -> Event {
+        Event::Refused {
+            port: Port::Fc,
+            reason: Refusal::BadSignature,
+            id: 0,
+            sender,
+        }
+    }
+
+    /// Refusals wait four at a time, never displace another event, and are the first
+    /// displaced by one.
+    #[test]
+    fn refusals_never_displace_other_events() {
+        let mut q = EventQueue::new();
+        for i in 0..10u8 {
+            let pushed = q.push(refused(i));
+            let expected = if usize::from(i) < REFUSALS_WAITING {
+                Pushed::Queued
+            } else {
+                Pushed::NotQueued
+            };
+            assert_eq!(pushed, expected, "refusal {i}");
+        }
+        for base in 0..12u16 {
+            assert_eq!(q.push(Event::PodTimeout { base }), Pushed::Queued);
+        }
+        // Full: a sync displaces the oldest refusal, not the oldest event.
+        let sync = Event::UtcLost;
+        assert_eq!(q.push(sync), Pushed::Displaced);
+        assert_eq!(q.push(refused(99)), Pushed::NotQueued);
+        let all: Vec<Event> = core::iter::from_fn(|| q.pop()).collect();
+        assert_eq!(all.len(), EVENTS);
+        assert_eq!(&all[..3], &[refused(1), refused(2), refused(3)]);
+        assert_eq!(all.last(), Some(&sync));
+        for _ in 0..4 {
+            assert_eq!(q.push(refused(7)), Pushed::Queued);
+        }
+        for base in 0..EVENTS {
+            q.push(Event::PodTimeout {
+                base: u16::try_from(base).unwrap(),
+            });
+        }
+        // Every refusal went first.
+        assert!(core::iter::from_fn(|| q.pop()).all(|e| !is_refusal(&e)));
+    }
+
+    /// One report per reason and stream per second; another stream, another reason or
+    /// the next second is reported.
+    #[test]
+    fn refusals_are_reported_once_a_second_per_reason_and_stream() {
+        let mut r = RefusalReports::new();
+        let ms = Instant::from_millis;
+        let bad = Refusal::BadSignature;
+        assert!(r.due(ms(0), Port::Fc, bad, (1, 1)));
+        assert!(!r.due(ms(999), Port::Fc, bad, (1, 1)));
+        assert!(r.due(ms(999), Port::Fc, bad, (1, 2)));
+        assert!(r.due(ms(999), Port::Telemetry, bad, (1, 1)));
+        assert!(r.due(ms(999), Port::Fc, Refusal::Replayed, (1, 1)));
+        assert!(r.due(ms(1000), Port::Fc, bad, (1, 1)));
+        assert!(!r.due(ms(1500), Port::Fc, bad, (1, 1)));
+        // Many streams: the table forgets the oldest, never more than one event per
+        // stream and second for those it keeps.
+        let reported = (0..100u8)
+            .filter(|i| r.due(ms(2000), Port::Fc, bad, (*i, 0)))
+            .count();
+        assert_eq!(reported, 100);
     }
 }

@@ -72,6 +72,7 @@ pub mod geotag;
 pub mod gimbal;
 pub mod pod;
 pub mod queue;
+pub mod store;
 pub mod sync;
 pub mod time;
 
@@ -166,6 +167,8 @@ impl Changes {
     pub const EVENTS: Self = Self(1 << 3);
     /// The telemetry queue got a frame ([`Engine::transmit`] for [`Port::Telemetry`]).
     pub const TELEMETRY_FRAME: Self = Self(1 << 4);
+    /// Records wait to be written to the persistent store ([`Engine::take_record`]).
+    pub const STORE: Self = Self(1 << 5);
 
     /// The queue of `port` got a frame: [`Changes::FC_FRAME`], [`Changes::POD_FRAME`] or
     /// [`Changes::TELEMETRY_FRAME`].
@@ -218,6 +221,10 @@ pub(crate) struct Outputs {
     pub(crate) pod: FrameQueue<POD_QUEUE>,
     pub(crate) tel: FrameQueue<TELEMETRY_QUEUE>,
     pub(crate) events: EventQueue,
+    /// Which refusals become events.
+    refusals: event::RefusalReports,
+    /// Records to write to the store.
+    pub(crate) store: store::Pending,
     pub(crate) counters: Counters,
     /// What changed since the last report ([`EngineState::report`]).
     pub(crate) changes: Changes,
@@ -231,15 +238,71 @@ impl Outputs {
             pod: FrameQueue::new(),
             tel: FrameQueue::new(),
             events: EventQueue::new(),
+            refusals: event::RefusalReports::new(),
+            store: store::Pending::default(),
             counters: Counters::default(),
             changes: Changes::NONE,
         }
     }
 
     pub(crate) fn event(&mut self, e: Event) {
-        self.changes |= Changes::EVENTS;
-        if !self.events.push(e) {
-            self.counters.events_dropped = self.counters.events_dropped.saturating_add(1);
+        match self.events.push(e) {
+            event::Pushed::Queued => self.changes |= Changes::EVENTS,
+            event::Pushed::Displaced => {
+                self.changes |= Changes::EVENTS;
+                self.counters.events_dropped = self.counters.events_dropped.saturating_add(1);
+            }
+            event::Pushed::NotQueued => {
+                let n = &mut self.counters.refusals_unreported;
+                *n = n.saturating_add(1);
+            }
+        }
+    }
+
+    /// The record of `key` is to be written to the store.
+    #[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+    pub(crate) fn save(&mut self, key: store::Key) {
+        self.store.mark(key);
+        self.changes |= Changes::STORE;
+    }
+
+    /// A refusal: counted by its reason, reported (`Event::Refused`) at most once per
+    /// reason and stream a second (`event::RefusalReports`). `from`: the MAVLink sender's
+    /// system and component (K40T: 0, 0); `id`: what was refused.
+    pub(crate) fn refuse(
+        &mut self,
+        now: Instant,
+        port: Port,
+        reason: Refusal,
+        id: u32,
+        from: (u8, u8),
+    ) {
+        let c = &mut self.counters;
+        // Each reason's own counter, and the older totals it is part of.
+        let (by_reason, total) = match reason {
+            Refusal::BadSignature => (
+                &mut c.refused_bad_signature,
+                Some(&mut c.signature_failures),
+            ),
+            Refusal::Replayed => (&mut c.refused_replayed, Some(&mut c.signature_failures)),
+            Refusal::Stale => (&mut c.refused_stale, Some(&mut c.signature_failures)),
+            Refusal::Sender => (&mut c.refused_sender, Some(&mut c.commands_refused)),
+            Refusal::Guarded => (&mut c.refused_guarded, Some(&mut c.commands_refused)),
+            Refusal::Unsigned => (&mut c.unsigned_refused, None),
+        };
+        *by_reason = by_reason.saturating_add(1);
+        if let Some(t) = total {
+            *t = t.saturating_add(1);
+        }
+        if self.refusals.due(now, port, reason, from) {
+            self.event(Event::Refused {
+                port,
+                reason,
+                id,
+                sender: from.0,
+            });
+        } else {
+            self.counters.refusals_unreported = self.counters.refusals_unreported.saturating_add(1);
         }
     }
 
@@ -413,6 +476,17 @@ struct EngineState {
     tel: Option<fc::TelemetryLink>,
     /// The telemetry link is the source of UTC and fixes.
     tel_source: bool,
+    /// Whether the first input, which says which records were not restored, has come.
+    first_input: FirstInput,
+}
+
+/// Before or after the engine's first input ([`EngineState::report`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FirstInput {
+    /// Not yet: records may still be restored.
+    Awaited,
+    /// Come.
+    Seen,
 }
 
 impl Engine {
@@ -437,6 +511,7 @@ impl Engine {
                 #[cfg(feature = "telemetry")]
                 tel: Some(fc::TelemetryLink::telemetry(&config)),
                 tel_source: false,
+                first_input: FirstInput::Awaited,
                 config,
             },
         }
@@ -495,6 +570,42 @@ impl Engine {
     /// The next event, oldest first.
     pub fn next_event(&mut self) -> Option<Event> {
         self.core.out.events.pop()
+    }
+
+    /// A record the caller found in its persistent store, given before the first input
+    /// ([`store`]): taken, or discarded with [`Event::StoreRecord`] saying why (the bridge
+    /// keeps that record's defaults). Returns what changed (events).
+    pub fn restore(&mut self, key: u16, value: &[u8]) -> Changes {
+        self.core.restore(store::Key(key), value);
+        core::mem::take(&mut self.core.out.changes)
+    }
+
+    /// The caller could not read its persistent store (or found it corrupt): the bridge
+    /// starts on every record's defaults, and says so ([`Event::StoreRecord`] for
+    /// [`store::Key::WHOLE_STORE`]). Returns what changed (events).
+    pub fn restore_failed(&mut self, problem: store::Problem) -> Changes {
+        self.core.out.event(Event::StoreRecord {
+            key: store::Key::WHOLE_STORE.0,
+            problem,
+        });
+        core::mem::take(&mut self.core.out.changes)
+    }
+
+    /// The next record to write to the persistent store (after [`Changes::STORE`]), with
+    /// its current value; `None` when none waits. Write each, in the order given.
+    pub fn take_record(&mut self) -> Option<store::Record> {
+        while let Some(key) = self.core.out.store.take() {
+            let port = match key {
+                store::Key::SIGNING_TELEMETRY | store::Key::SIGNING_KEY_TELEMETRY => {
+                    Port::Telemetry
+                }
+                _ => Port::Fc,
+            };
+            if let Some(s) = self.core.signing_of(port) {
+                return Some(s.record(key));
+            }
+        }
+        None
     }
 
     /// Copies the next frame for `port` into `buf` and takes it off the queue; returns its
@@ -746,9 +857,58 @@ impl EngineState {
         None
     }
 
-    /// What changed since the last report; starts collecting again.
+    /// What changed since the last report; starts collecting again. The first report
+    /// (the first input) says which records the bridge needs were not restored.
     fn report(&mut self) -> Changes {
+        if self.first_input == FirstInput::Awaited {
+            self.first_input = FirstInput::Seen;
+            for port in [Port::Fc, Port::Telemetry] {
+                if self
+                    .signing_of(port)
+                    .is_some_and(fc::LinkSigning::restore_missing)
+                {
+                    self.out.event(Event::StoreRecord {
+                        key: store::Key::signing(port).0,
+                        problem: store::Problem::Missing,
+                    });
+                }
+            }
+        }
         core::mem::take(&mut self.out.changes)
+    }
+
+    /// The signing of the MAVLink link on `port` (the MAVLink side's on [`Port::Fc`], the
+    /// telemetry link's), when there is one.
+    #[allow(clippy::unnecessary_wraps, clippy::unused_self)] // without the MAVLink links
+    fn signing_of(&mut self, port: Port) -> Option<&mut fc::LinkSigning> {
+        match port {
+            #[cfg(feature = "telemetry")]
+            Port::Telemetry => self.tel.as_mut().map(|t| t.handler.signing()),
+            Port::Fc => self.fc.link_signing(),
+            _ => None,
+        }
+    }
+
+    /// A record the caller found in its store (see [`store`]).
+    fn restore(&mut self, key: store::Key, value: &[u8]) {
+        use store::{Key, Problem};
+        let port = match key {
+            Key::SIGNING_FC | Key::SIGNING_KEY_FC => Port::Fc,
+            Key::SIGNING_TELEMETRY | Key::SIGNING_KEY_TELEMETRY => Port::Telemetry,
+            _ => Port::Pod,
+        };
+        let timestamp = key == Key::signing(port);
+        let restored = match self.signing_of(port) {
+            Some(s) if timestamp => s.restore_timestamp(value),
+            Some(s) => s.restore_key(value),
+            None => Err(Problem::UnknownKey),
+        };
+        if let Err(problem) = restored {
+            self.out.event(Event::StoreRecord {
+                key: key.0,
+                problem,
+            });
+        }
     }
 
     fn ctx(&mut self, now: Instant) -> (&mut FcSide, Ctx<'_>) {

@@ -47,7 +47,36 @@ bind_interrupts!(struct Irqs {
     TIM2 => timer::CaptureCompareInterruptHandler<peripherals::TIM2>;
     #[cfg(feature = "qemu")]
     USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
+    #[cfg(all(not(feature = "qemu"), any(feature = "fc-mavlink", feature = "telemetry")))]
+    FLASH => embassy_stm32::flash::InterruptHandler;
 });
+
+/// The persistent store's flash: the chip's, whose last 16 KiB (bank 2) it takes
+/// (`bridge_fw::layout`).
+#[cfg(all(
+    not(feature = "qemu"),
+    any(feature = "fc-mavlink", feature = "telemetry")
+))]
+pub type StoreFlash = embassy_stm32::flash::Flash<'static, embassy_stm32::flash::Async>;
+/// The emulated board's store: a RAM model of two 512-byte pages (QEMU's flash is
+/// read-only memory and its flash controller is not modelled: the store forgets at each
+/// start).
+#[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
+pub type StoreFlash = bridge_fw::ram_flash::RamFlash<'static, 512>;
+
+/// The store's range in [`StoreFlash`] (offsets from its start).
+#[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
+#[must_use]
+pub const fn store_range() -> core::ops::Range<u32> {
+    #[cfg(not(feature = "qemu"))]
+    {
+        bridge_fw::layout::store_offsets()
+    }
+    #[cfg(feature = "qemu")]
+    {
+        0..1024
+    }
+}
 
 /// Bytes of each UART ring buffer (22 ms at 115200: far more than any task's latency).
 const UART_BUF: usize = 256;
@@ -85,6 +114,10 @@ pub struct Board {
     pub config: Config,
     /// HCLK, Hz.
     pub hclk: u32,
+    /// The persistent store's flash (builds with a MAVLink link: its records are the
+    /// signing timestamp and key).
+    #[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
+    pub store: StoreFlash,
 }
 
 /// Clock tree. Hardware: 80 MHz from the PLL on HSI16. The emulated board must keep HCLK
@@ -290,5 +323,15 @@ pub fn init() -> Board {
         watchdog,
         config,
         hclk,
+        #[cfg(all(
+            not(feature = "qemu"),
+            any(feature = "fc-mavlink", feature = "telemetry")
+        ))]
+        store: embassy_stm32::flash::Flash::new(p.FLASH, Irqs),
+        #[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
+        store: {
+            static STORE: StaticCell<[u8; 1024]> = StaticCell::new();
+            bridge_fw::ram_flash::RamFlash::new(STORE.init([0xFF; 1024]))
+        },
     }
 }

@@ -46,6 +46,20 @@ pub trait BridgeEngine {
     }
     /// Link and time status.
     fn status(&self) -> Status;
+    /// [`Engine::take_record`] (a double keeps nothing).
+    fn take_record(&mut self) -> Option<bridge_engine::store::Record> {
+        None
+    }
+    /// [`Engine::restore`].
+    fn restore(&mut self, key: u16, value: &[u8]) -> Changes {
+        let _ = (key, value);
+        Changes::NONE
+    }
+    /// [`Engine::restore_failed`].
+    fn restore_failed(&mut self, problem: bridge_engine::store::Problem) -> Changes {
+        let _ = problem;
+        Changes::NONE
+    }
 }
 
 impl BridgeEngine for Engine {
@@ -87,6 +101,18 @@ impl BridgeEngine for Engine {
 
     fn pps(&mut self, edge: InstantNs) -> Changes {
         Engine::pps(self, edge)
+    }
+
+    fn take_record(&mut self) -> Option<bridge_engine::store::Record> {
+        Engine::take_record(self)
+    }
+
+    fn restore(&mut self, key: u16, value: &[u8]) -> Changes {
+        Engine::restore(self, key, value)
+    }
+
+    fn restore_failed(&mut self, problem: bridge_engine::store::Problem) -> Changes {
+        Engine::restore_failed(self, problem)
     }
 
     fn status(&self) -> Status {

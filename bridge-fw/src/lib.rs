@@ -16,6 +16,7 @@
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
+//! | [`store_task`] | the engine's records to keep ([`Engine::take_record`](bridge_engine::Engine::take_record)) to a [`RecordStore`] (a flash range on the MCU, a state file on Linux); [`restore`] gives them back at start |
 //!
 //! The tasks share one [`Shared`]: the engine behind a blocking mutex (never held across
 //! an `.await`), and [`Signal`](embassy_sync::signal::Signal)s that wake the writers, the
@@ -49,12 +50,15 @@
 pub mod config;
 mod engine;
 mod engine_task;
+pub mod layout;
 mod led;
 mod link;
 mod log;
 mod pps;
+pub mod ram_flash;
 mod rtc_io;
 mod shared;
+pub mod store;
 mod tick_clock;
 mod watchdog;
 
@@ -69,6 +73,7 @@ pub use log::{EventSink, log_task};
 pub use pps::{NoPps, PpsInput, pps_task};
 pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
+pub use store::{FlashStore, RecordStore, restore, store_task};
 pub use tick_clock::TickClock;
 pub use watchdog::watchdog_task;
 

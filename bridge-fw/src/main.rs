@@ -103,6 +103,23 @@ fn start(spawner: Spawner) {
         let (tel_tx, tel_rx) = b.telemetry.split();
         spawner.spawn(telemetry_link(shared, tel_rx, tel_tx).expect("task telemetry_link"));
     }
+    // The records kept across restarts go to the engine before its first input.
+    #[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
+    {
+        let mut store = bridge_fw::FlashStore::new(b.store, board::store_range())
+            .expect("the store's range is whole pages");
+        let unreadable = embassy_futures::block_on(bridge_fw::restore(shared, &mut store));
+        if unreadable {
+            // Found corrupt: started on defaults (the engine said so); a blank store.
+            let erased = embassy_futures::block_on(store.erase());
+            defmt::warn!("store: unreadable, erased ({})", erased.is_ok());
+        }
+        #[cfg(feature = "qemu")]
+        semihosting::println!(
+            "bridge-fw (qemu): store on a RAM model (QEMU cannot program flash): nothing kept across restarts"
+        );
+        spawner.spawn(store_records(shared, store).expect("task store"));
+    }
     spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
     spawner.spawn(pps(shared, b.pps).expect("task pps"));
     spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
@@ -195,6 +212,16 @@ type PpsPin = tim2::PpsCapture;
 #[cfg(feature = "qemu")]
 type PpsPin = qemu_pps::PpsOverSerial;
 
+/// The persistent store's writer.
+#[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
+#[embassy_executor::task]
+async fn store_records(
+    shared: &'static BoardShared,
+    store: bridge_fw::FlashStore<board::StoreFlash>,
+) -> ! {
+    bridge_fw::store_task(shared, store).await
+}
+
 #[embassy_executor::task]
 async fn engine(shared: &'static BoardShared, rtc_io: RtcIoPin) -> ! {
     bridge_fw::engine_task(shared, rtc_io).await
@@ -274,7 +301,8 @@ fn log_defmt(r: &LogRecord) {
         LogKind::ReadError(_)
         | LogKind::WriteError(_)
         | LogKind::PinError(_)
-        | LogKind::Stalled(_) => {
+        | LogKind::Stalled(_)
+        | LogKind::StoreError(_) => {
             defmt::warn!("{}", r);
         }
         _ => defmt::info!("{}", r),

@@ -36,6 +36,8 @@ pub enum LogKind {
     WriteError(Port),
     /// The watchdog was not fed: these loops made no progress in the last period.
     Stalled(Heartbeat),
+    /// The persistent store could not write the record of this key.
+    StoreError(u16),
 }
 
 /// One entry for the log task, from the engine or a task, with its instant.
@@ -209,6 +211,7 @@ pub struct Shared<M: RawMutex, E> {
     pub(crate) wake_tel_tx: Signal<M, ()>,
     pub(crate) wake_pod_tx: Signal<M, ()>,
     pub(crate) wake_log: Signal<M, ()>,
+    pub(crate) wake_store: Signal<M, ()>,
     pub(crate) records: Channel<M, LogRecord, RECORDS>,
     alive: AtomicU8,
     records_dropped: AtomicU32,
@@ -229,6 +232,7 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
             wake_tel_tx: Signal::new(),
             wake_pod_tx: Signal::new(),
             wake_log: Signal::new(),
+            wake_store: Signal::new(),
             records: Channel::new(),
             alive: AtomicU8::new(0),
             records_dropped: AtomicU32::new(0),
@@ -285,6 +289,9 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         }
         if changes.contains(Changes::EVENTS) {
             self.wake_log.signal(());
+        }
+        if changes.contains(Changes::STORE) {
+            self.wake_store.signal(());
         }
     }
 

@@ -4,6 +4,9 @@
 //! pod's destructive requests.
 
 mod engine_scenarios;
+// Issue 33's promises, each as an attacker would try it (one test binary with these).
+#[path = "security/promises.rs"]
+mod promises;
 
 use bridge_engine::{
     Config, Engine, Event, FcProtocol, Instant, K40tAllow, MAX_FRAME_LEN, Port, Refusal,
@@ -127,7 +130,9 @@ fn unsigned_forged_replayed_and_stale_commands_are_refused() {
     assert_eq!(
         refusals(&s),
         vec![
-            (Refusal::Unsigned, 76, 1),
+            // The gate names a command by its MAV_CMD; a signature that does not check,
+            // by the message id (the frame is not read).
+            (Refusal::Unsigned, 2000, 1),
             (Refusal::BadSignature, 76, 1),
             (Refusal::Replayed, 76, 1),
             (Refusal::Stale, 76, 1),
@@ -164,6 +169,7 @@ fn required_signing_refuses_an_unsigned_autopilot() {
     s.run_until(25 * S);
     assert!(!s.pod.syncs().is_empty(), "time from unsigned telemetry");
     let before = s.pod.photo_requests();
+    let refused = s.engine.counters().unsigned_refused;
     s.fc.take_picture();
     s.run_for(3 * S);
     assert_eq!(
@@ -171,7 +177,13 @@ fn required_signing_refuses_an_unsigned_autopilot() {
         before,
         "an unsigned command is refused"
     );
-    assert!(refusals(&s).contains(&(Refusal::Unsigned, 76, 1)));
+    // ArduPilot's own unsigned requests (REQUEST_MESSAGE) are refused too: one event a
+    // second for the stream, every refusal counted.
+    assert!(s.engine.counters().unsigned_refused > refused);
+    let r = refusals(&s);
+    assert!(r.contains(&(Refusal::Unsigned, 512, 1)), "{r:?}");
+    // One a second for the stream at most (measured 22 in 25 s, bound 28).
+    assert!(r.len() <= 25 + 3, "at most one a second: {}", r.len());
 
     let mut s = signed_ap(SigningMode::Sign, false, false);
     s.run_until(25 * S);

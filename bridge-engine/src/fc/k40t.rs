@@ -2,8 +2,9 @@
 //! forwards both ways and owns RTC_IO.
 //!
 //! - **Forwarding.** Every valid FC frame goes to the pod with its message bytes
-//!   unchanged (no decoding and re-encoding: unknown messages pass too); every valid pod
-//!   frame goes to the FC unchanged.
+//!   unchanged (no decoding and re-encoding: unknown messages pass too), but a frame of
+//!   any kind whose base id is one of the pod's destructive requests not in `k40t_allow`
+//!   (docs/src/security.md); every valid pod frame goes to the FC unchanged.
 //! - **Sequence numbers stay consistent on the pod link.** The bridge sends frames of
 //!   its own to the pod as the flight controller (time syncs, version probes, GPS
 //!   answers), so it numbers every frame it sends there from one counter: a forwarded FC
@@ -209,16 +210,21 @@ impl K40tSide {
             self.gps_reply(ctx, reply);
         }
         let id = frame.id();
+        if !ctx.config.k40t_allow.allows(id.base) {
+            // A frame of one of the pod's destructive requests' base ids, not in
+            // `k40t_allow`, whatever its kind (a request, an ACK, a status or a kind the
+            // document does not name: the pod's firmware may act on any of them): never
+            // forwarded; a request is answered with the document's failure ACK
+            // (docs/src/security.md).
+            ctx.refuse(crate::access::Refusal::Guarded, id.to_u32(), (0, 0));
+            if id.kind == Kind::Request {
+                refusal_ack(&frame, header, |ack| ctx.reply(ack));
+            }
+            return;
+        }
         if id.kind != Kind::Request {
             // An ACK of a pod request (0x010310): it carries the pod's own number.
             ctx.out.queue_pod(f, true, false);
-            return;
-        }
-        if !ctx.config.k40t_allow.allows(id.base) {
-            // One of the pod's destructive requests, not in `k40t_allow`: answered with
-            // the document's failure ACK, never forwarded (docs/src/security.md).
-            ctx.refuse(crate::access::Refusal::Guarded, id.to_u32(), 0);
-            refusal_ack(&frame, header, |ack| ctx.reply(ack));
             return;
         }
         // A request: forwarded with the bridge's sequence number on the pod link.

@@ -65,23 +65,11 @@ impl Ctx<'_> {
         self.out.counters.fc_ignored = self.out.counters.fc_ignored.saturating_add(1);
     }
 
-    /// Refuses a frame or command: counted by `reason` and reported with the link, the
-    /// id and the sender.
-    pub(crate) fn refuse(&mut self, reason: crate::access::Refusal, id: u32, sender: u8) {
-        use crate::access::Refusal as R;
-        let c = &mut self.out.counters;
-        let n = match reason {
-            R::BadSignature | R::Replayed | R::Stale => &mut c.signature_failures,
-            R::Unsigned => &mut c.unsigned_refused,
-            R::Sender | R::Guarded => &mut c.commands_refused,
-        };
-        *n = n.saturating_add(1);
-        self.out.event(Event::Refused {
-            port: self.to,
-            reason,
-            id,
-            sender,
-        });
+    /// Refuses a frame or command of `id` from `from` (MAVLink system and component;
+    /// K40T: 0, 0): counted by `reason`, reported at most once per reason and stream a
+    /// second (see `Outputs::refuse`).
+    pub(crate) fn refuse(&mut self, reason: crate::access::Refusal, id: u32, from: (u8, u8)) {
+        self.out.refuse(self.now, self.to, reason, id, from);
     }
 
     /// Sends `cmd` to the pod; `fc_id` is the FC protocol's id of the command (for the
@@ -392,6 +380,29 @@ mod siyi;
 #[cfg(feature = "viewlink")]
 mod viewlink;
 
+#[cfg(feature = "mavlink")]
+pub(crate) use mavlink::LinkSigning;
+
+/// Without the MAVLink links there is no signing ([`FcSide::link_signing`] is `None`).
+#[cfg(not(feature = "mavlink"))]
+pub(crate) enum LinkSigning {}
+
+#[cfg(not(feature = "mavlink"))]
+impl LinkSigning {
+    pub(crate) fn restore_missing(&mut self) -> bool {
+        match *self {}
+    }
+    pub(crate) fn restore_timestamp(&mut self, _: &[u8]) -> Result<(), crate::store::Problem> {
+        match *self {}
+    }
+    pub(crate) fn restore_key(&mut self, _: &[u8]) -> Result<(), crate::store::Problem> {
+        match *self {}
+    }
+    pub(crate) fn record(&self, _: crate::store::Key) -> crate::store::Record {
+        match *self {}
+    }
+}
+
 /// The MAVLink telemetry link beside another FC side.
 #[cfg(feature = "telemetry")]
 pub(crate) type TelemetryLink = FcLink<mavlink::TelemetrySide, { mavlink::BUF }>;
@@ -536,6 +547,15 @@ impl FcSide {
             let _ = (ctx, header, request);
             false
         })
+    }
+
+    /// The MAVLink side's signing (`None`: another side).
+    pub(crate) fn link_signing(&mut self) -> Option<&mut LinkSigning> {
+        match self {
+            #[cfg(feature = "mavlink")]
+            FcSide::Mavlink(link) => Some(link.handler.signing()),
+            _ => None,
+        }
     }
 
     pub(crate) fn deframer_stats(&self) -> Stats {

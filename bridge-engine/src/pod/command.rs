@@ -104,14 +104,13 @@ impl PodDriver {
                 if !self.allow.allows(base) {
                     // One of the pod's destructive requests, not allowed (see
                     // docs/src/security.md).
-                    let n = &mut out.counters.commands_refused;
-                    *n = n.saturating_add(1);
-                    out.event(Event::Refused {
-                        port: crate::Port::Fc,
-                        reason: crate::access::Refusal::Guarded,
-                        id: u32::from(base),
-                        sender: 0,
-                    });
+                    out.refuse(
+                        now,
+                        crate::Port::Fc,
+                        crate::access::Refusal::Guarded,
+                        u32::from(base),
+                        (0, 0),
+                    );
                     return None;
                 }
                 if let Command::Laser(r) = other {

@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use bridge_engine::{Config, Duration, Engine, Event};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
 use bridge_fw::{LogKind, LogRecord, Timing};
-use embassy_futures::select::{Either4, select4};
+use embassy_futures::select::{Either, Either4, select, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
 use serde_json::{Value, json};
 use toml::Table;
@@ -24,6 +24,7 @@ use super::pin::{GpioLine, RtcSpec, RunnerPin};
 use super::port::{self, CableFaults, Pump, port_baud, stats_json};
 use super::pps::{self as pps_in, ChannelPps, EdgeChannel, PipePps, PpsSpec, RunnerPps};
 use super::simfc::{AnyFc, system_utc_us};
+use super::state::{self, StateFile};
 use super::trace::{TapRead, TapWrite, tap};
 use super::watch::{FcWatcher, PodWatcher};
 use crate::runner::options::{BridgeArgs, ConfigArgs};
@@ -264,6 +265,24 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
         }),
     );
 
+    // The records kept across restarts go to the engine before its first input.
+    let state_dir = args
+        .state_dir
+        .clone()
+        .or_else(state::default_dir)
+        .ok_or("--state-dir: neither XDG_STATE_HOME nor HOME is set; give a directory")?;
+    let (mut state_file, set_aside) = StateFile::open(&state_dir)?;
+    if let Some(bad) = &set_aside {
+        out.emit(
+            "state_file_set_aside",
+            json!({"file": state_file.path().display().to_string(), "problem": bad.problem,
+                   "aside": bad.aside.as_ref().map(|p| p.display().to_string())}),
+        );
+        shared.input(|e| e.restore_failed(bridge_engine::store::Problem::Unreadable));
+    } else {
+        embassy_futures::block_on(bridge_fw::restore(&shared, &mut state_file));
+    }
+
     // The RTC_IO outputs: opened first, so that a missing GPIO line is an error before
     // any connection is made.
     let gpio = match &args.rtc_io {
@@ -425,7 +444,10 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             status.borrow_mut().note(name);
             out.emit_at(t, name, fields);
         };
-        let bridge = host::bridge_with_pps(&shared, links, pin, pps, sink, || {});
+        let bridge = select(
+            host::bridge_with_pps(&shared, links, pin, pps, sink, || {}),
+            bridge_fw::store_task(&shared, state_file),
+        );
         // A simulated peer on its side's wires (the bridge's output and input, their
         // sinks), traced both ways; or nothing.
         macro_rules! sim_peer {
@@ -489,7 +511,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             }
         });
         match select4(bridge, fc_peer, pod_peer, monitor).await {
-            Either4::First(never) => match never {},
+            Either4::First(Either::First(never) | Either::Second(never)) => match never {},
             Either4::Second(Err(e)) | Either4::Third(Err(e)) => {
                 Err(format!("a simulator stopped: {e:?}"))
             }

@@ -188,6 +188,14 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             "signing_key_changed",
             json!({"port": port_name(port), "on": on}),
         ),
+        Event::OtherAutopilot { port, sysid } => (
+            "other_autopilot",
+            json!({"port": port_name(port), "sysid": sysid}),
+        ),
+        Event::StoreRecord { key, problem } => (
+            "store_record",
+            json!({"key": format!("0x{key:04x}"), "problem": problem.name()}),
+        ),
         Event::Dropped { port, frames } => (
             "dropped",
             json!({"port": port_name(port), "frames": frames}),
@@ -227,6 +235,7 @@ pub fn record_event(r: &LogRecord) -> (u64, &'static str, Value) {
         LogKind::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
         LogKind::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
         LogKind::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
+        LogKind::StoreError(key) => ("store_error", json!({"key": format!("0x{key:04x}")})),
     };
     (r.at.as_micros(), name, fields)
 }

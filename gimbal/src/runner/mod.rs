@@ -14,5 +14,6 @@ pub mod port;
 pub mod pps;
 pub mod simfc;
 pub mod sims;
+pub mod state;
 pub mod trace;
 pub mod watch;

@@ -182,6 +182,11 @@ pub struct BridgeArgs {
     /// Make the pod cable faulty (see FAULTS below; not RTC_IO).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
     pub pod_faults: Option<Faults>,
+    /// Where the bridge keeps what it must remember across restarts (the MAVLink signing
+    /// timestamp, a key set by SETUP_SIGNING): the file DIR/state.bin, written atomically
+    /// [default: $XDG_STATE_HOME/k40t-bridge, else ~/.local/state/k40t-bridge].
+    #[arg(long, value_name = "DIR")]
+    pub state_dir: Option<PathBuf>,
     /// The bridge's configuration from a file: the firmware's TOML
     /// (`bridge-fw/bridge.toml`, every key optional). The options below, a port's
     /// `:BAUD` and --fc override its keys (its `fc` is not used).
@@ -409,6 +414,21 @@ pub struct ConfigArgs {
     #[arg(long, value_name = "IDS", help_heading = "Security", value_parser = parse_ids)]
     #[serde(rename = "k40t_allow", skip_serializing_if = "Option::is_none")]
     pub k40t_allow: Option<Ids>,
+    /// The autopilot's MAVLink system id (0: the first autopilot heard after start, then
+    /// kept) [default: 0].
+    #[arg(long, value_name = "ID", help_heading = "Security",
+          value_parser = ranged::<u8>(Limit::AUTOPILOT_SYSID))]
+    #[serde(rename = "autopilot_sysid", skip_serializing_if = "Option::is_none")]
+    pub autopilot_sysid: Option<u8>,
+    /// With --autopilot-sysid 0: the autopilot learnt is forgotten after this long
+    /// without its HEARTBEAT, ms [default: 30000].
+    #[arg(long, value_name = "MS", help_heading = "Security",
+          value_parser = ranged::<u64>(Limit::AUTOPILOT_FORGET_MS))]
+    #[serde(
+        rename = "autopilot_forget_ms",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub autopilot_forget_ms: Option<u64>,
 }
 
 /// `--signing`.

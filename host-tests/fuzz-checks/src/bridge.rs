@@ -19,6 +19,10 @@
 //! - every frame for the FC is a valid frame of its protocol (checked by the reference
 //!   scans written from the documents), every frame for the pod a valid K40T frame,
 //!   every frame for the telemetry link a valid MAVLink 2 frame;
+//! - no frame of one of the pod's destructive requests' base ids
+//!   ([`GUARDED`](bridge_engine::access::GUARDED)), whatever
+//!   its kind, reaches the pod unless the configuration allows it (`k40t_allow`; the
+//!   MAVLink camera's storage format and reset with `mavlink.allow_destructive`);
 //! - every input's [`Changes`] say what it did, as the firmware's wake-ups rely on: a
 //!   queue's frame bit exactly when the input queued a frame for that port, the events
 //!   bit exactly when it queued an event, the pin bit whenever the RTC_IO plan
@@ -30,6 +34,7 @@
 
 use std::sync::OnceLock;
 
+use bridge_engine::access::Guarded;
 use bridge_engine::{
     Changes, Config, Duration, Engine, FC_QUEUE, FcProtocol, Instant, MAX_FRAME_LEN, POD_QUEUE,
     PinAction, Port, TELEMETRY_QUEUE,
@@ -125,8 +130,28 @@ fn pod_frame(config: &Config, id: MsgId, fill: &[u8], seq: u8) -> Vec<u8> {
     buf[..n].to_vec()
 }
 
+/// A check of every frame the pod gets, beyond validity (a target's own property).
+pub type PodCheck = fn(&Config, &[u8]);
+
+/// No frame of a destructive request's base id reaches the pod unless `config` allows it.
+fn guarded_allowed(config: &Config, f: &[u8]) {
+    let Ok(frame) = k40t::Frame::new_checked(f) else {
+        return;
+    };
+    let base = frame.id().base;
+    let mavlink_destructive = config.fc == FcProtocol::Mavlink
+        && config.mavlink.allow_destructive
+        && [0x030D, 0x030F].contains(&base);
+    assert!(
+        Guarded::index_of(base).is_none() || config.k40t_allow.allows(base) || mavlink_destructive,
+        "a frame of the destructive request 0x{base:06X} reached the pod: {f:02X?}"
+    );
+}
+
 /// Takes every output and checks it; returns the frames for the FC and for the pod.
-fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+fn drain(engine: &mut Engine, check: PodCheck) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    let config = *engine.config();
+    let protocol = config.fc;
     let mut take = |port| {
         let mut frames = Vec::new();
         let mut buf = [0u8; MAX_FRAME_LEN];
@@ -186,6 +211,8 @@ fn drain(engine: &mut Engine, protocol: FcProtocol) -> (Vec<Vec<u8>>, Vec<Vec<u8
             Some(f.len()),
             "invalid frame for the pod {f:02X?}"
         );
+        guarded_allowed(&config, f);
+        check(&config, f);
     }
     (fc, pod)
 }
@@ -250,8 +277,9 @@ pub fn run(data: &[u8]) {
 
 /// Target `bridge_k40t_allow`: the K40T side with the allow-list of the pod's destructive
 /// requests the first two bytes give (bit `i` allows `GUARDED[i]`), its FC frames every
-/// K40T request (the destructive ones among them), with the properties of [`run`]: a
-/// refused request answered with a valid ACK, never forwarded.
+/// K40T request (the destructive ones among them), with the properties of [`run`]: no
+/// frame of a request not allowed reaches the pod, whatever its kind, and every frame the
+/// FC gets (the failure ACK of a refused request among them) is a valid K40T frame.
 pub fn run_k40t_allow(data: &[u8]) {
     let mut input = Input::new(data);
     let bits = u16::from_le_bytes([input.byte(), input.byte()]);
@@ -289,7 +317,12 @@ pub fn run_with(protocol: FcProtocol, fc_frames: &[Vec<u8>], input: Input<'_>) {
 }
 
 /// [`run_with`] with the engine configured as `config` (its FC side the protocol).
-pub fn run_config(config: Config, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
+pub fn run_config(config: Config, fc_frames: &[Vec<u8>], input: Input<'_>) {
+    run_checked(config, fc_frames, input, |_, _| {});
+}
+
+/// [`run_config`] with `check` run on every frame the pod gets.
+pub fn run_checked(config: Config, fc_frames: &[Vec<u8>], mut input: Input<'_>, check: PodCheck) {
     let protocol = config.fc;
     let mut engine = Engine::new(config);
     let mut now = Instant::from_millis(1);
@@ -330,7 +363,7 @@ pub fn run_config(config: Config, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
                 None => Changes::NONE,
             },
             op::DRAIN => {
-                drain(&mut engine, protocol);
+                drain(&mut engine, check);
                 continue;
             }
             _ => {
@@ -349,18 +382,18 @@ pub fn run_config(config: Config, fc_frames: &[Vec<u8>], mut input: Input<'_>) {
         let _ = (engine.poll_at(), engine.counters(), engine.utc(now));
         let _ = (engine.pod_state(), engine.utc_state(), engine.fc_link());
     }
-    probe(&mut engine, protocol, now);
+    probe(&mut engine, protocol, now, check);
 }
 
 /// The lines go idle, a second passes, and a valid request comes from the FC: it is
 /// answered (see the module documentation).
-fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
-    drain(engine, protocol);
+fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant, check: PodCheck) {
+    drain(engine, check);
     engine.idle(now, Port::Fc);
     engine.idle(now, Port::Pod);
     now = now.saturating_add(Duration::from_secs(1));
     engine.poll(now);
-    drain(engine, protocol);
+    drain(engine, check);
     let config = *engine.config();
     let request = match protocol {
         FcProtocol::Siyi => crate::siyi::encoded(
@@ -373,7 +406,7 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
             // The status carries the pod's attitude: the pod reports it first.
             let attitude = pod_frame(&config, k40t::GimbalAttitude::ID, &[1; 32], 0);
             engine.receive(now, Port::Pod, &attitude);
-            drain(engine, protocol);
+            drain(engine, check);
             crate::viewlink::encoded(
                 viewlink::Handshake::ID,
                 &[0],
@@ -409,14 +442,14 @@ fn probe(engine: &mut Engine, protocol: FcProtocol, mut now: Instant) {
                 Port::Fc,
                 &sign(crate::bridge_mavlink::autopilot_heartbeat()),
             );
-            drain(engine, protocol);
+            drain(engine, check);
             Some(sign(crate::bridge_mavlink::probe_request()))
         }
     }
     .expect("the probe request encodes");
     engine.receive(now, Port::Fc, &request);
     engine.idle(now, Port::Fc);
-    let (fc, pod) = drain(engine, protocol);
+    let (fc, pod) = drain(engine, check);
     let answered = match protocol {
         // 55 66 CTRL LEN(2) SEQ(2) CMD: the firmware versions, same sequence number.
         FcProtocol::Siyi => fc.iter().any(|f| f[5..8] == [0x3B, 0x4A, 0x01]),

@@ -28,7 +28,8 @@ use protocol_core::mavlink::dialect::{
 };
 use protocol_core::mavlink::{Header, MAX_FRAME_LEN, MavMessage, Message, Packet, Raw, encode};
 
-use crate::bridge::{Input, run_config, run_with, seeds_with};
+use crate::bridge::{Input, run_checked, run_config, run_with, seeds_with};
+use protocol_core::k40t::{self, MessageData};
 
 fn frame(sys: u8, comp: u8, seq: u8, msg: &MavMessage) -> Vec<u8> {
     let header = Header {
@@ -60,8 +61,14 @@ fn long(cmd: MavCmd, p: [f32; 7], target: (u8, u8)) -> MavMessage {
 /// The autopilot's HEARTBEAT (system 1, ArduPilot, quadrotor).
 #[must_use]
 pub fn autopilot_heartbeat() -> Vec<u8> {
+    autopilot_heartbeat_of(1)
+}
+
+/// An ArduPilot quadrotor's HEARTBEAT from system `sys`.
+#[must_use]
+pub fn autopilot_heartbeat_of(sys: u8) -> Vec<u8> {
     frame(
-        1,
+        sys,
         1,
         0,
         &MavMessage::HEARTBEAT(HEARTBEAT_DATA {
@@ -124,6 +131,12 @@ fn unknown_command() -> Vec<u8> {
 
 /// A FILE_TRANSFER_PROTOCOL request from QGroundControl (255/190) to 1/100.
 fn ftp(seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
+    ftp_from(255, seq, opcode, size, offset, data)
+}
+
+/// A FILE_TRANSFER_PROTOCOL request from system `sys` (component 190) to 1/100.
+#[must_use]
+pub fn ftp_from(sys: u8, seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
     let mut payload = [0u8; 251];
     payload[..2].copy_from_slice(&seq.to_le_bytes());
     payload[3] = opcode;
@@ -136,11 +149,18 @@ fn ftp(seq: u16, opcode: u8, size: u8, offset: u32, data: &[u8]) -> Vec<u8> {
         target_component: 100,
         payload,
     });
-    frame(255, 190, 11, &msg)
+    frame(sys, 190, 11, &msg)
 }
 
 /// A PARAM_EXT_SET of `name` with `value` typed `ty`, to 1/100.
 fn param_set(name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
+    param_set_from(255, name, value, ty)
+}
+
+/// A PARAM_EXT_SET of `name` with `value` typed `ty`, from system `sys` (component 190)
+/// to 1/100.
+#[must_use]
+pub fn param_set_from(sys: u8, name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
     let mut id = [0u8; 16];
     id[..name.len()].copy_from_slice(name.as_bytes());
     let mut v = [0u8; 128];
@@ -152,7 +172,7 @@ fn param_set(name: &str, value: u32, ty: MavParamExtType) -> Vec<u8> {
         param_value: CharArray::from(v),
         param_type: ty,
     });
-    frame(255, 190, 12, &msg)
+    frame(sys, 190, 12, &msg)
 }
 
 /// The camera definition's download and the extended parameters, as QGroundControl and
@@ -593,6 +613,119 @@ pub fn signed_seeds() -> Vec<Vec<u8>> {
     let mut out = Vec::new();
     for mode in [0u8, 1, 3] {
         for s in seeds_with(&[], signed_frames()).into_iter().step_by(4) {
+            let mut v = vec![mode];
+            v.extend(s);
+            out.push(v);
+        }
+    }
+    out
+}
+
+/// `frame` as system `sys` sent it (unchanged when it does not decode).
+fn as_system(frame: &[u8], sys: u8) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    match Packet::decode(frame).map(|mut p| {
+        p.header.system_id = sys;
+        p.emit(&mut buf)
+    }) {
+        Ok(Ok(n)) => buf[..n].to_vec(),
+        _ => frame.to_vec(),
+    }
+}
+
+/// The gate's message of `frame` ([`bridge_engine::access::GATED`]), if any.
+fn gated(frame: &[u8]) -> bool {
+    protocol_core::mavlink::Frame::new_checked(frame)
+        .is_ok_and(|f| bridge_engine::access::Gated::of(f.message_id(), f.payload_ref()).is_some())
+}
+
+/// The forged target's FC frames: everything that changes nothing (heartbeats, time,
+/// positions, the reads) correctly signed, at growing timestamps; and every message of the
+/// gate only as an attacker without the key, or a system that may not command, can send
+/// it: unsigned, signed with another key, signed with the key but older than its
+/// stream's last (a replay), and correctly signed by system 77 (not the autopilot's, not a
+/// ground station's).
+#[must_use]
+pub fn forged_frames() -> &'static [Vec<u8>] {
+    static FRAMES: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    FRAMES.get_or_init(|| {
+        const T0: u64 = 3_500_000_000_000;
+        let mut out: Vec<Vec<u8>> = Vec::new();
+        let rotate = frame(
+            1,
+            1,
+            9,
+            &MavMessage::SETUP_SIGNING(protocol_core::mavlink::dialect::SETUP_SIGNING_DATA {
+                initial_timestamp: 0,
+                target_system: 1,
+                target_component: 154,
+                secret_key: [0; 32],
+            }),
+        );
+        for (i, f) in fc_frames().iter().chain([&rotate]).enumerate() {
+            let t = T0 + i as u64 * 1_000;
+            if gated(f) {
+                out.push(f.clone());
+                out.push(signed(f, [7; 32], t));
+                out.push(signed(f, FUZZ_KEY, T0 - 1));
+                out.push(signed(&as_system(f, 77), FUZZ_KEY, t));
+            } else {
+                out.push(signed(f, FUZZ_KEY, t));
+            }
+        }
+        out
+    })
+}
+
+/// The K40T requests the bridge makes by itself: its version queries, the settings'
+/// and the IP queries at each link-up, the time syncs.
+const OWN_REQUESTS: [u16; 6] = [
+    k40t::GimbalVersionQuery::ID.base,
+    k40t::CameraVersionQuery::ID.base,
+    k40t::IrParamsQuery::ID.base,
+    k40t::VisibleParamsQuery::ID.base,
+    k40t::IpQuery::ID.base,
+    k40t::TimeSync::ID.base,
+];
+
+/// Target `bridge_forged`: the MAVLink side requiring signing (unsigned telemetry read
+/// when the first byte is odd) with [`forged_frames`], and the properties of [`run`]:
+/// no command, setting or file write reaches the pod (the pod gets the bridge's own
+/// requests and its answers to the pod's GPS requests only), and the probe, signed by an
+/// allowed ground station, is still answered.
+pub fn run_forged(data: &[u8]) {
+    let Some((&mode, rest)) = data.split_first() else {
+        return;
+    };
+    let mut config = bridge_engine::Config::for_fc(FcProtocol::Mavlink);
+    config.signing = bridge_engine::SigningMode::Require;
+    config.signing_key = Some(bridge_engine::SigningKey(FUZZ_KEY));
+    config.signing_unsigned_telemetry = mode & 1 != 0;
+    run_checked(config, forged_frames(), Input::new(rest), |_, f| {
+        let Ok(frame) = k40t::Frame::new_checked(f) else {
+            return;
+        };
+        let id = frame.id();
+        let own = match id.kind {
+            k40t::Kind::Request => OWN_REQUESTS.contains(&id.base),
+            // The answer to the pod's GPS request.
+            k40t::Kind::Ack => id.base == k40t::GpsRequest::ID.base,
+            _ => false,
+        };
+        assert!(
+            own,
+            "0x{:06X} reached the pod, and no allowed sender signed a command: {f:02X?}",
+            id.to_u32()
+        );
+    });
+}
+
+/// Seeds of the forged target: [`seeds`] over the forged frames.
+#[must_use]
+pub fn forged_seeds() -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for mode in [0u8, 1] {
+        for s in seeds_with(&[], forged_frames()).into_iter().step_by(2) {
             let mut v = vec![mode];
             v.extend(s);
             out.push(v);

@@ -26,7 +26,11 @@
 //!   its FC frames signed with the key, another key, stale, SETUP_SIGNING
 //!   ([`bridge_mavlink::run_signed`]); **bridge_k40t_allow** the K40T side with an
 //!   allow-list of the pod's destructive requests the fuzzer picks
-//!   ([`bridge::run_k40t_allow`]).
+//!   ([`bridge::run_k40t_allow`]); **bridge_forged** the MAVLink side requiring signing,
+//!   everything that changes something only unsigned, forged, replayed or from a system
+//!   that may not command: none of it reaches the pod ([`bridge_mavlink::run_forged`]).
+//!   Every bridge target checks that no frame of a destructive request the configuration
+//!   does not allow reaches the pod, whatever its kind.
 
 pub mod bridge;
 pub mod bridge_mavlink;
@@ -100,6 +104,10 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "bridge_k40t_allow",
         run: bridge::run_k40t_allow,
+    },
+    Target {
+        name: "bridge_forged",
+        run: bridge_mavlink::run_forged,
     },
     Target {
         name: "gcu_deframe",

@@ -205,6 +205,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         "bridge_mavlink" => crate::bridge_mavlink::seeds(),
         "bridge_signed" => crate::bridge_mavlink::signed_seeds(),
         "bridge_k40t_allow" => crate::bridge::k40t_allow_seeds(),
+        "bridge_forged" => crate::bridge_mavlink::forged_seeds(),
         _ => panic!("no target {name}"),
     }
 }

@@ -1,16 +1,20 @@
-//! The bridge engine: every public entry point of `Engine` (new, the FC and pod inputs,
-//! idle, poll, the RTC_IO pin, the output queues, events, the read-only views) with an
+//! The bridge engine: every public entry point of `Engine` (new, the records restored
+//! from the store, the FC and pod inputs, idle, poll, the RTC_IO pin, the output queues,
+//! the records to store, events, the read-only views) with an
 //! opaque configuration (so every FC side, SIYI, Viewlink, GCU, K40T and MAVLink, the
 //! telemetry link (the port is opaque too), and every
 //! configured behaviour is reachable), opaque bytes and instants, and the engine's state
 //! made opaque between calls (`black_box(&mut engine)`: any state a previous call could
 //! have left).
 
+use bridge_engine::store::Problem;
 use bridge_engine::{Config, Engine, Instant, Level, Port};
 use core::hint::black_box;
 
 pub fn exercise(input: &[u8], out: &mut [u8]) {
     let mut engine = Engine::new(black_box(Config::DEFAULT));
+    black_box(black_box(&mut engine).restore(black_box(0), input));
+    black_box(black_box(&mut engine).restore_failed(black_box(Problem::Unreadable)));
     let now = || Instant::from_micros(black_box(0));
     let port = || black_box(Port::Fc);
     black_box(black_box(&mut engine).receive(now(), port(), input));
@@ -29,6 +33,9 @@ pub fn exercise(input: &[u8], out: &mut [u8]) {
     black_box(e.config());
     black_box(e.transmit(port(), out));
     black_box(e.transmit(black_box(Port::Pod), out));
+    while let Some(r) = black_box(&mut *e).take_record() {
+        black_box(r.value());
+    }
     while let Some(ev) = black_box(&mut *e).next_event() {
         black_box(ev);
     }

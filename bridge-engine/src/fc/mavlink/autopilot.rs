@@ -54,7 +54,8 @@ use protocol_core::mavlink::{
 use super::super::{Ctx, clamp_i16};
 use super::math;
 use super::signing::{Check, LinkSigning};
-use crate::access::Refusal;
+use crate::access::{Gated, Refusal};
+use crate::store;
 
 /// The autopilot's component id.
 pub(super) const AUTOPILOT: u8 = 1;
@@ -198,6 +199,19 @@ pub(super) enum Took {
     Fix,
 }
 
+/// What [`Autopilot::heartbeat`] made of a HEARTBEAT.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Heartbeat {
+    /// Not an autopilot's.
+    NotAutopilot,
+    /// The autopilot's, already known.
+    Known,
+    /// The autopilot's, new: the device introduces itself.
+    New,
+    /// Another autopilot's than the pinned one: counted, reported once, nothing changed.
+    Other,
+}
+
 /// The autopilot on a MAVLink link, as a device (component `own`) sees it.
 #[derive(Debug, Clone)]
 pub(super) struct Autopilot {
@@ -209,7 +223,10 @@ pub(super) struct Autopilot {
     own: u8,
     /// Next sequence number of frames from `own` and from a second component (camera).
     seq: [u8; 2],
+    /// The pinned autopilot's last HEARTBEAT.
     heard: Option<Instant>,
+    /// Other autopilots' system ids already reported (bit = system id).
+    others_reported: [u32; 8],
     streams: [Stream; 4],
     vehicle: Option<Vehicle>,
     /// The last GPS_RAW_INT with a 3D fix.
@@ -232,6 +249,7 @@ impl Autopilot {
             own,
             seq: [0; 2],
             heard: None,
+            others_reported: [0; 8],
             streams: [
                 Stream::new(stream::SYSTEM_TIME, 100_000),
                 Stream::new(stream::GLOBAL_POSITION_INT, 100_000),
@@ -278,8 +296,18 @@ impl Autopilot {
         let mut buf = [0u8; MAX_FRAME_LEN];
         let utc = ctx.time.utc(ctx.now);
         let signer = self.signing.next_signer(utc);
-        let n = write(signer.as_ref(), &mut buf).ok()?;
+        let n = write(signer.as_ref(), &mut buf).ok();
+        self.save_if_due(ctx);
+        let n = n?;
         ctx.reply(buf.get(..n).unwrap_or_default()).then_some(n)
+    }
+
+    /// Asks the store to save the signing timestamp when it is due (see
+    /// [`LinkSigning::save_due`]).
+    fn save_if_due(&mut self, ctx: &mut Ctx<'_>) {
+        if self.signing.save_due(ctx.now) {
+            ctx.out.save(store::Key::signing(ctx.to));
+        }
     }
 
     /// Encodes `msg` from component `comp` and queues it on the link.
@@ -318,22 +346,25 @@ impl Autopilot {
 
     /// Whether a received frame is read at all, by the link's signing (see
     /// docs/src/security.md): `Some(signed)` to read it, `None` when it was refused
-    /// (counted; a command also reported).
+    /// (counted; a signed frame that does not check also reported). An unsigned message of
+    /// the gate's table goes on to [`Autopilot::gate`], which refuses it while signing is
+    /// required.
     pub(super) fn admit(&mut self, ctx: &mut Ctx<'_>, frame: &[u8]) -> Option<bool> {
         let utc = ctx.time.utc(ctx.now);
         let view = protocol_core::mavlink::Frame::new_unchecked(frame);
-        let (id, sender) = (view.message_id(), view.system_id());
-        match self.signing.check(frame, utc) {
+        let (id, from) = (view.message_id(), (view.system_id(), view.component_id()));
+        let check = self.signing.check(frame, utc);
+        if check == Check::Signed {
+            self.save_if_due(ctx);
+        }
+        match check {
             Check::Signed => Some(true),
             Check::Refused(reason) => {
-                ctx.refuse(reason, id, sender);
+                ctx.refuse(reason, id, from);
                 None
             }
             Check::Unsigned if !self.signing.required() => Some(false),
-            Check::Unsigned if is_command(id) => {
-                ctx.refuse(Refusal::Unsigned, id, sender);
-                None
-            }
+            Check::Unsigned if Gated::of(id, view.payload_ref()).is_some() => Some(false),
             Check::Unsigned if ctx.config.signing_unsigned_telemetry => Some(false),
             Check::Unsigned => {
                 // Telemetry refused is counted, not reported (it comes many times a
@@ -345,10 +376,58 @@ impl Autopilot {
         }
     }
 
-    /// The sender may command the device: the autopilot's system, or a listed ground
-    /// station's.
+    /// The gate (docs/src/security.md, "The gate"): a message of the table
+    /// [`GATED`](crate::access::GATED), which changes something, addressed to this device
+    /// (to one of `components`, or broadcast) is taken only from an allowed sender
+    /// ([`Autopilot::may_command`]) and, while signing is required, only signed; the same
+    /// rule for every one of them. Returns the refusal (counted and reported; a command
+    /// is named by its MAV_CMD), `None` to read the message on (messages for others are
+    /// their handlers' to ignore).
+    pub(super) fn gate(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        frame: &protocol_core::mavlink::Frame<&[u8]>,
+        signed: bool,
+        components: &[u8],
+    ) -> Option<Refusal> {
+        let payload = frame.payload_ref();
+        let gated = Gated::of(frame.message_id(), payload)?;
+        let (ts, tc) = gated.target(payload);
+        if self.sysid.is_none() || !self.addressed_to_any(ts, tc, components) {
+            return None;
+        }
+        let from = Header {
+            sequence: frame.sequence(),
+            system_id: frame.system_id(),
+            component_id: frame.component_id(),
+        };
+        let reason = if self.signing.required() && !signed {
+            Refusal::Unsigned
+        } else if !self.may_command(ctx, from) {
+            Refusal::Sender
+        } else {
+            return None;
+        };
+        let what = if gated.is_command() {
+            let at = |i: usize| payload.get(i).copied().unwrap_or(0);
+            u32::from(u16::from_le_bytes([at(28), at(29)]))
+        } else {
+            gated.id
+        };
+        ctx.refuse(reason, what, (from.system_id, from.component_id));
+        Some(reason)
+    }
+
+    /// The sender may change things on the device: the autopilot's system, or a listed
+    /// ground station's.
     pub(super) fn may_command(&self, ctx: &Ctx<'_>, h: Header) -> bool {
         self.sysid == Some(h.system_id) || ctx.config.gcs_ids.contains(h.system_id)
+    }
+
+    /// A message addressed to one of `components` of this device, or broadcast.
+    fn addressed_to_any(&self, target_system: u8, target_component: u8, components: &[u8]) -> bool {
+        (target_system == 0 || self.sysid == Some(target_system))
+            && (target_component == 0 || components.contains(&target_component))
     }
 
     /// SETUP_SIGNING addressed to this device: taken only from the autopilot's system,
@@ -364,12 +443,18 @@ impl Autopilot {
         if !self.addressed(s.target_system, s.target_component, self.own) || s.target_system == 0 {
             return Took::No;
         }
+        // Past the gate: from an allowed sender, signed if signing is required. A key
+        // changes only for the autopilot's system, signed with the key in use.
+        let from = (h.system_id, h.component_id);
         if !signed {
-            ctx.refuse(Refusal::Unsigned, SETUP_SIGNING_ID, h.system_id);
+            ctx.refuse(Refusal::Unsigned, SETUP_SIGNING_ID, from);
         } else if self.sysid != Some(h.system_id) {
-            ctx.refuse(Refusal::Sender, SETUP_SIGNING_ID, h.system_id);
+            ctx.refuse(Refusal::Sender, SETUP_SIGNING_ID, from);
         } else {
             let on = self.signing.set_key(s.secret_key, s.initial_timestamp);
+            // Kept across restarts at once, with the timestamp.
+            ctx.out.save(store::Key::signing_key(ctx.to));
+            ctx.out.save(store::Key::signing(ctx.to));
             ctx.out
                 .event(crate::Event::SigningKeyChanged { port: ctx.to, on });
         }
@@ -405,16 +490,18 @@ impl Autopilot {
                 .is_some_and(|t| now.saturating_duration_since(t) <= STREAM_STALE)
     }
 
-    /// A HEARTBEAT: from an autopilot, it gives the device its system id (GCS, gimbal
-    /// and camera heartbeats, routed onto the link, do not). Returns `Some(true)` when
-    /// the autopilot is new (the device introduces itself), `None` when it is not an
-    /// autopilot's.
+    /// A HEARTBEAT (see docs/src/security.md, "The autopilot's system"). An autopilot's
+    /// (component 1, an autopilot type; not a ground station's, gimbal's or camera's,
+    /// routed onto the link) gives the device its system id: the configured
+    /// `autopilot_sysid`'s, or (0: learn) the first heard after power-on, which stays
+    /// pinned until none came for `autopilot_forget_ms`. Any other autopilot's is
+    /// counted, reported once per system, and changes nothing.
     pub(super) fn heartbeat(
         &mut self,
-        ctx: &Ctx<'_>,
+        ctx: &mut Ctx<'_>,
         h: Header,
         hb: &HEARTBEAT_DATA,
-    ) -> Option<bool> {
+    ) -> Heartbeat {
         let autopilot = h.component_id == AUTOPILOT
             && hb.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
             && !matches!(
@@ -422,7 +509,19 @@ impl Autopilot {
                 MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_GIMBAL | MavType::MAV_TYPE_CAMERA
             );
         if !autopilot {
-            return None;
+            return Heartbeat::NotAutopilot;
+        }
+        let pinned = match ctx.config.autopilot_sysid {
+            0 => self.sysid.filter(|_| {
+                self.heard.is_some_and(|t| {
+                    ctx.now.saturating_duration_since(t) < ctx.config.autopilot_forget
+                })
+            }),
+            configured => Some(configured),
+        };
+        if pinned.is_some_and(|p| p != h.system_id) {
+            self.other_autopilot(ctx, h.system_id);
+            return Heartbeat::Other;
         }
         self.heard = Some(ctx.now);
         self.kind = match hb.autopilot {
@@ -431,7 +530,7 @@ impl Autopilot {
             _ => AutopilotKind::Other,
         };
         if self.sysid == Some(h.system_id) {
-            return Some(false);
+            return Heartbeat::Known;
         }
         self.sysid = Some(h.system_id);
         // Ask for the streams and start TIMESYNC now.
@@ -446,7 +545,23 @@ impl Autopilot {
         self.sync.answered = false;
         self.sync.clock = None;
         self.sync.sent = 0;
-        Some(true)
+        Heartbeat::New
+    }
+
+    /// Another autopilot's HEARTBEAT: counted, reported the first time of its system.
+    fn other_autopilot(&mut self, ctx: &mut Ctx<'_>, sysid: u8) {
+        let n = &mut ctx.out.counters.other_autopilots;
+        *n = n.saturating_add(1);
+        let bit = 1u32 << (sysid % 32);
+        if let Some(word) = self.others_reported.get_mut(usize::from(sysid / 32))
+            && *word & bit == 0
+        {
+            *word |= bit;
+            ctx.out.event(Event::OtherAutopilot {
+                port: ctx.to,
+                sysid,
+            });
+        }
     }
 
     /// One of the autopilot's messages the link reads (time, position, attitude,
@@ -511,6 +626,7 @@ impl Autopilot {
 
     /// Periodic work: stream requests, TIMESYNC requests.
     pub(super) fn poll(&mut self, ctx: &mut Ctx<'_>) {
+        self.save_if_due(ctx);
         if self.sysid.is_none() {
             return;
         }
@@ -813,12 +929,6 @@ impl Autopilot {
 
 /// SETUP_SIGNING's message id.
 const SETUP_SIGNING_ID: u32 = 256;
-
-/// Messages that command: COMMAND_INT, COMMAND_LONG, GIMBAL_DEVICE_SET_ATTITUDE,
-/// SETUP_SIGNING. Under required signing they are never read unsigned.
-fn is_command(id: u32) -> bool {
-    matches!(id, 75 | 76 | 284 | SETUP_SIGNING_ID)
-}
 
 /// A message id or interval as a command parameter.
 #[allow(clippy::cast_precision_loss)] // ids and intervals below 2^24 are exact

@@ -7,8 +7,13 @@
 //!
 //! - **Identity.** Both components send HEARTBEAT at 1 Hz (type 26 GIMBAL and 30 CAMERA,
 //!   autopilot INVALID) with the system id of the autopilot, learnt from its own
-//!   HEARTBEAT (component 1); nothing is sent before it is heard. Each component numbers
-//!   its frames itself.
+//!   HEARTBEAT (component 1) and then pinned (`autopilot_sysid`, `autopilot_forget_ms`:
+//!   another autopilot's heartbeat changes nothing); nothing is sent before it is heard.
+//!   Each component numbers its frames itself.
+//! - **The gate.** Every message that changes something ([`GATED`](crate::access::GATED):
+//!   commands, GIMBAL_DEVICE_SET_ATTITUDE, PARAM_EXT_SET, PARAM_SET, FTP writes,
+//!   SETUP_SIGNING) passes the sender and signing rules before any handler reads it
+//!   (docs/src/security.md, "The gate").
 //! - **Commands** (COMMAND_LONG and COMMAND_INT, any MAV_CMD value) addressed to the
 //!   device's system (or 0) and to one of its components (or 0, broadcast: ArduPilot 4.5
 //!   and 4.6 send camera commands to 0/0): each one a component acts on is answered with
@@ -61,6 +66,7 @@ mod telemetry;
 mod tracking;
 mod video;
 
+pub(crate) use signing::LinkSigning;
 #[cfg(feature = "telemetry")]
 pub(crate) use telemetry::TelemetrySide;
 
@@ -75,7 +81,7 @@ use protocol_core::mavlink::{
     Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
 };
 
-use autopilot::{Autopilot, Took, Vehicle};
+use autopilot::{Autopilot, Heartbeat, Took, Vehicle};
 
 use super::{Ctx, FcHandler, TimedFrom, geo, math};
 
@@ -141,7 +147,6 @@ mod id {
     pub(super) const CAMERA_FOV_STATUS: u32 = 271;
     pub(super) const CAMERA_TRACKING_IMAGE_STATUS: u32 = 275;
     pub(super) const CAMERA_THERMAL_RANGE: u32 = 277;
-    pub(super) const GIMBAL_DEVICE_SET_ATTITUDE: u32 = 284;
 }
 
 /// One of the device's two components.
@@ -289,6 +294,13 @@ impl MavlinkSide {
     }
 }
 
+impl MavlinkSide {
+    /// The link's signing (the engine saves and restores its timestamp and key).
+    pub(crate) fn signing(&mut self) -> &mut LinkSigning {
+        &mut self.ap.signing
+    }
+}
+
 impl FcHandler for MavlinkSide {
     type Framing = MavlinkFraming;
     // An autopilot composes each message when it writes it (a stream's message, an
@@ -309,6 +321,13 @@ impl FcHandler for MavlinkSide {
             system_id: frame.system_id(),
             component_id: frame.component_id(),
         };
+        // Everything that changes something passes the gate first, before any handler
+        // reads it (docs/src/security.md, "The gate").
+        let components = [Comp::Gimbal.id(), Comp::Camera.id()];
+        if let Some(refusal) = self.ap.gate(ctx, &frame, signed, &components) {
+            self.gate_refused(ctx, &frame, header, refusal);
+            return;
+        }
         // Commands are read from their bytes: any MAV_CMD value, known to the dialect or
         // not, is answered.
         if let Some(c) = Cmd::from_payload(frame.message_id(), frame.payload_ref(), header) {
@@ -469,20 +488,15 @@ impl MavlinkSide {
         match m {
             MavMessage::HEARTBEAT(hb) => match self.ap.heartbeat(ctx, h, &hb) {
                 // Introduce both components now.
-                Some(true) => {
+                Heartbeat::New => {
                     self.next_heartbeat = ctx.now;
                     self.next_status = ctx.now;
                 }
-                Some(false) => {}
-                None => ctx.ignored(),
+                Heartbeat::Known | Heartbeat::Other => {}
+                Heartbeat::NotAutopilot => ctx.ignored(),
             },
-            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => {
-                if self.ap.may_command(ctx, h) {
-                    self.set_attitude(ctx, &s);
-                } else {
-                    ctx.refuse(Refusal::Sender, id::GIMBAL_DEVICE_SET_ATTITUDE, h.system_id);
-                }
-            }
+            // Past the gate: from an allowed sender.
+            MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) => self.set_attitude(ctx, &s),
             m => match self.ap.message(ctx, h, &m) {
                 Took::No => ctx.ignored(),
                 Took::Yes => {}
@@ -492,22 +506,31 @@ impl MavlinkSide {
         }
     }
 
-    /// A command from COMMAND_LONG or COMMAND_INT (see the module documentation).
+    /// A message the gate refused: a command from a sender that may not command, naming
+    /// a component of this device, is answered DENIED (the rest is not answered).
+    fn gate_refused(
+        &mut self,
+        ctx: &mut Ctx<'_>,
+        frame: &Frame<&[u8]>,
+        h: Header,
+        refusal: Refusal,
+    ) {
+        let cmd = Cmd::from_payload(frame.message_id(), frame.payload_ref(), h);
+        if let Some(c) = cmd.filter(|_| refusal == Refusal::Sender)
+            && let Some(comp) = Comp::of(c.target_component)
+        {
+            self.ack(ctx, comp, c.command, result::DENIED, c.from);
+        }
+    }
+
+    /// A command from COMMAND_LONG or COMMAND_INT (see the module documentation), past
+    /// the gate.
     fn command(&mut self, ctx: &mut Ctx<'_>, c: &Cmd) {
         let system = c.target_system == 0 || self.ap.sysid == Some(c.target_system);
         let to = Comp::of(c.target_component);
         if !system || (to.is_none() && c.target_component != 0) || self.ap.sysid.is_none() {
             // Someone else's.
             ctx.ignored();
-            return;
-        }
-        if !self.ap.may_command(ctx, c.from) {
-            // Neither the autopilot's system nor a listed ground station's: refused, and
-            // told so when it named a component of this device.
-            ctx.refuse(Refusal::Sender, u32::from(c.command), c.from.system_id);
-            if let Some(comp) = to {
-                self.ack(ctx, comp, c.command, result::DENIED, c.from);
-            }
             return;
         }
         let handled = match c.command {

@@ -7,18 +7,27 @@
 //!   timestamp is newer than the last of its stream (link id, system, component); a new
 //!   stream's first timestamp may be at most a minute older than the bridge's own. The
 //!   streams are a fixed table of [`STREAMS`]: when it is full the stream with the oldest
-//!   timestamp makes room (its next frame is then a new stream's, within the minute).
+//!   timestamp makes room, and its last timestamp becomes a floor that every new stream's
+//!   first must pass, so that an evicted stream is no fresh one (its captured frames stay
+//!   replays).
 //! - **Signing.** Every frame is signed with a timestamp above the last one used and at
 //!   least the bridge's UTC (once known) and the newest accepted from the link, so it never
-//!   goes back. Across a reboot the bridge remembers nothing: before UTC is known and
-//!   before a signed frame was accepted on the link, it has no timestamp it can vouch for
-//!   (one below a previous boot's would be refused as a replay) and sends its frames
-//!   unsigned. It speaks only after the autopilot's HEARTBEAT, whose signature carries the
-//!   autopilot's timestamp: with a signing autopilot that comes first.
+//!   goes back.
+//! - **Across restarts** (the specification's timestamp handling). The timestamp is saved
+//!   in the bridge's store ([`crate::store`]) whenever it has gone [`SAVE_STEP`] past the
+//!   last one saved, at most once every [`SAVE_MIN_INTERVAL`], and restored at start plus
+//!   [`RESTORE_MARGIN`] (more than it can have moved since its last save): the bridge's
+//!   timestamps never go below a previous run's, and a frame older than the saved
+//!   timestamp is stale or a replay after a restart. A key set by SETUP_SIGNING is saved at
+//!   once. With nothing restored (a blank store), before UTC is known and before a signed
+//!   frame was accepted on the link, the bridge has no timestamp it can vouch for and
+//!   sends its frames unsigned; it speaks only after the autopilot's HEARTBEAT, whose
+//!   signature carries the autopilot's timestamp.
 
 use crate::Config;
 use crate::access::{Refusal, SigningMode};
-use crate::time::UtcTime;
+use crate::store::{self, Key, Problem, Record};
+use crate::time::{Duration, Instant, UtcTime};
 use protocol_core::mavlink::{
     Frame, SecretKey, Signer, TIMESTAMP_PER_S, signature_matches, timestamp_of_unix_micros,
 };
@@ -27,6 +36,17 @@ use protocol_core::mavlink::{
 pub(super) const STREAMS: usize = 8;
 /// How much older than the bridge's timestamp a new stream's first may be: a minute.
 const NEW_STREAM_WINDOW: u64 = 60 * TIMESTAMP_PER_S;
+/// The timestamp is saved when it has gone this far past the last one saved (the
+/// specification: at least once a minute while it moves).
+pub(crate) const SAVE_STEP: u64 = 30 * TIMESTAMP_PER_S;
+/// Saves of the timestamp are at least this far apart (a bound on the store's wear,
+/// whatever the link does).
+pub(crate) const SAVE_MIN_INTERVAL: Duration = Duration::from_secs(5);
+/// Added to the restored timestamp at start: more than the timestamp can have moved
+/// since it was last saved ([`SAVE_STEP`], and what 5 s add).
+pub(crate) const RESTORE_MARGIN: u64 = 60 * TIMESTAMP_PER_S;
+/// The label of a configured key's fingerprint ([`LinkSigning::fingerprint`]).
+const FINGERPRINT_LABEL: &[u8] = b"k40t bridge: the configured signing key";
 
 /// One stream (link id, system, component) and its last accepted timestamp, packed
 /// (48 bits, little-endian; all zero: a free slot).
@@ -68,30 +88,124 @@ pub(super) enum Check {
 
 /// Signing on one link.
 #[derive(Debug, Clone)]
-pub(super) struct LinkSigning {
+pub(crate) struct LinkSigning {
     mode: SigningMode,
     key: Option<SecretKey>,
+    /// The configured key's fingerprint (a key set by SETUP_SIGNING is kept under it).
+    configured: [u8; 6],
     /// The link id the bridge's signatures name.
     link_id: u8,
     /// The last timestamp the bridge used or accepted (0: none yet).
     timestamp: u64,
+    /// A new stream's first timestamp must be above this: the last timestamp of every
+    /// stream the table evicted, and the timestamp restored at start.
+    floor: u64,
     streams: [Stream; STREAMS],
+    /// The timestamp last handed to the store, and when.
+    saved: u64,
+    saved_at: Option<Instant>,
+    /// A timestamp was restored, or its absence reported.
+    restore_seen: bool,
 }
 
 impl LinkSigning {
     /// Signing as `config` says, signatures naming `link_id`.
     pub(super) fn new(config: &Config, link_id: u8) -> Self {
+        let key = config.signing_key.map(|k| SecretKey::new(k.0));
         LinkSigning {
             mode: config.signing,
-            key: config.signing_key.map(|k| SecretKey::new(k.0)),
+            key,
+            configured: Self::fingerprint(key.as_ref()),
             link_id,
             timestamp: 0,
+            floor: 0,
             streams: [Stream::default(); STREAMS],
+            saved: 0,
+            saved_at: None,
+            restore_seen: false,
         }
     }
 
+    /// A key's fingerprint: 48 bits of SHA-256 over it and a label, which tell keys apart
+    /// and say nothing of them (no key: the zero key's).
+    fn fingerprint(key: Option<&SecretKey>) -> [u8; 6] {
+        let zero = SecretKey::new([0; 32]);
+        protocol_core::mavlink::signature_value(key.unwrap_or(&zero), FINGERPRINT_LABEL)
+    }
+
+    /// The link signs or checks: its timestamp is worth keeping.
+    pub(crate) fn active(&self) -> bool {
+        self.mode != SigningMode::Off && self.key.is_some()
+    }
+
+    /// Whether the timestamp is due to be saved at `now` (see the module documentation);
+    /// when it is, it counts as saved from now.
+    pub(crate) fn save_due(&mut self, now: Instant) -> bool {
+        let due = self.active()
+            && self.timestamp >= self.saved.saturating_add(SAVE_STEP)
+            && self
+                .saved_at
+                .is_none_or(|t| now.saturating_duration_since(t) >= SAVE_MIN_INTERVAL);
+        if due {
+            self.saved = self.timestamp;
+            self.saved_at = Some(now);
+        }
+        due
+    }
+
+    /// The record of `key` (the timestamp's or the key's) as it stands.
+    pub(crate) fn record(&self, key: Key) -> Record {
+        if key == Key::SIGNING_KEY_FC || key == Key::SIGNING_KEY_TELEMETRY {
+            let k = self.key.filter(|_| self.mode != SigningMode::Off);
+            Record::signing_key(key, k.map(|k| *k.as_bytes()), self.configured)
+        } else {
+            Record::timestamp(key, self.timestamp.max(self.saved))
+        }
+    }
+
+    /// A stored signing timestamp: the bridge's own from now on is above it by
+    /// [`RESTORE_MARGIN`], and no new stream may start at or below it.
+    pub(crate) fn restore_timestamp(&mut self, value: &[u8]) -> Result<(), Problem> {
+        self.restore_seen = true;
+        let stored = store::decode_timestamp(value)?;
+        if stored > protocol_core::mavlink::MAX_TIMESTAMP {
+            return Err(Problem::Value);
+        }
+        self.timestamp = self.timestamp.max(stored.saturating_add(RESTORE_MARGIN));
+        self.floor = self.floor.max(stored);
+        self.saved = stored;
+        Ok(())
+    }
+
+    /// A stored key (set by SETUP_SIGNING, or signing turned off by it): used when it was
+    /// written under the key configured now.
+    pub(crate) fn restore_key(&mut self, value: &[u8]) -> Result<(), Problem> {
+        let (key, under) = store::decode_signing_key(value)?;
+        if under != self.configured {
+            return Err(Problem::Superseded);
+        }
+        match key {
+            Some(k) => {
+                self.key = Some(SecretKey::new(k));
+                if self.mode == SigningMode::Off {
+                    self.mode = SigningMode::Sign;
+                }
+            }
+            None => self.key = None,
+        }
+        Ok(())
+    }
+
+    /// Whether a missing timestamp record is to be reported (once; only while the link
+    /// signs or checks).
+    pub(crate) fn restore_missing(&mut self) -> bool {
+        let missing = !self.restore_seen && self.active();
+        self.restore_seen = true;
+        missing
+    }
+
     /// Unsigned frames are refused (commands always, the rest unless configured).
-    pub(super) fn required(&self) -> bool {
+    pub(crate) fn required(&self) -> bool {
         self.mode == SigningMode::Require && self.key.is_some()
     }
 
@@ -123,10 +237,18 @@ impl LinkSigning {
                 if sig.timestamp.saturating_add(NEW_STREAM_WINDOW) < local {
                     return Check::Refused(Refusal::Stale);
                 }
+                // Not above an evicted stream's last (or the restored timestamp): it
+                // may be that stream's, replayed.
+                if sig.timestamp <= self.floor {
+                    return Check::Refused(Refusal::Replayed);
+                }
             }
         }
         let i = slot.unwrap_or_else(|| self.room());
         if let Some(s) = self.streams.get_mut(i) {
+            if !s.is_free() && slot.is_none() {
+                self.floor = self.floor.max(s.timestamp());
+            }
             *s = Stream::new(ids, sig.timestamp);
         }
         self.timestamp = self.timestamp.max(sig.timestamp);

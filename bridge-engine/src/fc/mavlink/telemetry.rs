@@ -7,7 +7,9 @@
 //! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
 //! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
 //! It serves no commands: commands for it are left alone (they are not its business; a
-//! ground station's broadcast reaches every component). Each photo the pod geotags goes
+//! ground station's broadcast reaches every component), after the gate that every
+//! message changing something passes on both MAVLink links (docs/src/security.md, "The
+//! gate": one for it from a system that may not command is refused and reported). Each photo the pod geotags goes
 //! out as CAMERA_IMAGE_CAPTURED (broadcast: the photo's UTC on the disciplined clock, the
 //! fix interpolated there, the aircraft's attitude), which the autopilot forwards to the
 //! ground station and its telemetry log records (docs/src/bridge/telemetry.md).
@@ -25,7 +27,7 @@ use protocol_core::mavlink::dialect::{
 use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message, Packet};
 
 use super::super::{Ctx, FcHandler, TimedFrom};
-use super::autopilot::{Autopilot, Took};
+use super::autopilot::{Autopilot, Heartbeat, Took};
 
 /// MAV_COMP_ID_PERIPHERAL: the bridge's component on the telemetry link.
 pub(crate) const TELEMETRY_COMPONENT: u8 = 158;
@@ -78,6 +80,11 @@ impl TelemetrySide {
         self.ap.send(ctx, TELEMETRY_COMPONENT, &msg);
     }
 
+    /// The link's signing (the engine saves and restores its timestamp and key).
+    pub(crate) fn signing(&mut self) -> &mut super::LinkSigning {
+        &mut self.ap.signing
+    }
+
     /// The autopilot gives time on this link: it is the source of UTC and fixes.
     pub(crate) fn gives_time(&self, now: Instant) -> bool {
         self.ap.gives_time(now)
@@ -114,6 +121,14 @@ impl FcHandler for TelemetrySide {
             system_id: frame.system_id(),
             component_id: frame.component_id(),
         };
+        // The gate, as on the MAVLink side (docs/src/security.md, "The gate").
+        if self
+            .ap
+            .gate(ctx, &frame, signed, &[TELEMETRY_COMPONENT])
+            .is_some()
+        {
+            return;
+        }
         let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
             return;
         };
@@ -122,7 +137,7 @@ impl FcHandler for TelemetrySide {
             return;
         }
         if let MavMessage::HEARTBEAT(hb) = &m {
-            if self.ap.heartbeat(ctx, h, hb) == Some(true) {
+            if self.ap.heartbeat(ctx, h, hb) == Heartbeat::New {
                 self.next_heartbeat = ctx.now;
             }
             return;
