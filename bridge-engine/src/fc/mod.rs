@@ -24,6 +24,8 @@ pub(crate) struct Ctx<'a> {
     /// The local instant of the call.
     pub(crate) now: Instant,
     pub(crate) config: &'a Config,
+    /// What this image is (the version replies).
+    pub(crate) build: &'a crate::BuildInfo,
     pub(crate) pod: &'a mut PodDriver,
     pub(crate) time: &'a mut TimeDiscipline,
     pub(crate) fixes: &'a mut FixHistory,

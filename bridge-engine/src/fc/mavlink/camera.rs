@@ -5,7 +5,8 @@
 //!   (the K40T has a photo and a video mode, 0x000300, and its document says it ignores
 //!   photos in video mode and recording in photo mode), basic zoom and focus; no
 //!   video-stream information (the bridge does not know the pod's stream address). Sent
-//!   once the pod is known, with its camera version (0x000317).
+//!   once the pod is known (its camera version, 0x000317, came), with the bridge's
+//!   version as the firmware version ([`crate::version`]).
 //! - **Commands** and what reaches the pod: IMAGE_START_CAPTURE single (0x000302; a
 //!   repeated capture sequence number, param4, is a retransmission: ACKed, not shot
 //!   again) or every `param2` seconds (at least 1 s) `param3` times (0: until
@@ -40,7 +41,7 @@ use protocol_core::mavlink::dialect::{
 };
 
 use super::capture::Captures;
-use super::gimbal::{MODEL, VENDOR, boot_ms, name, version};
+use super::gimbal::{MODEL, VENDOR, boot_ms, name};
 use super::{Cmd, Comp, MavlinkSide, cmd, id, result};
 
 /// Commands waiting for the pod's ACK.
@@ -478,7 +479,8 @@ impl MavlinkSide {
         let px = |v: u32| u16::try_from(v).unwrap_or(0);
         let msg = MavMessage::CAMERA_INFORMATION(CAMERA_INFORMATION_DATA {
             time_boot_ms: boot_ms(ctx),
-            firmware_version: version(ctx.pod().camera_version),
+            // The bridge's version (the pod's own is in its 0x000001 reply, not here).
+            firmware_version: ctx.build.version.mavlink(),
             focal_length: mm(lens.focal_length_min_um),
             sensor_size_h: mm(lens.sensor_width_um),
             sensor_size_v: mm(lens.sensor_height_um),

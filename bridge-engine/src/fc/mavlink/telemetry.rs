@@ -6,8 +6,10 @@
 //! type GENERIC, autopilot INVALID, at 1 Hz once the autopilot is heard, with its system
 //! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
 //! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
-//! It serves no commands: commands for it are left alone (they are not its business; a
-//! ground station's broadcast reaches every component). Each photo the pod geotags goes
+//! The one command it serves is a request of its version (AUTOPILOT_VERSION, addressed to
+//! component 158: [`version`](super::version)); any other command addressed to it gets
+//! COMMAND_ACK UNSUPPORTED, and broadcast commands are left alone (a ground station's
+//! broadcast reaches every component; the autopilot answers it). Each photo the pod geotags goes
 //! out as CAMERA_IMAGE_CAPTURED (broadcast: the photo's UTC on the disciplined clock, the
 //! fix interpolated there, the aircraft's attitude), which the autopilot forwards to the
 //! ground station and its telemetry log records (docs/src/bridge/telemetry.md).
@@ -26,6 +28,8 @@ use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message,
 
 use super::super::{Ctx, FcHandler, TimedFrom};
 use super::autopilot::{Autopilot, Took};
+use super::{Cmd, ack, result, version};
+use crate::access::Refusal;
 
 /// MAV_COMP_ID_PERIPHERAL: the bridge's component on the telemetry link.
 pub(crate) const TELEMETRY_COMPONENT: u8 = 158;
@@ -83,6 +87,30 @@ impl TelemetrySide {
         self.ap.gives_time(now)
     }
 
+    /// A command addressed to this component: its version, or UNSUPPORTED; DENIED to a
+    /// sender that may not command the bridge.
+    fn command(&mut self, ctx: &mut Ctx<'_>, c: &Cmd) {
+        let result = if !self.ap.may_command(ctx, c.from) {
+            ctx.refuse(Refusal::Sender, u32::from(c.command), c.from.system_id);
+            result::DENIED
+        } else if version::asks_version(c) {
+            result::ACCEPTED
+        } else {
+            result::UNSUPPORTED
+        };
+        ack(
+            &mut self.ap,
+            ctx,
+            TELEMETRY_COMPONENT,
+            c.command,
+            result,
+            c.from,
+        );
+        if result == result::ACCEPTED {
+            version::send_version(&mut self.ap, ctx, TELEMETRY_COMPONENT);
+        }
+    }
+
     fn heartbeat(&mut self, ctx: &mut Ctx<'_>) {
         let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
             custom_mode: 0,
@@ -114,6 +142,13 @@ impl FcHandler for TelemetrySide {
             system_id: frame.system_id(),
             component_id: frame.component_id(),
         };
+        if let Some(c) = Cmd::from_payload(frame.message_id(), frame.payload_ref(), h)
+            && c.target_component == TELEMETRY_COMPONENT
+            && self.ap.sysid.is_some_and(|s| s == c.target_system)
+        {
+            self.command(ctx, &c);
+            return;
+        }
         let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
             return;
         };
