@@ -2,6 +2,7 @@
 //! (`bridge_fw::led::LED_CODES`): the same codes, in the same order, each with the same
 //! "when" and the same pattern. On a difference the test prints the table as the code
 //! has it.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use bridge_fw::led::LED_CODES;
 
