@@ -216,7 +216,7 @@ mod tests {
             let n = port.read(&mut buf).unwrap();
             assert_eq!(&buf[..n], text);
             assert_eq!(port.peer(), Some(from.local_addr().unwrap()));
-            port.write(b"reply").unwrap();
+            assert_eq!(port.write(b"reply").unwrap(), 5);
             let (n, src) = from.recv_from(&mut buf).unwrap();
             assert_eq!((&buf[..n], src), (&b"reply"[..], at));
         }
@@ -240,14 +240,14 @@ mod tests {
         // The knock: an empty datagram, before the bridge says anything.
         let (n, me) = first.recv_from(&mut buf).unwrap();
         assert_eq!(n, 0);
-        port.write(b"hello").unwrap();
+        assert_eq!(port.write(b"hello").unwrap(), 5);
         let (n, from) = first.recv_from(&mut buf).unwrap();
         assert_eq!((&buf[..n], from), (&b"hello"[..], me));
         // A reply from another address (a router on a new source port) takes over.
         other.send_to(b"here", me).unwrap();
         let n = reader.read(&mut buf).unwrap();
         assert_eq!(&buf[..n], b"here");
-        port.write(b"again").unwrap();
+        assert_eq!(port.write(b"again").unwrap(), 5);
         let (n, _) = other.recv_from(&mut buf).unwrap();
         assert_eq!(&buf[..n], b"again");
         // Heard: no more knocks (one may have left before the reply arrived).
