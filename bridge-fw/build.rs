@@ -1,15 +1,25 @@
-//! Build script: linker arguments of the firmware binary, and the bridge configuration
+//! Build script: linker arguments of the firmware binary, the bridge configuration
 //! (`bridge.toml`, or the file named by `BRIDGE_CONFIG`) turned into Rust constants
-//! (`$OUT_DIR/bridge_config.rs`, included by `src/config.rs`).
+//! (`$OUT_DIR/bridge_config.rs`, included by `src/config.rs`), and what this build is
+//! (`BUILD`: the version, the commit from `git`, the flavour and FC sides from the
+//! features).
 //!
 //! The file is deserialized into `bridge_engine::Config` (its `serde` feature:
 //! every key optional, absent keys keep `Config::DEFAULT`, an unknown key or a wrong type
 //! is an error naming the key), checked with `Config::validate` (the ranges, one place
 //! for the firmware and `gimbal bridge`), and written out with `databake` (the `bake`
 //! feature) as one `const` expression. Only `fc = "auto"` is the firmware's own: the one
-//! FC side compiled in, or the straps.
+//! FC side compiled in, or the straps. A key that was removed
+//! (`bridge_engine::config::REMOVED_KEYS`) is an error naming what replaced it.
+//!
+//! The commit is `git rev-parse` of the checkout the crate is in (12 hexadecimal digits),
+//! with `dirty` when `git status` shows changes to tracked files, and `unknown` outside a
+//! checkout (a crate built from a package) or without `git`. The script runs again when
+//! the commit, the index or the sources of the crates built into the firmware or `gimbal`
+//! change, so a rebuilt image never carries a stale commit.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use bridge_engine::{Config, FcProtocol};
 use databake::{Bake, CrateEnv};
@@ -32,6 +42,7 @@ fn main() {
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", path.display())));
     let code = generate(&text).unwrap_or_else(|e| fail(&format!("{}: {e}", path.display())));
+    let code = code + &build_info(&manifest);
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap_or_default()).join("bridge_config.rs");
     std::fs::write(&out, code)
         .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
@@ -59,6 +70,15 @@ fn compiled(feature: &str) -> bool {
 
 fn generate(text: &str) -> Result<String, String> {
     let mut table: Table = text.parse().map_err(|e| format!("{e}"))?;
+    bridge_engine::config::removed_key(|section, key| {
+        let within = if section.is_empty() {
+            Some(&table)
+        } else {
+            table.get(section).and_then(Value::as_table)
+        };
+        within.is_some_and(|t| t.contains_key(key))
+    })
+    .map_err(|e| e.to_string())?;
     let compiled: Vec<FcProtocol> = SIDES
         .iter()
         .filter(|(_, feature)| compiled(feature))
@@ -117,4 +137,84 @@ fn generate(text: &str) -> Result<String, String> {
          pub const FC: FcChoice = {choice};\n",
         config.bake(&env)
     ))
+}
+
+/// `git` in `dir` with `args`: its output, trimmed, when it ran and succeeded.
+fn git(dir: &Path, args: &[&str]) -> Option<String> {
+    let out = Command::new("git")
+        .args(args)
+        .current_dir(dir)
+        // `git status` must not refresh the index (that would run this script again).
+        .env("GIT_OPTIONAL_LOCKS", "0")
+        .output()
+        .ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+/// The `BUILD` constant: version, commit, flavour, features.
+fn build_info(manifest: &Path) -> String {
+    let semver = std::env::var("CARGO_PKG_VERSION").unwrap_or_default();
+    let version = bridge_engine::version::Version::parse(&semver).unwrap_or_else(|| {
+        fail(&format!(
+            "version {semver:?} (Cargo.toml): expected MAJOR.MINOR.PATCH, each 0..=255"
+        ))
+    });
+    let commit = git(manifest, &["rev-parse", "--short=12", "HEAD"]);
+    let dirty = commit.is_some()
+        && git(manifest, &["status", "--porcelain", "--untracked-files=no"])
+            .is_some_and(|s| !s.is_empty());
+    // Run again when the commit or the index moves, or a source built in changes.
+    for path in ["HEAD", "index", "packed-refs"] {
+        if let Some(p) = git(
+            manifest,
+            &["rev-parse", "--path-format=absolute", "--git-path", path],
+        ) {
+            println!("cargo:rerun-if-changed={p}");
+        }
+    }
+    if let Some(head) = git(manifest, &["symbolic-ref", "-q", "HEAD"])
+        && let Some(p) = git(
+            manifest,
+            &["rev-parse", "--path-format=absolute", "--git-path", &head],
+        )
+    {
+        println!("cargo:rerun-if-changed={p}");
+    }
+    let root = manifest.join("..");
+    for dir in [
+        "protocol-core/src",
+        "protocol-core/mavlink-dialect",
+        "bridge-engine/src",
+        "bridge-fw/src",
+        "gimbal/src",
+        "Cargo.toml",
+        "Cargo.lock",
+    ] {
+        println!("cargo:rerun-if-changed={}", root.join(dir).display());
+    }
+    let flavour = ["hw", "qemu", "host"]
+        .into_iter()
+        .find(|f| compiled(f))
+        .unwrap_or("");
+    let features: Vec<&str> = SIDES
+        .iter()
+        .map(|(_, f)| *f)
+        .chain(["telemetry"])
+        .filter(|f| compiled(f))
+        .collect();
+    let v = version;
+    format!(
+        "/// What this build is: version, commit, flavour and FC sides (`build.rs`).\n\
+         pub const BUILD: BuildInfo = BuildInfo {{ version: Version {{ major: {}, minor: {}, \
+         patch: {}, pre_release: {} }}, semver: {semver:?}, commit: {:?}, dirty: {dirty}, \
+         flavour: {flavour:?}, features: {:?} }};\n",
+        v.major,
+        v.minor,
+        v.patch,
+        v.pre_release,
+        commit.as_deref().unwrap_or("unknown"),
+        features.join(" "),
+    )
 }

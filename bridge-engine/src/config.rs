@@ -11,8 +11,8 @@
 //! With the `serde` feature, [`Config`] implements `serde::Deserialize` from the file's
 //! keys: every key is optional (absent: [`Config::DEFAULT`]'s value), an unknown key is
 //! an error, times are whole milliseconds (`fc_link_timeout_ms`), texts are strings
-//! (`siyi.hardware_id`), versions `[major, minor, patch]`. Fields without a key keep
-//! their default. The keys and their ranges:
+//! (`siyi.hardware_id`). Fields without a key keep their default. The keys and their
+//! ranges:
 //!
 //! | key | field | allowed |
 //! | --- | --- | --- |
@@ -25,11 +25,9 @@
 //! | `k40t_geotag_fallback_ms` | [`Config::k40t_geotag_fallback`] | [`Limit::K40T_GEOTAG_FALLBACK_MS`] or `"off"` |
 //! | `[sync] period_ms`, `width_ms` | [`SyncConfig::period`], [`SyncConfig::width`] | [`Limit::SYNC_PERIOD_MS`], [`Limit::SYNC_WIDTH_MS`] |
 //! | `[siyi] hardware_id` | [`SiyiIdentity::hardware_id`] | 12 ASCII characters ([`SiyiIdentity::parse_hardware_id`]) |
-//! | `[siyi] camera_version`, `gimbal_version`, `zoom_version` | [`SiyiIdentity`] | `[major, minor, patch]`, each 0..=255 |
 //! | `[siyi] max_zoom_x10` | [`SiyiIdentity::max_zoom_x10`] | [`Limit::SIYI_MAX_ZOOM_X10`] |
 //! | `[viewlink] model` | [`ViewlinkIdentity::model`] | 1 to 10 printable ASCII characters ([`ViewlinkIdentity::parse_model`]) |
-//! | `[viewlink] firmware` | [`ViewlinkIdentity::firmware`] | `[major, minor, patch]`, each [`Limit::VIEWLINK_FIRMWARE`] ([`ViewlinkIdentity::firmware_text`]) |
-//! | `[gcu] hardware_x10`, `firmware_x10`, `gimbal_code` | [`GcuIdentity`] | 0..=255 |
+//! | `[gcu] hardware_x10`, `gimbal_code` | [`GcuIdentity`] | 0..=255 |
 //! | `[gcu] resync_mark` | [`GcuIdentity::resync_mark`] | `true`, `false` |
 //! | `[pod] yaw_positive_left`, `pitch_positive_down` | [`PodConfig`] | `true`, `false` |
 //! | `[video] uri` | [`VideoConfig::uri`] | 0 to 160 printable ASCII characters ([`VideoConfig::parse_uri`]) |
@@ -46,8 +44,11 @@
 //! | `autopilot_sysid` | [`Config::autopilot_sysid`] | [`Limit::AUTOPILOT_SYSID`] (0: learn) |
 //! | `autopilot_forget_ms` | [`Config::autopilot_forget`] | [`Limit::AUTOPILOT_FORGET_MS`] |
 //!
-//! Deserializing checks types, texts and versions; [`Config::validate`] checks the
-//! ranges. (The `Serialize` form of the nested configurations, for JSON output, keeps
+//! Deserializing checks types and texts; [`Config::validate`] checks the ranges. The keys
+//! that were removed ([`REMOVED_KEYS`]: the firmware versions the legacy sides reported,
+//! now the bridge's own, [`crate::version`]) are found by [`removed_key`], which the
+//! readers of the file call first, so that an old file gets an error naming the key and
+//! what replaced it. (The `Serialize` form of the nested configurations, for JSON output, keeps
 //! the Rust field names and microseconds.)
 
 use core::fmt;
@@ -100,12 +101,6 @@ protocol_core::wire_derive! {
         /// rangefinder, lens selection and thermal min/max.
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::hardware_id"))]
         pub hardware_id: [u8; 12],
-        /// Camera firmware (major, minor, patch); ArduPilot needs it non-zero.
-        pub camera_version: [u8; 3],
-        /// Gimbal firmware (major, minor, patch).
-        pub gimbal_version: [u8; 3],
-        /// Zoom firmware (major, minor, patch).
-        pub zoom_version: [u8; 3],
         /// Largest zoom reported by 0x16, times ten (the ZT30 reports 30x).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
         pub max_zoom_x10: u16,
@@ -113,12 +108,10 @@ protocol_core::wire_derive! {
 }
 
 impl SiyiIdentity {
-    /// A ZT30 ("7A"), firmware 0.3.1 / 0.3.1 / 0.1.0, zoom up to 30x.
+    /// A ZT30 ("7A"), zoom up to 30x. (Its firmware versions are the bridge's:
+    /// [`crate::version`].)
     pub const DEFAULT: Self = Self {
         hardware_id: *b"7A0000000001",
-        camera_version: [0, 3, 1],
-        gimbal_version: [0, 3, 1],
-        zoom_version: [0, 1, 0],
         max_zoom_x10: 300,
     };
 
@@ -156,21 +149,14 @@ protocol_core::wire_derive! {
         /// prints it).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::model"))]
         pub model: [u8; 10],
-        /// Firmware text answered to the 0xD0 query (20 bytes, padded with 0x00). Viewpro
-        /// gimbals send "S" and a date (`Syyyymmdd`); ArduPilot reads bytes 3..9 as three
-        /// two-digit numbers, major, minor and patch. In the configuration file: the version
-        /// `[major, minor, patch]` ([`ViewlinkIdentity::firmware_text`]).
-        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::viewlink_firmware"))]
-        pub firmware: [u8; 20],
     }
 }
 
 impl ViewlinkIdentity {
-    /// Model "K40TBRIDGE"; firmware "S20000100", which ArduPilot reads as 0.1.0 (the
-    /// bridge's version).
+    /// Model "K40TBRIDGE". (The 0xD0 firmware text is the bridge's version:
+    /// [`Version::viewlink_text`](crate::version::Version::viewlink_text).)
     pub const DEFAULT: Self = Self {
         model: *b"K40TBRIDGE",
-        firmware: *b"S20000100\0\0\0\0\0\0\0\0\0\0\0",
     };
 
     /// The model from its text (`viewlink.model`): 1 to 10 printable ASCII characters
@@ -191,26 +177,6 @@ impl ViewlinkIdentity {
         } else {
             Err(ConfigError::text("viewlink.model", TextRule::Printable(10)))
         }
-    }
-
-    /// The firmware text of a version (`viewlink.firmware`): `S20MMmmpp` (a Viewpro
-    /// date-like text that ArduPilot reads as major.minor.patch), padded with zeros.
-    ///
-    /// # Errors
-    /// A part above 99 ([`Limit::VIEWLINK_FIRMWARE`]).
-    pub fn firmware_text(version: [u8; 3]) -> Result<[u8; 20], ConfigError> {
-        let mut digits = [0u8; 6];
-        for (pair, part) in digits.chunks_exact_mut(2).zip(version) {
-            Limit::VIEWLINK_FIRMWARE.check(part.into())?;
-            for (slot, d) in pair.iter_mut().zip([part / 10, part % 10]) {
-                *slot = b'0'.wrapping_add(d);
-            }
-        }
-        let mut text = [0u8; 20];
-        for (slot, b) in text.iter_mut().zip(b"S20".iter().chain(&digits)) {
-            *slot = *b;
-        }
-        Ok(text)
     }
 }
 
@@ -245,9 +211,6 @@ protocol_core::wire_derive! {
         /// Hardware version times ten (reply byte 38; ArduPilot prints it divided by 10).
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
         pub hardware_x10: u8,
-        /// Firmware version times ten (reply byte 39).
-        #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
-        pub firmware_x10: u8,
         /// Gimbal code (reply byte 40, the document's "Gimbal Code" table). The K40T is none
         /// of the listed models: 0xFF by default, which no table entry uses.
         #[cfg_attr(feature = "serde", serde(deserialize_with = "de::int"))]
@@ -260,11 +223,11 @@ protocol_core::wire_derive! {
 }
 
 impl GcuIdentity {
-    /// Hardware 1.0, firmware 1.0, gimbal code 0xFF (not a listed model), resync mark
-    /// on.
+    /// Hardware 1.0, gimbal code 0xFF (not a listed model), resync mark on. (The
+    /// firmware version, byte 39, is the bridge's:
+    /// [`Version::gcu_x10`](crate::version::Version::gcu_x10).)
     pub const DEFAULT: Self = Self {
         hardware_x10: 10,
-        firmware_x10: 10,
         gimbal_code: 0xFF,
         resync_mark: true,
     };
@@ -633,6 +596,70 @@ impl Default for Config {
     }
 }
 
+/// The configuration file's keys that were removed, each with what took its place.
+pub const REMOVED_KEYS: [RemovedKey; 5] = {
+    const BRIDGE: &str = "removed in 0.2.0: the bridge reports its own version";
+    [
+        RemovedKey::new("siyi", "camera_version", BRIDGE),
+        RemovedKey::new("siyi", "gimbal_version", BRIDGE),
+        RemovedKey::new("siyi", "zoom_version", BRIDGE),
+        RemovedKey::new("viewlink", "firmware", BRIDGE),
+        RemovedKey::new("gcu", "firmware_x10", BRIDGE),
+    ]
+};
+
+protocol_core::wire_derive! {
+    [Eq]
+    /// A key the configuration file no longer has ([`REMOVED_KEYS`]). Displays as
+    /// `siyi.camera_version: removed in 0.2.0: the bridge reports its own version (see
+    /// docs/src/firmware/configuration.md#versions)`.
+    pub struct RemovedKey {
+        /// Its section (`siyi`), empty for a top-level key.
+        pub section: &'static str,
+        /// The key in its section (`camera_version`).
+        pub key: &'static str,
+        /// What took its place.
+        pub replaced_by: &'static str,
+    }
+}
+
+impl RemovedKey {
+    const fn new(section: &'static str, key: &'static str, replaced_by: &'static str) -> Self {
+        Self {
+            section,
+            key,
+            replaced_by,
+        }
+    }
+}
+
+impl fmt::Display for RemovedKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.section.is_empty() {
+            write!(f, "{}.", self.section)?;
+        }
+        write!(
+            f,
+            "{}: {} (see docs/src/firmware/configuration.md#versions)",
+            self.key, self.replaced_by
+        )
+    }
+}
+
+/// The first removed key a configuration file has: `has(section, key)` says whether the
+/// file sets `key` in `section` (`""`: the top level). A reader of the file calls it
+/// before deserializing, so that an old file gets the key and what replaced it rather
+/// than "unknown field".
+///
+/// # Errors
+/// The first removed key the file sets.
+pub fn removed_key(has: impl Fn(&str, &str) -> bool) -> Result<(), RemovedKey> {
+    REMOVED_KEYS
+        .into_iter()
+        .find(|r| has(r.section, r.key))
+        .map_or(Ok(()), Err)
+}
+
 /// A time in whole milliseconds, as the configuration file gives it.
 fn millis(d: Duration) -> i64 {
     i64::try_from(d.as_millis()).unwrap_or(i64::MAX)
@@ -673,8 +700,6 @@ impl Limit {
     pub const SYNC_WIDTH_MS: Self = Self::new("sync.width_ms", 1, 900);
     /// `siyi.max_zoom_x10`: 10..=65535.
     pub const SIYI_MAX_ZOOM_X10: Self = Self::new("siyi.max_zoom_x10", 10, 65_535);
-    /// Each part of `viewlink.firmware`: 0..=99 (two digits of the firmware text).
-    pub const VIEWLINK_FIRMWARE: Self = Self::new("viewlink.firmware", 0, 99);
     /// `discipline.bin_ms`: 500..=60000.
     pub const DISCIPLINE_BIN_MS: Self = Self::new("discipline.bin_ms", 500, 60_000);
     /// `discipline.min_bins`: 2..=32.
@@ -711,7 +736,7 @@ impl Limit {
     pub const LASER_MAX_DISTANCE_CM: Self = Self::new("laser.max_distance_cm", 0, 65_535);
 
     /// Every limit above.
-    pub const ALL: [Self; 26] = [
+    pub const ALL: [Self; 25] = [
         Self::FC_BAUD,
         Self::POD_BAUD,
         Self::TZ_MINUTESWEST,
@@ -721,7 +746,6 @@ impl Limit {
         Self::SYNC_PERIOD_MS,
         Self::SYNC_WIDTH_MS,
         Self::SIYI_MAX_ZOOM_X10,
-        Self::VIEWLINK_FIRMWARE,
         Self::DISCIPLINE_BIN_MS,
         Self::DISCIPLINE_MIN_BINS,
         Self::DISCIPLINE_MIN_SPAN_MS,
@@ -878,7 +902,7 @@ impl fmt::Display for ConfigError {
 impl core::error::Error for ConfigError {}
 
 /// The configuration file's forms of the fields that differ from the Rust types: times
-/// in ms, texts, the Viewlink firmware version.
+/// in ms, texts.
 #[cfg(feature = "serde")]
 pub(crate) mod de {
     use core::fmt;
@@ -986,12 +1010,6 @@ pub(crate) mod de {
             "1 to 10 printable ASCII characters",
         ))
     }
-
-    /// `[major, minor, patch]`, each 0..=99.
-    pub(crate) fn viewlink_firmware<'de, D: Deserializer<'de>>(d: D) -> Result<[u8; 20], D::Error> {
-        ViewlinkIdentity::firmware_text(<[u8; 3]>::deserialize(d)?)
-            .map_err(|e| D::Error::custom(e.problem))
-    }
 }
 
 #[cfg(test)]
@@ -1004,10 +1022,6 @@ mod tests {
     #[test]
     fn the_defaults_are_valid_and_their_texts_parse_back() {
         assert_eq!(Config::DEFAULT.validate(), Ok(()));
-        assert_eq!(
-            ViewlinkIdentity::firmware_text([0, 1, 0]),
-            Ok(ViewlinkIdentity::DEFAULT.firmware)
-        );
         assert_eq!(
             ViewlinkIdentity::parse_model("K40TBRIDGE"),
             Ok(ViewlinkIdentity::DEFAULT.model)
@@ -1159,17 +1173,21 @@ mod tests {
     }
 
     #[test]
+    fn a_removed_key_names_what_replaced_it() {
+        assert_eq!(removed_key(|_, _| false), Ok(()));
+        let e = removed_key(|section, key| (section, key) == ("viewlink", "firmware"));
+        assert_eq!(
+            e.map_err(|e| e.to_string()),
+            Err(
+                "viewlink.firmware: removed in 0.2.0: the bridge reports its own version \
+                 (see docs/src/firmware/configuration.md#versions)"
+                    .into()
+            )
+        );
+    }
+
+    #[test]
     fn texts() {
-        assert_eq!(
-            ViewlinkIdentity::firmware_text([1, 2, 99]).unwrap()[..10],
-            *b"S20010299\0"
-        );
-        assert_eq!(
-            ViewlinkIdentity::firmware_text([1, 100, 3])
-                .unwrap_err()
-                .to_string(),
-            "viewlink.firmware: 100 is out of range 0..=99"
-        );
         assert_eq!(
             ViewlinkIdentity::parse_model("A B"),
             Ok(*b"A B\0\0\0\0\0\0\0")

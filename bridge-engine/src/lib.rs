@@ -75,6 +75,7 @@ pub mod queue;
 pub mod store;
 pub mod sync;
 pub mod time;
+pub mod version;
 
 pub use access::{K40tAllow, Refusal, SigningKey, SigningMode, SystemIds};
 pub use config::{
@@ -83,6 +84,7 @@ pub use config::{
 pub use event::{Counters, Decline, Event, GeotagMiss, PhotoEvent, Port};
 pub use pod::PodState;
 pub use time::{Duration, Instant, InstantNs, UtcTime};
+pub use version::BuildInfo;
 
 use discipline::{DisciplineState, PpsState, PpsVerdict, TimeDiscipline};
 use fc::{Ctx, FcSide};
@@ -455,6 +457,8 @@ pub struct Engine {
 #[derive(Debug, Clone)]
 struct EngineState {
     config: Config,
+    /// What this image is (reported by the FC sides' version replies).
+    build: BuildInfo,
     fc: FcSide,
     pod: PodDriver,
     time: TimeDiscipline,
@@ -513,8 +517,24 @@ impl Engine {
                 tel_source: false,
                 first_input: FirstInput::Awaited,
                 config,
+                build: BuildInfo::ENGINE,
             },
         }
+    }
+
+    /// An engine with `config` that reports `build` as its version (the firmware's and
+    /// `gimbal`'s: [`Engine::new`] knows only the engine's own version).
+    #[must_use]
+    pub fn with_build(config: Config, build: BuildInfo) -> Self {
+        let mut engine = Self::new(config);
+        engine.core.build = build;
+        engine
+    }
+
+    /// What this image is: its version, commit and features.
+    #[must_use]
+    pub const fn build(&self) -> &BuildInfo {
+        &self.core.build
     }
 
     /// The configuration.
@@ -830,6 +850,7 @@ macro_rules! engine_ctx {
         Ctx {
             now: $now,
             config: &$state.config,
+            build: &$state.build,
             pod: &mut $state.pod,
             time: &mut $state.time,
             fixes: &mut $state.fixes,

@@ -1,4 +1,5 @@
-//! The B-L475E-IOT01A binding: clocks, pins, UARTs, RTC_IO, LED2, watchdog, strap pins.
+//! The B-L475E-IOT01A binding: clocks, pins, UARTs, RTC_IO, LED2, watchdog, strap pins,
+//! the reset cause.
 //!
 //! | signal | MCU pin | board connector | level | to |
 //! | --- | --- | --- | --- | --- |
@@ -27,6 +28,8 @@
 //! to the on-board modules, not to a header.
 
 use bridge_engine::Config;
+use bridge_fw::config::StrapError;
+use bridge_fw::reset::ResetCause;
 #[cfg(not(feature = "qemu"))]
 use embassy_stm32::gpio::OutputType;
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
@@ -106,12 +109,16 @@ pub struct Board {
     /// The PPS test source: a byte on USART1 is an edge, at the instant it arrives.
     #[cfg(feature = "qemu")]
     pub pps: crate::qemu_pps::PpsOverSerial,
-    /// LED2, off.
+    /// LED2, on (from the start of [`init`]: a board stuck starting up stays lit).
     pub led: Output<'static>,
-    /// The independent watchdog, running.
+    /// The independent watchdog, configured, not yet started (`unleash`: once the FC side
+    /// is known; a strap error runs no task to feed it).
     pub watchdog: IndependentWatchdog<'static, IWDG>,
-    /// The configuration, FC protocol resolved (straps read if the build says so).
-    pub config: Config,
+    /// The configuration, FC protocol resolved (straps read if the build says so), or the
+    /// straps' error.
+    pub config: Result<Config, StrapError>,
+    /// Why the MCU reset (RCC_CSR, read and cleared at boot).
+    pub reset: ResetCause,
     /// HCLK, Hz.
     pub hclk: u32,
     /// The persistent store's flash (builds with a MAVLink link: its records are the
@@ -181,7 +188,12 @@ fn qemu_straps() -> Option<(bool, bool, bool)> {
 /// Brings the board up. Panics only on a board or build error (a UART configuration
 /// the peripheral refuses, a buffer taken twice).
 pub fn init() -> Board {
+    // The reset flags before anything can reset again; cleared so the next boot reads
+    // only its own (RMVF).
+    let csr = embassy_stm32::pac::RCC.csr().read().0;
+    embassy_stm32::pac::RCC.csr().modify(|w| w.set_rmvf(true));
     let p = embassy_stm32::init(clock_config());
+    let led = Output::new(p.PB14, Level::High, Speed::Low);
     let hclk = embassy_stm32::rcc::clocks(&p.RCC)
         .hclk1
         .to_hertz()
@@ -202,14 +214,14 @@ pub fn init() -> Board {
     // The emulated board's PPS test source is stamped when the reader task sees its byte
     // (milliseconds of jitter under QEMU), not by a capture register: a wide tolerance.
     #[cfg(feature = "qemu")]
-    let config = {
-        let mut c = config;
+    let config = config.map(|mut c| {
         c.pps.tolerance_ns = 20_000_000;
         c
-    };
+    });
+    // Without a side, the links run at the configuration's rates (nothing reads them).
+    let rates = config.map_or(bridge_fw::config::CONFIG, |c| c);
 
-    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
-    watchdog.unleash();
+    let watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
 
     let uart = |baud: u32| {
         let mut c = usart::Config::default(); // 8N1
@@ -230,7 +242,7 @@ pub fn init() -> Board {
         FC_TX.init([0; UART_BUF]),
         FC_RX.init([0; UART_BUF]),
         Irqs,
-        uart(config.fc_baud),
+        uart(rates.fc_baud),
     )
     .expect("FC UART configuration");
     let pod = BufferedUart::new(
@@ -240,7 +252,7 @@ pub fn init() -> Board {
         POD_TX.init([0; UART_BUF]),
         POD_RX.init([0; UART_BUF]),
         Irqs,
-        uart(config.pod_baud),
+        uart(rates.pod_baud),
     )
     .expect("pod UART configuration");
     // LPUART1 on HSI16 (`clock_config`).
@@ -255,7 +267,7 @@ pub fn init() -> Board {
             TEL_TX.init([0; UART_BUF]),
             TEL_RX.init([0; UART_BUF]),
             Irqs,
-            uart(config.telemetry_baud),
+            uart(rates.telemetry_baud),
         )
         .expect("telemetry UART configuration")
     };
@@ -287,7 +299,7 @@ pub fn init() -> Board {
             crate::tim2::PpsCapture {
                 capture,
                 clock,
-                falling: config.pps.active_low,
+                falling: rates.pps.active_low,
             },
         )
     };
@@ -319,9 +331,10 @@ pub fn init() -> Board {
         telemetry,
         rtc_io,
         pps,
-        led: Output::new(p.PB14, Level::Low, Speed::Low),
+        led,
         watchdog,
         config,
+        reset: ResetCause::from_rcc_csr(csr),
         hclk,
         #[cfg(all(
             not(feature = "qemu"),

@@ -4,9 +4,12 @@
 //! The FC protocol is fixed at build time ([`FcChoice::Fixed`]) when `fc` names one or
 //! when a single `fc-*` feature is enabled; with several FC sides compiled in and
 //! `fc = "auto"` it is read from three strap pins at start-up ([`FcChoice::Straps`],
-//! [`from_straps`]).
+//! [`from_straps`]); straps that select a side not compiled in are an error
+//! ([`StrapError`]), never another side. [`BUILD`] says what this build is (version,
+//! commit, flavour, FC sides: `build.rs`).
 
-use bridge_engine::{Config, FcProtocol};
+use bridge_engine::version::Version;
+use bridge_engine::{BuildInfo, Config, FcProtocol};
 
 /// How the firmware picks its FC protocol.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,6 +37,15 @@ pub const COMPILED: &[FcProtocol] = &[
     FcProtocol::Mavlink,
 ];
 
+/// The straps select an FC side this image does not have: no FC side runs (the LED shows
+/// the strap error code, [`crate::led::STRAP_ERROR`]), never another side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StrapError {
+    /// The side the straps select.
+    pub wanted: FcProtocol,
+}
+
 /// The protocol three strap pins select, each pulled up and either open or tied to GND:
 ///
 /// | strap C | strap A | strap B | FC protocol |
@@ -44,10 +56,28 @@ pub const COMPILED: &[FcProtocol] = &[
 /// | open | GND | GND | K40T |
 /// | GND | any | any | MAVLink |
 ///
-/// (Strap C came with the fifth side: with it open, A and B select as before.) A
-/// protocol not compiled in gives the first one compiled in (`None` only when none is).
-#[must_use]
-pub fn from_straps(a_grounded: bool, b_grounded: bool, c_grounded: bool) -> Option<FcProtocol> {
+/// (Strap C came with the fifth side: with it open, A and B select as before.)
+///
+/// # Errors
+/// The side selected is not compiled in ([`COMPILED`]).
+pub fn from_straps(
+    a_grounded: bool,
+    b_grounded: bool,
+    c_grounded: bool,
+) -> Result<FcProtocol, StrapError> {
+    straps_select(a_grounded, b_grounded, c_grounded, COMPILED)
+}
+
+/// [`from_straps`] for an image with the FC sides `compiled`.
+///
+/// # Errors
+/// The side selected is not in `compiled`.
+pub fn straps_select(
+    a_grounded: bool,
+    b_grounded: bool,
+    c_grounded: bool,
+    compiled: &[FcProtocol],
+) -> Result<FcProtocol, StrapError> {
     let wanted = match (c_grounded, a_grounded, b_grounded) {
         (true, _, _) => FcProtocol::Mavlink,
         (false, false, false) => FcProtocol::Siyi,
@@ -55,23 +85,26 @@ pub fn from_straps(a_grounded: bool, b_grounded: bool, c_grounded: bool) -> Opti
         (false, false, true) => FcProtocol::Gcu,
         (false, true, true) => FcProtocol::K40t,
     };
-    if COMPILED.contains(&wanted) {
-        Some(wanted)
+    if compiled.contains(&wanted) {
+        Ok(wanted)
     } else {
-        COMPILED.first().copied()
+        Err(StrapError { wanted })
     }
 }
 
 /// [`CONFIG`] with its FC protocol resolved: `straps` is called (once) only for
 /// [`FcChoice::Straps`] and returns (strap A grounded, strap B grounded, strap C grounded).
-pub fn resolve(straps: impl FnOnce() -> (bool, bool, bool)) -> Config {
+///
+/// # Errors
+/// The straps select a side not compiled in.
+pub fn resolve(straps: impl FnOnce() -> (bool, bool, bool)) -> Result<Config, StrapError> {
     let mut c = CONFIG;
     c.fc = match FC {
         FcChoice::Fixed(p) => p,
         FcChoice::Straps => {
             let (a, b, strap_c) = straps();
-            from_straps(a, b, strap_c).unwrap_or(c.fc)
+            from_straps(a, b, strap_c)?
         }
     };
-    c
+    Ok(c)
 }

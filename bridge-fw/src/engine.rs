@@ -4,7 +4,7 @@
 
 use bridge_engine::{Changes, Engine, Event, Instant, InstantNs, Level, PinAction, Port};
 
-/// Link and time status, for the LED.
+/// Link and time status, for the LED ([`crate::led`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
@@ -15,6 +15,8 @@ pub struct Status {
     pub pod_link: bool,
     /// UTC is known (time syncs are sent).
     pub utc: bool,
+    /// UTC is disciplined by the PPS input (locked to its edges).
+    pub pps_locked: bool,
 }
 
 /// The sans-IO engine as the tasks drive it: each method but [`BridgeEngine::status`] is
@@ -120,6 +122,7 @@ impl BridgeEngine for Engine {
             fc_link: self.fc_link(),
             pod_link: self.pod_state().link,
             utc: self.utc_state().is_usable(),
+            pps_locked: self.pps_state() == bridge_engine::discipline::PpsState::Locked,
         }
     }
 }

@@ -14,7 +14,7 @@
 //! | [`engine_task`] | [`Engine::poll`] at [`poll_at`](Engine::poll_at); RTC_IO at the instant [`pin`](Engine::pin) names ([`RtcIo`]: a timer's output compare armed ahead, or a pin set at the timer alarm), then [`pin_done`](Engine::pin_done) with the instant it was made, in one critical section, then the pod writer is woken |
 //! | [`pps_task`] | PPS edges ([`PpsInput`]: the instants a timer captured) → [`Engine::pps`] |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
-//! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
+//! | [`led_task`] | boot, the FC side, then FC link, pod link, UTC and faults as blink codes ([`led::LED_CODES`]) |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //! | [`store_task`] | the engine's records to keep ([`Engine::take_record`](bridge_engine::Engine::take_record)) to a [`RecordStore`] (a flash range on the MCU, a state file on Linux); [`restore`] gives them back at start |
 //!
@@ -51,11 +51,12 @@ pub mod config;
 mod engine;
 mod engine_task;
 pub mod layout;
-mod led;
+pub mod led;
 mod link;
 mod log;
 mod pps;
 pub mod ram_flash;
+pub mod reset;
 mod rtc_io;
 mod shared;
 pub mod store;
@@ -67,7 +68,7 @@ pub mod host;
 
 pub use engine::{BridgeEngine, Status};
 pub use engine_task::engine_task;
-pub use led::{Blink, led_pattern, led_task};
+pub use led::{Blink, Fault, Faults, led_task, strap_error_led};
 pub use link::{link, link_reader, link_writer};
 pub use log::{EventSink, log_task};
 pub use pps::{NoPps, PpsInput, pps_task};

@@ -33,6 +33,7 @@ mod systick_driver;
 #[cfg(not(feature = "qemu"))]
 mod tim2;
 
+use bridge_fw::reset::ResetCause;
 use bridge_fw::{Engine, Heartbeat, LogKind, LogRecord, Port, Shared, Timing};
 use defmt_rtt as _;
 use embassy_executor::Spawner;
@@ -66,33 +67,74 @@ fn main() -> ! {
     qemu_executor::run(start)
 }
 
-/// Brings the board up and spawns every task.
+/// Brings the board up and spawns every task (with a strap error: only the LED's).
 fn start(spawner: Spawner) {
     stack::paint();
     let b = board::init();
+    let build = bridge_fw::config::BUILD;
 
     #[cfg(feature = "qemu")]
     {
         let core = cortex_m::Peripherals::take().expect("core peripherals taken twice");
         systick_driver::init(core.SYST, b.hclk);
         semihosting::println!(
-            "bridge-fw (qemu): up, HCLK {} Hz, FC {:?}",
-            b.hclk,
-            defmt_fc(b.config.fc)
+            "bridge-fw (qemu): {}, reset: {}",
+            DisplayBuild(&build),
+            b.reset.name()
         );
     }
+    defmt::info!(
+        "bridge-fw {} commit {}{}, {}: {}; reset: {}",
+        build.semver,
+        build.commit,
+        if build.dirty { "-dirty" } else { "" },
+        build.flavour,
+        build.features,
+        b.reset
+    );
+    let config = match b.config {
+        Ok(c) => c,
+        Err(e) => {
+            // No FC side: never another one. Nothing runs but the LED's code (and no
+            // watchdog: no task would feed it).
+            defmt::error!(
+                "strap error: the straps select {}, which this build does not have; no FC side runs",
+                e.wanted
+            );
+            #[cfg(feature = "qemu")]
+            semihosting::println!(
+                "bridge-fw (qemu): strap error: the straps select {}, not in this build; no FC side",
+                fc_name(e.wanted)
+            );
+            spawner.spawn(strap_error_led(b.led).expect("task strap_error_led"));
+            return;
+        }
+    };
+    let mut watchdog = b.watchdog;
+    watchdog.unleash();
+    static FAULTS: bridge_fw::Faults = bridge_fw::Faults::new();
+    if b.reset == ResetCause::Watchdog {
+        FAULTS.raise(bridge_fw::Fault::WatchdogReset);
+    }
+
+    #[cfg(feature = "qemu")]
+    semihosting::println!(
+        "bridge-fw (qemu): up, HCLK {} Hz, FC {:?}",
+        b.hclk,
+        fc_name(config.fc)
+    );
     // The same idle detection as on the board: QEMU hands the guest one received byte per
     // SysTick period (100 µs, `systick_driver`), well inside the 5 ms that ends a burst.
-    let timing = Timing::from_config(&b.config);
+    let timing = Timing::from_config(&config);
     defmt::info!(
         "bridge-fw: up, HCLK {} Hz, FC {}, {}",
         b.hclk,
-        b.config.fc,
+        config.fc,
         timing
     );
     static SHARED: StaticCell<BoardShared> = StaticCell::new();
     let shared: &'static BoardShared =
-        SHARED.init_with(|| Shared::new(Engine::new(b.config), timing));
+        SHARED.init_with(|| Shared::new(Engine::with_build(config, build), timing));
 
     let (fc_tx, fc_rx) = b.fc.split();
     let (pod_tx, pod_rx) = b.pod.split();
@@ -122,10 +164,21 @@ fn start(spawner: Spawner) {
     }
     spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
     spawner.spawn(pps(shared, b.pps).expect("task pps"));
-    spawner.spawn(watchdog(shared, b.watchdog).expect("task watchdog"));
-    spawner.spawn(led(shared, b.led).expect("task led"));
+    spawner.spawn(watchdog_task(shared, watchdog).expect("task watchdog"));
+    spawner.spawn(led(shared, &FAULTS, config.fc, b.led).expect("task led"));
     spawner.spawn(log(shared).expect("task log"));
     spawner.spawn(stack_watch().expect("task stack_watch"));
+}
+
+/// [`BuildInfo`](bridge_engine::BuildInfo) through `core::fmt` (semihosting's `println`).
+#[cfg(feature = "qemu")]
+struct DisplayBuild<'a>(&'a bridge_engine::BuildInfo);
+
+#[cfg(feature = "qemu")]
+impl core::fmt::Display for DisplayBuild<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "version {}", self.0)
+    }
 }
 
 /// Logs the stack's high-water mark since start-up ended (every task and interrupt):
@@ -160,7 +213,7 @@ async fn stack_watch() -> ! {
 }
 
 #[cfg(feature = "qemu")]
-fn defmt_fc(fc: bridge_engine::FcProtocol) -> &'static str {
+fn fc_name(fc: bridge_engine::FcProtocol) -> &'static str {
     use bridge_engine::FcProtocol;
     match fc {
         FcProtocol::Siyi => "siyi",
@@ -233,15 +286,29 @@ async fn pps(shared: &'static BoardShared, input: PpsPin) -> ! {
 }
 
 #[embassy_executor::task]
-async fn watchdog(shared: &'static BoardShared, mut wd: IndependentWatchdog<'static, IWDG>) -> ! {
+async fn watchdog_task(
+    shared: &'static BoardShared,
+    mut wd: IndependentWatchdog<'static, IWDG>,
+) -> ! {
     // The telemetry link's loops run (and are supervised) whenever it is built in.
     let supervised = Heartbeat::supervised(cfg!(feature = "telemetry"));
     bridge_fw::watchdog_task(shared, WATCHDOG_PERIOD, supervised, || wd.pet()).await
 }
 
 #[embassy_executor::task]
-async fn led(shared: &'static BoardShared, led: Output<'static>) -> ! {
-    bridge_fw::led_task(shared, led).await
+async fn led(
+    shared: &'static BoardShared,
+    faults: &'static bridge_fw::Faults,
+    fc: bridge_engine::FcProtocol,
+    led: Output<'static>,
+) -> ! {
+    bridge_fw::led_task(shared, faults, fc, led).await
+}
+
+/// The strap error's LED code, forever (the only task of a board without an FC side).
+#[embassy_executor::task]
+async fn strap_error_led(led: Output<'static>) -> ! {
+    bridge_fw::strap_error_led(led).await
 }
 
 #[embassy_executor::task]

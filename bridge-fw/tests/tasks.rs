@@ -222,7 +222,8 @@ fn pod_link_comes_up_versions_are_answered_reports_are_processed() {
         Status {
             fc_link: false,
             pod_link: true,
-            utc: false
+            utc: false,
+            pps_locked: false,
         }
     );
 
@@ -738,31 +739,65 @@ fn a_stalled_writer_stops_the_watchdog_feed() {
 }
 
 #[test]
-fn led_task_shows_the_status() {
+fn led_task_shows_boot_the_side_then_the_status_and_the_faults() {
+    use bridge_engine::FcProtocol;
+    use bridge_fw::{Fault, Faults};
     let config = Config::DEFAULT;
     let shared = HostShared::new(Engine::new(config), Timing::from_config(&config));
+    let faults = Faults::new();
+    faults.raise(Fault::WatchdogReset);
     let led = PinRecorder::new();
     host::run(Clock::Virtual, || {
         select(
-            bridge_fw::led_task(&shared, led.clone()),
-            Timer::after(EDuration::from_millis(1999)),
+            bridge_fw::led_task(&shared, &faults, FcProtocol::Gcu, led.clone()),
+            Timer::after(EDuration::from_millis(7100)),
         )
     });
-    // Nothing up: three short flashes (40 ms) per 2 s.
-    let highs: Vec<Instant> = led
+    // Each flash as (on at, ms on): the level's changes only (the task sets the level of
+    // every step, changed or not).
+    let mut flashes = Vec::new();
+    let mut level = Level::Low;
+    let mut since = ms(0);
+    for (l, t) in led.edges() {
+        if l != level {
+            if l == Level::Low {
+                flashes.push((
+                    since.as_millis(),
+                    t.saturating_duration_since(since).as_millis(),
+                ));
+            }
+            (level, since) = (l, t);
+        }
+    }
+    let [boot, side @ ..] = flashes.as_slice() else {
+        panic!("no flash: {flashes:?}");
+    };
+    assert_eq!(*boot, (0, 1000), "boot: on 1 s, then 1 s dark");
+    // GCU: three flashes of 200 ms, 500 ms apart, then 1 s dark; then nothing up: three
+    // short flashes 400 ms apart, 800 ms dark, the watchdog reset's six 50 ms flashes.
+    let mut want = vec![(2000, 200), (2500, 200), (3000, 200)];
+    want.extend([(4500, 40), (4900, 40), (5300, 40)]);
+    want.extend((0..6).map(|i| (6500 + 100 * i, 50)));
+    assert_eq!(side, want.as_slice());
+}
+
+#[test]
+fn a_strap_error_shows_its_code_forever() {
+    let led = PinRecorder::new();
+    host::run(Clock::Virtual, || {
+        select(
+            bridge_fw::strap_error_led(led.clone()),
+            Timer::after(EDuration::from_millis(2999)),
+        )
+    });
+    let highs: Vec<u64> = led
         .edges()
         .iter()
         .filter(|(l, _)| *l == Level::High)
-        .map(|(_, t)| *t)
+        .map(|(_, t)| t.as_millis())
         .collect();
-    assert_eq!(highs, vec![ms(0), ms(400), ms(800)]);
-    let lows: Vec<Instant> = led
-        .edges()
-        .iter()
-        .filter(|(l, _)| *l == Level::Low)
-        .map(|(_, t)| *t)
-        .collect();
-    assert_eq!(lows, vec![ms(40), ms(440), ms(840), ms(1200)]);
+    // Boot (0), then on every 200 ms from 2 s on.
+    assert_eq!(highs, vec![0, 2000, 2200, 2400, 2600, 2800]);
 }
 
 #[test]
@@ -807,7 +842,7 @@ fn real_time_with_the_pod_fed_from_another_thread() {
 }
 
 #[test]
-fn timing_straps_and_led_patterns() {
+fn timing_straps_and_led_codes() {
     let t = Timing::from_config(&Config::DEFAULT);
     // 10 bits a byte at 115200: 86.8 µs, rounded up per frame.
     assert_eq!(t.wire_time(Port::Pod, 1), Duration::from_micros(87));
@@ -824,49 +859,83 @@ fn timing_straps_and_led_patterns() {
     use bridge_fw::config::{self, FcChoice};
     assert_eq!(config::COMPILED.len(), 5);
     assert_eq!(config::FC, FcChoice::Straps, "all five compiled, fc = auto");
-    assert_eq!(
-        config::from_straps(false, false, false),
-        Some(FcProtocol::Siyi)
-    );
-    assert_eq!(
-        config::from_straps(true, false, false),
-        Some(FcProtocol::Viewlink)
-    );
-    assert_eq!(
-        config::from_straps(false, true, false),
-        Some(FcProtocol::Gcu)
-    );
-    assert_eq!(
-        config::from_straps(true, true, false),
-        Some(FcProtocol::K40t)
-    );
-    for (a, b) in [(false, false), (true, false), (false, true), (true, true)] {
-        assert_eq!(config::from_straps(a, b, true), Some(FcProtocol::Mavlink));
+    let all: [(bool, bool, bool, FcProtocol); 5] = [
+        (false, false, false, FcProtocol::Siyi),
+        (true, false, false, FcProtocol::Viewlink),
+        (false, true, false, FcProtocol::Gcu),
+        (true, true, false, FcProtocol::K40t),
+        (true, false, true, FcProtocol::Mavlink),
+    ];
+    for (a, b, c, fc) in all {
+        assert_eq!(config::from_straps(a, b, c), Ok(fc));
+        assert_eq!(config::resolve(|| (a, b, c)).map(|c| c.fc), Ok(fc));
     }
-    assert_eq!(config::resolve(|| (true, true, false)).fc, FcProtocol::K40t);
-    assert_eq!(
-        config::resolve(|| (false, false, true)).fc,
-        FcProtocol::Mavlink
-    );
+    for (a, b) in [(false, false), (true, false), (false, true), (true, true)] {
+        assert_eq!(config::from_straps(a, b, true), Ok(FcProtocol::Mavlink));
+    }
+    // An image without the side the straps select: an error naming it, never another
+    // side (whichever sides it has).
+    let sides = [
+        FcProtocol::Siyi,
+        FcProtocol::Viewlink,
+        FcProtocol::Gcu,
+        FcProtocol::K40t,
+        FcProtocol::Mavlink,
+    ];
+    for (a, b, c, wanted) in all {
+        for missing in 0u8..32 {
+            let compiled: Vec<FcProtocol> = sides
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| missing & (1 << i) == 0)
+                .map(|(_, s)| *s)
+                .collect();
+            let got = config::straps_select(a, b, c, &compiled);
+            if compiled.contains(&wanted) {
+                assert_eq!(got, Ok(wanted));
+            } else {
+                assert_eq!(got, Err(config::StrapError { wanted }), "{compiled:?}");
+            }
+        }
+    }
     assert_eq!(config::CONFIG.fc_baud, 115_200);
     assert_eq!(config::CONFIG.siyi.hardware_id, *b"7A0000000001");
 
-    let all_up = bridge_fw::led_pattern(Status {
+    // The status cycle's codes: long when up, short when down, a double flash for PPS.
+    use bridge_fw::led::{LedCode, status_codes};
+    let ons = |codes: [Option<&LedCode>; 5]| -> Vec<Vec<u16>> {
+        codes
+            .into_iter()
+            .flatten()
+            .map(|c| c.steps().filter(|s| s.on).map(|s| s.ms).collect())
+            .collect()
+    };
+    let all_up = Status {
         fc_link: true,
         pod_link: true,
         utc: true,
-    });
-    let total: u32 = all_up.iter().map(|b| u32::from(b.ms)).sum();
-    assert_eq!(total, 2000);
-    let long = all_up.iter().filter(|b| b.on && b.ms == 300).count();
-    assert_eq!(long, 3);
-    let pod_only = bridge_fw::led_pattern(Status {
-        fc_link: false,
+        pps_locked: false,
+    };
+    assert_eq!(
+        ons(status_codes(all_up, false, false)),
+        [[300], [300], [300]]
+    );
+    let pps = Status {
+        pps_locked: true,
+        ..all_up
+    };
+    assert_eq!(
+        ons(status_codes(pps, false, true)),
+        vec![vec![300], vec![300], vec![100, 100], vec![1200]]
+    );
+    let pod_only = Status {
         pod_link: true,
-        utc: false,
-    });
-    let ons: Vec<u16> = pod_only.iter().filter(|b| b.on).map(|b| b.ms).collect();
-    assert_eq!(ons, vec![40, 300, 40]);
+        ..Status::default()
+    };
+    assert_eq!(
+        ons(status_codes(pod_only, true, false)),
+        vec![vec![40], vec![300], vec![40], vec![50; 6]]
+    );
 }
 
 /// `bridge.toml` lists every key with its default: the configuration `build.rs` wrote out

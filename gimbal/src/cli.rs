@@ -10,7 +10,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 pub use crate::runner::options::{
     AckSeqArg, BridgeArgs, ConfigArgs, EventFormat, Fallback, Fc, SimFcArgs, SimPodArgs,
-    parse_hardware_id, parse_model, parse_seconds, parse_version, parse_viewlink_firmware,
+    parse_hardware_id, parse_model, parse_seconds,
 };
 
 /// Decode gimbal-protocol captures, list the messages, run the K40T bridge on Linux and
@@ -21,7 +21,7 @@ pub use crate::runner::options::{
 #[derive(Debug, Parser)]
 #[command(
     name = "gimbal",
-    version,
+    version = version_line(),
     propagate_version = true,
     arg_required_else_help = true
 )]
@@ -29,6 +29,15 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// What `gimbal --version` prints after the name: the version, the commit and the
+/// features of the bridge it runs ([`bridge_fw::config::BUILD`]: the host flavour of the
+/// firmware's tasks, with every FC side).
+#[must_use]
+pub fn version_line() -> &'static str {
+    static LINE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    LINE.get_or_init(|| bridge_fw::config::BUILD.to_string())
 }
 
 /// The subcommands.

@@ -163,16 +163,11 @@ fn every_key_is_read_and_checked() {
         width_ms = 20
         [siyi]
         hardware_id = "6B0000000002"
-        camera_version = [1, 2, 3]
-        gimbal_version = [4, 5, 6]
-        zoom_version = [7, 8, 9]
         max_zoom_x10 = 100
         [viewlink]
         model = "K40T"
-        firmware = [1, 2, 3]
         [gcu]
         hardware_x10 = 11
-        firmware_x10 = 12
         gimbal_code = 13
         resync_mark = false
         [pod]
@@ -213,14 +208,9 @@ fn every_key_is_read_and_checked() {
     want.sync.period = Duration::from_millis(2000);
     want.sync.width = Duration::from_millis(20);
     want.siyi.hardware_id = *b"6B0000000002";
-    want.siyi.camera_version = [1, 2, 3];
-    want.siyi.gimbal_version = [4, 5, 6];
-    want.siyi.zoom_version = [7, 8, 9];
     want.siyi.max_zoom_x10 = 100;
     want.viewlink.model = *b"K40T\0\0\0\0\0\0";
-    want.viewlink.firmware = *b"S20010203\0\0\0\0\0\0\0\0\0\0\0";
     want.gcu.hardware_x10 = 11;
-    want.gcu.firmware_x10 = 12;
     want.gcu.gimbal_code = 13;
     want.gcu.resync_mark = false;
     want.pod.yaw_positive_left = true;
@@ -256,9 +246,6 @@ fn every_key_is_read_and_checked() {
 
     // Each range, from the file: the key and the range in the message.
     for limit in Limit::ALL {
-        if limit.key == "viewlink.firmware" {
-            continue; // a part of a version: below
-        }
         if limit.key == "gcs_ids" {
             // Each id of a list: below.
             continue;
@@ -321,14 +308,9 @@ fn errors_name_the_key() {
             "[siyi]\nhardware_id = \"7A\"",
             "expected 12 ASCII characters",
         ),
-        ("[siyi]\ncamera_version = [1, 2]", "camera_version"),
         (
             "[viewlink]\nmodel = \"ELEVENCHARS\"",
             "expected 1 to 10 printable ASCII",
-        ),
-        (
-            "[viewlink]\nfirmware = [1, 100, 0]",
-            "100 is out of range 0..=99",
         ),
         (
             "k40t_geotag_fallback_ms = \"never ever\"",
@@ -366,6 +348,34 @@ fn errors_name_the_key() {
         let e = load(text).unwrap_err();
         assert!(e.contains(wanted), "{text:?}: {e}");
     }
+}
+
+/// A file with a key that was removed: an error naming the key and what replaced it, from
+/// `gimbal bridge --config` as from the firmware's build (its `build.rs` calls the same
+/// `removed_key` first).
+#[test]
+fn removed_keys_name_what_replaced_them() {
+    let dir = std::env::temp_dir().join(format!("gimbal-removed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (section, key, value) in [
+        ("siyi", "camera_version", "[0, 3, 1]"),
+        ("siyi", "gimbal_version", "[0, 3, 1]"),
+        ("siyi", "zoom_version", "[0, 1, 0]"),
+        ("viewlink", "firmware", "[0, 1, 0]"),
+        ("gcu", "firmware_x10", "10"),
+    ] {
+        let path = dir.join(format!("{section}-{key}.toml"));
+        std::fs::write(&path, format!("[{section}]\n{key} = {value}\n")).unwrap();
+        let e = config_of(&bridge_args(&["--config", path.to_str().unwrap()])).unwrap_err();
+        assert!(
+            e.ends_with(&format!(
+                "{section}.{key}: removed in 0.2.0: the bridge reports its own version \
+                 (see docs/src/firmware/configuration.md#versions)"
+            )),
+            "{e}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn bridge_args(extra: &[&str]) -> Box<gimbal::cli::BridgeArgs> {
@@ -418,8 +428,6 @@ fn the_command_line_overrides_the_file() {
         "--sync-width-ms",
         "30",
         "--pod-pitch-positive-down",
-        "--viewlink-firmware",
-        "2.3.4",
         "--siyi-hardware-id",
         "6B0000000002",
         "--k40t-geotag-fallback-ms",
@@ -439,7 +447,6 @@ fn the_command_line_overrides_the_file() {
     assert!(c.pod.yaw_positive_left && c.pod.pitch_positive_down);
     assert!(!c.gcu.resync_mark);
     assert_eq!(c.gcu.gimbal_code, 7);
-    assert_eq!(&c.viewlink.firmware[..9], b"S20020304");
     assert_eq!(c.siyi.hardware_id, *b"6B0000000002");
     assert_eq!(c.k40t_geotag_fallback, None);
     assert_eq!(

@@ -270,10 +270,12 @@ fn every_subcommand_has_help_and_completions_are_generated() {
         "--leap-seconds",
         "--siyi-hardware-id",
         "--viewlink-model",
-        "--gcu-firmware-x10",
+        "--gcu-hardware-x10",
         "--k40t-geotag-fallback-ms",
         "--tz-minuteswest",
         "tcp-listen:",
+        "udp:HOST:PORT",
+        "udp-listen:",
     ] {
         assert!(bridge.contains(option), "{option} missing:\n{bridge}");
     }
@@ -522,4 +524,40 @@ fn report_writes_a_page_and_lists_the_lines_it_could_not_read() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/flight.jsonl"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `gimbal --version`: the workspace's version, the commit of this checkout (`-dirty`
+/// when its tracked files have changes) and the features of the bridge it runs; the same
+/// line as `bridge_started`'s `build` (docs/src/firmware/configuration.md#versions).
+#[test]
+fn version_names_the_release_the_commit_and_the_features() {
+    let line = stdout_lines(&gimbal(&["--version"], None)).join("\n");
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .env("GIT_OPTIONAL_LOCKS", "0")
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "--short=12", "HEAD"]);
+    let commit = match commit {
+        // Built in this checkout: its commit; dirty as git says now (a change after the
+        // build would rebuild `gimbal` before this test runs).
+        Some(c) => {
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            format!("{c}{}", if dirty { "-dirty" } else { "" })
+        }
+        None => "unknown".to_string(),
+    };
+    assert_eq!(
+        line,
+        format!(
+            "gimbal {} commit {commit}, host: fc-siyi fc-viewlink fc-gcu fc-k40t fc-mavlink telemetry",
+            env!("CARGO_PKG_VERSION")
+        )
+    );
 }

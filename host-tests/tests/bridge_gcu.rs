@@ -138,9 +138,14 @@ fn ardupilot_is_healthy_within_1s_of_the_pod_reporting_and_every_package_is_answ
             .all(|r| r.bytes.len() == 73)
     );
     assert_eq!(ap.parse_errors(), 0);
+    // Hardware 1.0 (configured), firmware the bridge's version (0.2.0: 0.2).
+    let v = bridge_engine::version::Version::parse(env!("CARGO_PKG_VERSION")).unwrap();
     assert_eq!(
         ap.texts_with("hw:"),
-        vec![(t, "XFRobot: hw:1.0 fw:1.0".to_string())]
+        vec![(
+            t,
+            format!("XFRobot: hw:1.0 fw:{}.{}", v.major, v.minor.min(9))
+        )]
     );
     // 50 Hz set attitude, answered at once: each reply arrives before the next package
     // is written.
@@ -158,12 +163,16 @@ fn replies_carry_the_pods_attitude_zoom_range_and_recording_at_ardupilots_offset
     let mut cfg = config();
     cfg.gcu = GcuIdentity {
         hardware_x10: 23,
-        firmware_x10: 45,
         ..GcuIdentity::DEFAULT
     };
     let mut s = scenario_with(cfg, ApXfRobotConfig::default(), PodSimConfig::default(), 25);
     s.run_until(2 * S);
-    assert_eq!(s.fc.texts_with("hw:")[0].1, "XFRobot: hw:2.3 fw:4.5");
+    // The firmware is the bridge's version, major.minor (0.2.0: "fw:0.2").
+    let v = bridge_engine::version::Version::parse(env!("CARGO_PKG_VERSION")).unwrap();
+    assert_eq!(
+        s.fc.texts_with("hw:")[0].1,
+        format!("XFRobot: hw:2.3 fw:{}.{}", v.major, v.minor.min(9))
+    );
     // Right and down: ArduPilot's body-frame yaw positive right, pitch positive up.
     s.fc.target = Some(MountTarget::body_angles(-40.0, 35.0));
     s.run_for(4 * S);

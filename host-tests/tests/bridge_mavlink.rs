@@ -116,8 +116,12 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
     assert!((deg(info.pitch_min) + 90.0).abs() < 0.01 && (deg(info.pitch_max) - 30.0).abs() < 0.01);
     assert!((deg(info.yaw_min) + 180.0).abs() < 0.01 && (deg(info.yaw_max) - 180.0).abs() < 0.01);
     assert_eq!((info.roll_min, info.roll_max), (0.0, 0.0));
-    // Pod gimbal software 1.2.3, hardware 1.0.0 (byte 0 major).
-    assert_eq!(info.firmware_version.to_le_bytes(), [1, 2, 3, 0]);
+    // The bridge's version (byte 0 major); the pod's gimbal hardware 1.0.0.
+    let v = bridge_engine::version::Version::parse(env!("CARGO_PKG_VERSION")).unwrap();
+    assert_eq!(
+        info.firmware_version.to_le_bytes(),
+        [v.major, v.minor, v.patch, 0]
+    );
     assert_eq!(info.hardware_version.to_le_bytes(), [1, 0, 0, 0]);
     let cap = info.cap_flags2;
     assert!(cap.contains(GimbalDeviceCapFlags::GIMBAL_DEVICE_CAP_FLAGS_HAS_PITCH_AXIS));
@@ -157,7 +161,10 @@ fn ardupilot_discovers_both_components_and_calls_the_mount_healthy_within_2_s() 
         cam.focal_length
     );
     assert!(cam.sensor_size_h.is_nan());
-    assert_eq!(cam.firmware_version.to_le_bytes(), [2, 0, 1, 0]);
+    assert_eq!(
+        cam.firmware_version.to_le_bytes(),
+        [v.major, v.minor, v.patch, 0]
+    );
     assert_eq!(&cam.cam_definition_uri[..19], b"mftp://k40t.xml.xz\0");
     assert_eq!(cam.cam_definition_version, 1);
     assert_eq!(cam.gimbal_device_id, 154);

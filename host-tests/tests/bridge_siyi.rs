@@ -49,9 +49,13 @@ fn ardupilot_reaches_healthy_through_the_start_up_gates() {
     assert!(first(0x02) < first(0x01));
     assert!(first(0x01) < first(0x20));
     assert!(first(0x20) < first(0x0D));
-    // Firmware: 12 bytes, camera version non-zero.
+    // Firmware: 12 bytes, the bridge's version (patch, minor, major) as the camera's
+    // (ArduPilot needs it non-zero), the gimbal's and the zoom's.
     let fw = ap.received.iter().find(|r| r.id == 0x01).unwrap();
     assert_eq!(fw.data.len(), 12);
+    let v = bridge_engine::version::Version::parse(env!("CARGO_PKG_VERSION")).unwrap();
+    let v = [v.patch, v.minor, v.major, 0];
+    assert_eq!(fw.data, [v, v, v].concat());
     assert_ne!(&fw.data[..3], &[0, 0, 0]);
     // Every 0x0D is answered with exactly 12 bytes while the pod reports.
     let asked = ap

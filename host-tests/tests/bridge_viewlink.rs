@@ -66,7 +66,9 @@ fn ardupilot_is_healthy_within_a_second_and_reads_the_identity() {
     healthy_within(&s, S);
     let ap = &s.fc;
     assert_eq!(ap.model.as_deref(), Some("K40TBRIDGE"));
-    assert_eq!(ap.firmware, Some((0, 1, 0)));
+    // The bridge's version, as ArduPilot reads it from the 0xD0 text.
+    let v = bridge_engine::version::Version::parse(env!("CARGO_PKG_VERSION")).unwrap();
+    assert_eq!(ap.firmware, Some((v.major, v.minor, v.patch)));
     // The queries stop once answered (at the second run: one sent at each of the first
     // two runs at most).
     let queries = ap.sent.iter().filter(|(_, id, _)| *id == 0x01).count();

@@ -49,6 +49,8 @@ const MESSAGES: &[&str] = &[
     "PARAM_EXT_ACK",
     // Signing: the autopilot's system gives the device a new key (docs/src/security.md).
     "SETUP_SIGNING",
+    // The bridge's version, asked of its components (bridge-engine/src/version.rs).
+    "AUTOPILOT_VERSION",
 ];
 
 /// Enumerations no field names but the bridge needs (component ids, result and command

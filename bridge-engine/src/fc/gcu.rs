@@ -510,7 +510,7 @@ impl GcuSide {
         let sub = GcuSub {
             header: SUB_HEADER,
             hardware_version: id.hardware_x10,
-            firmware_version: id.firmware_x10,
+            firmware_version: ctx.build.version.gcu_x10(),
             gimbal_code: GimbalCode::from_value(id.gimbal_code),
             error_code,
             distance_dm: distance.map_or(0, i32::from),

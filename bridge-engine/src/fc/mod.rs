@@ -24,6 +24,17 @@ pub(crate) struct Ctx<'a> {
     /// The local instant of the call.
     pub(crate) now: Instant,
     pub(crate) config: &'a Config,
+    /// What this image is (the version replies; the K40T side has none).
+    #[cfg_attr(
+        not(any(
+            feature = "siyi",
+            feature = "viewlink",
+            feature = "gcu",
+            feature = "mavlink"
+        )),
+        allow(dead_code)
+    )]
+    pub(crate) build: &'a crate::BuildInfo,
     pub(crate) pod: &'a mut PodDriver,
     pub(crate) time: &'a mut TimeDiscipline,
     pub(crate) fixes: &'a mut FixHistory,

@@ -4,7 +4,8 @@
 //! What ArduPilot needs, and what the bridge does (the mapping table:
 //! docs/src/bridge/siyi.md):
 //! - **Identity** (0x02 hardware id, 0x01 firmware, 0x20 codec specs of streams 0 and 1,
-//!   0x0A configuration) is answered from [`Config`](crate::Config) and the pod's
+//!   0x0A configuration) is answered from [`Config`](crate::Config), the bridge's
+//!   version (camera, gimbal and zoom firmware: [`crate::version`]) and the pod's
 //!   state, at once, in the same `poll`. The configuration reports the record status
 //!   from the pod, the motion mode ArduPilot last set (else ArduPilot re-sends its mode
 //!   at every update) and a normal mounting direction.
@@ -234,12 +235,13 @@ impl SiyiSide {
         match request {
             Request::Heartbeat(_) => {}
             Request::FirmwareVersion(_) => {
-                let c = &ctx.config.siyi;
-                let v = |[major, minor, patch]: [u8; 3]| FirmwareVersion::new(major, minor, patch);
+                // The bridge's version as the camera's, the gimbal's and the zoom's.
+                let v = ctx.build.version;
+                let v = FirmwareVersion::new(v.major, v.minor, v.patch);
                 let versions = FirmwareVersions {
-                    camera: v(c.camera_version),
-                    gimbal: v(c.gimbal_version),
-                    zoom: Some(v(c.zoom_version)),
+                    camera: v,
+                    gimbal: v,
+                    zoom: Some(v),
                 };
                 send(ctx, &versions, seq);
             }

@@ -12,7 +12,8 @@
 //!   ArduPilot is healthy while a 0x40 arrived within 1 s: while the pod does not
 //!   report its attitude the bridge sends none, as a Viewpro whose gimbal died.
 //! - **Identity.** U queries 0xE4 (model) and 0xD0 (firmware) are answered with a V of
-//!   the same code, from [`Config`](crate::Config).
+//!   the same code: the model from [`Config`](crate::Config), the firmware text from
+//!   the bridge's version ([`Version::viewlink_text`](crate::version::Version::viewlink_text)).
 //! - **Motion.** A1 speed (0x01) and absolute angles (0x0B, 0x1B) go to the pod driver
 //!   every time they arrive (its edge trigger, dead-bands, rate limits and FC-silence
 //!   stop apply); follow yaw (0x03) and follow yaw disabled (0x0A) set the yaw mode;
@@ -527,7 +528,9 @@ impl ViewlinkSide {
         let command = UCommand::from_value(payload.first().copied().unwrap_or_default());
         let data = match command {
             UCommand::QueryModel => VData::Model(Text { raw: id.model }),
-            UCommand::QueryFirmware => VData::Firmware(Text { raw: id.firmware }),
+            UCommand::QueryFirmware => VData::Firmware(Text {
+                raw: ctx.build.version.viewlink_text(),
+            }),
             // Settings of the Viewpro's serial link, OSD and RC channels: nothing on
             // the K40T to set or report.
             _ => return false,

@@ -61,6 +61,17 @@ pub fn config_of(args: &BridgeArgs) -> Result<(Config, Timing), String> {
             .map_err(|e| format!("--config {}: {e}", path.display()))?,
         None => Table::new(),
     };
+    if let Some(path) = &args.config_file {
+        bridge_engine::config::removed_key(|section, key| {
+            let within = if section.is_empty() {
+                Some(&keys)
+            } else {
+                keys.get(section).and_then(toml::Value::as_table)
+            };
+            within.is_some_and(|t| t.contains_key(key))
+        })
+        .map_err(|e| format!("--config {}: {e}", path.display()))?;
+    }
     let options = Table::try_from(&args.config).map_err(|e| e.to_string())?;
     for (key, value) in options {
         set(&mut keys, &key, value);
@@ -235,7 +246,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     } else {
         HostLinks::new()
     }));
-    let shared = HostShared::new(Engine::new(config), timing);
+    let shared = HostShared::new(Engine::with_build(config, bridge_fw::config::BUILD), timing);
     let fc_codec = args.fc.name();
     let trace = |port: &'static str, dir: &'static str| {
         let codec = match port {
@@ -261,6 +272,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             "fc_faults": args.fc_faults.map(|f| f.to_string()),
             "pod_faults": args.pod_faults.map(|f| f.to_string()),
             "version": env!("CARGO_PKG_VERSION"),
+            "build": bridge_fw::config::BUILD.to_string(),
             "log_version": events::LOG_VERSION,
         }),
     );

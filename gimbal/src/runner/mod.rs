@@ -1,5 +1,5 @@
 //! The Linux bridge runner behind `gimbal bridge`, `gimbal sim-fc` and `gimbal sim-pod`:
-//! ports (serial, TCP, simulators) pumped by std threads into the bridge's pipes, the
+//! ports (serial, TCP, UDP, simulators) pumped by std threads into the bridge's pipes, the
 //! RTC_IO output, the PPS input, the photo event file, and the events printed as text or
 //! JSON lines; a task bench's run as the same JSON lines ([`bench_log`]).
 
@@ -16,4 +16,5 @@ pub mod simfc;
 pub mod sims;
 pub mod state;
 pub mod trace;
+pub mod udp;
 pub mod watch;

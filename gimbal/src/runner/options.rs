@@ -1,7 +1,7 @@
 //! The options of the commands the runner carries out (`gimbal bridge`, `sim-fc`,
 //! `sim-pod`), as `clap` derive types the command line ([`crate::cli`]) embeds; the
 //! parsing of port specifications and option values lives with the types they produce
-//! ([`PortSpec`], [`RtcSpec`], [`parse_version`], ...) so that it is unit-tested.
+//! ([`PortSpec`], [`RtcSpec`], [`parse_hardware_id`], ...) so that it is unit-tested.
 //!
 //! The bridge's configuration options ([`ConfigArgs`]) are the keys of the configuration
 //! file (`bridge_engine::Config`'s, as in `bridge-fw/bridge.toml`): each names
@@ -101,7 +101,10 @@ impl AckSeqArg {
 const PORT_AND_FAULTS_HELP: &str = concat!(
     "PORT: a serial device `/dev/ttyUSB0[:BAUD]` (or `serial:PATH[:BAUD]`), `tcp:HOST:PORT` \
 (connect, reconnect when lost), `tcp-listen:[HOST:]PORT` (accept one connection at a time; \
-port 0 picks a free one, printed in a `port_listening` event), or `sim`",
+port 0 picks a free one, printed in a `port_listening` event), `udp:HOST:PORT` (send there, \
+knocking with an empty datagram each second until someone speaks; answer the peer that \
+spoke last), `udp-listen:[HOST:]PORT` (bind; answer the peer that spoke last), or `sim`. \
+UDP carries any FC protocol (a datagram is read as part of a byte stream)",
     "\n\n",
     "FAULTS: a faulty cable, `ber=RATE,drop=RATE,garbage=RATE,seed=N` (any subset): each bit \
 flipped with probability ber, each byte lost with probability drop, a random byte inserted \
@@ -125,7 +128,8 @@ pub struct BridgeArgs {
     /// The autopilot's MAVLink 2 telemetry port (ArduPilot `SERIALn_PROTOCOL 2`, PX4
     /// `MAV_n_CONFIG`), beside the FC link of any --fc (with mavlink: when the FC link
     /// gives no time, as PX4 1.16's in mode Gimbal): time (TIMESYNC, SYSTEM_TIME) and
-    /// fixes come from it while it gives them. A serial device or TCP port (not `sim`).
+    /// fixes come from it while it gives them. A serial device, TCP or UDP port (not
+    /// `sim`; on a companion computer, a UDP endpoint of mavlink-router or MAVProxy).
     /// Default: no telemetry link.
     #[arg(long, value_name = "PORT", value_parser = parse_telemetry_port)]
     pub telemetry_port: Option<PortSpec>,
@@ -252,18 +256,6 @@ pub struct ConfigArgs {
     #[arg(long, value_name = "ID", value_parser = checked(parse_hardware_id))]
     #[serde(rename = "siyi.hardware_id")]
     pub siyi_hardware_id: Option<String>,
-    /// SIYI: camera firmware MAJOR.MINOR.PATCH (ArduPilot needs it non-zero) [default: 0.3.1].
-    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
-    #[serde(rename = "siyi.camera_version")]
-    pub siyi_camera_version: Option<[u8; 3]>,
-    /// SIYI: gimbal firmware [default: 0.3.1].
-    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
-    #[serde(rename = "siyi.gimbal_version")]
-    pub siyi_gimbal_version: Option<[u8; 3]>,
-    /// SIYI: zoom firmware [default: 0.1.0].
-    #[arg(long, value_name = "X.Y.Z", value_parser = parse_version)]
-    #[serde(rename = "siyi.zoom_version")]
-    pub siyi_zoom_version: Option<[u8; 3]>,
     /// SIYI: largest zoom reported, times ten [default: 300].
     #[arg(long, value_name = "X10", value_parser = ranged::<u16>(Limit::SIYI_MAX_ZOOM_X10))]
     #[serde(rename = "siyi.max_zoom_x10")]
@@ -273,19 +265,10 @@ pub struct ConfigArgs {
     #[arg(long, value_name = "TEXT", value_parser = checked(parse_model))]
     #[serde(rename = "viewlink.model")]
     pub viewlink_model: Option<String>,
-    /// Viewlink: firmware MAJOR.MINOR.PATCH, each 0..=99, answered to 0xD0 as the text
-    /// `S20MMmmpp` [default: 0.1.0].
-    #[arg(long, value_name = "X.Y.Z", value_parser = parse_viewlink_version)]
-    #[serde(rename = "viewlink.firmware")]
-    pub viewlink_firmware: Option<[u8; 3]>,
     /// GCU: hardware version times ten [default: 10].
     #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
     #[serde(rename = "gcu.hardware_x10")]
     pub gcu_hardware_x10: Option<u8>,
-    /// GCU: firmware version times ten [default: 10].
-    #[arg(long, value_name = "X10", value_parser = clap::value_parser!(u8))]
-    #[serde(rename = "gcu.firmware_x10")]
-    pub gcu_firmware_x10: Option<u8>,
     /// GCU: gimbal code, reply byte 40 (the document's "Gimbal Code" table; the K40T is
     /// none of its models) [default: 255].
     #[arg(long, value_name = "CODE", value_parser = clap::value_parser!(u8))]
@@ -661,8 +644,8 @@ fn parse_peer_port(s: &str) -> Result<PortSpec, String> {
 fn parse_telemetry_port(s: &str) -> Result<PortSpec, String> {
     match s.parse::<PortSpec>()? {
         PortSpec::Sim => Err(
-            "the telemetry port is a serial device or TCP port (`gimbal sim-fc --fc mavlink` \
-can stand for the autopilot's MAVLink port)"
+            "the telemetry port is a serial device, TCP or UDP port (`gimbal sim-fc --fc \
+mavlink` can stand for the autopilot's MAVLink port)"
                 .into(),
         ),
         p => Ok(p),
@@ -702,35 +685,6 @@ pub fn parse_seconds(s: &str) -> Result<f64, String> {
             "`{s}`: expected a positive number of seconds (at most a year)"
         ))
     }
-}
-
-/// `MAJOR.MINOR.PATCH`, each 0..=255.
-///
-/// # Errors
-/// Anything else.
-pub fn parse_version(s: &str) -> Result<[u8; 3], String> {
-    let parts: Vec<&str> = s.split('.').collect();
-    let bad = || format!("`{s}`: expected MAJOR.MINOR.PATCH, each 0..=255");
-    let [a, b, c] = parts.as_slice() else {
-        return Err(bad());
-    };
-    let n = |x: &str| x.parse::<u8>().map_err(|_| bad());
-    Ok([n(a)?, n(b)?, n(c)?])
-}
-
-/// The Viewlink firmware text `S20MMmmpp` of `MAJOR.MINOR.PATCH`, padded with zeros to
-/// 20 bytes (`ViewlinkIdentity::firmware_text`, as the firmware's configuration has it).
-///
-/// # Errors
-/// Not a version, or a part above 99.
-pub fn parse_viewlink_firmware(s: &str) -> Result<[u8; 20], String> {
-    ViewlinkIdentity::firmware_text(parse_version(s)?).map_err(|e| format!("`{s}`: {}", e.problem))
-}
-
-/// `--viewlink-firmware`: the version, checked as the configuration checks it.
-fn parse_viewlink_version(s: &str) -> Result<[u8; 3], String> {
-    parse_viewlink_firmware(s)?;
-    parse_version(s)
 }
 
 /// Exactly 12 ASCII characters (`SiyiIdentity::parse_hardware_id`).
@@ -779,14 +733,6 @@ mod tests {
 
     #[test]
     fn values() {
-        assert_eq!(parse_version("0.3.1"), Ok([0, 3, 1]));
-        assert!(parse_version("0.3").is_err());
-        assert!(parse_version("1.2.256").is_err());
-        assert_eq!(
-            &parse_viewlink_firmware("1.2.3").unwrap()[..10],
-            b"S20010203\0"
-        );
-        assert!(parse_viewlink_firmware("100.0.0").is_err());
         assert_eq!(parse_hardware_id("7A0000000001"), Ok(*b"7A0000000001"));
         assert!(parse_hardware_id("7A").is_err());
         assert_eq!(parse_model("ABC"), Ok(*b"ABC\0\0\0\0\0\0\0"));

@@ -1,11 +1,14 @@
-//! Ports: serial devices, TCP (connect or listen) and the built-in simulators, and the
-//! std threads that pump a real port into and out of the bridge's pipes.
+//! Ports: serial devices, TCP (connect or listen), UDP ([`super::udp`]) and the built-in
+//! simulators, and the std threads that pump a real port into and out of the bridge's
+//! pipes.
 //!
 //! | PORT | what |
 //! | --- | --- |
 //! | `/dev/ttyUSB0[:BAUD]`, `serial:PATH[:BAUD]` | a serial device, 8N1, no flow control; reopened with back-off when it fails |
 //! | `tcp:HOST:PORT` | connect; reconnect with back-off (250 ms doubling to 5 s) when refused or lost |
 //! | `tcp-listen:[HOST:]PORT` | listen (all interfaces by default); one connection at a time, the next one accepted when it closes; port 0: any free port |
+//! | `udp:HOST:PORT` | send datagrams to HOST:PORT from a free local port; take them from anyone; answer the peer that spoke last |
+//! | `udp-listen:[HOST:]PORT` | bind (all interfaces by default; port 0: any free one); answer the peer that spoke last (nothing is sent before one speaks) |
 //! | `sim` | the built-in simulator (no thread: it runs on the bridge's executor) |
 //!
 //! A port has two threads: the reader (connects, accepts or reopens; moves what arrives
@@ -28,6 +31,7 @@ use bridge_fw::host::{self, HostPipe};
 use serde_json::{Value, json};
 
 use super::output::Output;
+use super::udp::Datagrams;
 use crate::sim::faults::{FaultStage, FaultStats, Faults};
 
 /// Where a link goes.
@@ -54,19 +58,33 @@ pub enum PortSpec {
         /// TCP port (0: any free one).
         port: u16,
     },
+    /// UDP: send to HOST:PORT first, then to whoever spoke last.
+    Udp {
+        /// Host name or address.
+        host: String,
+        /// UDP port.
+        port: u16,
+    },
+    /// UDP: bind, answer whoever spoke last.
+    UdpListen {
+        /// Address to bind (default: all interfaces).
+        host: Option<String>,
+        /// UDP port (0: any free one).
+        port: u16,
+    },
     /// The built-in simulator.
     Sim,
 }
 
 /// What a PORT may be, for error messages.
-pub const PORT_SYNTAX: &str =
-    "a serial device (/dev/ttyUSB0[:BAUD]), tcp:HOST:PORT, tcp-listen:[HOST:]PORT or sim";
+pub const PORT_SYNTAX: &str = "a serial device (/dev/ttyUSB0[:BAUD]), tcp:HOST:PORT, \
+tcp-listen:[HOST:]PORT, udp:HOST:PORT, udp-listen:[HOST:]PORT or sim";
 
 fn tcp_port(s: &str, whole: &str, zero_ok: bool) -> Result<u16, String> {
     match s.parse::<u16>() {
         Ok(p) if p > 0 || zero_ok => Ok(p),
         _ => Err(format!(
-            "`{whole}`: `{s}` is not a TCP port ({}..=65535)",
+            "`{whole}`: `{s}` is not a port number ({}..=65535)",
             u8::from(!zero_ok)
         )),
     }
@@ -100,27 +118,35 @@ impl FromStr for PortSpec {
         if s == "sim" {
             return Ok(PortSpec::Sim);
         }
-        if let Some(rest) = s.strip_prefix("tcp-listen:") {
-            return match rest.rsplit_once(':') {
-                Some((host, port)) if !host.is_empty() => Ok(PortSpec::TcpListen {
-                    host: Some(host.to_string()),
-                    port: tcp_port(port, s, true)?,
-                }),
-                Some(_) => Err(format!("`{s}`: empty host")),
-                None => Ok(PortSpec::TcpListen {
-                    host: None,
-                    port: tcp_port(rest, s, true)?,
-                }),
-            };
-        }
-        if let Some(rest) = s.strip_prefix("tcp:") {
-            return match rest.rsplit_once(':') {
-                Some((host, port)) if !host.is_empty() => Ok(PortSpec::Tcp {
-                    host: host.to_string(),
-                    port: tcp_port(port, s, false)?,
-                }),
-                _ => Err(format!("`{s}`: expected tcp:HOST:PORT")),
-            };
+        for (listen, connect, udp) in [
+            ("tcp-listen:", "tcp:", false),
+            ("udp-listen:", "udp:", true),
+        ] {
+            if let Some(rest) = s.strip_prefix(listen) {
+                let (host, port) = match rest.rsplit_once(':') {
+                    Some((host, port)) if !host.is_empty() => (Some(host.to_string()), port),
+                    Some(_) => return Err(format!("`{s}`: empty host")),
+                    None => (None, rest),
+                };
+                let port = tcp_port(port, s, true)?;
+                return Ok(if udp {
+                    PortSpec::UdpListen { host, port }
+                } else {
+                    PortSpec::TcpListen { host, port }
+                });
+            }
+            if let Some(rest) = s.strip_prefix(connect) {
+                let Some((host, port)) = rest.rsplit_once(':').filter(|(h, _)| !h.is_empty())
+                else {
+                    return Err(format!("`{s}`: expected {connect}HOST:PORT"));
+                };
+                let (host, port) = (host.to_string(), tcp_port(port, s, false)?);
+                return Ok(if udp {
+                    PortSpec::Udp { host, port }
+                } else {
+                    PortSpec::Tcp { host, port }
+                });
+            }
         }
         if let Some(rest) = s.strip_prefix("serial:") {
             return serial_spec(rest, s);
@@ -146,6 +172,12 @@ impl fmt::Display for PortSpec {
                 host: Some(h),
                 port,
             } => write!(f, "tcp-listen:{h}:{port}"),
+            PortSpec::Udp { host, port } => write!(f, "udp:{host}:{port}"),
+            PortSpec::UdpListen { host: None, port } => write!(f, "udp-listen:{port}"),
+            PortSpec::UdpListen {
+                host: Some(h),
+                port,
+            } => write!(f, "udp-listen:{h}:{port}"),
             PortSpec::Sim => f.write_str("sim"),
         }
     }
@@ -192,18 +224,21 @@ pub fn port_baud(spec: &PortSpec, option: Option<u32>, what: &str) -> Result<Opt
     }
 }
 
-/// One connection: a TCP stream or a serial device.
+/// One connection: a TCP stream, a serial device or a UDP socket.
 pub enum Conn {
     /// A TCP connection (client or accepted).
     Tcp(TcpStream),
     /// A serial device, opened raw at the configured baud rate.
     Serial(Box<serialport::TTYPort>),
+    /// A UDP socket and the peer it answers.
+    Udp(Datagrams),
 }
 
 impl Conn {
     fn try_clone(&self) -> io::Result<Conn> {
         match self {
             Conn::Tcp(s) => s.try_clone().map(Conn::Tcp),
+            Conn::Udp(d) => d.try_clone().map(Conn::Udp),
             Conn::Serial(p) => p
                 .try_clone_native()
                 .map(|p| Conn::Serial(Box::new(p)))
@@ -217,13 +252,14 @@ impl Conn {
         }
     }
 
-    /// TCP only: non-blocking reads and writes.
+    /// TCP and UDP only: non-blocking reads and writes.
     ///
     /// # Errors
     /// The socket's.
     pub fn set_nonblocking(&self, on: bool) -> io::Result<()> {
         match self {
             Conn::Tcp(s) => s.set_nonblocking(on),
+            Conn::Udp(d) => d.set_nonblocking(on),
             Conn::Serial(_) => Ok(()),
         }
     }
@@ -233,6 +269,7 @@ impl Read for Conn {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         match self {
             Conn::Tcp(s) => s.read(buf),
+            Conn::Udp(d) => d.read(buf),
             Conn::Serial(p) => p.read(buf),
         }
     }
@@ -242,6 +279,7 @@ impl Write for Conn {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         match self {
             Conn::Tcp(s) => s.write(buf),
+            Conn::Udp(d) => d.write(buf),
             Conn::Serial(p) => p.write(buf),
         }
     }
@@ -249,6 +287,7 @@ impl Write for Conn {
     fn flush(&mut self) -> io::Result<()> {
         match self {
             Conn::Tcp(s) => s.flush(),
+            Conn::Udp(d) => d.flush(),
             Conn::Serial(p) => p.flush(),
         }
     }
@@ -331,6 +370,8 @@ pub enum Connector {
     },
     /// Wait for one TCP client at a time on this listener.
     Listen(TcpListener),
+    /// A UDP socket: the same one for as long as the port runs.
+    Udp(Datagrams),
 }
 
 fn open_serial(path: &str, baud: u32) -> Result<Conn, String> {
@@ -410,6 +451,15 @@ impl Connector {
                 out.emit("port_listening", json!({"port": label, "address": address}));
                 Ok((Connector::Listen(listener), None))
             }
+            PortSpec::Udp { host, port } => {
+                let d = Datagrams::connect(label, host, *port, out)
+                    .map_err(|e| format!("{label} port {spec}: {e}"))?;
+                Ok((Connector::Udp(d), None))
+            }
+            PortSpec::UdpListen { host, port } => {
+                let d = Datagrams::listen(label, host.as_deref(), *port, out)?;
+                Ok((Connector::Udp(d), None))
+            }
             PortSpec::Sim => Err(format!("{label} port: `sim` has no connection")),
         }
     }
@@ -443,6 +493,7 @@ impl Connector {
                         Conn::Tcp(s)
                     })
                     .map_err(|e| format!("accept: {e}")),
+                Connector::Udp(d) => d.try_clone().map(Conn::Udp).map_err(|e| e.to_string()),
             };
             match result {
                 Ok(c) => {
@@ -813,7 +864,11 @@ mod tests {
             "/dev/ttyS0:300",
             "/dev/ttyS0:99999999",
             "serial:",
-            "udp:1:2",
+            "udp:",
+            "udp:host",
+            "udp:host:0",
+            "udp-listen::80",
+            "udp-listen:x",
         ] {
             let e = p(bad).expect_err(bad);
             assert!(e.contains(&format!("`{bad}`")), "{bad}: {e}");
@@ -825,6 +880,9 @@ mod tests {
             "tcp:h:1",
             "tcp-listen:2",
             "tcp-listen:[::1]:3",
+            "udp:127.0.0.1:14550",
+            "udp-listen:14550",
+            "udp-listen:127.0.0.1:0",
         ] {
             assert_eq!(p(s).unwrap().to_string(), s);
         }

@@ -378,7 +378,10 @@ impl<P: Pilot, T: Peer> Bench<P, T> {
             pps: None,
             records: RefCell::new(Vec::new()),
             rtc_edges: RefCell::new(Vec::new()),
-            shared: HostShared::new(Engine::new(config), Timing::from_config(&config)),
+            shared: HostShared::new(
+                Engine::with_build(config, bridge_fw::config::BUILD),
+                Timing::from_config(&config),
+            ),
             links,
         }
     }

@@ -186,7 +186,7 @@ mod tests {
             let c = grounded.get(2).copied().unwrap_or(false);
             assert_eq!(
                 bridge_fw::config::from_straps(grounded[0], grounded[1], c),
-                Some(protocol),
+                Ok(protocol),
                 "{side:?}"
             );
             assert_eq!(Side::from_name(side.name()), Some(side));

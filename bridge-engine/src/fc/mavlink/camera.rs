@@ -4,7 +4,8 @@
 //! - **CAMERA_INFORMATION** on request: photo, video, modes (the K40T has a photo and a
 //!   video mode, 0x000300, and its document says it ignores photos in video mode and
 //!   recording in photo mode), basic zoom and focus, the camera definition, the sensors'
-//!   flags; its camera version (0x000317); the focal length configured
+//!   flags; the bridge's version as the firmware version ([`crate::version`]; the pod's
+//!   own, 0x000317, is asked before it is answered); the focal length configured
 //!   (`lens.focal_length_min_um`), else the one the pod reports in its visible-light
 //!   status (0x000005, 0.01 mm: the focal length at the zoom of the moment), else NaN.
 //!   A VIDEO_STREAM_INFORMATION follows it while the stream's address is known (MAVSDK
@@ -43,7 +44,7 @@ use protocol_core::mavlink::dialect::{
 };
 
 use super::capture::Captures;
-use super::gimbal::{MODEL, VENDOR, boot_ms, name, version};
+use super::gimbal::{MODEL, VENDOR, boot_ms, name};
 use super::{Cmd, Comp, MavlinkSide, cmd, id, result};
 
 /// Commands waiting for the pod's ACK.
@@ -490,7 +491,8 @@ impl MavlinkSide {
         };
         let msg = MavMessage::CAMERA_INFORMATION(CAMERA_INFORMATION_DATA {
             time_boot_ms: boot_ms(ctx),
-            firmware_version: version(ctx.pod().camera_version),
+            // The bridge's version (the pod's own is in its 0x000001 reply, not here).
+            firmware_version: ctx.build.version.mavlink(),
             focal_length: mm(focal_length_um),
             sensor_size_h: mm(lens.sensor_width_um),
             sensor_size_v: mm(lens.sensor_height_um),

@@ -258,7 +258,8 @@ impl MavlinkSide {
         let info = MavMessage::GIMBAL_DEVICE_INFORMATION(GIMBAL_DEVICE_INFORMATION_DATA {
             uid: 0,
             time_boot_ms: boot_ms(ctx),
-            firmware_version: version(versions.map(|v| v.software)),
+            // The bridge's version; the hardware is the pod's gimbal's.
+            firmware_version: ctx.build.version.mavlink(),
             hardware_version: version(versions.map(|v| v.hardware)),
             roll_min: 0.0,
             roll_max: 0.0,

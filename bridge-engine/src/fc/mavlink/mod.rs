@@ -29,7 +29,12 @@
 //!   from the pod's attitude (roll and pitch against the horizon, yaw relative to the
 //!   vehicle, flagged so), with COMMS_ERROR set while the pod does not report; the device
 //!   information carries the pod's limits (pitch −90°..+30°, yaw ±180°, from the K40T
-//!   document's 0x000012) and versions.
+//!   document's 0x000012), the bridge's version as its firmware and the pod's gimbal
+//!   hardware version.
+//! - **Version**: each component answers MAV_CMD_REQUEST_MESSAGE(AUTOPILOT_VERSION) and
+//!   MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES addressed to it (not broadcast: the
+//!   autopilot answers those) with AUTOPILOT_VERSION: the bridge's version and commit
+//!   ([`version`]).
 //! - **Camera** ([`camera`]): photos (single and interval), video, zoom, focus and mode
 //!   reach the pod; their ACK waits for the pod's; CAMERA_IMAGE_CAPTURED follows each
 //!   photo with the position the pod was given for its geotag.
@@ -64,6 +69,7 @@ mod signing;
 #[cfg(feature = "telemetry")]
 mod telemetry;
 mod tracking;
+mod version;
 mod video;
 
 pub(crate) use signing::LinkSigning;
@@ -447,9 +453,7 @@ impl MavlinkSide {
     /// COMMAND_ACK from `comp` to the sender of `c` (built from its bytes, so that a
     /// MAV_CMD value the dialect does not list is answered too).
     fn ack(&mut self, ctx: &mut Ctx<'_>, comp: Comp, command: u16, result: u8, to: Header) {
-        let [c0, c1] = command.to_le_bytes();
-        let payload = [c0, c1, result, 0, 0, 0, 0, 0, to.system_id, to.component_id];
-        self.ap.send_raw(ctx, comp.id(), id::COMMAND_ACK, &payload);
+        ack(&mut self.ap, ctx, comp.id(), command, result, to);
     }
 
     /// Encodes `msg` from `comp` and queues it for the FC.
@@ -534,6 +538,11 @@ impl MavlinkSide {
             return;
         }
         let handled = match c.command {
+            // Either component's version, when addressed to it (broadcast: the autopilot's).
+            _ if version::asks_version(c) => to.is_some_and(|comp| {
+                self.serve_version(ctx, c, comp);
+                true
+            }),
             cmd::REQUEST_MESSAGE => self.request_message(ctx, c, to),
             cmd::REQUEST_CAMERA_INFORMATION => {
                 self.camera_request(ctx, c, to, id::CAMERA_INFORMATION)
@@ -632,6 +641,14 @@ impl MavlinkSide {
                     ctx.now.saturating_duration_since(t) >= Duration::from_secs(1)
                 }))
     }
+}
+
+/// COMMAND_ACK from component `comp` (an id) to the sender `to`, built from its bytes so
+/// that a MAV_CMD value the dialect does not list is answered too.
+fn ack(ap: &mut Autopilot, ctx: &mut Ctx<'_>, comp: u8, command: u16, result: u8, to: Header) {
+    let [c0, c1] = command.to_le_bytes();
+    let payload = [c0, c1, result, 0, 0, 0, 0, 0, to.system_id, to.component_id];
+    ap.send_raw(ctx, comp, id::COMMAND_ACK, &payload);
 }
 
 /// The parameter is the whole number `v` (to the nearest).

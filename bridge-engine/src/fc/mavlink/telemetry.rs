@@ -6,10 +6,13 @@
 //! type GENERIC, autopilot INVALID, at 1 Hz once the autopilot is heard, with its system
 //! id): it asks for SYSTEM_TIME, GLOBAL_POSITION_INT, ATTITUDE and GPS_RAW_INT, runs
 //! TIMESYNC and answers the autopilot's TIMESYNC requests ([`autopilot`](super::autopilot)).
-//! It serves no commands: commands for it are left alone (they are not its business; a
-//! ground station's broadcast reaches every component), after the gate that every
-//! message changing something passes on both MAVLink links (docs/src/security.md, "The
-//! gate": one for it from a system that may not command is refused and reported). Each photo the pod geotags goes
+//! Every message that changes something passes the gate first, as on the MAVLink side
+//! (docs/src/security.md, "The gate": one from a system that may not command is refused
+//! and reported, a command naming this component answered DENIED). The one command it
+//! serves is a request of its version (AUTOPILOT_VERSION, addressed to component 158:
+//! [`version`](super::version)); any other command addressed to it gets COMMAND_ACK
+//! UNSUPPORTED, and broadcast commands are left alone (a ground station's broadcast
+//! reaches every component; the autopilot answers it). Each photo the pod geotags goes
 //! out as CAMERA_IMAGE_CAPTURED (broadcast: the photo's UTC on the disciplined clock, the
 //! fix interpolated there, the aircraft's attitude), which the autopilot forwards to the
 //! ground station and its telemetry log records (docs/src/bridge/telemetry.md).
@@ -28,6 +31,8 @@ use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message,
 
 use super::super::{Ctx, FcHandler, TimedFrom};
 use super::autopilot::{Autopilot, Heartbeat, Took};
+use super::{Cmd, ack, result, version};
+use crate::access::Refusal;
 
 /// MAV_COMP_ID_PERIPHERAL: the bridge's component on the telemetry link.
 pub(crate) const TELEMETRY_COMPONENT: u8 = 158;
@@ -90,6 +95,31 @@ impl TelemetrySide {
         self.ap.gives_time(now)
     }
 
+    /// A command addressed to this component, past the gate: its version, or UNSUPPORTED.
+    fn command(&mut self, ctx: &mut Ctx<'_>, c: &Cmd) {
+        let result = if version::asks_version(c) {
+            result::ACCEPTED
+        } else {
+            result::UNSUPPORTED
+        };
+        self.ack(ctx, c, result);
+        if result == result::ACCEPTED {
+            version::send_version(&mut self.ap, ctx, TELEMETRY_COMPONENT);
+        }
+    }
+
+    /// COMMAND_ACK from this component to the sender of `c`.
+    fn ack(&mut self, ctx: &mut Ctx<'_>, c: &Cmd, result: u8) {
+        ack(
+            &mut self.ap,
+            ctx,
+            TELEMETRY_COMPONENT,
+            c.command,
+            result,
+            c.from,
+        );
+    }
+
     fn heartbeat(&mut self, ctx: &mut Ctx<'_>) {
         let hb = MavMessage::HEARTBEAT(HEARTBEAT_DATA {
             custom_mode: 0,
@@ -121,12 +151,22 @@ impl FcHandler for TelemetrySide {
             system_id: frame.system_id(),
             component_id: frame.component_id(),
         };
-        // The gate, as on the MAVLink side (docs/src/security.md, "The gate").
-        if self
-            .ap
-            .gate(ctx, &frame, signed, &[TELEMETRY_COMPONENT])
-            .is_some()
+        // The gate, as on the MAVLink side (docs/src/security.md, "The gate"); a command
+        // naming this component from a sender that may not command is told DENIED.
+        if let Some(refusal) = self.ap.gate(ctx, &frame, signed, &[TELEMETRY_COMPONENT]) {
+            if refusal == Refusal::Sender
+                && let Some(c) = Cmd::from_payload(frame.message_id(), frame.payload_ref(), h)
+                && c.target_component == TELEMETRY_COMPONENT
+            {
+                self.ack(ctx, &c, result::DENIED);
+            }
+            return;
+        }
+        if let Some(c) = Cmd::from_payload(frame.message_id(), frame.payload_ref(), h)
+            && c.target_component == TELEMETRY_COMPONENT
+            && self.ap.sysid.is_some_and(|s| s == c.target_system)
         {
+            self.command(ctx, &c);
             return;
         }
         let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
