@@ -1,6 +1,8 @@
-//! Build script: linker arguments of the firmware binary, and the bridge configuration
-//! (`bridge.toml`, or the file named by `BRIDGE_CONFIG`) turned into Rust constants
-//! (`$OUT_DIR/bridge_config.rs`, included by `src/config.rs`).
+//! Build script: linker arguments of the firmware binary (its `memory.x`: the active slot
+//! of `bridge_update::layout`), the update key (`$OUT_DIR/update_key.rs`, see
+//! [`update_key`]), and the bridge configuration (`bridge.toml`, or the file named by
+//! `BRIDGE_CONFIG`) turned into Rust constants (`$OUT_DIR/bridge_config.rs`, included by
+//! `src/config.rs`).
 //!
 //! The file is deserialized into `bridge_engine::Config` (its `serde` feature:
 //! every key optional, absent keys keep `Config::DEFAULT`, an unknown key or a wrong type
@@ -17,11 +19,13 @@ use serde::Deserialize as _;
 use toml::{Table, Value};
 
 fn main() {
-    // memory.x (STM32L475VG) is found in the workspace root, where the linker runs.
+    // The firmware links at the active slot, where the bootloader jumps.
+    bridge_update::layout::build_script(bridge_update::layout::Image::Firmware);
     println!("cargo:rustc-link-arg-bins=--nmagic");
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
 
+    update_key();
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap_or_default());
     println!("cargo:rerun-if-env-changed=BRIDGE_CONFIG");
     let path = match std::env::var("BRIDGE_CONFIG") {
@@ -33,6 +37,68 @@ fn main() {
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", path.display())));
     let code = generate(&text).unwrap_or_else(|e| fail(&format!("{}: {e}", path.display())));
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap_or_default()).join("bridge_config.rs");
+    std::fs::write(&out, code)
+        .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
+}
+
+/// The public key the firmware accepts update images signed by: the file `BRIDGE_UPDATE_KEY`
+/// names (an SPKI public key PEM, or the integrator's PKCS#8 private key PEM, of which only
+/// the public half is used), else the development key (made on first use in the user's
+/// configuration directory, never in the tree: `bridge_update::keys::dev_key_path`).
+/// Written as `UPDATE_KEY` and `UPDATE_KEY_IS_DEV`, with `FIRMWARE_VERSION` (the package's
+/// version and the FC sides and options compiled in) that the update port reports.
+fn update_key() {
+    use bridge_update::keys;
+    println!("cargo:rerun-if-env-changed=BRIDGE_UPDATE_KEY");
+    let (public, dev) = match std::env::var_os("BRIDGE_UPDATE_KEY").filter(|v| !v.is_empty()) {
+        Some(path) => {
+            let path = PathBuf::from(path);
+            println!("cargo:rerun-if-changed={}", path.display());
+            let key = keys::read_public_key(&path)
+                .unwrap_or_else(|e| fail(&format!("BRIDGE_UPDATE_KEY: {e}")));
+            (key, keys::is_dev_key(&key))
+        }
+        None => {
+            let (key, made) = keys::dev_key()
+                .unwrap_or_else(|e| fail(&format!("the development update key: {e}")));
+            if made {
+                println!(
+                    "cargo:warning=made the DEVELOPMENT update key {} (set BRIDGE_UPDATE_KEY to your own for the field)",
+                    keys::dev_key_path().display()
+                );
+            }
+            println!("cargo:rerun-if-changed={}", keys::dev_key_path().display());
+            (key.verifying_key(), true)
+        }
+    };
+    let features: Vec<&str> = [
+        "fc-siyi",
+        "fc-viewlink",
+        "fc-gcu",
+        "fc-k40t",
+        "fc-mavlink",
+        "telemetry",
+        "qemu",
+    ]
+    .into_iter()
+    .filter(|f| compiled(f))
+    .collect();
+    let code = format!(
+        "/// The ed25519 public key update images must be signed by.\n\
+         pub const UPDATE_KEY: [u8; 32] = {:?};\n\
+         /// Whether it is the development key.\n\
+         pub const UPDATE_KEY_IS_DEV: bool = {dev};\n\
+         /// The version the update port reports: the package's, then the FC sides and\n\
+         /// options compiled in.\n\
+         pub const FIRMWARE_VERSION: &str = {:?};\n",
+        public.as_bytes(),
+        format!(
+            "{} ({})",
+            std::env::var("CARGO_PKG_VERSION").unwrap_or_default(),
+            features.join(",")
+        )
+    );
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap_or_default()).join("update_key.rs");
     std::fs::write(&out, code)
         .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
 }

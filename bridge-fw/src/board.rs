@@ -20,13 +20,19 @@
 //! Arduino analog header's A4/A5 carry LPUART1 (AF8) and nothing else on this board, so
 //! the FC and telemetry links are both on the Arduino connector.
 //!
+//! | update port TX / RX (USART1, AF7) | PB6 / PB7 | ST-LINK virtual COM port (USB) | 3.3 V | the host's `gimbal update` |
+//!
 //! TIM2 (32-bit, 80 MHz) carries both timing pins on one counter (`src/tim2.rs`); the
 //! embassy-time driver is on TIM15 (`time-driver-tim15`). USART1 (the ST-LINK virtual COM
-//! port) stays free on the board; the `qemu` flavour takes its PPS test source there (a
+//! port) is the update port on the board; the `qemu` flavour takes its PPS test source there
+//! and its update port on USART3 (a
 //! byte an edge: QEMU models no timer and cannot drive a GPIO input). USART3 is wired
 //! to the on-board modules, not to a header.
 
+use core::cell::RefCell;
+
 use bridge_engine::Config;
+use embassy_stm32::flash::{Blocking, Flash};
 #[cfg(not(feature = "qemu"))]
 use embassy_stm32::gpio::OutputType;
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
@@ -36,6 +42,8 @@ use embassy_stm32::timer::{self, input_capture, low_level::CountingMode, simple_
 use embassy_stm32::usart::{self, BufferedUart};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, peripherals};
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
 use static_cell::StaticCell;
 
 bind_interrupts!(struct Irqs {
@@ -47,7 +55,17 @@ bind_interrupts!(struct Irqs {
     TIM2 => timer::CaptureCompareInterruptHandler<peripherals::TIM2>;
     #[cfg(feature = "qemu")]
     USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
+    #[cfg(not(feature = "qemu"))]
+    USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
+    #[cfg(feature = "qemu")]
+    USART3 => usart::BufferedInterruptHandler<peripherals::USART3>;
 });
+
+/// The flash, shared by the parts that write it (the update slot, and the store): a
+/// thread-mode mutex, so an erase does not mask the UARTs' interrupts. The update slot
+/// and the store are in bank 2, the code in bank 1: the CPU keeps running while bank 2 is
+/// erased or programmed.
+pub type BoardFlash = Mutex<ThreadModeRawMutex, RefCell<Flash<'static, Blocking>>>;
 
 /// Bytes of each UART ring buffer (22 ms at 115200: far more than any task's latency).
 const UART_BUF: usize = 256;
@@ -77,6 +95,11 @@ pub struct Board {
     /// The PPS test source: a byte on USART1 is an edge, at the instant it arrives.
     #[cfg(feature = "qemu")]
     pub pps: crate::qemu_pps::PpsOverSerial,
+    /// The update port: the ST-LINK virtual COM port (USART1, PB6/PB7); on the emulated
+    /// board USART3 (USART1 is the PPS test source there).
+    pub update: BufferedUart<'static>,
+    /// The flash.
+    pub flash: &'static BoardFlash,
     /// LED2, off.
     pub led: Output<'static>,
     /// The independent watchdog, running.
@@ -279,9 +302,38 @@ pub fn init() -> Board {
         )
     };
 
+    static UPDATE_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    static UPDATE_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    #[cfg(not(feature = "qemu"))]
+    let update = BufferedUart::new(
+        p.USART1,
+        p.PB7,
+        p.PB6,
+        UPDATE_TX.init([0; UART_BUF]),
+        UPDATE_RX.init([0; UART_BUF]),
+        Irqs,
+        uart(115_200),
+    )
+    .expect("update UART configuration");
+    #[cfg(feature = "qemu")]
+    let update = BufferedUart::new(
+        p.USART3,
+        p.PD9,
+        p.PD8,
+        UPDATE_TX.init([0; UART_BUF]),
+        UPDATE_RX.init([0; UART_BUF]),
+        Irqs,
+        uart(115_200),
+    )
+    .expect("update UART configuration");
+    static FLASH: StaticCell<BoardFlash> = StaticCell::new();
+    let flash = FLASH.init(Mutex::new(RefCell::new(Flash::new_blocking(p.FLASH))));
+
     Board {
         fc,
         pod,
+        update,
+        flash,
         #[cfg(feature = "telemetry")]
         telemetry,
         rtc_io,

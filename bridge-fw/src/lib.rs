@@ -15,6 +15,7 @@
 //! | [`pps_task`] | PPS edges ([`PpsInput`]: the instants a timer captured) → [`Engine::pps`] |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | FC link, pod link and UTC as a blink pattern ([`led_pattern`]) |
+//! | [`update_task`] | the update protocol on the update port (the ST-LINK virtual COM port) to the sans-IO [`bridge_update::Receiver`], and the confirmation of an image on trial |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //!
 //! The tasks share one [`Shared`]: the engine behind a blocking mutex (never held across
@@ -55,6 +56,7 @@ mod log;
 mod pps;
 mod rtc_io;
 mod shared;
+mod update;
 mod watchdog;
 
 #[cfg(feature = "host")]
@@ -68,6 +70,7 @@ pub use log::{EventSink, log_task};
 pub use pps::{NoPps, PpsInput, pps_task};
 pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
+pub use update::{UpdateLog, update_task};
 pub use watchdog::watchdog_task;
 
 pub use bridge_engine::{

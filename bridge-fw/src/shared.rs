@@ -36,6 +36,8 @@ pub enum LogKind {
     WriteError(Port),
     /// The watchdog was not fed: these loops made no progress in the last period.
     Stalled(Heartbeat),
+    /// The update port or the trial of a new image ([`update_task`](crate::update_task)).
+    Update(crate::UpdateLog),
 }
 
 /// One entry for the log task, from the engine or a task, with its instant.
