@@ -13,13 +13,14 @@ use core::cell::RefCell;
 
 use bridge_update::layout::{ACTIVE, BOOT_STATE, DFU, PAGE};
 use cortex_m_rt::entry;
+use defmt_rtt as _;
 use embassy_boot_stm32::{BootLoader, BootLoaderConfig, State};
 use embassy_embedded_hal::flash::partition::BlockingPartition;
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 #[cfg(feature = "hw")]
-use {defmt_rtt as _, panic_probe as _};
+use panic_probe as _;
 
 /// A page: the unit embassy-boot copies with (its buffer).
 const BUFFER: usize = PAGE as usize;
@@ -47,6 +48,24 @@ fn main() -> ! {
     }
 }
 
+/// The emulated board's bootloader has no clock. Built beside the firmware's `qemu` flavour
+/// (one cargo invocation), it shares its defmt timestamps (embassy-time's uptime), which
+/// then read this driver: always 0. It never waits for anything.
+#[cfg(feature = "qemu")]
+mod no_clock {
+    struct NoClock;
+
+    impl embassy_time_driver::Driver for NoClock {
+        fn now(&self) -> u64 {
+            0
+        }
+
+        fn schedule_wake(&self, _at: u64, _waker: &core::task::Waker) {}
+    }
+
+    embassy_time_driver::time_driver_impl!(static DRIVER: NoClock = NoClock);
+}
+
 fn report(state: &State) {
     let what = match state {
         State::Boot => "boot",
@@ -54,7 +73,6 @@ fn report(state: &State) {
         State::Revert => "rolled back",
         State::DfuDetach => "dfu detach",
     };
-    #[cfg(feature = "hw")]
     defmt::info!(
         "bootloader: {=str}, active slot at {=u32:#x}",
         what,

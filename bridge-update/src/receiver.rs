@@ -20,7 +20,9 @@ use ed25519_dalek::{Signature, VerifyingKey};
 use sha2::{Digest, Sha512};
 
 use crate::slot::{Slot, SlotError};
-use crate::wire::{BootState, Info, MAX_CHUNK, Refusal, Request, Response, SIGNATURE_LEN};
+use crate::wire::{
+    BootState, Info, MAX_CHUNK, MAX_VERSION, Refusal, Request, Response, SIGNATURE_LEN,
+};
 
 /// Bytes of the slot hashed per [`Receiver::work`] call: 4 KiB, about 10 ms of SHA-512 on
 /// the 80 MHz Cortex-M4 (the watchdog's time-out is 750 ms).
@@ -79,9 +81,15 @@ impl From<SlotError> for Refusal {
 
 impl<'a> Receiver<'a> {
     /// A receiver that accepts images signed by `public_key` (`dev_key`: a development key,
-    /// said so in [`Info`]) and reports `version` as the running firmware's.
+    /// said so in [`Info`]) and reports `version` as the running firmware's (its first
+    /// [`MAX_VERSION`] bytes, cut at a character's boundary).
     #[must_use]
     pub fn new(public_key: [u8; 32], dev_key: bool, version: &'a str) -> Self {
+        let mut end = version.len().min(MAX_VERSION);
+        while !version.is_char_boundary(end) {
+            end = end.saturating_sub(1);
+        }
+        let version = version.get(..end).unwrap_or_default();
         Receiver {
             public_key,
             dev_key,

@@ -28,7 +28,7 @@ pub const MAX_PAYLOAD: usize = MAX_CHUNK + 4;
 /// The largest frame.
 pub const MAX_FRAME: usize = HEADER_LEN + MAX_PAYLOAD + CRC_LEN;
 /// The longest version text an [`Info`] carries.
-pub const MAX_VERSION: usize = 64;
+pub const MAX_VERSION: usize = 128;
 /// An ed25519 signature.
 pub const SIGNATURE_LEN: usize = 64;
 

@@ -238,6 +238,12 @@ fn bad_requests_are_refused_with_their_reason() {
     let mut aligned = [0; 8];
     let mut slot = board.slot(&mut aligned).unwrap();
     let mut receiver = Receiver::new(*key().verifying_key().as_bytes(), true, "0.2.0");
+    let long = "é".repeat(100);
+    let mut long_receiver = Receiver::new([0; 32], false, &long);
+    match Response::parse(&exchange(&mut long_receiver, &mut slot, &Request::Hello)).unwrap() {
+        Response::Info(info) => assert_eq!(info.version, "é".repeat(64), "cut at 128 bytes"),
+        other => panic!("{other:?}"),
+    }
     let mut ask = |r: Request<'_>| {
         Response::parse(&exchange(&mut receiver, &mut slot, &r))
             .unwrap()
