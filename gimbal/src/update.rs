@@ -119,6 +119,11 @@ impl Link {
     }
 }
 
+/// A line on stderr above the progress bar (also when the bar is hidden: not a terminal).
+fn say(bar: &ProgressBar, line: impl AsRef<str>) {
+    bar.suspend(|| eprintln!("{}", line.as_ref()));
+}
+
 /// What the board said at the end.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Outcome {
@@ -170,7 +175,7 @@ pub fn update(opts: &UpdateOptions, out: &mut impl Write) -> Result<Outcome, Str
                 ));
             }
             // The link is lost: open the port again and ask where to resume.
-            bar.println("no answer: opening the port again to resume");
+            say(&bar, "no answer: opening the port again to resume");
             std::thread::sleep(Duration::from_millis(500));
             if let Ok(l) = Link::open(opts) {
                 link = l;
@@ -197,19 +202,22 @@ pub fn update(opts: &UpdateOptions, out: &mut impl Write) -> Result<Outcome, Str
                         hex(&ours)
                     ));
                 }
-                bar.println(format!(
-                    "board: {version} ({state:?}); its key {}{}",
-                    hex(&key_id),
-                    if dev_key {
-                        " (the DEVELOPMENT key)"
-                    } else {
-                        ""
-                    }
-                ));
+                say(
+                    &bar,
+                    format!(
+                        "board: {version} ({state:?}); its key {}{}",
+                        hex(&key_id),
+                        if dev_key {
+                            " (the DEVELOPMENT key)"
+                        } else {
+                            ""
+                        }
+                    ),
+                );
             }
             Ok(Progress::Resumed(at)) => {
                 if at > 0 {
-                    bar.println(format!("resuming at byte {at}"));
+                    say(&bar, format!("resuming at byte {at}"));
                 }
                 bar.set_position(u64::from(at));
                 last_progress = Instant::now();
