@@ -86,6 +86,13 @@ pub enum Command {
     /// ~/.config/k40t-bridge/update-key-dev.pem): boards built without BRIDGE_UPDATE_KEY
     /// accept it; never for the field.
     Sign(SignArgs),
+    /// What the release manifest says of a firmware image, as one JSON object: size,
+    /// SHA-256, the slot it must fit and the room left, its signer and whether the
+    /// signature (IMAGE.sig) holds, and its update's time at 115200 baud.
+    ImageInfo {
+        /// The image (`.bin`).
+        image: PathBuf,
+    },
     /// Make a new update signing key: KEY (PKCS#8 PEM, private) and KEY.pub.pem (its public
     /// half, what the firmware is built with: BRIDGE_UPDATE_KEY=KEY.pub.pem).
     UpdateKey(UpdateKeyArgs),

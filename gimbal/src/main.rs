@@ -154,6 +154,10 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 .map(|_| ())
                 .map_err(|e| Failure::Runtime(format!("sign: {e}")))
         }
+        Command::ImageInfo { image } => {
+            let info = gimbal::update::image_info(&image).map_err(Failure::Runtime)?;
+            write_lines([info.to_string()])
+        }
         Command::UpdateKey(a) => gimbal::update::new_key(&a.key, &mut std::io::stdout().lock())
             .map_err(|e| Failure::Runtime(format!("update-key: {e}"))),
         Command::Completions { shell } => {

@@ -341,3 +341,43 @@ pub fn new_key(path: &Path, out: &mut impl Write) -> Result<(), String> {
     )
     .map_err(|e| e.to_string())
 }
+
+/// `gimbal image-info`: what the release manifest says of an image, as one JSON object:
+/// its size, SHA-256, the slot it must fit (the active slot of the flash layout) and the
+/// room left, the signer's key id and whether the signature holds, and the time its update
+/// takes on the wire at 115200 baud (the protocol's bytes both ways, without the flash's
+/// own time), and the flash layout.
+///
+/// # Errors
+/// The image or its signature file cannot be read.
+pub fn image_info(image: &Path) -> Result<serde_json::Value, String> {
+    use sha2::Digest;
+    let bytes = std::fs::read(image).map_err(|e| format!("{}: {e}", image.display()))?;
+    let size = u32::try_from(bytes.len()).map_err(|_| format!("{}: larger than 4 GiB", image.display()))?;
+    let slot = bridge_update::layout::ACTIVE.size;
+    let sig = std::fs::read(sig_path(image)).ok().and_then(|s| keys::parse_sig(&s).ok());
+    let (signed_by, signature_ok) = match sig {
+        Some((signature, signer)) => (
+            Some(hex(&bridge_update::key_id(&signer))),
+            keys::verify(&signer, &bytes, &signature),
+        ),
+        None => (None, false),
+    };
+    let (to_board, to_client) = bridge_update::client::wire_bytes(size);
+    let layout: Vec<serde_json::Value> = bridge_update::layout::FLASH_REGIONS
+        .iter()
+        .map(|r| serde_json::json!({"name": r.name, "start": format!("{:#010x}", r.start), "bytes": r.size}))
+        .collect();
+    Ok(serde_json::json!({
+        "file": image.file_name().map(|n| n.to_string_lossy().into_owned()),
+        "bytes": size,
+        "sha256": hex(&sha2::Sha256::digest(&bytes)),
+        "slot_bytes": slot,
+        "margin_bytes": i64::from(slot) - i64::from(size),
+        "signed_by": signed_by,
+        "signature_ok": signature_ok,
+        "update_wire_bytes": to_board + to_client,
+        "update_seconds_115200": (bridge_update::client::wire_seconds(size, 115_200) * 10.0).round() / 10.0,
+        "layout": layout,
+    }))
+}
