@@ -2,7 +2,12 @@
 //! chip, virtual time. A whole transfer through the task (the client on the other end of
 //! the pipes), the reset it asks for, and the new image's trial: confirmed once both links
 //! are up, or after 60 s of running, and not before.
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
 
 use std::cell::RefCell;
 
@@ -18,7 +23,6 @@ use bridge_update::{Receiver, Slot};
 use ed25519_dalek::SigningKey;
 use embassy_futures::select::{Either, select, select3};
 use embassy_time::{Duration, Timer};
-use embedded_io_async::{Read, Write};
 use protocol_core::wire::{Deframer, Event as DeframerEvent};
 
 /// An engine whose only part is its links' status, set by the test.
@@ -72,7 +76,9 @@ fn key() -> SigningKey {
 }
 
 fn image(tag: u8) -> Vec<u8> {
-    (0..LEN).map(|i| tag ^ (i as u8).wrapping_mul(13) ^ (i >> 8) as u8).collect()
+    (0..LEN)
+        .map(|i| tag ^ (i as u8).wrapping_mul(13) ^ (i >> 8) as u8)
+        .collect()
 }
 
 /// The client on the other end of the port: the whole transfer, then the reset.
@@ -83,17 +89,16 @@ async fn client(to_board: &HostPipe, from_board: &HostPipe, image: &[u8]) -> Vec
     let mut deframer = Deframer::<UpdateFraming, MAX_FRAME>::new(UpdateFraming);
     let mut seen = Vec::new();
     let mut buf = [0u8; MAX_FRAME];
-    let mut ask = async |request: bridge_update::wire::Request<'_>, deframer: &mut Deframer<UpdateFraming, MAX_FRAME>| {
+    let mut ask = async |request: bridge_update::wire::Request<'_>,
+                         deframer: &mut Deframer<UpdateFraming, MAX_FRAME>| {
         let n = request.emit(&mut buf).unwrap();
-        let mut w = to_board;
-        w.write_all(&buf[..n]).await.unwrap();
+        to_board.write_all(&buf[..n]).await;
         loop {
             if let Some(DeframerEvent::Frame(f)) = deframer.poll() {
                 return f.to_vec();
             }
             let mut chunk = [0u8; 256];
-            let mut r = from_board;
-            let n = r.read(&mut chunk).await.unwrap();
+            let n = from_board.read(&mut chunk).await;
             deframer.feed(&chunk[..n]);
         }
     };
@@ -126,6 +131,8 @@ fn run_task(
             let mut rx = &to_board;
             let mut tx = &from_board;
             update_task(&shared, &mut rx, &mut tx, &mut slot, &mut receiver).await;
+            // Let the logger take the last records.
+            Timer::after(Duration::from_millis(1)).await;
         };
         let links = async {
             if let Some(at) = links_up_at {
@@ -153,11 +160,7 @@ fn run_task(
         )
         .await
         {
-            Either::First(_) => {
-                // Let the logger take the last records.
-                Timer::after(Duration::from_millis(1)).await;
-                true
-            }
+            Either::First(_) => true,
             Either::Second(_) => false,
         }
     });
@@ -182,20 +185,39 @@ fn a_transfer_through_the_task_then_the_trial_confirmed_when_the_links_come_up()
     let (records, reset) = run_task(&board, None, 600, Some(&b));
     assert!(reset, "the task returns for the reset");
     let log = updates(&records);
-    assert!(log.contains(&(0, UpdateLog::Started(BootState::Confirmed))), "{log:?}");
-    assert!(log.iter().any(|(_, u)| *u == UpdateLog::Begun(LEN as u32)), "{log:?}");
-    assert!(log.iter().any(|(_, u)| *u == UpdateLog::Verified), "{log:?}");
-    assert!(log.iter().any(|(_, u)| *u == UpdateLog::Rebooting), "{log:?}");
+    assert!(
+        log.contains(&(0, UpdateLog::Started(BootState::Confirmed))),
+        "{log:?}"
+    );
+    assert!(
+        log.iter().any(|(_, u)| *u == UpdateLog::Begun(LEN as u32)),
+        "{log:?}"
+    );
+    assert!(
+        log.iter().any(|(_, u)| *u == UpdateLog::Verified),
+        "{log:?}"
+    );
+    assert!(
+        log.iter().any(|(_, u)| *u == UpdateLog::Rebooting),
+        "{log:?}"
+    );
     board.reset().unwrap();
     assert_eq!(board.active(LEN), b);
 
     // The new image on trial, its links up after 5 s: confirmed at the next check.
     let (records, _) = run_task(&board, Some(5), 20, None);
     let log = updates(&records);
-    assert_eq!(log.first(), Some(&(0, UpdateLog::Started(BootState::Trial))), "{log:?}");
+    assert_eq!(
+        log.first(),
+        Some(&(0, UpdateLog::Started(BootState::Trial))),
+        "{log:?}"
+    );
     assert!(log.contains(&(6, UpdateLog::Confirmed)), "{log:?}");
     let mut aligned = [0; 8];
-    assert_eq!(board.slot(&mut aligned).unwrap().state(), Ok(BootState::Confirmed));
+    assert_eq!(
+        board.slot(&mut aligned).unwrap().state(),
+        Ok(BootState::Confirmed)
+    );
     board.reset().unwrap();
     assert_eq!(board.active(LEN), b, "kept");
 }
@@ -209,7 +231,12 @@ fn without_its_links_the_image_confirms_itself_after_60_s_and_not_before() {
     // 59 s without links: not confirmed; a reset then rolls back.
     let trial = board.clone();
     let (records, _) = run_task(&trial, None, 59, None);
-    assert!(!updates(&records).iter().any(|(_, u)| *u == UpdateLog::Confirmed), "{records:?}");
+    assert!(
+        !updates(&records)
+            .iter()
+            .any(|(_, u)| *u == UpdateLog::Confirmed),
+        "{records:?}"
+    );
     let (records, _) = run_task(&board, None, 70, None);
     let log = updates(&records);
     assert!(log.contains(&(60, UpdateLog::Confirmed)), "{log:?}");

@@ -353,9 +353,12 @@ pub fn new_key(path: &Path, out: &mut impl Write) -> Result<(), String> {
 pub fn image_info(image: &Path) -> Result<serde_json::Value, String> {
     use sha2::Digest;
     let bytes = std::fs::read(image).map_err(|e| format!("{}: {e}", image.display()))?;
-    let size = u32::try_from(bytes.len()).map_err(|_| format!("{}: larger than 4 GiB", image.display()))?;
+    let size = u32::try_from(bytes.len())
+        .map_err(|_| format!("{}: larger than 4 GiB", image.display()))?;
     let slot = bridge_update::layout::ACTIVE.size;
-    let sig = std::fs::read(sig_path(image)).ok().and_then(|s| keys::parse_sig(&s).ok());
+    let sig = std::fs::read(sig_path(image))
+        .ok()
+        .and_then(|s| keys::parse_sig(&s).ok());
     let (signed_by, signature_ok) = match sig {
         Some((signature, signer)) => (
             Some(hex(&bridge_update::key_id(&signer))),
