@@ -148,7 +148,7 @@ impl<'i> Client<'i> {
     }
 
     fn resume(&mut self, at: u32) -> Result<(), ClientError> {
-        if at > self.size() || at % 8 != 0 && at != self.size() {
+        if at > self.size() || !at.is_multiple_of(8) && at != self.size() {
             return Err(ClientError::Protocol("resume offset outside the image"));
         }
         self.next = at;

@@ -85,11 +85,14 @@ pub const ACTIVE: Region = Region::new("FLASH", BOOT_STATE.end(), active_size())
 /// of the active slot one page up in it).
 pub const DFU: Region = Region::new("DFU", ACTIVE.end(), ACTIVE.size + PAGE);
 /// What the slot pair leaves before the store (less than two pages): not used.
-pub const RESERVED: Region = Region::new("RESERVED", DFU.end(), STORE.start - DFU.end());
+pub const RESERVED: Region =
+    Region::new("RESERVED", DFU.end(), STORE.start.saturating_sub(DFU.end()));
 
 /// Every flash region, in address order.
 pub const FLASH_REGIONS: [Region; 6] = [BOOTLOADER, BOOT_STATE, ACTIVE, DFU, RESERVED, STORE];
 
+// Constant evaluation: an overflow or an index out of range is a compile error, not a panic.
+#[allow(clippy::arithmetic_side_effects)]
 const fn active_size() -> u32 {
     let room = STORE.start - BOOT_STATE.end();
     // active + (active + PAGE) <= room, in whole pages
@@ -97,17 +100,20 @@ const fn active_size() -> u32 {
 }
 
 /// The page steps of a swap plus those of a revert, each a progress word in the state.
+#[allow(clippy::arithmetic_side_effects)]
 const fn state_words_needed() -> u32 {
     2 + 4 * (ACTIVE.size / PAGE)
 }
 
-// The layout's rules, checked when anything that uses it compiles.
+// The layout's rules, checked when anything that uses it compiles (constant evaluation: an
+// index out of range or an overflow here is a compile error).
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
 const _: () = {
     let mut i = 0;
     while i < FLASH_REGIONS.len() {
         let r = FLASH_REGIONS[i];
         assert!(
-            r.start % PAGE == 0 && r.size % PAGE == 0,
+            r.start.is_multiple_of(PAGE) && r.size.is_multiple_of(PAGE),
             "regions are whole pages"
         );
         assert!(
@@ -184,7 +190,7 @@ pub fn memory_x(image: Image, out: &mut impl fmt::Write) -> fmt::Result {
             r.kib()
         )?;
     }
-    writeln!(out, "   This image: {:?}. */", image)?;
+    writeln!(out, "   This image: {image:?}. */")?;
     writeln!(out, "MEMORY")?;
     writeln!(out, "{{")?;
     writeln!(

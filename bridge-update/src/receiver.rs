@@ -215,7 +215,7 @@ impl<'a> Receiver<'a> {
         }
         // The flash takes whole double words: every chunk but the image's last is a
         // multiple of 8 bytes, so every chunk starts on one.
-        if len % 8 != 0 && end != t.size {
+        if !len.is_multiple_of(8) && end != t.size {
             return refused(Refusal::BadChunk);
         }
         if let Err(e) = slot.write(offset, data) {

@@ -113,7 +113,7 @@ impl SimFlash {
     }
 
     fn check(&self, offset: u32, len: usize, align: u32) -> Result<(), SimError> {
-        if offset % align != 0 || len % align as usize != 0 {
+        if !offset.is_multiple_of(align) || !len.is_multiple_of(align as usize) {
             return Err(SimError::Misuse(NorFlashErrorKind::NotAligned));
         }
         if offset as usize + len > self.bytes.len() {

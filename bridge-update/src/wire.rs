@@ -55,7 +55,7 @@ impl Framing for UpdateFraming {
         if len > MAX_PAYLOAD {
             return Err(Error::BadLength);
         }
-        Ok(HEADER_LEN + len + CRC_LEN)
+        Ok(HEADER_LEN.saturating_add(len).saturating_add(CRC_LEN))
     }
 
     fn check(&self, frame: &[u8]) -> Result<()> {

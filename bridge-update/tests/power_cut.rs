@@ -7,12 +7,14 @@
 #![allow(
     clippy::unwrap_used,
     clippy::indexing_slicing,
-    clippy::arithmetic_side_effects
+    clippy::arithmetic_side_effects,
+    clippy::panic,
+    clippy::cast_possible_truncation
 )]
 
 mod common;
 
-use bridge_update::sim::SimBoard;
+use bridge_update::sim::{SimBoard, SimFlash};
 use common::*;
 use embassy_boot::State;
 
@@ -71,12 +73,12 @@ impl Life {
         let mut updated = false;
         for round in 0..8 {
             // A reset (the first one of a round after the cut: power back).
-            let lost = board.with_flash(|f| f.lost_power());
+            let lost = board.with_flash(|f: &mut SimFlash| f.lost_power());
             if lost {
-                board.with_flash(|f| f.power_on());
+                board.with_flash(SimFlash::power_on);
             }
             let booted = board.reset();
-            if board.with_flash(|f| f.lost_power()) {
+            if board.with_flash(|f: &mut SimFlash| f.lost_power()) {
                 // The power failed during the swap or revert: the next round powers on.
                 assert!(booted.is_err());
                 continue;
@@ -88,7 +90,6 @@ impl Life {
                 continue;
             };
             let on_trial = slot_state(&mut slot) == Some(bridge_update::wire::BootState::Trial);
-            drop(slot);
             match (running, on_trial) {
                 ('B', true) => match self.new_image {
                     NewImage::Healthy => {
@@ -113,7 +114,7 @@ impl Life {
                 ('A', false) => return 'A',
                 _ => {}
             }
-            if board.with_flash(|f| f.lost_power()) {
+            if board.with_flash(|f: &mut SimFlash| f.lost_power()) {
                 continue;
             }
             // Settled: one more reset must change nothing.
@@ -176,19 +177,19 @@ fn a_second_cut_while_recovering_from_the_first_still_boots_a_whole_image() {
             // Until the first cut: the life as usual.
             let _ = update(&board, &life.b, life.sig, &mut 0);
             for _ in 0..3 {
-                if board.with_flash(|f| f.lost_power()) {
+                if board.with_flash(|f: &mut SimFlash| f.lost_power()) {
                     break;
                 }
                 let _ = board.reset();
             }
-            if !board.with_flash(|f| f.lost_power()) {
+            if !board.with_flash(|f: &mut SimFlash| f.lost_power()) {
                 continue;
             }
-            board.with_flash(|f| f.power_on());
+            board.with_flash(SimFlash::power_on);
             // The recovery's reset, cut again.
             board.with_flash(|f| f.cut_after(second));
             let _ = board.reset();
-            board.with_flash(|f| f.power_on());
+            board.with_flash(SimFlash::power_on);
             let end = life.live(&board, None);
             assert_eq!(end, 'A', "cuts after {first} and {second} steps");
             runs += 1;

@@ -4,7 +4,9 @@
 #![allow(
     clippy::unwrap_used,
     clippy::indexing_slicing,
-    clippy::arithmetic_side_effects
+    clippy::arithmetic_side_effects,
+    clippy::panic,
+    clippy::cast_possible_truncation
 )]
 
 mod common;
@@ -112,7 +114,6 @@ fn a_wrong_signature_is_refused_and_nothing_is_marked() {
             detail: 0
         }
     );
-    drop(slot);
     assert_eq!(board.reset().unwrap().state, State::Boot);
     assert_eq!(board.active(LEN), a);
 }
@@ -151,7 +152,6 @@ fn a_lost_link_resumes_where_the_board_stopped() {
     }
     assert_eq!(sent_from, Some(4096), "the board had four chunks");
     assert_eq!(chunks_after, 1, "only the last chunk is sent again");
-    drop(slot);
     board.reset().unwrap();
     assert_eq!(board.active(LEN), b);
 }
@@ -192,7 +192,6 @@ fn nothing_is_written_while_an_image_is_on_trial() {
         slot.write(0, &[0; 8]),
         Err(bridge_update::SlotError::NotConfirmed)
     );
-    drop(slot);
     // Still a rollback to A.
     board.reset().unwrap();
     assert_eq!(board.active(LEN), a);
@@ -222,7 +221,6 @@ fn a_pending_swap_is_withdrawn_before_its_slot_is_written_again() {
     run(&b, sig_b, None);
     // C's transfer starts (Hello, Begin, one chunk) and stops: B's mark must be gone.
     run(&c, sig_c, Some(3));
-    drop(slot);
     assert_eq!(
         board.reset().unwrap().state,
         State::Boot,
@@ -232,6 +230,7 @@ fn a_pending_swap_is_withdrawn_before_its_slot_is_written_again() {
 }
 
 #[test]
+#[allow(clippy::too_many_lines)]
 fn bad_requests_are_refused_with_their_reason() {
     let a = image(0xA0, LEN);
     let board = new_board(&a);
@@ -340,7 +339,6 @@ fn bad_requests_are_refused_with_their_reason() {
         }
         other => panic!("{other:?}"),
     }
-    drop(slot);
     assert_eq!(board.reset().unwrap().state, State::Boot);
 }
 

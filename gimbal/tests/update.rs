@@ -107,7 +107,6 @@ fn serve(
             break;
         }
         // The reset: the bootloader swaps, the new image starts (and may confirm itself).
-        drop(slot);
         board.reset().unwrap();
         if b.confirms {
             let mut aligned = [0; 8];

@@ -3,11 +3,13 @@
     dead_code,
     clippy::unwrap_used,
     clippy::indexing_slicing,
-    clippy::arithmetic_side_effects
+    clippy::arithmetic_side_effects,
+    clippy::panic,
+    clippy::cast_possible_truncation
 )]
 
 use bridge_update::client::{Client, ClientError, Progress};
-use bridge_update::sim::{SimBoard, SimLayout};
+use bridge_update::sim::{SimBoard, SimFlash, SimLayout};
 use bridge_update::wire::{MAX_FRAME, Request, Response, UpdateFraming};
 use bridge_update::{Receiver, Slot};
 use ed25519_dalek::SigningKey;
@@ -84,7 +86,7 @@ pub fn update(board: &SimBoard, image: &[u8], sig: [u8; 64], requests: &mut usiz
     while let Some(request) = client.request() {
         *requests += 1;
         let frame = exchange(&mut receiver, &mut slot, &request);
-        if board.with_flash(|f| f.lost_power()) {
+        if board.with_flash(|f: &mut SimFlash| f.lost_power()) {
             return Ended::PowerLost;
         }
         match client.response(&Response::parse(&frame).unwrap()) {
