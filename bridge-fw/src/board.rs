@@ -53,9 +53,7 @@ bind_interrupts!(struct Irqs {
     LPUART1 => usart::BufferedInterruptHandler<peripherals::LPUART1>;
     #[cfg(not(feature = "qemu"))]
     TIM2 => timer::CaptureCompareInterruptHandler<peripherals::TIM2>;
-    #[cfg(feature = "qemu")]
-    USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
-    #[cfg(not(feature = "qemu"))]
+    // The update port on the board, the PPS test source on the emulated board.
     USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
     #[cfg(feature = "qemu")]
     USART3 => usart::BufferedInterruptHandler<peripherals::USART3>;
@@ -304,22 +302,16 @@ pub fn init() -> Board {
 
     static UPDATE_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
     static UPDATE_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    // The ST-LINK virtual COM port; on the emulated board USART3 (its USART1 is the PPS
+    // test source).
     #[cfg(not(feature = "qemu"))]
-    let update = BufferedUart::new(
-        p.USART1,
-        p.PB7,
-        p.PB6,
-        UPDATE_TX.init([0; UART_BUF]),
-        UPDATE_RX.init([0; UART_BUF]),
-        Irqs,
-        uart(115_200),
-    )
-    .expect("update UART configuration");
+    let (update_uart, update_rx, update_tx) = (p.USART1, p.PB7, p.PB6);
     #[cfg(feature = "qemu")]
+    let (update_uart, update_rx, update_tx) = (p.USART3, p.PD9, p.PD8);
     let update = BufferedUart::new(
-        p.USART3,
-        p.PD9,
-        p.PD8,
+        update_uart,
+        update_rx,
+        update_tx,
         UPDATE_TX.init([0; UART_BUF]),
         UPDATE_RX.init([0; UART_BUF]),
         Irqs,

@@ -230,114 +230,50 @@ fn a_pending_swap_is_withdrawn_before_its_slot_is_written_again() {
 }
 
 #[test]
-#[allow(clippy::too_many_lines)]
 fn bad_requests_are_refused_with_their_reason() {
     let a = image(0xA0, LEN);
     let board = new_board(&a);
     let mut aligned = [0; 8];
     let mut slot = board.slot(&mut aligned).unwrap();
-    let mut receiver = Receiver::new(*key().verifying_key().as_bytes(), true, "0.2.0");
     let long = "é".repeat(100);
     let mut long_receiver = Receiver::new([0; 32], false, &long);
     match Response::parse(&exchange(&mut long_receiver, &mut slot, &Request::Hello)).unwrap() {
         Response::Info(info) => assert_eq!(info.version, "é".repeat(64), "cut at 128 bytes"),
         other => panic!("{other:?}"),
     }
-    let mut ask = |r: Request<'_>| {
-        Response::parse(&exchange(&mut receiver, &mut slot, &r))
-            .unwrap()
-            .to_owned_kind()
+    let mut receiver = Receiver::new(*key().verifying_key().as_bytes(), true, "0.2.0");
+    let begin = |size| Request::Begin {
+        size,
+        signature: [0; 64],
     };
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 0,
-            data: &[1; 8]
-        }),
-        Kind::Refused(Refusal::NoTransfer, 0)
-    );
-    assert_eq!(ask(Request::Finish), Kind::Refused(Refusal::NoTransfer, 0));
-    let too_big = (3 * 2048 + 1) as u32;
-    assert_eq!(
-        ask(Request::Begin {
-            size: too_big,
-            signature: [0; 64]
-        }),
-        Kind::Refused(Refusal::TooLarge, 0)
-    );
-    assert_eq!(
-        ask(Request::Begin {
-            size: 0,
-            signature: [0; 64]
-        }),
-        Kind::Refused(Refusal::TooLarge, 0)
-    );
-    assert_eq!(
-        ask(Request::Begin {
-            size: 100,
-            signature: [0; 64]
-        }),
-        Kind::Ready(0)
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 8,
-            data: &[1; 8]
-        }),
-        Kind::Refused(Refusal::WrongOffset, 0)
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 0,
-            data: &[1; 7]
-        }),
-        Kind::Refused(Refusal::BadChunk, 0)
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 0,
-            data: &[1; 104]
-        }),
-        Kind::Refused(Refusal::BadChunk, 0)
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 0,
-            data: &[1; 96]
-        }),
-        Kind::Ack(96)
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 0,
-            data: &[1; 96]
-        }),
-        Kind::Ack(96),
-        "sent again"
-    );
-    assert_eq!(
-        ask(Request::Finish),
-        Kind::Refused(Refusal::NoTransfer, 0),
-        "4 bytes missing"
-    );
-    assert_eq!(
-        ask(Request::Chunk {
-            offset: 96,
-            data: &[1; 4]
-        }),
-        Kind::Ack(100)
-    );
-    assert_eq!(
-        ask(Request::Finish),
-        Kind::Refused(Refusal::BadSignature, 0)
-    );
-    match ask(Request::Hello) {
-        Kind::Info(version, state, slot_size, dev) => {
-            assert_eq!(
-                (version.as_str(), state, slot_size, dev),
-                ("0.2.0", BootState::Confirmed, 3 * 2048, true)
-            );
-        }
-        other => panic!("{other:?}"),
+    let chunk = |offset, data: &'static [u8]| Request::Chunk { offset, data };
+    let refused = |reason| Kind::Refused(reason, 0);
+    // In order: each request, what it gets.
+    let script = [
+        (chunk(0, &[1; 8]), refused(Refusal::NoTransfer)),
+        (Request::Finish, refused(Refusal::NoTransfer)),
+        (begin(3 * 2048 + 1), refused(Refusal::TooLarge)),
+        (begin(0), refused(Refusal::TooLarge)),
+        (begin(100), Kind::Ready(0)),
+        (chunk(8, &[1; 8]), Kind::Refused(Refusal::WrongOffset, 0)),
+        (chunk(0, &[1; 7]), refused(Refusal::BadChunk)),
+        (chunk(0, &[1; 104]), refused(Refusal::BadChunk)),
+        (chunk(0, &[1; 96]), Kind::Ack(96)),
+        // Sent again (its ACK lost): acknowledged, not written again.
+        (chunk(0, &[1; 96]), Kind::Ack(96)),
+        // 4 bytes missing.
+        (Request::Finish, refused(Refusal::NoTransfer)),
+        (chunk(96, &[1; 4]), Kind::Ack(100)),
+        (Request::Finish, refused(Refusal::BadSignature)),
+        (
+            Request::Hello,
+            Kind::Info("0.2.0".into(), BootState::Confirmed, 3 * 2048, true),
+        ),
+    ];
+    for (i, (request, expected)) in script.into_iter().enumerate() {
+        let frame = exchange(&mut receiver, &mut slot, &request);
+        let answer = Response::parse(&frame).unwrap().to_owned_kind();
+        assert_eq!(answer, expected, "request {i}: {request:?}");
     }
     assert_eq!(board.reset().unwrap().state, State::Boot);
 }

@@ -26,9 +26,9 @@ use serialport::{SerialPort, TTYPort};
 const LAYOUT: SimLayout = SimLayout { active_pages: 12 };
 const LEN: usize = 20 * 1024 + 100;
 
-fn image(version: &str, seed: u8) -> Vec<u8> {
+fn image(version: &str, seed: u8, len: usize) -> Vec<u8> {
     let mut img = format!("VERSION={version}\0").into_bytes();
-    img.extend((img.len()..LEN).map(|i| seed ^ (i as u8).wrapping_mul(29) ^ (i >> 9) as u8));
+    img.extend((img.len()..len).map(|i| seed ^ (i as u8).wrapping_mul(29) ^ (i >> 9) as u8));
     img
 }
 
@@ -45,6 +45,22 @@ struct Behaviour {
     deaf_after: Option<(usize, usize)>,
     /// The new image confirms itself as soon as it starts.
     confirms: bool,
+    /// The line's rate: each exchange takes the time its bytes take on the wire, both
+    /// ways (`None`: a pty's speed).
+    baud: Option<u32>,
+    /// The board's layout and the image's length.
+    layout: SimLayout,
+    len: usize,
+}
+
+impl Behaviour {
+    const PLAIN: Behaviour = Behaviour {
+        deaf_after: None,
+        confirms: true,
+        baud: None,
+        layout: LAYOUT,
+        len: LEN,
+    };
 }
 
 /// Serves the update protocol on `master` until `stop`; returns how many chunks it took.
@@ -55,7 +71,7 @@ fn serve(
     b: Behaviour,
     stop: Arc<AtomicBool>,
 ) -> usize {
-    let board = SimBoard::new(LAYOUT, &first);
+    let board = SimBoard::new(b.layout, &first);
     let mut chunks = 0;
     let mut ignored = 0;
     master.set_timeout(Duration::from_millis(20)).unwrap();
@@ -97,6 +113,10 @@ fn serve(
                 }
                 let mut out = [0u8; MAX_FRAME];
                 let len = response.unwrap().emit(&mut out).unwrap();
+                if let Some(baud) = b.baud {
+                    let bits = (frame.len() + len) as f64 * 10.0;
+                    thread::sleep(Duration::from_secs_f64(bits / f64::from(baud)));
+                }
                 master.write_all(&out[..len]).unwrap();
                 if receiver.reboot_requested() {
                     break 'serving;
@@ -128,8 +148,8 @@ struct Run {
 }
 
 fn run_update(dir: &Path, signer: &Path, board_key: &Path, b: Behaviour) -> Run {
-    let old = image("0.1.0-old", 0x11);
-    let new = image("0.2.0-new", 0x77);
+    let old = image("0.1.0-old", 0x11, b.len);
+    let new = image("0.2.0-new", 0x77, b.len);
     let bin = dir.join("bridge-fw-test.bin");
     std::fs::write(&bin, &new).unwrap();
     let gimbal = env!("CARGO_BIN_EXE_gimbal");
@@ -249,4 +269,28 @@ fn an_image_signed_by_another_key_is_not_sent() {
     assert_eq!(r.status.code(), Some(1), "{}\n{}", r.stdout, r.stderr);
     assert!(r.stderr.contains("it would refuse it"), "{}", r.stderr);
     assert_eq!(r.chunks, 0);
+}
+
+/// The update's time on a line paced at 115200 baud, against the time computed from the
+/// protocol's bytes (`bridge_update::client::wire_seconds`). A measurement for the book,
+/// not a test of speed: `cargo test -p gimbal --test update -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement (about 12 s of wall time)"]
+fn measured_at_115200() {
+    let dir = temp_dir("paced");
+    let (key, _) = keys_in(&dir);
+    let len = 120 * 1024;
+    let b = Behaviour {
+        baud: Some(115_200),
+        layout: SimLayout { active_pages: 62 },
+        len,
+        ..Behaviour::PLAIN
+    };
+    let r = run_update(&dir, &key, &keys::public_path(&key), b);
+    assert!(r.status.success(), "{}\n{}", r.stdout, r.stderr);
+    let computed = bridge_update::client::wire_seconds(len as u32, 115_200);
+    println!(
+        "{len} B at 115200 baud: {:.2} s from the client's start to the new version (computed on the wire: {computed:.2} s)",
+        r.took.as_secs_f64()
+    );
 }
