@@ -212,10 +212,7 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 fn an_image_goes_in_and_the_new_version_is_reported() {
     let dir = temp_dir("ok");
     let (key, _) = keys_in(&dir);
-    let b = Behaviour {
-        deaf_after: None,
-        confirms: true,
-    };
+    let b = Behaviour::PLAIN;
     let r = run_update(&dir, &key, &keys::public_path(&key), b);
     assert!(r.status.success(), "{}\n{}", r.stdout, r.stderr);
     assert!(
@@ -239,6 +236,7 @@ fn a_lost_link_is_resumed_and_an_unconfirmed_image_is_said_to_be_on_trial() {
     let b = Behaviour {
         deaf_after: Some((7, 5)),
         confirms: false,
+        ..Behaviour::PLAIN
     };
     let r = run_update(&dir, &key, &keys::public_path(&key), b);
     assert!(r.status.success(), "{}\n{}", r.stdout, r.stderr);
@@ -261,10 +259,7 @@ fn a_lost_link_is_resumed_and_an_unconfirmed_image_is_said_to_be_on_trial() {
 fn an_image_signed_by_another_key_is_not_sent() {
     let dir = temp_dir("wrongkey");
     let (key, other) = keys_in(&dir);
-    let b = Behaviour {
-        deaf_after: None,
-        confirms: true,
-    };
+    let b = Behaviour::PLAIN;
     let r = run_update(&dir, &other, &keys::public_path(&key), b);
     assert_eq!(r.status.code(), Some(1), "{}\n{}", r.stdout, r.stderr);
     assert!(r.stderr.contains("it would refuse it"), "{}", r.stderr);
