@@ -164,7 +164,6 @@ fn run_task(
             Either::Second(_) => false,
         }
     });
-    drop(slot);
     (records.into_inner(), reset)
 }
 
