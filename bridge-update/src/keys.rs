@@ -2,7 +2,7 @@
 //!
 //! - The integrator's key is an ed25519 private key in a PKCS#8 PEM file, as
 //!   `openssl genpkey -algorithm ed25519 -out update-key.pem` writes it (or
-//!   `gimbal update-key new`); its public half is an SPKI PEM file
+//!   `gimbal update-key KEY.pem`); its public half is an SPKI PEM file
 //!   (`openssl pkey -in update-key.pem -pubout`). The firmware is built with the public
 //!   key (`BRIDGE_UPDATE_KEY`), images are signed with the private one.
 //! - Without one, the development key is used: generated on first use in the user's

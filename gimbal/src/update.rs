@@ -319,7 +319,7 @@ pub fn sign(key: Option<&Path>, image: &Path, out: &mut impl Write) -> Result<Pa
     Ok(path)
 }
 
-/// `gimbal update-key new PATH`: a new key pair (PATH and PATH's `.pub.pem`).
+/// `gimbal update-key PATH`: a new key pair (PATH and PATH's `.pub.pem`).
 ///
 /// # Errors
 /// PATH exists, or a file cannot be written.
