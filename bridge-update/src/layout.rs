@@ -155,9 +155,12 @@ const _: () = {
 pub enum Image {
     /// The bootloader: linked at [`BOOTLOADER`].
     Bootloader,
-    /// The firmware (`bridge-fw`, and the thumbv7em probes that stand for it): linked at
+    /// The firmware (`bridge-fw`, and the size probe that stands for it): linked at
     /// [`ACTIVE`], the slot the bootloader jumps to.
     Firmware,
+    /// A binary that is linked and never flashed (`host-tests/no-panic`, a link-time proof
+    /// with every entry point, 830 KB of code at opt-level 3): the whole flash.
+    LinkOnly,
 }
 
 /// Writes the `memory.x` linker script of `image` (cortex-m-rt's `FLASH` and `RAM`
@@ -169,6 +172,7 @@ pub fn memory_x(image: Image, out: &mut impl fmt::Write) -> fmt::Result {
     let flash = match image {
         Image::Bootloader => BOOTLOADER,
         Image::Firmware => ACTIVE,
+        Image::LinkOnly => Region::new("FLASH", FLASH_BASE, FLASH_SIZE),
     };
     writeln!(
         out,
