@@ -1,8 +1,9 @@
-//! Build script: linker arguments of the firmware binary, the bridge configuration
-//! (`bridge.toml`, or the file named by `BRIDGE_CONFIG`) turned into Rust constants
-//! (`$OUT_DIR/bridge_config.rs`, included by `src/config.rs`), and what this build is
-//! (`BUILD`: the version, the commit from `git`, the flavour and FC sides from the
-//! features).
+//! Build script: linker arguments of the firmware binary (its `memory.x`: the active slot
+//! of `bridge_update::layout`), the update key (`$OUT_DIR/update_key.rs`, see
+//! [`update_key`]), the bridge configuration (`bridge.toml`, or the file named by
+//! `BRIDGE_CONFIG`) turned into Rust constants (`$OUT_DIR/bridge_config.rs`, included by
+//! `src/config.rs`), and what this build is (`BUILD`: the version, the commit from `git`,
+//! the flavour and FC sides from the features).
 //!
 //! The file is deserialized into `bridge_engine::Config` (its `serde` feature:
 //! every key optional, absent keys keep `Config::DEFAULT`, an unknown key or a wrong type
@@ -27,12 +28,15 @@ use serde::Deserialize as _;
 use toml::{Table, Value};
 
 fn main() {
-    // memory.x (STM32L475VG) is found in the workspace root, where the linker runs.
+    // The firmware links at the active slot, where the bootloader jumps.
+    bridge_update::layout::build_script(bridge_update::layout::Image::Firmware);
     println!("cargo:rustc-link-arg-bins=--nmagic");
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
 
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap_or_default());
+    let (build_code, build_line) = build_info(&manifest);
+    update_key(&build_line);
     println!("cargo:rerun-if-env-changed=BRIDGE_CONFIG");
     let path = match std::env::var("BRIDGE_CONFIG") {
         Ok(p) if !p.is_empty() => manifest.join(p),
@@ -42,8 +46,53 @@ fn main() {
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| fail(&format!("cannot read {}: {e}", path.display())));
     let code = generate(&text).unwrap_or_else(|e| fail(&format!("{}: {e}", path.display())));
-    let code = code + &build_info(&manifest);
+    let code = code + &build_code;
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap_or_default()).join("bridge_config.rs");
+    std::fs::write(&out, code)
+        .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
+}
+
+/// The public key the firmware accepts update images signed by: the file `BRIDGE_UPDATE_KEY`
+/// names (an SPKI public key PEM, or the integrator's PKCS#8 private key PEM, of which only
+/// the public half is used), else the development key (made on first use in the user's
+/// configuration directory, never in the tree: `bridge_update::keys::dev_key_path`).
+/// Written as `UPDATE_KEY` and `UPDATE_KEY_IS_DEV`, with `FIRMWARE_VERSION` (the build's
+/// line, as `BUILD` prints it: version, commit, flavour and FC sides) that the update port
+/// reports.
+fn update_key(build_line: &str) {
+    use bridge_update::keys;
+    println!("cargo:rerun-if-env-changed=BRIDGE_UPDATE_KEY");
+    let (public, dev) = match std::env::var_os("BRIDGE_UPDATE_KEY").filter(|v| !v.is_empty()) {
+        Some(path) => {
+            let path = PathBuf::from(path);
+            println!("cargo:rerun-if-changed={}", path.display());
+            let key = keys::read_public_key(&path)
+                .unwrap_or_else(|e| fail(&format!("BRIDGE_UPDATE_KEY: {e}")));
+            (key, keys::is_dev_key(&key))
+        }
+        None => {
+            let (key, made) = keys::dev_key()
+                .unwrap_or_else(|e| fail(&format!("the development update key: {e}")));
+            if made {
+                println!(
+                    "cargo:warning=made the DEVELOPMENT update key {} (set BRIDGE_UPDATE_KEY to your own for the field)",
+                    keys::dev_key_path().display()
+                );
+            }
+            println!("cargo:rerun-if-changed={}", keys::dev_key_path().display());
+            (key.verifying_key(), true)
+        }
+    };
+    let code = format!(
+        "/// The ed25519 public key update images must be signed by.\n\
+         pub const UPDATE_KEY: [u8; 32] = {:?};\n\
+         /// Whether it is the development key.\n\
+         pub const UPDATE_KEY_IS_DEV: bool = {dev};\n\
+         /// The version the update port reports: this build's line (`BUILD`).\n\
+         pub const FIRMWARE_VERSION: &str = {build_line:?};\n",
+        public.as_bytes(),
+    );
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap_or_default()).join("update_key.rs");
     std::fs::write(&out, code)
         .unwrap_or_else(|e| fail(&format!("cannot write {}: {e}", out.display())));
 }
@@ -153,8 +202,9 @@ fn git(dir: &Path, args: &[&str]) -> Option<String> {
         .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
 }
 
-/// The `BUILD` constant: version, commit, flavour, features.
-fn build_info(manifest: &Path) -> String {
+/// The `BUILD` constant (version, commit, flavour, features) and its line as
+/// `BuildInfo`'s `Display` writes it.
+fn build_info(manifest: &Path) -> (String, String) {
     let semver = std::env::var("CARGO_PKG_VERSION").unwrap_or_default();
     let version = bridge_engine::version::Version::parse(&semver).unwrap_or_else(|| {
         fail(&format!(
@@ -205,7 +255,20 @@ fn build_info(manifest: &Path) -> String {
         .filter(|f| compiled(f))
         .collect();
     let v = version;
-    format!(
+    let commit_text = commit.as_deref().unwrap_or("unknown");
+    let features = features.join(" ");
+    // BuildInfo holds 'static texts (the firmware's are constants): leaked here, once per
+    // build script run.
+    let line = bridge_engine::BuildInfo {
+        version,
+        semver: Box::leak(semver.clone().into_boxed_str()),
+        commit: Box::leak(commit_text.to_owned().into_boxed_str()),
+        dirty,
+        flavour,
+        features: Box::leak(features.clone().into_boxed_str()),
+    }
+    .to_string();
+    let code = format!(
         "/// What this build is: version, commit, flavour and FC sides (`build.rs`).\n\
          pub const BUILD: BuildInfo = BuildInfo {{ version: Version {{ major: {}, minor: {}, \
          patch: {}, pre_release: {} }}, semver: {semver:?}, commit: {:?}, dirty: {dirty}, \
@@ -214,7 +277,8 @@ fn build_info(manifest: &Path) -> String {
         v.minor,
         v.patch,
         v.pre_release,
-        commit.as_deref().unwrap_or("unknown"),
-        features.join(" "),
-    )
+        commit_text,
+        features,
+    );
+    (code, line)
 }

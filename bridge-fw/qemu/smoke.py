@@ -17,6 +17,8 @@ assertions. Prints one line per check and `N passed, M failed`.
 import argparse
 import os
 import socket
+import struct
+import zlib
 import sys
 import time
 
@@ -75,6 +77,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fc", required=True)
     ap.add_argument("--pod", required=True)
+    ap.add_argument("--update", required=True)
     ap.add_argument("--trace", required=True)
     ap.add_argument("--qemu-out", required=True)
     ap.add_argument("--qemu-pid", type=int, required=True)
@@ -132,6 +135,34 @@ def main():
             boot = f.read()
     line = next((l for l in boot.splitlines() if "bridge-fw" in l), "")
     check("boots", "up, HCLK" in boot, line)
+    lines = boot.splitlines()
+    first = lines[0] if lines else ""
+    check("through the bootloader (its line first, the active slot at 0x0800a000)",
+          first == "bootloader: boot, active slot at 0x0800a000", first)
+
+    # The update port (USART3 here): Hello is answered with Info (bridge_update::wire).
+    update = connect(args.update)
+    hello = b"\x01\x00\x00"
+    update.sendall(b"\xb7\x4d" + hello + struct.pack("<I", zlib.crc32(hello)))
+    info, deadline = b"", time.time() + TIMEOUT
+    def complete(b):
+        return len(b) >= 9 and len(b) >= 9 + struct.unpack("<H", b[3:5])[0]
+    while time.time() < deadline and alive() and not complete(info):
+        try:
+            info += update.recv(256)
+        except socket.timeout:
+            pass
+    ok = len(info) >= 23 and info[:3] == b"\xb7\x4d\x81"
+    if ok:
+        n = struct.unpack("<H", info[3:5])[0]
+        ok = len(info) >= 9 + n and zlib.crc32(info[2:5 + n]) == struct.unpack("<I", info[5 + n:9 + n])[0]
+        state, slot = info[5], struct.unpack("<I", info[6:10])[0]
+        version = info[19:5 + n].decode(errors="replace")
+        ok = ok and state == 0 and slot == 482 * 1024 and "qemu" in version
+        detail = f"version {version!r}, state {state}, slot {slot} B"
+    else:
+        detail = info.hex()
+    check("the update port answers Hello with the version, a confirmed image and the slot size", ok, detail)
 
     seen = frames_until(lambda s: any(msg_id(f) == GIMBAL_VERSION for f in s), TIMEOUT)
     probe = next((f for f in seen if msg_id(f) == GIMBAL_VERSION), None)

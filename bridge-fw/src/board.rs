@@ -21,15 +21,21 @@
 //! Arduino analog header's A4/A5 carry LPUART1 (AF8) and nothing else on this board, so
 //! the FC and telemetry links are both on the Arduino connector.
 //!
+//! | update port TX / RX (USART1, AF7) | PB6 / PB7 | ST-LINK virtual COM port (USB) | 3.3 V | the host's `gimbal update` |
+//!
 //! TIM2 (32-bit, 80 MHz) carries both timing pins on one counter (`src/tim2.rs`); the
 //! embassy-time driver is on TIM15 (`time-driver-tim15`). USART1 (the ST-LINK virtual COM
-//! port) stays free on the board; the `qemu` flavour takes its PPS test source there (a
+//! port) is the update port on the board; the `qemu` flavour takes its PPS test source there
+//! and its update port on USART3 (a
 //! byte an edge: QEMU models no timer and cannot drive a GPIO input). USART3 is wired
 //! to the on-board modules, not to a header.
+
+use core::cell::RefCell;
 
 use bridge_engine::Config;
 use bridge_fw::config::StrapError;
 use bridge_fw::reset::ResetCause;
+use embassy_stm32::flash::{Blocking, Flash};
 #[cfg(not(feature = "qemu"))]
 use embassy_stm32::gpio::OutputType;
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
@@ -39,6 +45,8 @@ use embassy_stm32::timer::{self, input_capture, low_level::CountingMode, simple_
 use embassy_stm32::usart::{self, BufferedUart};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, peripherals};
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
 use static_cell::StaticCell;
 
 bind_interrupts!(struct Irqs {
@@ -48,32 +56,48 @@ bind_interrupts!(struct Irqs {
     LPUART1 => usart::BufferedInterruptHandler<peripherals::LPUART1>;
     #[cfg(not(feature = "qemu"))]
     TIM2 => timer::CaptureCompareInterruptHandler<peripherals::TIM2>;
-    #[cfg(feature = "qemu")]
+    // The update port on the board, the PPS test source on the emulated board.
     USART1 => usart::BufferedInterruptHandler<peripherals::USART1>;
-    #[cfg(all(not(feature = "qemu"), any(feature = "fc-mavlink", feature = "telemetry")))]
-    FLASH => embassy_stm32::flash::InterruptHandler;
+    #[cfg(feature = "qemu")]
+    USART3 => usart::BufferedInterruptHandler<peripherals::USART3>;
 });
 
-/// The persistent store's flash: the chip's, whose last 16 KiB (bank 2) it takes
-/// (`bridge_fw::layout`).
+/// The flash, shared by the parts that write it (the update slot, and the store): a
+/// thread-mode mutex, so an erase does not mask the UARTs' interrupts. The update slot
+/// and the store are in bank 2, the code in bank 1: the CPU keeps running while bank 2 is
+/// erased or programmed.
+pub type BoardFlash = Mutex<ThreadModeRawMutex, RefCell<Flash<'static, Blocking>>>;
+
+/// The persistent store's flash: its 16 KiB at the end of bank 2 (`bridge_fw::layout`),
+/// a partition of [`BoardFlash`] seen through sequential-storage's async traits (each
+/// operation completes before it returns: a page erase holds the executor for about
+/// 22 ms, once per several hours of signing).
 #[cfg(all(
     not(feature = "qemu"),
     any(feature = "fc-mavlink", feature = "telemetry")
 ))]
-pub type StoreFlash = embassy_stm32::flash::Flash<'static, embassy_stm32::flash::Async>;
+pub type StoreFlash = embassy_embedded_hal::adapter::BlockingAsync<
+    embassy_embedded_hal::flash::partition::BlockingPartition<
+        'static,
+        ThreadModeRawMutex,
+        Flash<'static, Blocking>,
+    >,
+>;
 /// The emulated board's store: a RAM model of two 512-byte pages (QEMU's flash is
 /// read-only memory and its flash controller is not modelled: the store forgets at each
 /// start).
 #[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
 pub type StoreFlash = bridge_fw::ram_flash::RamFlash<'static, 512>;
 
-/// The store's range in [`StoreFlash`] (offsets from its start).
+/// The store's range in [`StoreFlash`] (offsets from its start: the partition is the
+/// store's own range).
 #[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
 #[must_use]
 pub const fn store_range() -> core::ops::Range<u32> {
     #[cfg(not(feature = "qemu"))]
     {
-        bridge_fw::layout::store_offsets()
+        let r = bridge_fw::layout::store_offsets();
+        0..(r.end - r.start)
     }
     #[cfg(feature = "qemu")]
     {
@@ -109,6 +133,11 @@ pub struct Board {
     /// The PPS test source: a byte on USART1 is an edge, at the instant it arrives.
     #[cfg(feature = "qemu")]
     pub pps: crate::qemu_pps::PpsOverSerial,
+    /// The update port: the ST-LINK virtual COM port (USART1, PB6/PB7); on the emulated
+    /// board USART3 (USART1 is the PPS test source there).
+    pub update: BufferedUart<'static>,
+    /// The flash.
+    pub flash: &'static BoardFlash,
     /// LED2, on (from the start of [`init`]: a board stuck starting up stays lit).
     pub led: Output<'static>,
     /// The independent watchdog, configured, not yet started (`unleash`: once the FC side
@@ -324,9 +353,32 @@ pub fn init() -> Board {
         )
     };
 
+    static UPDATE_TX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    static UPDATE_RX: StaticCell<[u8; UART_BUF]> = StaticCell::new();
+    // The ST-LINK virtual COM port; on the emulated board USART3 (its USART1 is the PPS
+    // test source).
+    #[cfg(not(feature = "qemu"))]
+    let (update_uart, update_rx, update_tx) = (p.USART1, p.PB7, p.PB6);
+    #[cfg(feature = "qemu")]
+    let (update_uart, update_rx, update_tx) = (p.USART3, p.PD9, p.PD8);
+    let update = BufferedUart::new(
+        update_uart,
+        update_rx,
+        update_tx,
+        UPDATE_TX.init([0; UART_BUF]),
+        UPDATE_RX.init([0; UART_BUF]),
+        Irqs,
+        uart(115_200),
+    )
+    .expect("update UART configuration");
+    static FLASH: StaticCell<BoardFlash> = StaticCell::new();
+    let flash = FLASH.init(Mutex::new(RefCell::new(Flash::new_blocking(p.FLASH))));
+
     Board {
         fc,
         pod,
+        update,
+        flash,
         #[cfg(feature = "telemetry")]
         telemetry,
         rtc_io,
@@ -340,7 +392,16 @@ pub fn init() -> Board {
             not(feature = "qemu"),
             any(feature = "fc-mavlink", feature = "telemetry")
         ))]
-        store: embassy_stm32::flash::Flash::new(p.FLASH, Irqs),
+        store: {
+            let r = bridge_fw::layout::store_offsets();
+            embassy_embedded_hal::adapter::BlockingAsync::new(
+                embassy_embedded_hal::flash::partition::BlockingPartition::new(
+                    flash,
+                    r.start,
+                    r.end - r.start,
+                ),
+            )
+        },
         #[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
         store: {
             static STORE: StaticCell<[u8; 1024]> = StaticCell::new();

@@ -23,6 +23,12 @@ pub enum FcChoice {
 
 include!(concat!(env!("OUT_DIR"), "/bridge_config.rs"));
 
+/// The update key this build accepts images signed by, and the version it reports
+/// (`build.rs`: `BRIDGE_UPDATE_KEY`, or the development key).
+pub mod update {
+    include!(concat!(env!("OUT_DIR"), "/update_key.rs"));
+}
+
 /// The FC sides compiled into this build (features `fc-*`).
 pub const COMPILED: &[FcProtocol] = &[
     #[cfg(feature = "fc-siyi")]

@@ -1,32 +1,23 @@
-//! Where things lie in the STM32L475VG's flash (1 MiB at 0x0800_0000, two banks of 256
-//! pages of 2 KiB): the one place that names these ranges, which `memory.x` follows (a
-//! test checks them against each other).
-//!
-//! | range | what |
-//! | --- | --- |
-//! | 0x0800_0000..0x080F_C000 | the firmware (`memory.x`'s FLASH: 1008 KiB) |
-//! | 0x080F_C000..0x0810_0000 | the persistent store: the last 16 KiB, eight 2 KiB pages of bank 2 ([`crate::store`]) |
+//! The persistent store's place in the flash, as the firmware's flash driver addresses it.
+//! Every range comes from the one flash table, [`bridge_update::layout`] (bootloader, its
+//! state, the two slots, the store), which also writes every `memory.x`.
 
-/// The flash's first byte.
-pub const FLASH_BASE: u32 = 0x0800_0000;
-/// The flash's size.
-pub const FLASH_SIZE: u32 = 1024 * 1024;
-/// A flash page (the erase unit).
-pub const PAGE_SIZE: u32 = 2048;
-/// The persistent store's first byte.
-pub const STORE_START: u32 = 0x080F_C000;
+use bridge_update::layout::{FLASH_BASE, STORE};
+
+pub use bridge_update::layout::PAGE as PAGE_SIZE;
+
+/// The persistent store's first byte: the last 16 KiB, eight 2 KiB pages of bank 2.
+pub const STORE_START: u32 = STORE.start;
 /// The byte after the persistent store (the end of the flash).
-pub const STORE_END: u32 = FLASH_BASE + FLASH_SIZE;
-/// The firmware's flash (`memory.x`'s FLASH region): everything before the store.
-pub const FIRMWARE_SIZE: u32 = STORE_START - FLASH_BASE;
+pub const STORE_END: u32 = STORE.end();
 
 /// The store's range as offsets from the flash's base (how the flash driver addresses it).
 #[must_use]
 pub const fn store_offsets() -> core::ops::Range<u32> {
-    (STORE_START - FLASH_BASE)..(STORE_END - FLASH_BASE)
+    STORE.offset()..(STORE.offset() + STORE.size)
 }
 
 const _: () =
     assert!(STORE_START.is_multiple_of(PAGE_SIZE) && (STORE_END - STORE_START) == 8 * PAGE_SIZE);
 // Bank 2 starts half-way: the store never shares a bank with the code that runs.
-const _: () = assert!(STORE_START >= FLASH_BASE + FLASH_SIZE / 2);
+const _: () = assert!(STORE_START >= FLASH_BASE + bridge_update::layout::FLASH_SIZE / 2);

@@ -15,6 +15,7 @@
 //! | [`pps_task`] | PPS edges ([`PpsInput`]: the instants a timer captured) → [`Engine::pps`] |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | boot, the FC side, then FC link, pod link, UTC and faults as blink codes ([`led::LED_CODES`]) |
+//! | [`update_task`] | the update protocol on the update port (the ST-LINK virtual COM port) to the sans-IO [`bridge_update::Receiver`], and the confirmation of an image on trial |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //! | [`store_task`] | the engine's records to keep ([`Engine::take_record`](bridge_engine::Engine::take_record)) to a [`RecordStore`] (a flash range on the MCU, a state file on Linux); [`restore`] gives them back at start |
 //!
@@ -61,6 +62,7 @@ mod rtc_io;
 mod shared;
 pub mod store;
 mod tick_clock;
+mod update;
 mod watchdog;
 
 #[cfg(feature = "host")]
@@ -76,6 +78,7 @@ pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
 pub use store::{FlashStore, RecordStore, restore, store_task};
 pub use tick_clock::TickClock;
+pub use update::{UpdateLog, update_task};
 pub use watchdog::watchdog_task;
 
 pub use bridge_engine::{

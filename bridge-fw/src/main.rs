@@ -155,6 +155,7 @@ fn start(spawner: Spawner) {
             // Found corrupt: started on defaults (the engine said so); a blank store.
             let erased = embassy_futures::block_on(store.erase());
             defmt::warn!("store: unreadable, erased ({})", erased.is_ok());
+            FAULTS.raise(bridge_fw::Fault::StoreReset);
         }
         #[cfg(feature = "qemu")]
         semihosting::println!(
@@ -167,6 +168,7 @@ fn start(spawner: Spawner) {
     spawner.spawn(watchdog_task(shared, watchdog).expect("task watchdog"));
     spawner.spawn(led(shared, &FAULTS, config.fc, b.led).expect("task led"));
     spawner.spawn(log(shared).expect("task log"));
+    spawner.spawn(update(shared, b.update, b.flash).expect("task update"));
     spawner.spawn(stack_watch().expect("task stack_watch"));
 }
 
@@ -178,6 +180,45 @@ struct DisplayBuild<'a>(&'a bridge_engine::BuildInfo);
 impl core::fmt::Display for DisplayBuild<'_> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         write!(f, "version {}", self.0)
+    }
+}
+
+/// The update port ([`bridge_fw::update_task`]) over the update slot of the flash layout;
+/// resets the board when the client asks (the bootloader then swaps a verified image in).
+#[embassy_executor::task]
+async fn update(
+    shared: &'static BoardShared,
+    port: embassy_stm32::usart::BufferedUart<'static>,
+    flash: &'static board::BoardFlash,
+) -> ! {
+    use bridge_fw::config::update::{FIRMWARE_VERSION, UPDATE_KEY, UPDATE_KEY_IS_DEV};
+    use bridge_update::layout::{BOOT_STATE, DFU};
+    use embassy_embedded_hal::flash::partition::BlockingPartition;
+    if UPDATE_KEY_IS_DEV {
+        defmt::warn!("update: images must be signed by the DEVELOPMENT key (not for the field)");
+    }
+    let (mut tx, mut rx) = port.split();
+    let mut aligned = [0u8; 8];
+    let slot = bridge_update::FlashSlot::new(
+        BlockingPartition::new(flash, DFU.offset(), DFU.size),
+        BlockingPartition::new(flash, BOOT_STATE.offset(), BOOT_STATE.size),
+        &mut aligned,
+    );
+    match slot {
+        Ok(mut slot) => {
+            let mut receiver =
+                bridge_update::Receiver::new(UPDATE_KEY, UPDATE_KEY_IS_DEV, FIRMWARE_VERSION);
+            bridge_fw::update_task(shared, &mut rx, &mut tx, &mut slot, &mut receiver).await;
+            // Let the answer leave the UART (a few bytes at 115200 baud).
+            embassy_time::Timer::after_millis(20).await;
+            cortex_m::peripheral::SCB::sys_reset()
+        }
+        Err(_) => {
+            defmt::error!("update: the boot state cannot be read: no update port");
+            loop {
+                embassy_time::Timer::after_secs(3600).await;
+            }
+        }
     }
 }
 

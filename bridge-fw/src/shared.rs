@@ -38,6 +38,8 @@ pub enum LogKind {
     Stalled(Heartbeat),
     /// The persistent store could not write the record of this key.
     StoreError(u16),
+    /// The update port or the trial of a new image ([`update_task`](crate::update_task)).
+    Update(crate::UpdateLog),
 }
 
 /// One entry for the log task, from the engine or a task, with its instant.

@@ -79,6 +79,32 @@ pub enum Command {
     /// with its line number, on stderr and in the page, and the rest is drawn. Exit 1
     /// only when the log cannot be read or holds no event at all.
     Report(ReportArgs),
+    /// Send a signed firmware image to a board over its update port, with a progress bar;
+    /// the board checks the signature, swaps the image in at its reset, and the version
+    /// that then runs is printed.
+    ///
+    /// The port is the board's ST-LINK virtual COM port (e.g. /dev/ttyACM0). The signature
+    /// is IMAGE.sig (scripts/release writes one beside every image; `gimbal sign` makes
+    /// one). A lost link resumes where the board stopped. Exit 1 when the board refuses
+    /// the image, does not come back, or rolls the image back.
+    Update(UpdateArgs),
+    /// Sign a firmware image for `gimbal update`: writes IMAGE.sig (the ed25519 signature of
+    /// the image's SHA-512 and the signer's public key).
+    ///
+    /// Without --key, the development key (made on first use in
+    /// ~/.config/k40t-bridge/update-key-dev.pem): boards built without BRIDGE_UPDATE_KEY
+    /// accept it; never for the field.
+    Sign(SignArgs),
+    /// What the release manifest says of a firmware image, as one JSON object: size,
+    /// SHA-256, the slot it must fit and the room left, its signer and whether the
+    /// signature (IMAGE.sig) holds, and its update's time at 115200 baud.
+    ImageInfo {
+        /// The image (`.bin`).
+        image: PathBuf,
+    },
+    /// Make a new update signing key: KEY (PKCS#8 PEM, private) and KEY.pub.pem (its public
+    /// half, what the firmware is built with: BRIDGE_UPDATE_KEY=KEY.pub.pem).
+    UpdateKey(UpdateKeyArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     ///
     /// For example: `gimbal completions bash > ~/.local/share/bash-completion/completions/gimbal`.
@@ -86,6 +112,42 @@ pub enum Command {
         /// The shell.
         shell: clap_complete::Shell,
     },
+}
+
+/// `gimbal update`.
+#[derive(Debug, clap::Args)]
+pub struct UpdateArgs {
+    /// The board's update port (a serial device).
+    #[arg(long)]
+    pub port: String,
+    /// The port's baud rate.
+    #[arg(long, default_value_t = 115_200)]
+    pub baud: u32,
+    /// The signature file [default: IMAGE.sig].
+    #[arg(long)]
+    pub sig: Option<PathBuf>,
+    /// Seconds to wait for the board to answer after its reset (the swap takes some 20 s).
+    #[arg(long, default_value_t = 120)]
+    pub wait: u64,
+    /// The image (a `.bin` of the release folder).
+    pub image: PathBuf,
+}
+
+/// `gimbal sign`.
+#[derive(Debug, clap::Args)]
+pub struct SignArgs {
+    /// The private key (PKCS#8 PEM) [default: the development key].
+    #[arg(long)]
+    pub key: Option<PathBuf>,
+    /// The image.
+    pub image: PathBuf,
+}
+
+/// `gimbal update-key`.
+#[derive(Debug, clap::Args)]
+pub struct UpdateKeyArgs {
+    /// Where to write the private key (never overwritten).
+    pub key: PathBuf,
 }
 
 /// `gimbal demo`.

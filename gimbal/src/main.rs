@@ -136,6 +136,30 @@ fn run(cli: Cli) -> Result<(), Failure> {
             );
             Ok(())
         }
+        Command::Update(a) => {
+            let opts = gimbal::update::UpdateOptions {
+                port: a.port,
+                baud: a.baud,
+                image: a.image,
+                sig: a.sig,
+                wait: std::time::Duration::from_secs(a.wait),
+                give_up: std::time::Duration::from_secs(30),
+            };
+            gimbal::update::update(&opts, &mut std::io::stdout().lock())
+                .map(|_| ())
+                .map_err(|e| Failure::Runtime(format!("update: {e}")))
+        }
+        Command::Sign(a) => {
+            gimbal::update::sign(a.key.as_deref(), &a.image, &mut std::io::stdout().lock())
+                .map(|_| ())
+                .map_err(|e| Failure::Runtime(format!("sign: {e}")))
+        }
+        Command::ImageInfo { image } => {
+            let info = gimbal::update::image_info(&image).map_err(Failure::Runtime)?;
+            write_lines([info.to_string()])
+        }
+        Command::UpdateKey(a) => gimbal::update::new_key(&a.key, &mut std::io::stdout().lock())
+            .map_err(|e| Failure::Runtime(format!("update-key: {e}"))),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut Cli::command(), "gimbal", &mut std::io::stdout());
             Ok(())

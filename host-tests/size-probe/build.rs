@@ -1,4 +1,5 @@
 fn main() {
-    // memory.x (STM32L475VG) is found in the workspace root, where the linker runs.
+    // memory.x: the firmware's, from the one flash layout (the probe stands for the firmware).
+    bridge_update::layout::build_script(bridge_update::layout::Image::Firmware);
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
 }

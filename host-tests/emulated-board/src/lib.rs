@@ -140,8 +140,11 @@ impl Side {
 pub struct Options {
     /// The QEMU executable.
     pub qemu: PathBuf,
-    /// The firmware (`qemu` flavour, every FC side).
-    pub elf: PathBuf,
+    /// The firmware (`qemu` flavour, every FC side) as an Intel HEX file of its flash
+    /// contents (at the active slot): QEMU loads it there.
+    pub image: PathBuf,
+    /// The bootloader (`qemu` flavour): QEMU starts it, it jumps to the firmware.
+    pub bootloader: PathBuf,
     /// The whole scenario's time-out (wall clock).
     pub timeout: StdDuration,
     /// Where the run's files go (sockets, trace, QEMU output); created.

@@ -191,8 +191,13 @@ pub(crate) fn run_with<F: FcUnderTest>(side: Side, o: &Options) -> Outcome {
         .args(["-msg", "timestamp=on"])
         .args(["-trace", "enable=stm32l4x5_gpio_write", "-D"])
         .arg(&trace)
+        // The bootloader at the reset vector; the firmware's image in the active slot, from
+        // its Intel HEX file (the flash contents only: both ELFs also have segments for
+        // their statics at the top of RAM, which QEMU refuses to load twice).
         .arg("-kernel")
-        .arg(&o.elf)
+        .arg(&o.bootloader)
+        .arg("-device")
+        .arg(format!("loader,file={}", o.image.display()))
         .stdin(Stdio::null())
         .stdout(out.0)
         .stderr(out.1)

@@ -463,7 +463,8 @@ async fn script<F: FcUnderTest>(
         ok
     };
     let t0 = now_us();
-    // 1. The boot line names the side the straps select.
+    // 1. The bootloader's line, then the firmware's boot line naming the side the straps
+    //    select.
     let boot = wait_for(qemu, deadline, || {
         let text = std::fs::read(qemu_out).unwrap_or_default();
         // Whole lines only: QEMU may be writing the boot line while it is read.
@@ -471,9 +472,14 @@ async fn script<F: FcUnderTest>(
         let text = String::from_utf8_lossy(text.get(..whole).unwrap_or_default());
         match text.lines().find(|l| l.contains("bridge-fw (qemu): up")) {
             None => Step::Pending,
-            Some(l) if l.contains(&format!("FC \"{}\"", side.name())) => {
-                Step::Pass(format!("{:.1} s, {}", secs_since(t0), l.trim()))
+            Some(_) if !text.contains("bootloader: boot, active slot at 0x0800a000") => {
+                Step::Fail("the firmware ran without the bootloader's line before it".into())
             }
+            Some(l) if l.contains(&format!("FC \"{}\"", side.name())) => Step::Pass(format!(
+                "{:.1} s, through the bootloader, {}",
+                secs_since(t0),
+                l.trim()
+            )),
             Some(l) => Step::Fail(l.trim().to_string()),
         }
     })

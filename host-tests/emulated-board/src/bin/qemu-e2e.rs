@@ -4,7 +4,7 @@
 //! crate; `scripts/qemu-e2e` builds the firmware and runs this.
 //!
 //! ```text
-//! qemu-e2e --elf PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [SIDE...]
+//! qemu-e2e --image PATH --bootloader PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [SIDE...]
 //! ```
 //! Sides: siyi, viewlink, gcu, k40t (default: all, `--jobs` at a time, 2 by default),
 //! each in a child process (`--single SIDE`, internal: see `run_child`). Prints one line
@@ -19,7 +19,7 @@ use std::time::Duration;
 
 use emulated_board::{self as emulated, Options, Side};
 
-const USAGE: &str = "usage: qemu-e2e --elf PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [siyi|viewlink|gcu|k40t ...]";
+const USAGE: &str = "usage: qemu-e2e --image PATH --bootloader PATH [--qemu PATH] [--timeout SECS] [--work DIR] [--keep] [--jobs N] [siyi|viewlink|gcu|k40t ...]";
 
 struct Args {
     options: Options,
@@ -30,7 +30,8 @@ struct Args {
 }
 
 fn parse(args: &[String]) -> Result<Args, String> {
-    let mut elf = None;
+    let mut image = None;
+    let mut bootloader = None;
     let mut qemu = PathBuf::from("qemu-system-arm");
     let mut timeout = Duration::from_secs(180);
     let mut work = None;
@@ -42,7 +43,8 @@ fn parse(args: &[String]) -> Result<Args, String> {
     while let Some(a) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{a} needs a value"));
         match a.as_str() {
-            "--elf" => elf = Some(PathBuf::from(value()?)),
+            "--image" => image = Some(PathBuf::from(value()?)),
+            "--bootloader" => bootloader = Some(PathBuf::from(value()?)),
             "--qemu" => qemu = PathBuf::from(value()?),
             "--timeout" => {
                 let v = value()?;
@@ -83,7 +85,8 @@ fn parse(args: &[String]) -> Result<Args, String> {
     Ok(Args {
         options: Options {
             qemu,
-            elf: elf.ok_or("--elf is required")?,
+            image: image.ok_or("--image is required")?,
+            bootloader: bootloader.ok_or("--bootloader is required")?,
             timeout,
             work,
         },
@@ -115,8 +118,10 @@ fn run_child(side: Side, args: &Args) -> (String, bool) {
     };
     let child = std::process::Command::new(exe)
         .arg("--single")
-        .arg("--elf")
-        .arg(&args.options.elf)
+        .arg("--image")
+        .arg(&args.options.image)
+        .arg("--bootloader")
+        .arg(&args.options.bootloader)
         .arg("--qemu")
         .arg(&args.options.qemu)
         .arg("--timeout")
