@@ -69,3 +69,129 @@ fn px4_sitl_in_lockstep_keeps_utc_answers_geotags_and_syncs_within_bound() {
     let abs = figures("PX4 SITL lockstep (boot clock 1.2 % slow)", &errors);
     assert!(abs[abs.len() - 1] < 3_000, "max {} us", abs[abs.len() - 1]);
 }
+
+mod px4_capture;
+
+use bridge_engine::{Config, FcProtocol};
+use gimbal::sim::line::Line;
+use gimbal::sim::pod::SimPod;
+use px4_capture::{Capture, CapturedPx4, LINE_BAUD};
+
+/// One time sync of a replay, against PX4's UTC.
+#[derive(Debug, Clone, Copy)]
+struct Checked {
+    /// The edge, true µs (the capture's bridge clock).
+    edge_us: u64,
+    /// The UTC the pod was given minus PX4's at the edge, µs.
+    error_us: f64,
+    /// The bound the bridge believed, µs.
+    bound_us: u32,
+}
+
+/// What a replay of the capture gave.
+struct Replayed {
+    s: Scenario<CapturedPx4>,
+    valid_us: Vec<u64>,
+    lost_us: Vec<u64>,
+    syncs: Vec<Checked>,
+}
+
+/// The capture replayed through the engine (docs: `px4_capture`), configured as the
+/// captured bridge was, its lines as fast as the capture's pseudo-terminal.
+fn replay() -> Replayed {
+    let capture = Capture::load();
+    let end = capture.rx.last().expect("frames").t_us + 500_000;
+    let config = Config::for_fc(FcProtocol::Mavlink);
+    assert_eq!(config.fc_baud, 115_200, "as the captured bridge");
+    let mut s = Scenario::new(
+        config,
+        CapturedPx4::new(capture),
+        SimPod::new(PodSimConfig::default()),
+        0,
+    );
+    s.fc_line = Line::new(LINE_BAUD);
+    s.to_fc_line = Line::new(LINE_BAUD);
+    s.run_until(end);
+    let at = |e: &(u64, Event)| e.0;
+    let valid_us = s
+        .events_where(|e| matches!(e, Event::UtcValid { .. }))
+        .iter()
+        .map(at)
+        .collect();
+    let lost_us = s
+        .events_where(|e| matches!(e, Event::UtcLost))
+        .iter()
+        .map(at)
+        .collect();
+    let capture = s.fc.capture();
+    let syncs: Vec<Checked> = s
+        .events
+        .iter()
+        .filter_map(|(_, e)| match *e {
+            Event::TimeSync {
+                edge,
+                utc_ms,
+                error_bound_us,
+            } => {
+                let edge_us = s.true_of(edge);
+                let truth = capture.reference_utc_us(edge_us as f64);
+                Some(Checked {
+                    edge_us,
+                    error_us: (utc_ms * 1000) as f64 - truth,
+                    bound_us: error_bound_us,
+                })
+            }
+            _ => None,
+        })
+        .collect();
+    // Every one of them applied by the pod, at its edge.
+    let applied = s.pod.syncs();
+    assert_eq!(applied.len(), syncs.len());
+    for (a, c) in applied.iter().zip(&syncs) {
+        assert_eq!(a.outcome, gimbal::sim::pod::SyncOutcome::Applied, "{a:?}");
+        assert_eq!(a.edge_us, Some(c.edge_us));
+    }
+    Replayed {
+        s,
+        valid_us,
+        lost_us,
+        syncs,
+    }
+}
+
+/// The capture of a real PX4 SITL in lockstep through the engine: UTC valid within a
+/// second and never lost while PX4 sends time, every sync's bound at least its error
+/// against PX4's own UTC, every stamp within 5 ms of it.
+#[test]
+fn the_captured_px4_sitl_keeps_utc_and_honest_bounds() {
+    let r = replay();
+    let first = *r.valid_us.first().expect("UTC valid");
+    println!(
+        "replay: UTC valid at {:.3} s, lost {} times ({:?}), {} TIMESYNC answered, {} syncs",
+        first as f64 / 1e6,
+        r.lost_us.len(),
+        r.lost_us.iter().map(|t| *t as f64 / 1e6).collect::<Vec<_>>(),
+        r.s.fc.answers.len(),
+        r.syncs.len()
+    );
+    for c in &r.syncs {
+        println!(
+            "  edge {:8.3} s: error {:+8.0} us, bound {:6} us",
+            c.edge_us as f64 / 1e6,
+            c.error_us,
+            c.bound_us
+        );
+    }
+    let dishonest: Vec<&Checked> = r
+        .syncs
+        .iter()
+        .filter(|c| c.error_us.abs() > f64::from(c.bound_us))
+        .collect();
+    assert!(r.lost_us.is_empty(), "UTC lost at {:?} us", r.lost_us);
+    assert!(dishonest.is_empty(), "bound under the error: {dishonest:?}");
+    // One sync per 10 s edge of the capture's 150 s from the first after UTC was valid.
+    assert!(r.syncs.len() >= 14, "{} syncs", r.syncs.len());
+    let errors: Vec<i64> = r.syncs.iter().map(|c| c.error_us.round() as i64).collect();
+    let abs = figures("replay of the PX4 SITL capture", &errors);
+    assert!(abs[abs.len() - 1] <= 5_000, "max {} us", abs[abs.len() - 1]);
+}
