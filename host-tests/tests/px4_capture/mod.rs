@@ -147,10 +147,7 @@ impl Capture {
                         sent_us,
                         received_us: u(l, "t_us"),
                         tc1_ns: l["tc1"].as_i64().expect("tc1"),
-                        target: (
-                            u(l, "target_system") as u8,
-                            u(l, "target_component") as u8,
-                        ),
+                        target: (u(l, "target_system") as u8, u(l, "target_component") as u8),
                         seq: u(l, "seq") as u8,
                     });
                 }
@@ -191,8 +188,8 @@ impl Capture {
             .clamp(1, ex.len() - 1);
         let (a, b) = (ex[i - 1], ex[i]);
         let (ta, tb) = (a.sent_us as f64, b.sent_us as f64);
-        let us = a.tc1_ns as f64 / 1e3
-            + (b.tc1_ns - a.tc1_ns) as f64 / 1e3 * (t_us - ta) / (tb - ta);
+        let us =
+            a.tc1_ns as f64 / 1e3 + (b.tc1_ns - a.tc1_ns) as f64 / 1e3 * (t_us - ta) / (tb - ta);
         let step = LOCKSTEP_STEP_US as f64;
         ((us / step).floor() * step) as i64 * 1000
     }
@@ -358,14 +355,22 @@ impl Peer for CapturedPx4 {
             .find(|f| f.msg != "TIMESYNC")
             .map(|f| f.t_us.saturating_sub(serial_us(f.raw.len(), LINE_BAUD)));
         let reply = self.replies.front().map(|(at, _)| *at);
-        [frame, reply].into_iter().flatten().min().unwrap_or(u64::MAX)
+        [frame, reply]
+            .into_iter()
+            .flatten()
+            .min()
+            .unwrap_or(u64::MAX)
     }
 
     fn transmit(&mut self, now_us: u64) -> Vec<(u64, Vec<u8>)> {
         let mut out = Vec::new();
         loop {
             let frame = self.next_frame().filter(|(at, _)| *at <= now_us);
-            let reply = self.replies.front().filter(|(at, _)| *at <= now_us).cloned();
+            let reply = self
+                .replies
+                .front()
+                .filter(|(at, _)| *at <= now_us)
+                .cloned();
             match (frame, reply) {
                 (Some(f), Some(r)) if r.0 < f.0 => {
                     self.replies.pop_front();
