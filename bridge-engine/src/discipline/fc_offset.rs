@@ -27,7 +27,7 @@ const SHIFT_ANCHOR_BINS: u8 = 4;
 /// Samples above the band in a row that make a step.
 const SHIFT_STEP_CONFIRM: u8 = 3;
 /// Rate of `C` against the FC clock believed possible before the line has a rate, ppm:
-/// the clock of a simulator in lockstep (PX4 SITL's runs about 1.2 % slow against its
+/// the clock of a simulator in lockstep (PX4 SITL's runs 0.87 % slow against its
 /// UTC, the host's) with a wide margin.
 const SHIFT_MAX_RATE_PPM: i64 = 50_000;
 /// The truncation of `time_boot_ms`: `d` lies up to this above the line, µs.

@@ -58,6 +58,11 @@
 //!   the maximum over such samples is a lower bound; pairs below that bound (minus
 //!   [`DisciplineConfig::pair_tolerance`]) are rejected as inconsistent. Without any
 //!   pair, `C` is that lower bound.
+//! - MAVLink: TIMESYNC feeds the FC-clock estimator, SYSTEM_TIME the offset `C` as a line
+//!   of the FC clock ([`TimeDiscipline::system_time`]), used once SYSTEM_TIME shows UTC in
+//!   step with the FC clock; a simulator whose UTC runs apart from its boot clock (PX4
+//!   SITL in lockstep) has its SYSTEM_TIME taken as direct UTC samples instead
+//!   (docs/src/bridge/time.md, "In step, or apart").
 //!
 //! One estimator serves the path the flight controller uses (the first sample decides;
 //! an FC protocol has one path).

@@ -33,7 +33,14 @@
 //!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift
 //!   (the discipline's `system_time`); the transport delay cancels. `time_unix_usec` 0
 //!   (ArduPilot before its clock is set) is no time; a `d` that steps makes UTC invalid
-//!   until the new shift is confirmed.
+//!   until the new shift is confirmed. The discipline uses the boot clock only once `d`
+//!   shows UTC in step with it; a `d` that runs apart (a simulator in lockstep: PX4 SITL)
+//!   makes each SYSTEM_TIME a direct UTC sample, timed by its arrival less its serial
+//!   time.
+//! - **A faster link.** A TIMESYNC reply back in less than half the time the request and
+//!   the reply take at the configured rate shows a link faster than that UART (a
+//!   pseudo-terminal, a socket to a simulator): its frames are then taken to spend no
+//!   serial time (SYSTEM_TIME's transit, PX4's tc1 correction).
 //! - **No TIMESYNC.** If the autopilot answers none within [`TIMESYNC_GRACE`] of its
 //!   first SYSTEM_TIME, SYSTEM_TIME is used alone as a direct UTC sample, timed from the
 //!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
