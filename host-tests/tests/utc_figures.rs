@@ -146,26 +146,31 @@ fn mavlink_side_with_ardupilot() {
     report("mavlink (ArduPilot)", &flights, 840, 1_020, 1_700);
 }
 
-#[test]
-fn mavlink_side_with_px4() {
-    let flights: Vec<Flight> = FLIGHTS
+/// The flights of a PX4 on the MAVLink side, each configured by `config` from the
+/// flight's (seed, FC ppm, UTC phase, UTC valid at).
+fn px4_flights(config: impl Fn(u64, f64, u64, u64) -> Px4Config) -> Vec<Flight> {
+    FLIGHTS
         .iter()
         .map(|&(seed, ppm, phase, valid)| {
-            let px4 = Px4::new(Px4Config {
-                seed,
-                ppm,
-                jitter_us: 10_000,
-                mode: Px4Mode::Normal,
-                utc_at_zero_us: utc_at_zero(phase),
-                utc_valid_at_us: valid,
-                ..Px4Config::default()
-            });
-            let config = Config::for_fc(Px4::PROTOCOL);
+            let px4 = Px4::new(config(seed, ppm, utc_at_zero(phase), valid));
             let pod = SimPod::new(PodSimConfig::default());
-            let bench = Bench::<Px4, ApMavlink>::of(config, px4, pod, None);
+            let bench = Bench::<Px4, ApMavlink>::of(Config::for_fc(Px4::PROTOCOL), px4, pod, None);
             flight(&bench.run(FLIGHT, S, |_, _| {}))
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn mavlink_side_with_px4() {
+    let flights = px4_flights(|seed, ppm, utc_at_zero_us, utc_valid_at_us| Px4Config {
+        seed,
+        ppm,
+        jitter_us: 10_000,
+        mode: Px4Mode::Normal,
+        utc_at_zero_us,
+        utc_valid_at_us,
+        ..Px4Config::default()
+    });
     // Measured p99 820 µs, max 830 µs, first |error| 451 µs; bounds 1 000 (required),
     // 2 000 (required), 1 360.
     report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 1_360);
@@ -178,21 +183,12 @@ fn mavlink_side_with_px4() {
 /// against PX4's UTC (the host's clock).
 #[test]
 fn mavlink_side_with_px4_sitl_in_lockstep() {
-    let flights: Vec<Flight> = FLIGHTS
-        .iter()
-        .map(|&(seed, _, phase, valid)| {
-            let px4 = Px4::new(Px4Config {
-                seed,
-                utc_at_zero_us: utc_at_zero(phase),
-                utc_valid_at_us: valid,
-                ..Px4Config::sitl_lockstep()
-            });
-            let config = Config::for_fc(Px4::PROTOCOL);
-            let pod = SimPod::new(PodSimConfig::default());
-            let bench = Bench::<Px4, ApMavlink>::of(config, px4, pod, None);
-            flight(&bench.run(FLIGHT, S, |_, _| {}))
-        })
-        .collect();
+    let flights = px4_flights(|seed, _, utc_at_zero_us, utc_valid_at_us| Px4Config {
+        seed,
+        utc_at_zero_us,
+        utc_valid_at_us,
+        ..Px4Config::sitl_lockstep()
+    });
     // Measured p99 22 µs, max 31 µs, first |error| 18 µs; bounds 66, 93, 54 (the
     // requirement: 5 ms).
     report("mavlink (PX4 SITL in lockstep)", &flights, 66, 93, 54);

@@ -551,8 +551,8 @@ impl TimeDiscipline {
     /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
     ///
     /// The boot-clock mapping is used only once the shift has stayed within its band for
-    /// a second (UTC in step with the boot clock, [`Pace::InStep`]). A shift that runs at
-    /// a rate no crystal has (a simulator in lockstep: [`Pace::Apart`]) makes the boot
+    /// a second (UTC in step with the boot clock). A shift that runs at a rate no crystal
+    /// has (UTC apart from the boot clock: a simulator in lockstep) makes the boot
     /// clock useless for UTC: from then on each SYSTEM_TIME is a direct UTC sample,
     /// timed by its arrival less its transit, as [`utc_sample`](Self::utc_sample), and
     /// TIMESYNC samples are rejected.

@@ -39,18 +39,25 @@ impl Fc {
             let k = t / 100_000;
             let read = t + 50_000 + (k * 7_919) % 1_000;
             let at = read + delay_us(k);
-            let s = Sample::new(local(at), (self.utc)(read), 1);
-            d.system_time(s, (self.stream_boot)(read) / 1000);
-            let utc = d.utc(local(at)).map(|u| {
-                let e = i128::from(u.as_unix_micros()) - i128::from((self.utc)(at));
-                let b = d.error_bound(local(at)).map_or(0, |b| b.as_micros());
-                (i64::try_from(e).unwrap(), b)
+            let sample = Sample::new(local(at), (self.utc)(read), 1);
+            d.system_time(sample, (self.stream_boot)(read) / 1000);
+            let utc = d.utc(local(at)).map(|given| {
+                let error = i128::from(given.as_unix_micros()) - i128::from((self.utc)(at));
+                let bound = d.error_bound(local(at)).map_or(0, Duration::as_micros);
+                (i64::try_from(error).unwrap(), bound)
             });
             seen.push((at, utc));
             t += 100_000;
         }
         seen
     }
+}
+
+/// UTC, once it was there, was there at every SYSTEM_TIME after.
+fn never_lost(seen: &Seen) -> bool {
+    seen.iter()
+        .skip_while(|(_, u)| u.is_none())
+        .all(|(_, u)| u.is_some())
 }
 
 /// The first instant with UTC, the worst error from `steady` on, and the worst error less
@@ -106,11 +113,7 @@ fn an_fc_whose_utc_is_in_step_is_used_through_its_boot_clock() {
     assert_eq!(d.path, Some(Path::ViaFc));
     assert!(worst <= 400, "{worst}");
     assert!(over < 0, "a bound under the error by {over} µs");
-    assert!(
-        seen.iter()
-            .skip_while(|(_, u)| u.is_none())
-            .all(|(_, u)| u.is_some())
-    );
+    assert!(never_lost(&seen));
 }
 
 /// PX4 SITL in lockstep: its boot clock 0.87 % slow against its UTC (the host's), with a
@@ -121,9 +124,15 @@ fn an_fc_whose_utc_is_in_step_is_used_through_its_boot_clock() {
 /// through the boot clock (whose error would be its wander).
 #[test]
 fn a_simulator_whose_utc_runs_apart_gives_utc_from_system_time_alone() {
+    // Microseconds of a few minutes: exact in an f64, positive.
+    #[allow(
+        clippy::cast_precision_loss,
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss
+    )]
     fn simulation(t: u64) -> u64 {
-        let s = t as f64 / 1e6;
-        (5e6 + t as f64 * (1.0 - 8_746e-6) + 20_000.0 * (s * 0.314).sin()) as u64
+        let seconds = t as f64 / 1e6;
+        (5e6 + t as f64 * (1.0 - 8_746e-6) + 20_000.0 * (seconds * 0.314).sin()) as u64
     }
     fn lockstep_boot(t: u64) -> u64 {
         simulation(t) / 4_000 * 4_000
@@ -156,11 +165,7 @@ fn a_simulator_whose_utc_runs_apart_gives_utc_from_system_time_alone() {
     let (first, worst, over) = first_and_worst(&seen, 40_000_000);
     assert!(first < 3_000_000, "{first}");
     // Never lost once valid; errors of the least SYSTEM_TIME delay (20 µs here).
-    assert!(
-        seen.iter()
-            .skip_while(|(_, u)| u.is_none())
-            .all(|(_, u)| u.is_some())
-    );
+    assert!(never_lost(&seen));
     assert!(worst <= 300, "{worst}");
     assert!(over < 0, "a bound under the error by {over} µs");
 }
@@ -181,18 +186,12 @@ fn a_step_of_an_in_step_utc_stays_in_step() {
     let seen = fc.feed(&mut d, 0, 90_000_000, late);
     assert_eq!(d.fc_offset.shift.pace(), Pace::InStep);
     assert_eq!(d.path, Some(Path::ViaFc));
-    // The new UTC within a second of the step, then right.
-    let after: Vec<_> = seen.iter().filter(|(t, _)| *t > 31_000_000).collect();
-    assert!(
-        after
-            .iter()
-            .all(|(_, u)| u.is_some_and(|(e, b)| e.unsigned_abs() < b))
-    );
-    assert!(
-        after
-            .iter()
-            .all(|(_, u)| u.is_some_and(|(e, _)| e.abs() <= 400))
-    );
+    // The new UTC within a second of the step, then right, within its bound.
+    let after: Seen = seen.into_iter().filter(|(t, _)| *t > 31_000_000).collect();
+    assert!(after.iter().all(|(_, u)| u.is_some()));
+    let (_, worst, over) = first_and_worst(&after, 0);
+    assert!(worst <= 400, "{worst}");
+    assert!(over < 0, "a bound under the error by {over} µs");
 }
 
 /// An FC whose UTC follows GPS while its boot clock is a crystal 200 ppm off: a drift a

@@ -75,8 +75,12 @@ pub trait Framing {
 
     /// Whether `frame`, which [`Framing::check`] failed with `error`, is a frame whose
     /// checksum cannot be checked (a MAVLink 2 message id outside the dialect, its header
-    /// otherwise plausible): such a candidate is skipped whole when it is well framed (see
-    /// the [module documentation](self)). By default, never.
+    /// otherwise plausible). Such a candidate is skipped whole ([`Event::Skipped`],
+    /// counted in [`Stats::frames_unknown`]) when it is well framed: the byte right after
+    /// it starts a frame, or the line went idle right after it, and no frame that checks
+    /// lies wholly inside it after its first byte; otherwise it is rejected like one with
+    /// a bad checksum. The byte after it is waited for, so the deframer needs one byte
+    /// more than the protocol's largest frame. By default, never.
     fn uncheckable(&self, frame: &[u8], error: &Error) -> bool {
         let _ = (frame, error);
         false
@@ -207,8 +211,8 @@ wire_derive! {
         /// Valid frames recognised and skipped whole ([`Event::Skipped`]: MAVLink 1).
         pub frames_skipped: u32,
         /// Well-framed frames whose checksum cannot be checked, skipped whole
-        /// ([`Event::Skipped`]: MAVLink message ids outside the dialect; see the
-        /// [module documentation](self)).
+        /// ([`Event::Skipped`]: MAVLink message ids outside the dialect; see
+        /// [`Framing::uncheckable`]).
         pub frames_unknown: u32,
         /// Candidates rejected for their checksum, or whose checksum cannot be checked and
         /// that are not well framed (a MAVLink message id outside the dialect:
