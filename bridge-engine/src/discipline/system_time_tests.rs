@@ -53,6 +53,33 @@ impl Fc {
     }
 }
 
+impl Fc {
+    /// A flight controller whose SYSTEM_TIME carries the boot clock TIMESYNC reads.
+    fn of(boot: fn(u64) -> u64, utc: fn(u64) -> u64) -> Self {
+        Fc {
+            boot,
+            stream_boot: boot,
+            utc,
+        }
+    }
+
+    /// A fresh discipline fed by this FC from true time 0 to `to`.
+    fn flown(&self, to: u64, delay_us: fn(u64) -> u64) -> (TimeDiscipline, Seen) {
+        let mut d = TimeDiscipline::default();
+        let seen = self.feed(&mut d, 0, to, delay_us);
+        (d, seen)
+    }
+}
+
+/// Every error under its bound, and the worst from `steady` on at most `worst_max` µs;
+/// returns the first instant with UTC.
+fn assert_within(seen: &Seen, steady: u64, worst_max: i64) -> u64 {
+    let (first, worst, over) = first_and_worst(seen, steady);
+    assert!(worst <= worst_max, "{worst}");
+    assert!(over < 0, "a bound under the error by {over} µs");
+    first
+}
+
 /// UTC, once it was there, was there at every SYSTEM_TIME after.
 fn never_lost(seen: &Seen) -> bool {
     seen.iter()
@@ -97,22 +124,14 @@ fn late(k: u64) -> u64 {
 /// TIMESYNC read (300 µs), not of SYSTEM_TIME's 2–5 ms delays; in step for good.
 #[test]
 fn an_fc_whose_utc_is_in_step_is_used_through_its_boot_clock() {
-    let mut d = TimeDiscipline::default();
-    let fc = Fc {
-        boot: crystal_boot,
-        stream_boot: crystal_boot,
-        utc: in_step_utc,
-    };
-    let seen = fc.feed(&mut d, 0, 120_000_000, late);
+    let (d, seen) = Fc::of(crystal_boot, in_step_utc).flown(120_000_000, late);
     // Steady once the fit has the rates (about 32 s; before, the first mapping's error
     // grows with the clocks' 50 ppm, inside its bound).
-    let (first, worst, over) = first_and_worst(&seen, 40_000_000);
+    let first = assert_within(&seen, 40_000_000, 400);
     // The first SYSTEM_TIME at 50 ms, watched for a second of boot time.
     assert!((1_000_000..1_300_000).contains(&first), "{first}");
     assert_eq!(d.fc_offset.shift.pace(), Pace::InStep);
     assert_eq!(d.path, Some(Path::ViaFc));
-    assert!(worst <= 400, "{worst}");
-    assert!(over < 0, "a bound under the error by {over} µs");
     assert!(never_lost(&seen));
 }
 
@@ -143,13 +162,12 @@ fn a_simulator_whose_utc_runs_apart_gives_utc_from_system_time_alone() {
     fn pty(k: u64) -> u64 {
         20 + (k * 7_919) % 800
     }
-    let mut d = TimeDiscipline::default();
     let fc = Fc {
         boot: lockstep_boot,
         stream_boot: simulation,
         utc: host,
     };
-    let seen = fc.feed(&mut d, 0, 3_000_000, pty);
+    let (mut d, seen) = fc.flown(3_000_000, pty);
     assert_eq!(d.fc_offset.shift.pace(), Pace::Apart);
     assert_eq!(d.path, Some(Path::Direct));
     let v = d.fc_clock_sample(
@@ -162,12 +180,10 @@ fn a_simulator_whose_utc_runs_apart_gives_utc_from_system_time_alone() {
         .into_iter()
         .chain(fc.feed(&mut d, 3_000_000, 120_000_000, pty))
         .collect();
-    let (first, worst, over) = first_and_worst(&seen, 40_000_000);
+    // Errors of the least SYSTEM_TIME delay (20 µs here); never lost once valid.
+    let first = assert_within(&seen, 40_000_000, 300);
     assert!(first < 3_000_000, "{first}");
-    // Never lost once valid; errors of the least SYSTEM_TIME delay (20 µs here).
     assert!(never_lost(&seen));
-    assert!(worst <= 300, "{worst}");
-    assert!(over < 0, "a bound under the error by {over} µs");
 }
 
 /// An FC in step whose UTC steps by 40 ms (a GPS time correction): a step, not a
@@ -177,21 +193,13 @@ fn a_step_of_an_in_step_utc_stays_in_step() {
     fn stepped_utc(t: u64) -> u64 {
         in_step_utc(t) + if t >= 30_000_000 { 40_000 } else { 0 }
     }
-    let mut d = TimeDiscipline::default();
-    let fc = Fc {
-        boot: crystal_boot,
-        stream_boot: crystal_boot,
-        utc: stepped_utc,
-    };
-    let seen = fc.feed(&mut d, 0, 90_000_000, late);
+    let (d, seen) = Fc::of(crystal_boot, stepped_utc).flown(90_000_000, late);
     assert_eq!(d.fc_offset.shift.pace(), Pace::InStep);
     assert_eq!(d.path, Some(Path::ViaFc));
     // The new UTC within a second of the step, then right, within its bound.
     let after: Seen = seen.into_iter().filter(|(t, _)| *t > 31_000_000).collect();
     assert!(after.iter().all(|(_, u)| u.is_some()));
-    let (_, worst, over) = first_and_worst(&after, 0);
-    assert!(worst <= 400, "{worst}");
-    assert!(over < 0, "a bound under the error by {over} µs");
+    assert_within(&after, 0, 400);
 }
 
 /// An FC whose UTC follows GPS while its boot clock is a crystal 200 ppm off: a drift a
@@ -204,14 +212,7 @@ fn a_crystal_s_drift_of_utc_against_the_boot_clock_stays_in_step() {
     fn boot_200_ppm(t: u64) -> u64 {
         7_000_000 + t + t / 5_000
     }
-    let mut d = TimeDiscipline::default();
-    let fc = Fc {
-        boot: boot_200_ppm,
-        stream_boot: boot_200_ppm,
-        utc: gps_utc,
-    };
-    let seen = fc.feed(&mut d, 0, 1_200_000_000, late);
+    let (d, seen) = Fc::of(boot_200_ppm, gps_utc).flown(1_200_000_000, late);
     assert_eq!(d.fc_offset.shift.pace(), Pace::InStep);
-    let (_, _, over) = first_and_worst(&seen, 0);
-    assert!(over < 0, "a bound under the error by {over} µs");
+    assert_within(&seen, 40_000_000, 400);
 }
