@@ -577,7 +577,8 @@ impl Engine {
         c.pod_garbage_bytes = pod.bytes_discarded;
         let fc = self.core.fc.deframer_stats();
         c.fc_rejected = fc.checksum_errors.saturating_add(fc.length_errors);
-        c.fc_garbage_bytes = fc.bytes_discarded;
+        c.fc_garbage_bytes = fc.bytes_discarded.saturating_sub(fc.bytes_skipped);
+        c.fc_unknown_frames = fc.frames_unknown.saturating_add(fc.frames_skipped);
         c
     }
 
