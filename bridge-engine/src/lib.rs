@@ -1264,16 +1264,17 @@ mod size_tests {
     use super::*;
 
     /// The engine's size is fixed at compile time; with every FC side compiled in it
-    /// stays under 13 KiB on the 64-bit host (7.9 KB before ACK matching kept
+    /// stays under 14 KiB on the 64-bit host (7.9 KB before ACK matching kept
     /// superseded requests and their send instants, and the discipline its error bound;
     /// 9.1 KB before the MAVLink telemetry link: its 280-byte deframer, 192-byte queue
     /// and autopilot state; 10.7 KB before the camera's settings: the parameters' and FTP
     /// sessions' state, the pod's all-settings replies and two more pod requests
     /// tracked, and the discipline's rate; under 11.5 KiB before the PPS path: its 16
     /// edges and line, and the photo event, which makes every queued event 8 bytes
-    /// longer; 12.1 KB before the two links' signing state).
+    /// longer; 12.1 KB before the two links' signing state; 13.1 KB before the refusal
+    /// limiter, the pinned autopilot, the store's pending records and the build line).
     #[test]
-    fn the_engine_fits_in_13_kib() {
+    fn the_engine_fits_in_14_kib() {
         let size = core::mem::size_of::<Engine>();
         println!(
             "engine {size} B: pod driver {}, discipline {}, fixes {}, outputs {}, FC side {}",
@@ -1283,6 +1284,6 @@ mod size_tests {
             core::mem::size_of::<Outputs>(),
             core::mem::size_of::<FcSide>(),
         );
-        assert!(size <= 13 * 1024, "{size} bytes");
+        assert!(size <= 14 * 1024, "{size} bytes");
     }
 }
