@@ -1,0 +1,181 @@
+//! The book's lists that the code also has, compared with the code's (one binary for all
+//! of them; the LED table's test is bridge-fw's, `bridge-fw/tests/led_table.rs`):
+//! - the option table of `gimbal bridge` (docs/src/linux-bridge.md, "Options") is clap's
+//!   command: every option, in clap's order, with its value and its default;
+//! - the event table (docs/src/linux-bridge.md, "Output and the JSON events") is
+//!   `gimbal::runner::event_name::EventName::ALL`, every name the tool writes, in order;
+//!
+//! On a difference each test prints the table's first columns as the code has them.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use clap::{Arg, ArgAction, CommandFactory};
+use gimbal::cli::Cli;
+use gimbal::runner::event_name::EventName;
+
+const LINUX_BRIDGE: &str = include_str!("../../docs/src/linux-bridge.md");
+
+/// A table row's cells, trimmed; `\|` inside a cell is a `|`.
+fn cells(line: &str) -> Vec<String> {
+    let inner = line.trim().trim_start_matches('|').trim_end_matches('|');
+    let mut out = vec![String::new()];
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                out.last_mut().unwrap().push('|');
+                chars.next();
+            }
+            '|' => out.push(String::new()),
+            c => out.last_mut().unwrap().push(c),
+        }
+    }
+    out.iter().map(|c| c.trim().to_string()).collect()
+}
+
+/// The rows of the first table after the heading `heading` (any level) whose header row
+/// starts with `header`, each as its cells.
+fn table(page: &str, heading: &str, header: &str) -> Vec<Vec<String>> {
+    let mut lines = page.lines();
+    lines
+        .by_ref()
+        .find(|l| l.starts_with('#') && l.trim_start_matches('#').trim() == heading)
+        .unwrap_or_else(|| panic!("a heading `{heading}`"));
+    let rows: Vec<Vec<String>> = lines
+        .skip_while(|l| !l.starts_with(header))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(cells)
+        .collect();
+    assert!(!rows.is_empty(), "a table `{header}` under `{heading}`");
+    rows
+}
+
+/// The words in backticks in a cell, in order.
+fn quoted(cell: &str) -> Vec<String> {
+    cell.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
+}
+
+/// An option's value cell as the book writes it: `—` for a flag, its possible values in
+/// backticks, or its value name in backticks.
+fn value_cell(a: &Arg) -> String {
+    if matches!(a.get_action(), ArgAction::SetTrue) {
+        return "—".into();
+    }
+    let values: Vec<String> = a
+        .get_possible_values()
+        .iter()
+        .filter(|v| !v.is_hide_set())
+        .map(|v| format!("`{}`", v.get_name()))
+        .collect();
+    if !values.is_empty() {
+        return values.join(", ");
+    }
+    a.get_value_names()
+        .map(|n| {
+            n.iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .unwrap_or_else(|| format!("`{}`", a.get_id().as_str().to_uppercase()))
+}
+
+/// An option's default cell: `required`, its default in backticks, or `—`.
+fn default_cell(a: &Arg) -> String {
+    if a.is_required_set() {
+        return "required".into();
+    }
+    if matches!(a.get_action(), ArgAction::SetTrue) {
+        return "—".into();
+    }
+    let defaults: Vec<String> = a
+        .get_default_values()
+        .iter()
+        .map(|d| format!("`{}`", d.to_string_lossy()))
+        .collect();
+    if defaults.is_empty() {
+        "—".into()
+    } else {
+        defaults.join(", ")
+    }
+}
+
+/// `gimbal bridge`'s options as clap has them: (option, value, default), in order.
+fn code_options() -> Vec<[String; 3]> {
+    let mut cli = Cli::command();
+    cli.build();
+    let bridge = cli
+        .find_subcommand("bridge")
+        .expect("a `bridge` subcommand");
+    bridge
+        .get_arguments()
+        .filter(|a| !matches!(a.get_id().as_str(), "help" | "version"))
+        .map(|a| {
+            let long = a
+                .get_long()
+                .unwrap_or_else(|| panic!("{}: not a long option", a.get_id()));
+            [format!("`--{long}`"), value_cell(a), default_cell(a)]
+        })
+        .collect()
+}
+
+#[test]
+fn the_books_option_table_is_gimbal_bridges() {
+    let book: Vec<[String; 3]> = table(LINUX_BRIDGE, "Options", "| option | value | default |")
+        .into_iter()
+        .map(|r| {
+            assert_eq!(r.len(), 4, "four cells: {r:?}");
+            [r[0].clone(), r[1].clone(), r[2].clone()]
+        })
+        .collect();
+    let code = code_options();
+    let as_table: String = code
+        .iter()
+        .map(|[o, v, d]| format!("| {o} | {v} | {d} | … |\n"))
+        .collect();
+    assert!(
+        book == code,
+        "docs/src/linux-bridge.md's option table differs from `gimbal bridge`'s options; \
+         the code's (option, value, default):\n{as_table}"
+    );
+}
+
+#[test]
+fn the_books_event_table_is_every_event_the_tool_writes() {
+    let book: Vec<String> = table(
+        LINUX_BRIDGE,
+        "Output and the JSON events",
+        "| event | fields | when |",
+    )
+    .iter()
+    .flat_map(|r| quoted(&r[0]))
+    .collect();
+    let code: Vec<String> = EventName::ALL
+        .iter()
+        .map(|e| e.as_str().to_string())
+        .collect();
+    let missing: Vec<&String> = code.iter().filter(|n| !book.contains(n)).collect();
+    let extra: Vec<&String> = book.iter().filter(|n| !code.contains(n)).collect();
+    assert!(
+        book == code,
+        "docs/src/linux-bridge.md's event table differs from EventName::ALL: missing \
+         {missing:?}, not written by the tool {extra:?}; the code's order:\n{}",
+        code.join("\n")
+    );
+}
+
+#[test]
+fn cells_are_read_as_written() {
+    assert_eq!(
+        cells("| `a` \\| `b` | x |"),
+        ["`a` | `b`".to_string(), "x".to_string()]
+    );
+    assert_eq!(
+        quoted("`fc_link_up` / `fc_link_down`"),
+        ["fc_link_up", "fc_link_down"]
+    );
+}
