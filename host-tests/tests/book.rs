@@ -4,6 +4,8 @@
 //!   command: every option, in clap's order, with its value and its default;
 //! - the event table (docs/src/linux-bridge.md, "Output and the JSON events") is
 //!   `gimbal::runner::event_name::EventName::ALL`, every name the tool writes, in order;
+//! - the README's set-up table says, per FC side and autopilot, the parameters that
+//!   the ArduPilot and PX4 pages' set-up tables say.
 //!
 //! On a difference each test prints the table's first columns as the code has them.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -13,6 +15,9 @@ use gimbal::cli::Cli;
 use gimbal::runner::event_name::EventName;
 
 const LINUX_BRIDGE: &str = include_str!("../../docs/src/linux-bridge.md");
+const ARDUPILOT: &str = include_str!("../../docs/src/autopilots/ardupilot.md");
+const PX4: &str = include_str!("../../docs/src/autopilots/px4.md");
+const README: &str = include_str!("../../README.md");
 
 /// A table row's cells, trimmed; `\|` inside a cell is a `|`.
 fn cells(line: &str) -> Vec<String> {
@@ -168,8 +173,75 @@ fn the_books_event_table_is_every_event_the_tool_writes() {
     );
 }
 
+/// The parameters of a set-up row: every `NAME` = VALUE pair in its cells.
+fn parameters(row: &[String]) -> Vec<String> {
+    let mut out = Vec::new();
+    for cell in row {
+        let parts: Vec<&str> = cell.split('`').collect();
+        for (i, p) in parts.iter().enumerate().skip(1).step_by(2) {
+            let after = parts.get(i + 1).copied().unwrap_or("");
+            if let Some(rest) = after.trim_start().strip_prefix('=') {
+                let value: String = rest
+                    .trim_start()
+                    .chars()
+                    .take_while(|c| c.is_ascii_digit())
+                    .collect();
+                if !value.is_empty() {
+                    out.push(format!("{p}={value}"));
+                }
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The README's set-up table says, per FC side, the parameters the autopilot pages say:
+/// ArduPilot's (docs/src/autopilots/ardupilot.md, "Set-up") and PX4's
+/// (docs/src/autopilots/px4.md, "Set-up").
 #[test]
-fn cells_are_read_as_written() {
+fn the_readmes_set_up_is_the_autopilot_pages() {
+    let readme = table(README, "Autopilot set-up", "| FC side | ArduPilot |");
+    let ardupilot = table(ARDUPILOT, "Set-up", "| FC side | ArduPilot parameters |");
+    let px4 = table(PX4, "Set-up", "| | MAVLink FC side |");
+    for row in &ardupilot {
+        let side = &row[0];
+        let readme_row = readme
+            .iter()
+            .find(|r| &r[0] == side)
+            .unwrap_or_else(|| panic!("the README's set-up has no row `{side}`"));
+        assert_eq!(
+            parameters(&readme_row[1..2]),
+            parameters(&row[1..2]),
+            "ArduPilot, {side}"
+        );
+    }
+    // PX4: the MAVLink side's and the telemetry link's parameters.
+    let px4_column = |col: usize| -> Vec<String> {
+        let cells: Vec<String> = px4.iter().map(|r| r[col].clone()).collect();
+        parameters(&cells)
+    };
+    let readme_px4 = |side_starts: &str| -> Vec<String> {
+        let r = readme
+            .iter()
+            .find(|r| r[0].starts_with(side_starts))
+            .unwrap_or_else(|| panic!("the README's set-up has no row `{side_starts}…`"));
+        parameters(&r[2..3])
+    };
+    assert_eq!(
+        readme_px4("MAVLink"),
+        px4_column(1),
+        "PX4, the MAVLink side"
+    );
+    assert_eq!(
+        readme_px4("telemetry link"),
+        px4_column(2),
+        "PX4, the telemetry link"
+    );
+}
+
+#[test]
+fn cells_and_parameters_are_read_as_written() {
     assert_eq!(
         cells("| `a` \\| `b` | x |"),
         ["`a` | `b`".to_string(), "x".to_string()]
@@ -177,5 +249,9 @@ fn cells_are_read_as_written() {
     assert_eq!(
         quoted("`fc_link_up` / `fc_link_down`"),
         ["fc_link_up", "fc_link_down"]
+    );
+    assert_eq!(
+        parameters(&["`MNT1_TYPE` = 8 (Siyi), `CAM1_TYPE` = 4, `SERIALn_BAUD` = 115".into()]),
+        ["CAM1_TYPE=4", "MNT1_TYPE=8", "SERIALn_BAUD=115"]
     );
 }
