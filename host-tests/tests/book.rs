@@ -4,6 +4,8 @@
 //!   command: every option, in clap's order, with its value and its default;
 //! - the event table (docs/src/linux-bridge.md, "Output and the JSON events") is
 //!   `gimbal::runner::event_name::EventName::ALL`, every name the tool writes, in order;
+//! - the counters table (docs/src/linux-bridge.md, "Counters") is the `counters` event's
+//!   fields, the engine's `Counters` as the tool writes them, in order;
 //! - the README's set-up table says, per FC side and autopilot, the parameters that
 //!   the ArduPilot and PX4 pages' set-up tables say.
 //!
@@ -169,6 +171,29 @@ fn the_books_event_table_is_every_event_the_tool_writes() {
         book == code,
         "docs/src/linux-bridge.md's event table differs from EventName::ALL: missing \
          {missing:?}, not written by the tool {extra:?}; the code's order:\n{}",
+        code.join("\n")
+    );
+}
+
+#[test]
+fn the_books_counters_are_the_engines() {
+    let book: Vec<String> = table(LINUX_BRIDGE, "Counters", "| counter | counts |")
+        .iter()
+        .flat_map(|r| quoted(&r[0]))
+        .collect();
+    let written = gimbal::runner::events::counters(&bridge_engine::Counters::default());
+    let code: Vec<String> = written
+        .as_object()
+        .expect("the counters are an object")
+        .keys()
+        .cloned()
+        .collect();
+    let missing: Vec<&String> = code.iter().filter(|n| !book.contains(n)).collect();
+    let extra: Vec<&String> = book.iter().filter(|n| !code.contains(n)).collect();
+    assert!(
+        book == code,
+        "docs/src/linux-bridge.md's counters table differs from the counters event: missing \
+         {missing:?}, not counted by the engine {extra:?}; the code's order:\n{}",
         code.join("\n")
     );
 }
