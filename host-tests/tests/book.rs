@@ -66,6 +66,19 @@ fn quoted(cell: &str) -> Vec<String> {
         .collect()
 }
 
+/// Fails unless the book's names are the code's, in the code's order, naming what is
+/// missing and what is extra.
+fn assert_same_names(table: &str, code_list: &str, book: &[String], code: &[String]) {
+    let missing: Vec<&String> = code.iter().filter(|n| !book.contains(n)).collect();
+    let extra: Vec<&String> = book.iter().filter(|n| !code.contains(n)).collect();
+    assert!(
+        book == code,
+        "docs/src/linux-bridge.md's {table} differs from {code_list}: missing {missing:?}, \
+         not in the code {extra:?}; the code's order:\n{}",
+        code.join("\n")
+    );
+}
+
 /// An option's value cell as the book writes it: `—` for a flag, its possible values in
 /// backticks, or its value name in backticks.
 fn value_cell(a: &Arg) -> String {
@@ -165,14 +178,7 @@ fn the_books_event_table_is_every_event_the_tool_writes() {
         .iter()
         .map(|e| e.as_str().to_string())
         .collect();
-    let missing: Vec<&String> = code.iter().filter(|n| !book.contains(n)).collect();
-    let extra: Vec<&String> = book.iter().filter(|n| !code.contains(n)).collect();
-    assert!(
-        book == code,
-        "docs/src/linux-bridge.md's event table differs from EventName::ALL: missing \
-         {missing:?}, not written by the tool {extra:?}; the code's order:\n{}",
-        code.join("\n")
-    );
+    assert_same_names("event table", "EventName::ALL", &book, &code);
 }
 
 #[test]
@@ -188,14 +194,7 @@ fn the_books_counters_are_the_engines() {
         .keys()
         .cloned()
         .collect();
-    let missing: Vec<&String> = code.iter().filter(|n| !book.contains(n)).collect();
-    let extra: Vec<&String> = book.iter().filter(|n| !code.contains(n)).collect();
-    assert!(
-        book == code,
-        "docs/src/linux-bridge.md's counters table differs from the counters event: missing \
-         {missing:?}, not counted by the engine {extra:?}; the code's order:\n{}",
-        code.join("\n")
-    );
+    assert_same_names("counters table", "the counters event", &book, &code);
 }
 
 /// The parameters of a set-up row: every `NAME` = VALUE pair in its cells.
