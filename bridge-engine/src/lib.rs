@@ -475,7 +475,8 @@ struct EngineState {
     out: Outputs,
     fc_last: Option<Instant>,
     fc_link: bool,
-    /// The MAVLink telemetry link (any FC side but MAVLink, whose own link is one).
+    /// The MAVLink telemetry link, beside any FC side (beside the MAVLink side too: the
+    /// time and fixes when that link gives none; docs/src/bridge/telemetry.md).
     #[cfg(feature = "telemetry")]
     tel: Option<fc::TelemetryLink>,
     /// The telemetry link is the source of UTC and fixes.

@@ -509,7 +509,7 @@ pub fn run_json(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<()> {
 
 fn json_with<P: Pilot>(opts: &DemoOptions, out: &mut dyn Write) -> io::Result<()> {
     let mut log = BenchLog::new(
-        "demo_started",
+        crate::runner::event_name::EventName::DemoStarted,
         serde_json::json!({"fc": fc_name(opts.fc), "seconds": opts.seconds,
                            "telemetry": opts.telemetry, "pps": opts.pps}),
     );

@@ -80,6 +80,12 @@ fn the_units_command_lines_parse() {
             b.photo_events.as_deref(),
             Some(std::path::Path::new("/var/lib/gimbal-bridge/photos.csv"))
         );
+        // The state kept across restarts in the StateDirectory: the default (under the
+        // home directory) is hidden by ProtectHome, and the bridge would not start.
+        assert_eq!(
+            b.state_dir.as_deref(),
+            Some(std::path::Path::new("/var/lib/gimbal-bridge"))
+        );
         assert_eq!(
             b.config_file.as_deref(),
             Some(std::path::Path::new("/etc/gimbal-bridge/bridge.toml"))

@@ -189,7 +189,10 @@ fn faulty_flight() -> (Outcome<ApSiyi>, String) {
         ApSiyi::with_seed(7),
         SimPod::new(PodSimConfig::default()),
     );
-    let mut log = BenchLog::new("demo_started", serde_json::json!({"fc": "siyi"}));
+    let mut log = BenchLog::new(
+        gimbal::runner::event_name::EventName::DemoStarted,
+        serde_json::json!({"fc": "siyi"}),
+    );
     let o = b.run(110 * S, 10_000, |b, t| {
         match t {
             t if t == 40 * S => b.wires.pull(Cable::Pod, t, 3 * S),

@@ -6,6 +6,7 @@
 
 use serde_json::{Map, Value, json};
 
+use super::event_name::EventName;
 use super::events::{self, FixSampler, LOG_VERSION};
 use super::output::event_object;
 use super::watch::{pod_gps_reply_fields, pod_photo_fields, pod_sync_fields};
@@ -29,7 +30,7 @@ impl BenchLog {
     /// A log whose first line is `event` (`demo_started`) with `fields` and the log's
     /// version (`log_version`, `version`).
     #[must_use]
-    pub fn new(event: &str, fields: Value) -> Self {
+    pub fn new(event: EventName, fields: Value) -> Self {
         let mut header = event_object(0, event, fields);
         header.insert("version".into(), json!(env!("CARGO_PKG_VERSION")));
         header.insert("log_version".into(), json!(LOG_VERSION));
@@ -50,8 +51,11 @@ impl BenchLog {
         }
         if now_us >= self.next_counters_us {
             let c = bench.engine(|e| e.counters());
-            self.sampled
-                .push(event_object(now_us, "counters", events::counters(&c)));
+            self.sampled.push(event_object(
+                now_us,
+                EventName::Counters,
+                events::counters(&c),
+            ));
             self.next_counters_us = now_us.saturating_add(COUNTERS_EVERY_US);
         }
     }
@@ -70,7 +74,7 @@ impl BenchLog {
         for r in &o.records {
             let (t, name, fields) = events::record_event(r);
             let mut obj = event_object(t, name, fields);
-            if name == "time_sync"
+            if name == EventName::TimeSync
                 && let (Some(edge), Some(utc)) = (
                     obj.get("edge_us").and_then(Value::as_u64),
                     obj.get("utc_ms").and_then(Value::as_u64),
@@ -87,27 +91,35 @@ impl BenchLog {
         for &(t, healthy) in o.fc.health_log() {
             lines.push(event_object(
                 t,
-                "sim_fc_health",
+                EventName::SimFcHealth,
                 json!({"healthy": healthy}),
             ));
         }
         for (i, &t) in o.pod.boots().iter().enumerate() {
-            lines.push(event_object(t, "sim_pod_boot", json!({"boot": i + 1})));
+            lines.push(event_object(
+                t,
+                EventName::SimPodBoot,
+                json!({"boot": i + 1}),
+            ));
         }
         for s in o.pod.syncs() {
             lines.push(event_object(
                 s.arrival_us,
-                "sim_pod_sync",
+                EventName::SimPodSync,
                 pod_sync_fields(s),
             ));
         }
         for p in o.pod.photos() {
-            lines.push(event_object(p.at_us, "sim_pod_photo", pod_photo_fields(p)));
+            lines.push(event_object(
+                p.at_us,
+                EventName::SimPodPhoto,
+                pod_photo_fields(p),
+            ));
         }
         for r in o.pod.gps_replies() {
             lines.push(event_object(
                 r.at_us,
-                "sim_pod_gps_reply",
+                EventName::SimPodGpsReply,
                 pod_gps_reply_fields(r),
             ));
         }
@@ -118,12 +130,12 @@ impl BenchLog {
         let seconds = end as f64 / 1e6;
         lines.push(event_object(
             end,
-            "stopped",
+            EventName::Stopped,
             json!({"reason": "seconds_elapsed", "seconds": seconds}),
         ));
         lines.push(event_object(
             end,
-            "counters",
+            EventName::Counters,
             events::counters(&o.engine.counters()),
         ));
         let mut all = Vec::with_capacity(lines.len().saturating_add(1));

@@ -17,6 +17,7 @@ use embassy_time::{Duration as EmbassyDuration, Timer};
 use serde_json::{Value, json};
 use toml::Table;
 
+use super::event_name::EventName;
 use super::events;
 use super::output::{Output, now_us, wants_status_line};
 use super::photos::PhotoEvents;
@@ -146,17 +147,20 @@ struct StatusState {
 }
 
 impl StatusState {
-    fn note(&mut self, event: &str) {
+    fn note(&mut self, event: EventName) {
         match event {
-            "fc_link_up" => self.fc = true,
-            "fc_link_down" => self.fc = false,
-            "pod_link_up" => self.pod = true,
-            "pod_link_down" => self.pod = false,
-            "utc_valid" => self.utc = true,
-            "utc_lost" => self.utc = false,
-            "time_sync" => self.syncs += 1,
-            "geotag" => self.geotags += 1,
-            "read_error" | "write_error" | "rtc_io_error" | "stalled" => self.errors += 1,
+            EventName::FcLinkUp => self.fc = true,
+            EventName::FcLinkDown => self.fc = false,
+            EventName::PodLinkUp => self.pod = true,
+            EventName::PodLinkDown => self.pod = false,
+            EventName::UtcValid => self.utc = true,
+            EventName::UtcLost => self.utc = false,
+            EventName::TimeSync => self.syncs += 1,
+            EventName::Geotag => self.geotags += 1,
+            EventName::ReadError
+            | EventName::WriteError
+            | EventName::RtcIoError
+            | EventName::Stalled => self.errors += 1,
             _ => {}
         }
     }
@@ -258,7 +262,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     };
 
     out.emit(
-        "bridge_started",
+        EventName::BridgeStarted,
         json!({
             "fc": fc_codec, "fc_port": args.fc_port.to_string(),
             "pod_port": args.pod_port.to_string(), "rtc_io": args.rtc_io.to_string(),
@@ -286,7 +290,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     let (mut state_file, set_aside) = StateFile::open(&state_dir)?;
     if let Some(bad) = &set_aside {
         out.emit(
-            "state_file_set_aside",
+            EventName::StateFileSetAside,
             json!({"file": state_file.path().display().to_string(), "problem": bad.problem,
                    "aside": bad.aside.as_ref().map(|p| p.display().to_string())}),
         );
@@ -450,7 +454,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 && let LogKind::Engine(Event::Photo(p)) = &r.what
                 && let Err(e) = file.borrow_mut().push(p)
             {
-                out.emit("photo_events_error", json!({"error": e.to_string()}));
+                out.emit(EventName::PhotoEventsError, json!({"error": e.to_string()}));
             }
             let (t, name, fields) = events::record_event(r);
             status.borrow_mut().note(name);
@@ -512,7 +516,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 && now >= at
             {
                 out.emit(
-                    "counters",
+                    EventName::Counters,
                     events::counters(&shared.with(|e: &mut Engine| e.counters())),
                 );
                 next_counters = Some(at + every);
@@ -563,7 +567,7 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             }
         };
     }
-    out.emit("stopped", stopped);
-    out.emit("counters", counters.clone());
+    out.emit(EventName::Stopped, stopped);
+    out.emit(EventName::Counters, counters.clone());
     Ok(counters)
 }

@@ -1,13 +1,16 @@
 //! The bridge's log records as events: one name and a flat set of fields per engine
 //! [`Event`] and per task record ([`LogKind`]). The match is exhaustive on purpose: a new
-//! event of the engine does not compile until it has a name here (and in the event table
-//! of docs/src/linux-bridge.md).
+//! event of the engine does not compile until it has a name here, and a name is an
+//! [`EventName`], which the book's event table (docs/src/linux-bridge.md) is checked
+//! against.
 
 use bridge_engine::fixes::Fix;
 use bridge_engine::{Counters, Event, Refusal};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
+
+use super::event_name::EventName;
 
 /// The version of the JSON event log, in the first line's `log_version`
 /// (`bridge_started`, `demo_started`): 1 is the log with `fix` events. A reader
@@ -20,10 +23,10 @@ pub const FIX_EVERY_US: u64 = 1_000_000;
 /// The aircraft's newest fix as a `fix` event: its time (the fix's own local instant,
 /// µs), name and fields (`lat_e7`, `lon_e7`, `alt_msl_dm`, `rel_alt_dm`, `yaw_cdeg`).
 #[must_use]
-pub fn fix_event(f: &Fix) -> (u64, &'static str, Value) {
+pub fn fix_event(f: &Fix) -> (u64, EventName, Value) {
     (
         f.at.as_micros(),
-        "fix",
+        EventName::Fix,
         json!({"lat_e7": f.lat_e7, "lon_e7": f.lon_e7, "alt_msl_dm": f.alt_msl_dm,
                "rel_alt_dm": f.rel_alt_dm, "yaw_cdeg": f.yaw_cdeg}),
     )
@@ -38,7 +41,7 @@ pub struct FixSampler {
 
 impl FixSampler {
     /// The `fix` event for the engine's newest fix, when it is due.
-    pub fn take(&mut self, newest: Option<Fix>) -> Option<(u64, &'static str, Value)> {
+    pub fn take(&mut self, newest: Option<Fix>) -> Option<(u64, EventName, Value)> {
         let f = newest?;
         let at = f.at.as_micros();
         if self
@@ -88,22 +91,22 @@ fn address(a: Address) -> String {
 
 /// An engine event: its name and fields.
 #[must_use]
-pub fn engine_event(e: &Event) -> (&'static str, Value) {
+pub fn engine_event(e: &Event) -> (EventName, Value) {
     match *e {
-        Event::FcLinkUp => ("fc_link_up", json!({})),
-        Event::FcLinkDown => ("fc_link_down", json!({})),
-        Event::PodLinkUp => ("pod_link_up", json!({})),
-        Event::PodLinkDown => ("pod_link_down", json!({})),
+        Event::FcLinkUp => (EventName::FcLinkUp, json!({})),
+        Event::FcLinkDown => (EventName::FcLinkDown, json!({})),
+        Event::PodLinkUp => (EventName::PodLinkUp, json!({})),
+        Event::PodLinkDown => (EventName::PodLinkDown, json!({})),
         Event::UtcValid {
             error_bound_us,
             converged,
         } => (
-            "utc_valid",
+            EventName::UtcValid,
             json!({"error_bound_us": error_bound_us, "converged": converged}),
         ),
-        Event::UtcLost => ("utc_lost", json!({})),
+        Event::UtcLost => (EventName::UtcLost, json!({})),
         Event::TimeSource { telemetry } => (
-            "time_source",
+            EventName::TimeSource,
             json!({"source": if telemetry { "telemetry" } else { "fc" }}),
         ),
         Event::TimeSync {
@@ -111,93 +114,103 @@ pub fn engine_event(e: &Event) -> (&'static str, Value) {
             utc_ms,
             error_bound_us,
         } => (
-            "time_sync",
+            EventName::TimeSync,
             json!({"utc_ms": utc_ms, "edge_us": edge.as_micros(), "error_bound_us": error_bound_us}),
         ),
         Event::Geotag {
             time_of_day_ms,
             missed: None,
         } => (
-            "geotag",
+            EventName::Geotag,
             json!({"time_of_day_ms": time_of_day_ms, "answered": true}),
         ),
         Event::Geotag {
             time_of_day_ms,
             missed: Some(why),
         } => (
-            "geotag",
+            EventName::Geotag,
             json!({"time_of_day_ms": time_of_day_ms, "answered": false, "reason": why.name()}),
         ),
-        Event::Photo(p) => ("photo", serde_json::to_value(p).unwrap_or(Value::Null)),
+        Event::Photo(p) => (
+            EventName::Photo,
+            serde_json::to_value(p).unwrap_or(Value::Null),
+        ),
         Event::PpsLocked { first_edge } => (
-            "pps_locked",
+            EventName::PpsLocked,
             json!({"first_edge_us": first_edge.as_micros()}),
         ),
-        Event::PpsHoldover => ("pps_holdover", json!({})),
-        Event::PpsReleased => ("pps_released", json!({})),
+        Event::PpsHoldover => (EventName::PpsHoldover, json!({})),
+        Event::PpsReleased => (EventName::PpsReleased, json!({})),
         Event::Translated { fc_id, pod_base } => (
-            "translated",
+            EventName::Translated,
             json!({"fc_id": fc_id, "pod_id": format!("0x{pod_base:06x}")}),
         ),
         Event::PodRefused { base, code } => (
-            "pod_refused",
+            EventName::PodRefused,
             json!({"pod_id": format!("0x{base:06x}"), "code": serde_json::to_value(code).unwrap_or(Value::Null)}),
         ),
-        Event::PodTimeout { base } => ("pod_timeout", json!({"pod_id": format!("0x{base:06x}")})),
-        Event::FcSilenceStop => ("fc_silence_stop", json!({})),
+        Event::PodTimeout { base } => (
+            EventName::PodTimeout,
+            json!({"pod_id": format!("0x{base:06x}")}),
+        ),
+        Event::FcSilenceStop => (EventName::FcSilenceStop, json!({})),
         Event::NoTimeOrFixes { port } => (
-            "no_time_or_fixes",
+            EventName::NoTimeOrFixes,
             json!({"port": port_name(port),
                    "remedy": "the autopilot's link gives no time and no position (PX4 1.16 in mode Gimbal): set it to mode Normal (PX4 MAV_n_MODE 0) or connect the autopilot's telemetry link"}),
         ),
         Event::RateClamped { requested_cdeg_s } => (
-            "rate_clamped",
+            EventName::RateClamped,
             json!({"requested_cdeg_s": requested_cdeg_s}),
         ),
         Event::PodAddresses { gimbal, camera } => (
-            "pod_addresses",
+            EventName::PodAddresses,
             json!({"gimbal": address(gimbal), "camera": address(camera)}),
         ),
         Event::PodCoverage(c) => (
-            "pod_coverage",
+            EventName::PodCoverage,
             json!({"crc": match c {
                 CrcCoverage::IncludeStx => "include-stx",
                 CrcCoverage::ExcludeStx => "exclude-stx",
             }}),
         ),
         Event::DestructiveDenied { command } => (
-            "destructive_denied",
+            EventName::DestructiveDenied,
             json!({"command": command, "key": "mavlink.allow_destructive"}),
         ),
         Event::PodIp {
             address: [a, b, c, d],
-        } => ("pod_ip", json!({"address": format!("{a}.{b}.{c}.{d}")})),
-        Event::Declined { fc_id, reason } => {
-            ("declined", json!({"fc_id": fc_id, "reason": reason.name()}))
-        }
+        } => (
+            EventName::PodIp,
+            json!({"address": format!("{a}.{b}.{c}.{d}")}),
+        ),
+        Event::Declined { fc_id, reason } => (
+            EventName::Declined,
+            json!({"fc_id": fc_id, "reason": reason.name()}),
+        ),
         Event::Refused {
             port,
             reason,
             id,
             sender,
         } => (
-            "refused",
+            EventName::Refused,
             json!({"port": port_name(port), "reason": refusal_name(reason), "id": id, "sender": sender}),
         ),
         Event::SigningKeyChanged { port, on } => (
-            "signing_key_changed",
+            EventName::SigningKeyChanged,
             json!({"port": port_name(port), "on": on}),
         ),
         Event::OtherAutopilot { port, sysid } => (
-            "other_autopilot",
+            EventName::OtherAutopilot,
             json!({"port": port_name(port), "sysid": sysid}),
         ),
         Event::StoreRecord { key, problem } => (
-            "store_record",
+            EventName::StoreRecord,
             json!({"key": format!("0x{key:04x}"), "problem": problem.name()}),
         ),
         Event::Dropped { port, frames } => (
-            "dropped",
+            EventName::Dropped,
             json!({"port": port_name(port), "frames": frames}),
         ),
     }
@@ -223,22 +236,28 @@ pub fn loops(h: Heartbeat) -> Vec<&'static str> {
 
 /// A record of the bridge's tasks: its time (µs), name and fields.
 #[must_use]
-pub fn record_event(r: &LogRecord) -> (u64, &'static str, Value) {
+pub fn record_event(r: &LogRecord) -> (u64, EventName, Value) {
     let (name, fields) = match r.what {
         LogKind::Engine(e) => engine_event(&e),
-        LogKind::Pin(l) => ("rtc_io", json!({"level": level_name(l)})),
-        LogKind::PinError(l) => ("rtc_io_error", json!({"level": level_name(l)})),
+        LogKind::Pin(l) => (EventName::RtcIo, json!({"level": level_name(l)})),
+        LogKind::PinError(l) => (EventName::RtcIoError, json!({"level": level_name(l)})),
         LogKind::EdgeToFrame { delay, len } => (
-            "edge_to_frame",
+            EventName::EdgeToFrame,
             json!({"delay_us": delay.as_micros(), "len": len}),
         ),
-        LogKind::ReadError(p) => ("read_error", json!({"port": port_name(p)})),
-        LogKind::WriteError(p) => ("write_error", json!({"port": port_name(p)})),
-        LogKind::Stalled(h) => ("stalled", json!({"loops": loops(h)})),
-        LogKind::StoreError(key) => ("store_error", json!({"key": format!("0x{key:04x}")})),
+        LogKind::ReadError(p) => (EventName::ReadError, json!({"port": port_name(p)})),
+        LogKind::WriteError(p) => (EventName::WriteError, json!({"port": port_name(p)})),
+        LogKind::Stalled(h) => (EventName::Stalled, json!({"loops": loops(h)})),
+        LogKind::StoreError(key) => (
+            EventName::StoreError,
+            json!({"key": format!("0x{key:04x}")}),
+        ),
         // The update port is the board's (the Linux bridge has none), so a host log
         // only shows these in a test; their fields are serde's.
-        LogKind::Update(u) => ("update", serde_json::to_value(u).unwrap_or(Value::Null)),
+        LogKind::Update(u) => (
+            EventName::Update,
+            serde_json::to_value(u).unwrap_or(Value::Null),
+        ),
     };
     (r.at.as_micros(), name, fields)
 }
@@ -255,7 +274,7 @@ mod tests {
     use bridge_engine::{Duration, GeotagMiss, Instant};
     use protocol_core::k40t::AckCode;
 
-    fn ev(what: LogKind) -> (u64, &'static str, Value) {
+    fn ev(what: LogKind) -> (u64, EventName, Value) {
         record_event(&LogRecord {
             at: Instant::from_micros(42),
             what,
@@ -266,11 +285,11 @@ mod tests {
     fn the_required_events_have_their_fields() {
         assert_eq!(
             ev(LogKind::Pin(Level::High)),
-            (42, "rtc_io", json!({"level": "high"}))
+            (42, EventName::RtcIo, json!({"level": "high"}))
         );
         assert_eq!(
             ev(LogKind::Pin(Level::Low)),
-            (42, "rtc_io", json!({"level": "low"}))
+            (42, EventName::RtcIo, json!({"level": "low"}))
         );
         assert_eq!(
             ev(LogKind::Engine(Event::TimeSync {
@@ -280,7 +299,7 @@ mod tests {
             })),
             (
                 42,
-                "time_sync",
+                EventName::TimeSync,
                 json!({"utc_ms": 1_795_428_040_000u64, "edge_us": 40, "error_bound_us": 1_250})
             )
         );
@@ -291,7 +310,7 @@ mod tests {
             })),
             (
                 42,
-                "utc_valid",
+                EventName::UtcValid,
                 json!({"error_bound_us": 2_100, "converged": false})
             )
         );
@@ -302,7 +321,7 @@ mod tests {
             })),
             (
                 42,
-                "geotag",
+                EventName::Geotag,
                 json!({"time_of_day_ms": 36_000_000, "answered": true})
             )
         );
@@ -313,17 +332,17 @@ mod tests {
             })),
             (
                 42,
-                "geotag",
+                EventName::Geotag,
                 json!({"time_of_day_ms": 36_000_000, "answered": false, "reason": "out_of_range"})
             )
         );
         for (e, name) in [
-            (Event::FcLinkUp, "fc_link_up"),
-            (Event::FcLinkDown, "fc_link_down"),
-            (Event::PodLinkUp, "pod_link_up"),
-            (Event::PodLinkDown, "pod_link_down"),
-            (Event::UtcLost, "utc_lost"),
-            (Event::FcSilenceStop, "fc_silence_stop"),
+            (Event::FcLinkUp, EventName::FcLinkUp),
+            (Event::FcLinkDown, EventName::FcLinkDown),
+            (Event::PodLinkUp, EventName::PodLinkUp),
+            (Event::PodLinkDown, EventName::PodLinkDown),
+            (Event::UtcLost, EventName::UtcLost),
+            (Event::FcSilenceStop, EventName::FcSilenceStop),
         ] {
             assert_eq!(ev(LogKind::Engine(e)), (42, name, json!({})));
         }
@@ -349,7 +368,7 @@ mod tests {
             first,
             Some((
                 2_000_000,
-                "fix",
+                EventName::Fix,
                 json!({"lat_e7": 473_977_419, "lon_e7": 85_455_938, "alt_msl_dm": 4_880,
                        "rel_alt_dm": 500, "yaw_cdeg": 1_250})
             ))
@@ -388,7 +407,7 @@ mod tests {
             base: 0x302,
             code: AckCode::Failure,
         }));
-        assert_eq!(name, "pod_refused");
+        assert_eq!(name, EventName::PodRefused);
         assert_eq!(f["pod_id"], "0x000302");
         assert_eq!(f["code"]["name"], "Failure");
         assert_eq!(
@@ -404,7 +423,7 @@ mod tests {
                 port: Port::Fc,
                 frames: 2
             })),
-            (42, "dropped", json!({"port": "fc", "frames": 2}))
+            (42, EventName::Dropped, json!({"port": "fc", "frames": 2}))
         );
         let c = counters(&Counters {
             time_syncs: 3,

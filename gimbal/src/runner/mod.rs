@@ -5,6 +5,7 @@
 
 pub mod bench_log;
 pub mod bridge;
+pub mod event_name;
 pub mod events;
 pub mod options;
 pub mod output;

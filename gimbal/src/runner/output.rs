@@ -11,6 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use serde_json::{Map, Value};
 
+use crate::runner::event_name::EventName;
 use crate::runner::options::EventFormat;
 
 /// The local monotonic clock, µs: embassy-time's on this thread (real time outside a
@@ -23,10 +24,10 @@ pub fn now_us() -> u64 {
 /// An event object: `t_us`, `event`, then the fields of `fields` (an object; anything
 /// else is put under `"value"`).
 #[must_use]
-pub fn event_object(t_us: u64, event: &str, fields: Value) -> Map<String, Value> {
+pub fn event_object(t_us: u64, event: EventName, fields: Value) -> Map<String, Value> {
     let mut m = Map::new();
     m.insert("t_us".into(), Value::from(t_us));
-    m.insert("event".into(), Value::from(event));
+    m.insert("event".into(), Value::from(event.as_str()));
     match fields {
         Value::Object(f) => {
             for (k, v) in f {
@@ -164,12 +165,12 @@ impl Output {
     }
 
     /// Prints an event stamped now.
-    pub fn emit(&self, event: &str, fields: Value) {
+    pub fn emit(&self, event: EventName, fields: Value) {
         self.emit_at(now_us(), event, fields);
     }
 
     /// Prints an event stamped `t_us`.
-    pub fn emit_at(&self, t_us: u64, event: &str, fields: Value) {
+    pub fn emit_at(&self, t_us: u64, event: EventName, fields: Value) {
         self.write(event_object(t_us, event, fields));
     }
 
@@ -252,11 +253,11 @@ mod tests {
 
     #[test]
     fn objects_start_with_time_and_name() {
-        let o = event_object(12, "time_sync", json!({"utc_ms": 5, "event": "x"}));
+        let o = event_object(12, EventName::TimeSync, json!({"utc_ms": 5, "event": "x"}));
         let keys: Vec<&str> = o.keys().map(String::as_str).collect();
         assert_eq!(keys, ["t_us", "event", "utc_ms"]);
         assert_eq!(o["event"], "time_sync");
-        let o = event_object(1, "x", json!(3));
+        let o = event_object(1, EventName::Counters, json!(3));
         assert_eq!(o["value"], 3);
     }
 
@@ -264,7 +265,7 @@ mod tests {
     fn human_lines() {
         let o = event_object(
             12_345_678,
-            "time_sync",
+            EventName::TimeSync,
             json!({"utc_ms": 1_795_428_040_000u64, "edge_us": 3}),
         );
         assert_eq!(
@@ -273,7 +274,7 @@ mod tests {
         );
         let o = event_object(
             0,
-            "pod_refused",
+            EventName::PodRefused,
             json!({"base": 16, "code": {"name": "Busy", "code": 2}, "port": "pod"}),
         );
         assert_eq!(

@@ -30,6 +30,7 @@ use std::time::Duration;
 use bridge_fw::host::{self, HostPipe};
 use serde_json::{Value, json};
 
+use super::event_name::EventName;
 use super::output::Output;
 use super::udp::Datagrams;
 use crate::sim::faults::{FaultStage, FaultStats, Faults};
@@ -421,7 +422,7 @@ impl Connector {
             PortSpec::Serial { path, .. } => {
                 let conn = open_serial(path, baud).map_err(|e| format!("{label} port {e}"))?;
                 out.emit(
-                    "port_opened",
+                    EventName::PortOpened,
                     json!({"port": label, "device": path, "baud": baud}),
                 );
                 Ok((
@@ -448,7 +449,10 @@ impl Connector {
                 let address = listener
                     .local_addr()
                     .map_or_else(|_| format!("{host}:{port}"), |a| a.to_string());
-                out.emit("port_listening", json!({"port": label, "address": address}));
+                out.emit(
+                    EventName::PortListening,
+                    json!({"port": label, "address": address}),
+                );
                 Ok((Connector::Listen(listener), None))
             }
             PortSpec::Udp { host, port } => {
@@ -471,13 +475,13 @@ impl Connector {
             let result = match self {
                 Connector::Serial { path, baud } => open_serial(path, *baud).inspect(|_| {
                     out.emit(
-                        "port_opened",
+                        EventName::PortOpened,
                         json!({"port": label, "device": path, "baud": baud}),
                     );
                 }),
                 Connector::Tcp { host, port } => connect_tcp(host, *port).map(|(c, a)| {
                     out.emit(
-                        "port_connected",
+                        EventName::PortConnected,
                         json!({"port": label, "peer": a.to_string()}),
                     );
                     c
@@ -487,7 +491,7 @@ impl Connector {
                     .map(|(s, a)| {
                         let _ = s.set_nodelay(true);
                         out.emit(
-                            "port_connected",
+                            EventName::PortConnected,
                             json!({"port": label, "peer": a.to_string()}),
                         );
                         Conn::Tcp(s)
@@ -503,7 +507,7 @@ impl Connector {
                 Err(e) => {
                     let wait = backoff.next_delay();
                     out.emit(
-                        "port_error",
+                        EventName::PortError,
                         json!({"port": label, "error": e, "retry_ms": wait.as_millis()}),
                     );
                     std::thread::sleep(wait);
@@ -631,7 +635,7 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                         }
                         Err(e) => {
                             out.emit(
-                                "port_closed",
+                                EventName::PortClosed,
                                 json!({"port": label, "reason": e.to_string()}),
                             );
                             std::thread::sleep(backoff.next_delay());
@@ -660,7 +664,10 @@ pub fn start(p: Pump) -> Result<PortHandle, String> {
                         *g = None;
                     }
                     conn.shutdown();
-                    out.emit("port_closed", json!({"port": label, "reason": reason}));
+                    out.emit(
+                        EventName::PortClosed,
+                        json!({"port": label, "reason": reason}),
+                    );
                     if serial {
                         std::thread::sleep(backoff.next_delay());
                     }

@@ -29,6 +29,7 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
 use serde_json::json;
 
+use super::event_name::EventName;
 use super::output::Output;
 use super::pin::GpioSpec;
 use super::port::PortSpec;
@@ -228,7 +229,7 @@ pub fn start(
                         }
                         Err(e) => {
                             out.emit(
-                                "pps_error",
+                                EventName::PpsError,
                                 json!({"source": "gpio", "error": e.to_string()}),
                             );
                             std::thread::sleep(StdDuration::from_secs(1));
@@ -259,7 +260,10 @@ pub fn start(
                         }
                         Err(e) if e.raw_os_error() == Some(libc_etimedout()) => {}
                         Err(e) => {
-                            out.emit("pps_error", json!({"source": path, "error": e.to_string()}));
+                            out.emit(
+                                EventName::PpsError,
+                                json!({"source": path, "error": e.to_string()}),
+                            );
                             std::thread::sleep(StdDuration::from_secs(1));
                         }
                     }

@@ -11,6 +11,7 @@ use embassy_futures::select::{Either, Either3, select, select3};
 use serde_json::{Value, json};
 
 use super::bridge::{Ended, until_stopped};
+use super::event_name::EventName;
 use super::output::{Output, now_us};
 use super::port::{self, CableFaults, PortSpec, Pump, link_baud};
 use super::simfc::{AnyFc, system_utc_us};
@@ -63,7 +64,7 @@ fn finish(
     let ended = ended.map_err(|e| format!("the simulator stopped: {e:?}"))?;
     summary["reason"] = json!(ended.name());
     summary["seconds"] = json!((now_us() - start_us) as f64 / 1e6);
-    out.emit("summary", summary.clone());
+    out.emit(EventName::Summary, summary.clone());
     Ok(summary)
 }
 
@@ -158,7 +159,7 @@ pub fn run_fc(args: &SimFcArgs, out: &Output, stop: &AtomicBool) -> Result<(Valu
         None => None,
     };
     out.emit(
-        "sim_fc_started",
+        EventName::SimFcStarted,
         json!({"fc": args.fc.name(), "port": args.port.to_string(), "baud": baud,
                "faults": args.faults.map(|f| f.to_string()),
                "autopilot": (args.fc == Fc::Mavlink)
@@ -171,7 +172,7 @@ pub fn run_fc(args: &SimFcArgs, out: &Output, stop: &AtomicBool) -> Result<(Valu
             .borrow_mut()
             .set_rates(args.yaw_rate.unwrap_or(0.0), args.pitch_rate.unwrap_or(0.0));
         out.emit(
-            "sim_fc_rates",
+            EventName::SimFcRates,
             json!({"yaw_dps": args.yaw_rate, "pitch_dps": args.pitch_rate, "sent": turned}),
         );
     }
@@ -241,7 +242,7 @@ pub fn run_pod(
         ..PodSimConfig::default()
     }));
     out.emit(
-        "sim_pod_started",
+        EventName::SimPodStarted,
         json!({"port": args.port.to_string(), "baud": baud,
                "rtc_io": args.rtc_io.as_ref().map(ToString::to_string),
                "ack_seq": format!("{:?}", args.ack_seq).to_lowercase(),
@@ -269,7 +270,7 @@ pub fn run_pod(
                     if let Some(high) = level {
                         pod.borrow_mut().rtc_edge(now_us(), high);
                         out.emit(
-                            "sim_pod_rtc_io",
+                            EventName::SimPodRtcIo,
                             json!({"level": if high { "high" } else { "low" }}),
                         );
                     }

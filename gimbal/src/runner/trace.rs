@@ -5,6 +5,7 @@ use std::sync::{Arc, Mutex};
 
 use serde_json::{Map, Value, json};
 
+use super::event_name::EventName;
 use super::output::Output;
 use super::port::Tap;
 use crate::tool::{self, Item};
@@ -112,7 +113,7 @@ pub fn tap(out: &Output, protocol: &'static str, port: &'static str, dir: &'stat
             if out.is_json() {
                 fields.remove("text");
             }
-            out.emit("frame", Value::Object(fields));
+            out.emit(EventName::Frame, Value::Object(fields));
         }
     })
 }

@@ -24,6 +24,7 @@ use std::time::Duration;
 
 use serde_json::json;
 
+use super::event_name::EventName;
 use super::output::Output;
 
 /// How often `udp:HOST:PORT` knocks until it hears someone.
@@ -66,7 +67,7 @@ impl Datagrams {
         };
         let socket = UdpSocket::bind(local).map_err(|e| format!("{label} port: udp: {e}"))?;
         out.emit(
-            "port_opened",
+            EventName::PortOpened,
             json!({"port": label, "udp": socket.local_addr().map(|a| a.to_string()).ok(), "peer": to.to_string()}),
         );
         let d = Self::with(socket, Some(to), label, out);
@@ -106,7 +107,7 @@ impl Datagrams {
             .local_addr()
             .map_or_else(|_| format!("{host}:{port}"), |a| a.to_string());
         out.emit(
-            "port_listening",
+            EventName::PortListening,
             json!({"port": label, "address": address, "udp": true}),
         );
         Ok(Self::with(socket, None, label, out))
@@ -167,7 +168,7 @@ impl io::Read for Datagrams {
                 .is_ok_and(|mut p| p.replace(from) != Some(from));
             if changed {
                 self.out.emit(
-                    "port_peer",
+                    EventName::PortPeer,
                     json!({"port": self.label, "peer": from.to_string()}),
                 );
             }

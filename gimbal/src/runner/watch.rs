@@ -4,6 +4,7 @@
 use protocol_core::k40t::AckCode;
 use serde_json::{Value, json};
 
+use super::event_name::EventName;
 use super::output::Output;
 use super::simfc::AnyFc;
 use crate::sim::pod::{GpsReplyRecord, PhotoRecord, SimPod, SyncOutcome, SyncRecord};
@@ -56,7 +57,7 @@ impl FcWatcher {
         if h != self.healthy {
             self.healthy = h;
             self.became_healthy += u32::from(h);
-            out.emit("sim_fc_health", json!({"healthy": h}));
+            out.emit(EventName::SimFcHealth, json!({"healthy": h}));
         }
     }
 
@@ -64,7 +65,7 @@ impl FcWatcher {
     pub fn photo(&mut self, fc: &mut AnyFc, out: &Output) {
         let taken = fc.take_picture();
         self.photos += u32::from(taken);
-        out.emit("sim_fc_photo", json!({"sent": taken}));
+        out.emit(EventName::SimFcPhoto, json!({"sent": taken}));
     }
 
     /// The summary fields.
@@ -90,15 +91,15 @@ impl PodWatcher {
     /// Prints what is new.
     pub fn check(&mut self, pod: &SimPod, out: &Output) {
         for s in pod.syncs().get(self.syncs..).unwrap_or_default() {
-            out.emit("sim_pod_sync", pod_sync_fields(s));
+            out.emit(EventName::SimPodSync, pod_sync_fields(s));
         }
         self.syncs = pod.syncs().len();
         for p in pod.photos().get(self.photos..).unwrap_or_default() {
-            out.emit("sim_pod_photo", pod_photo_fields(p));
+            out.emit(EventName::SimPodPhoto, pod_photo_fields(p));
         }
         self.photos = pod.photos().len();
         for r in pod.gps_replies().get(self.replies..).unwrap_or_default() {
-            out.emit("sim_pod_gps_reply", pod_gps_reply_fields(r));
+            out.emit(EventName::SimPodGpsReply, pod_gps_reply_fields(r));
         }
         self.replies = pod.gps_replies().len();
     }
