@@ -205,6 +205,11 @@ fn crc_extra_table_matches_the_spec() {
     }
     assert_eq!(message_info(1), None);
     assert_eq!(message_info(300), None);
+    // The catalogue is every id the dialect knows, none left out (AUTOPILOT_VERSION was).
+    let known: Vec<u32> = (0..=0xFF_FFFF)
+        .filter(|&id| message_info(id).is_some())
+        .collect();
+    assert_eq!(known, CATALOG);
 }
 
 #[test]

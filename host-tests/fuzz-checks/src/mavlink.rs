@@ -18,7 +18,7 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 37] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 38] = [
     (0, 50),
     (2, 137),
     (24, 24),
@@ -32,6 +32,7 @@ pub const SPEC_CRC_EXTRA: [(u32, u8); 37] = [
     (111, 34),
     (112, 174),
     (132, 85),
+    (148, 178),
     (244, 95),
     (253, 83),
     (256, 71),
