@@ -273,12 +273,7 @@ fn build_info(manifest: &Path) -> (String, String) {
          pub const BUILD: BuildInfo = BuildInfo {{ version: Version {{ major: {}, minor: {}, \
          patch: {}, pre_release: {} }}, semver: {semver:?}, commit: {:?}, dirty: {dirty}, \
          flavour: {flavour:?}, features: {:?} }};\n",
-        v.major,
-        v.minor,
-        v.patch,
-        v.pre_release,
-        commit_text,
-        features,
+        v.major, v.minor, v.patch, v.pre_release, commit_text, features,
     );
     (code, line)
 }
