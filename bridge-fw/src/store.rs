@@ -20,6 +20,7 @@
 //! every 7 hours of signing.
 
 use core::future::Future;
+use core::sync::atomic::Ordering;
 
 use bridge_engine::store::{Key, MAX_VALUE, Problem};
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -146,10 +147,19 @@ pub async fn store_task<M: RawMutex, E: BridgeEngine>(
 ) -> ! {
     loop {
         shared.wake_store.wait().await;
-        while let Some(record) = shared.with(BridgeEngine::take_record) {
+        loop {
+            // Marked busy in the same lock that takes the record: a restart waits for
+            // the write it started (`records_due` no longer shows the record).
+            let taken = shared.with(|e| {
+                let r = e.take_record();
+                shared.store_busy.store(r.is_some(), Ordering::Release);
+                r
+            });
+            let Some(record) = taken else { break };
             if store.save(record.key.0, record.value()).await.is_err() {
                 shared.record(crate::now(), LogKind::StoreError(record.key.0));
             }
         }
+        shared.store_busy.store(false, Ordering::Release);
     }
 }
