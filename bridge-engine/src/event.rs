@@ -368,8 +368,13 @@ protocol_core::wire_derive! {
         pub fc_rejected: u32,
         /// Valid FC frames the engine could not use (undecodable, wrong direction).
         pub fc_ignored: u32,
-        /// Bytes from the FC outside any valid frame.
+        /// Bytes from the FC outside any frame (valid, or skipped whole).
         pub fc_garbage_bytes: u32,
+        /// Well-framed FC frames of a kind the FC side does not read, skipped whole:
+        /// MAVLink 2 frames of message ids outside the dialect (their checksum cannot be
+        /// checked without the message's CRC_EXTRA: an autopilot's ordinary messages) and
+        /// MAVLink 1 frames. Neither rejected nor garbage.
+        pub fc_unknown_frames: u32,
         /// Frames queued for the FC.
         pub fc_sent: u32,
         /// Valid frames from the pod.

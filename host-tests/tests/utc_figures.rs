@@ -11,7 +11,10 @@
 //!
 //! Required (issue "Sub-millisecond UTC"): with MAVLink time (the MAVLink side, or a
 //! telemetry link) p99 < 1 ms and max < 2 ms in steady state, the first sync within
-//! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms.
+//! 12 s of the autopilot's first valid SYSTEM_TIME with an error under 5 ms; with PX4
+//! SITL in lockstep (issue 33) within 5 ms of PX4's UTC. Each row's bounds are those or
+//! about three times what the row measured, whichever is tighter (measured and bound side
+//! by side at each row).
 
 use bridge_engine::Config;
 use gimbal::sim::Autopilot;
@@ -102,6 +105,7 @@ fn report(label: &str, flights: &[Flight], p99_max_us: i64, max_us: i64, first_m
     assert!(s.p99 < p99_max_us, "{label}: p99 {} µs", s.p99);
     assert!(s.max < max_us, "{label}: max {} µs", s.max);
     for f in flights {
+        // Measured 8.9 s at most (the 10 s grid's phase); required 12 s.
         assert!(
             f.first_delay_us <= 12 * S,
             "{label}: first sync after {f:?}"
@@ -138,30 +142,56 @@ fn mavlink_side_with_ardupilot() {
             flight(&out)
         })
         .collect();
-    report("mavlink (ArduPilot)", &flights, 1_000, 2_000, 5_000);
+    // Measured p99 280 µs, max 340 µs, first |error| 554 µs; bounds 840, 1 020, 1 700.
+    report("mavlink (ArduPilot)", &flights, 840, 1_020, 1_700);
+}
+
+/// The flights of a PX4 on the MAVLink side, each configured by `config` from the
+/// flight's (seed, FC ppm, UTC phase, UTC valid at).
+fn px4_flights(config: impl Fn(u64, f64, u64, u64) -> Px4Config) -> Vec<Flight> {
+    FLIGHTS
+        .iter()
+        .map(|&(seed, ppm, phase, valid)| {
+            let px4 = Px4::new(config(seed, ppm, utc_at_zero(phase), valid));
+            let pod = SimPod::new(PodSimConfig::default());
+            let bench = Bench::<Px4, ApMavlink>::of(Config::for_fc(Px4::PROTOCOL), px4, pod, None);
+            flight(&bench.run(FLIGHT, S, |_, _| {}))
+        })
+        .collect()
 }
 
 #[test]
 fn mavlink_side_with_px4() {
-    let flights: Vec<Flight> = FLIGHTS
-        .iter()
-        .map(|&(seed, ppm, phase, valid)| {
-            let px4 = Px4::new(Px4Config {
-                seed,
-                ppm,
-                jitter_us: 10_000,
-                mode: Px4Mode::Normal,
-                utc_at_zero_us: utc_at_zero(phase),
-                utc_valid_at_us: valid,
-                ..Px4Config::default()
-            });
-            let config = Config::for_fc(Px4::PROTOCOL);
-            let pod = SimPod::new(PodSimConfig::default());
-            let bench = Bench::<Px4, ApMavlink>::of(config, px4, pod, None);
-            flight(&bench.run(FLIGHT, S, |_, _| {}))
-        })
-        .collect();
-    report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 5_000);
+    let flights = px4_flights(|seed, ppm, utc_at_zero_us, utc_valid_at_us| Px4Config {
+        seed,
+        ppm,
+        jitter_us: 10_000,
+        mode: Px4Mode::Normal,
+        utc_at_zero_us,
+        utc_valid_at_us,
+        ..Px4Config::default()
+    });
+    // Measured p99 820 µs, max 830 µs, first |error| 451 µs; bounds 1 000 (required),
+    // 2 000 (required), 1 360.
+    report("mavlink (PX4, mode Normal)", &flights, 1_000, 2_000, 1_360);
+}
+
+/// PX4 SITL in lockstep (its clocks as a real one's capture shows them: boot clock in
+/// 4 ms steps, 0.87 % slow against its UTC, the host's, wandering by tens of ms) on the
+/// MAVLink side through a serial line: SYSTEM_TIME's UTC alone gives the time (the boot
+/// clock is apart from UTC), timed by its arrival less its serial time. The error is
+/// against PX4's UTC (the host's clock).
+#[test]
+fn mavlink_side_with_px4_sitl_in_lockstep() {
+    let flights = px4_flights(|seed, _, utc_at_zero_us, utc_valid_at_us| Px4Config {
+        seed,
+        utc_at_zero_us,
+        utc_valid_at_us,
+        ..Px4Config::sitl_lockstep()
+    });
+    // Measured p99 22 µs, max 31 µs, first |error| 18 µs; bounds 66, 93, 54 (the
+    // requirement: 5 ms).
+    report("mavlink (PX4 SITL in lockstep)", &flights, 66, 93, 54);
 }
 
 /// The flights of ArduPilot with its SIYI, Viewpro or XFRobot mount driver, with the same
@@ -225,19 +255,22 @@ fn xfrobot(seed: u64, ppm: f64, phase: u64, valid: u64) -> ApXfRobot {
 #[test]
 fn siyi_with_telemetry() {
     let f = legacy(siyi, true);
-    report("SIYI + telemetry", &f, 1_000, 2_000, 5_000);
+    // Measured p99 280 µs, max 380 µs, first |error| 665 µs; bounds 840, 1 140, 2 000.
+    report("SIYI + telemetry", &f, 840, 1_140, 2_000);
 }
 
 #[test]
 fn viewlink_with_telemetry() {
     let f = legacy(viewpro, true);
-    report("Viewlink + telemetry", &f, 1_000, 2_000, 5_000);
+    // Measured p99 280 µs, max 380 µs, first |error| 665 µs; bounds 840, 1 140, 2 000.
+    report("Viewlink + telemetry", &f, 840, 1_140, 2_000);
 }
 
 #[test]
 fn gcu_with_telemetry() {
     let f = legacy(xfrobot, true);
-    report("GCU + telemetry", &f, 1_000, 2_000, 5_000);
+    // Measured p99 280 µs, max 380 µs, first |error| 665 µs; bounds 840, 1 140, 2 000.
+    report("GCU + telemetry", &f, 840, 1_140, 2_000);
 }
 
 // Without the telemetry link: the legacy protocols' own time, as before (the bounds of
@@ -246,17 +279,20 @@ fn gcu_with_telemetry() {
 #[test]
 fn siyi_alone() {
     let f = legacy(siyi, false);
-    report("SIYI alone", &f, 8_000, 10_000, 10_000);
+    // Measured p99 2.68 ms, max 2.69 ms, first |error| 2.55 ms; bounds 8.0, 8.07, 7.65.
+    report("SIYI alone", &f, 8_000, 8_070, 7_650);
 }
 
 #[test]
 fn viewlink_alone() {
     let f = legacy(viewpro, false);
+    // Measured p99 4.92 ms, max 4.92 ms, first |error| 3.78 ms; bounds 8, 10, 10.
     report("Viewlink alone", &f, 8_000, 10_000, 10_000);
 }
 
 #[test]
 fn gcu_alone() {
     let f = legacy(xfrobot, false);
+    // Measured p99 11.37 ms, max 12.09 ms, first |error| 7.71 ms; bounds 15, 20, 15.
     report("GCU alone", &f, 15_000, 20_000, 15_000);
 }

@@ -27,11 +27,42 @@ const SHIFT_ANCHOR_BINS: u8 = 4;
 /// Samples above the band in a row that make a step.
 const SHIFT_STEP_CONFIRM: u8 = 3;
 /// Rate of `C` against the FC clock believed possible before the line has a rate, ppm:
-/// the clock of a simulator in lockstep (PX4 SITL's runs about 1.2 % slow against its
+/// the clock of a simulator in lockstep (PX4 SITL's runs 0.87 % slow against its
 /// UTC, the host's) with a wide margin.
 const SHIFT_MAX_RATE_PPM: i64 = 50_000;
 /// The truncation of `time_boot_ms`: `d` lies up to this above the line, µs.
 const SHIFT_TRUNCATION: i64 = 1_000;
+/// FC time over which `d` must stay within [`SHIFT_IN_STEP_BAND`] for UTC to be in step
+/// with the boot clock, µs: a drift of 1.5 ms a second (0.15 %) shows within it (PX4
+/// SITL's shift grew by 5.7 ms in its slowest second of the capture).
+const SHIFT_JUDGE_US: i64 = 1_000_000;
+/// How far `d` may spread while UTC is judged in step: the truncation, and 0.5 ms for the
+/// two reads of the FC's clocks (`time_unix_usec` and `time_boot_ms` are read one after
+/// the other), µs.
+const SHIFT_IN_STEP_BAND: i64 = SHIFT_TRUNCATION + 500;
+/// Samples leaving [`SHIFT_IN_STEP_BAND`] in one direction, one after the other within
+/// [`SHIFT_DRIFT_US`] of FC time, that make a drift ([`Pace::Apart`]): `d` moved by 4.5
+/// ms at least in 3 s (1 500 ppm at least, five times a crystal's largest). A step of
+/// the FC's UTC leaves the band once; PX4 SITL's shift (5.7 to 15 ms a second) leaves it
+/// every 0.1 to 0.3 s.
+const SHIFT_DRIFT_BREAKS: u8 = 4;
+const SHIFT_DRIFT_US: i64 = 3_000_000;
+
+/// What a flight controller's SYSTEM_TIMEs say of its UTC against its boot clock.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Pace {
+    /// Not known yet: the shift has not been watched for [`SHIFT_JUDGE_US`].
+    Unknown,
+    /// In step: `d` stayed within [`SHIFT_IN_STEP_BAND`] for [`SHIFT_JUDGE_US`] (a real
+    /// flight controller: its UTC is its boot clock plus a shift, or follows GPS at a
+    /// crystal's ppm).
+    InStep,
+    /// Apart: `d` drifts at a rate no crystal has, [`SHIFT_DRIFT_BREAKS`] times out of its
+    /// band in one direction within [`SHIFT_DRIFT_US`] (a simulator in lockstep: PX4
+    /// SITL's boot clock is the simulation's, its UTC the host's). For good (until the
+    /// discipline restarts).
+    Apart,
+}
 
 /// `C` = UTC − FC clock, **a line of the FC clock** `C(b)`, from samples `d = utc −
 /// fc_ms·1000` read from one clock in one call (MAVLink SYSTEM_TIME): `d ∈ [C(b), C(b) +
@@ -53,6 +84,9 @@ const SHIFT_TRUNCATION: i64 = 1_000;
 /// sample below that band, or [`SHIFT_STEP_CONFIRM`] in a row above it, are a step of the
 /// FC's UTC: the line restarts from them; the first contradicting sample makes it suspect
 /// (no UTC) until the step is confirmed or a consistent sample comes.
+///
+/// It also judges the [`Pace`] of the FC's UTC against its boot clock, which a step does
+/// not change.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct Shift {
     /// Bin minima `(b, d)`, oldest first from `start` (a ring of `len`).
@@ -65,6 +99,17 @@ pub(super) struct Shift {
     above: u8,
     above_min: Point,
     pub(super) suspect: bool,
+    pace: Pace,
+    /// The samples watched for [`Pace::InStep`]: the first's FC time, the least and the
+    /// greatest `d` since.
+    watched_from: Option<i64>,
+    watched_lo: i64,
+    watched_hi: i64,
+    /// The samples that left the band in a row in one direction (up: 1, down: −1), and
+    /// the FC time of the first.
+    drift_dir: i8,
+    drift_breaks: u8,
+    drift_from: i64,
 }
 
 impl Shift {
@@ -77,6 +122,70 @@ impl Shift {
             above: 0,
             above_min: Point { x: 0, y: i64::MAX },
             suspect: false,
+            pace: Pace::Unknown,
+            watched_from: None,
+            watched_lo: 0,
+            watched_hi: 0,
+            drift_dir: 0,
+            drift_breaks: 0,
+            drift_from: 0,
+        }
+    }
+
+    /// What the samples say of the FC's UTC against its boot clock.
+    pub(super) const fn pace(&self) -> Pace {
+        self.pace
+    }
+
+    /// The line restarts from `p` (a step of the FC's UTC): the pace stays as judged.
+    fn restart(&mut self, p: Point) {
+        let kept = Shift {
+            pace: self.pace,
+            watched_from: self.watched_from,
+            watched_lo: self.watched_lo,
+            watched_hi: self.watched_hi,
+            drift_dir: self.drift_dir,
+            drift_breaks: self.drift_breaks,
+            drift_from: self.drift_from,
+            ..Shift::new()
+        };
+        *self = kept;
+        self.put(p);
+    }
+
+    /// Judges the pace with sample `p`.
+    fn judge(&mut self, p: Point) {
+        if self.pace == Pace::Apart {
+            return;
+        }
+        // In step: `d` within its band for long enough; watching starts again from any
+        // sample that leaves it (a step, or a drift).
+        let (lo, hi) = (self.watched_lo.min(p.y), self.watched_hi.max(p.y));
+        match self.watched_from {
+            Some(from) if hi.saturating_sub(lo) <= SHIFT_IN_STEP_BAND => {
+                (self.watched_lo, self.watched_hi) = (lo, hi);
+                if p.x.saturating_sub(from) >= SHIFT_JUDGE_US {
+                    self.pace = Pace::InStep;
+                }
+                return;
+            }
+            Some(_) => self.left_band(p),
+            None => {}
+        }
+        (self.watched_from, self.watched_lo, self.watched_hi) = (Some(p.x), p.y, p.y);
+    }
+
+    /// Sample `p` left the band: a drift when it is the latest of
+    /// [`SHIFT_DRIFT_BREAKS`] in one direction within [`SHIFT_DRIFT_US`].
+    fn left_band(&mut self, p: Point) {
+        let dir = if p.y > self.watched_hi { 1 } else { -1 };
+        if dir == self.drift_dir && p.x.saturating_sub(self.drift_from) <= SHIFT_DRIFT_US {
+            self.drift_breaks = self.drift_breaks.saturating_add(1);
+        } else {
+            (self.drift_dir, self.drift_breaks, self.drift_from) = (dir, 1, p.x);
+        }
+        if self.drift_breaks >= SHIFT_DRIFT_BREAKS {
+            self.pace = Pace::Apart;
         }
     }
 
@@ -211,8 +320,14 @@ impl Shift {
     }
 
     /// Takes `d` at FC clock `b`; returns whether it was on the line, an outlier or a
-    /// step (the line restarted).
+    /// step (the line restarted). Judges the [`Pace`].
     pub(super) fn push(&mut self, b: i64, d: i64, tolerance: i64) -> Fed {
+        let fed = self.take(b, d, tolerance);
+        self.judge(Point { x: b, y: d });
+        fed
+    }
+
+    fn take(&mut self, b: i64, d: i64, tolerance: i64) -> Fed {
         let p = Point { x: b, y: d };
         let Some(r) = self.residual(p) else {
             self.put(p);
@@ -231,8 +346,7 @@ impl Shift {
             }
             if below || self.above >= SHIFT_STEP_CONFIRM {
                 let start = if below { p } else { self.above_min };
-                *self = Shift::new();
-                self.put(start);
+                self.restart(start);
                 return Fed::Step;
             }
             return Fed::Outlier;

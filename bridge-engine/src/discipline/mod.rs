@@ -58,6 +58,11 @@
 //!   the maximum over such samples is a lower bound; pairs below that bound (minus
 //!   [`DisciplineConfig::pair_tolerance`]) are rejected as inconsistent. Without any
 //!   pair, `C` is that lower bound.
+//! - MAVLink: TIMESYNC feeds the FC-clock estimator, SYSTEM_TIME the offset `C` as a line
+//!   of the FC clock ([`TimeDiscipline::system_time`]), used once SYSTEM_TIME shows UTC in
+//!   step with the FC clock; a simulator whose UTC runs apart from its boot clock (PX4
+//!   SITL in lockstep) has its SYSTEM_TIME taken as direct UTC samples instead
+//!   (docs/src/bridge/time.md, "In step, or apart").
 //!
 //! One estimator serves the path the flight controller uses (the first sample decides;
 //! an FC protocol has one path).
@@ -150,6 +155,8 @@ mod pps_path;
 mod pps_tests;
 mod sample;
 #[cfg(test)]
+mod system_time_tests;
+#[cfg(test)]
 mod tests;
 
 pub use config::DisciplineConfig;
@@ -158,7 +165,7 @@ pub use sample::{Sample, serial_time};
 
 use super::time::{Duration, Instant, InstantNs, UtcTime};
 use estimator::{ClockEstimator, Fed, Fit, Line, Point};
-use fc_offset::FcOffset;
+use fc_offset::{FcOffset, Pace};
 use pps::PpsEstimator;
 use sample::{local_x, point};
 
@@ -534,19 +541,34 @@ impl TimeDiscipline {
         Verdict::Accepted
     }
 
-    /// A MAVLink SYSTEM_TIME received at `local`: `utc_us` (`time_unix_usec`) and
-    /// `fc_ms` (`time_boot_ms`) read from one clock in one call, so `C` is the line under
-    /// the points `(fc_ms·1000, utc − fc_ms·1000)` (see `Shift`: a line with a rate, since
-    /// an FC's UTC drifts against its boot clock); the FC clock comes from
+    /// A MAVLink SYSTEM_TIME: `s` its `time_unix_usec` received at `s.local` (with the
+    /// serial time of the frame and what followed it, [`Sample::transit`]), `fc_ms` its
+    /// `time_boot_ms`, both read from one clock in one call, so `C` is the line under the
+    /// points `(fc_ms·1000, utc − fc_ms·1000)` (see `Shift`: a line with a rate, since an
+    /// FC's UTC drifts against its boot clock); the FC clock comes from
     /// [`fc_clock_sample`](Self::fc_clock_sample) (TIMESYNC). `utc_us` 0 or before
     /// [`DisciplineConfig::min_utc`] is rejected; a step of the FC's UTC makes UTC
     /// suspect, then restarts `C` (reported as a replaced mapping when it disagrees).
     ///
+    /// The boot-clock mapping is used only once the shift has stayed within its band for
+    /// a second (UTC in step with the boot clock). A shift that runs at a rate no crystal
+    /// has (UTC apart from the boot clock: a simulator in lockstep) makes the boot
+    /// clock useless for UTC: from then on each SYSTEM_TIME is a direct UTC sample,
+    /// timed by its arrival less its transit, as [`utc_sample`](Self::utc_sample), and
+    /// TIMESYNC samples are rejected.
+    ///
     /// `fc_ms` is `time_boot_ms` unwrapped to the FC clock of the TIMESYNC samples (it
     /// wraps every 49.7 days; see docs/src/reliability.md).
-    pub fn system_time(&mut self, local: Instant, utc_us: u64, fc_ms: u64) -> Verdict {
+    pub fn system_time(&mut self, s: Sample, fc_ms: u64) -> Verdict {
+        let (local, utc_us) = (s.local, s.value_us);
         self.advance(local);
-        if utc_us < self.config.min_utc.as_unix_micros() || !self.take_path(Path::ViaFc) {
+        if utc_us < self.config.min_utc.as_unix_micros() {
+            return Verdict::Rejected;
+        }
+        if self.fc_offset.shift.pace() == Pace::Apart {
+            return self.utc_sample(s);
+        }
+        if !self.take_path(Path::ViaFc) {
             return Verdict::Rejected;
         }
         let Some((d, b)) = i64::try_from(utc_us)
@@ -561,7 +583,12 @@ impl TimeDiscipline {
             return Verdict::Rejected;
         };
         let tol = i64::try_from(self.config.pair_tolerance.as_micros()).unwrap_or(i64::MAX);
-        let verdict = match self.fc_offset.shift.push(b, d, tol) {
+        let fed = self.fc_offset.shift.push(b, d, tol);
+        if self.fc_offset.shift.pace() == Pace::Apart {
+            self.system_time_alone();
+            return self.utc_sample(s);
+        }
+        let verdict = match fed {
             Fed::Outlier => Verdict::Outlier,
             Fed::Step => Verdict::Step,
             Fed::Accepted => Verdict::Accepted,
@@ -571,6 +598,19 @@ impl TimeDiscipline {
         }
         self.advance(local);
         verdict
+    }
+
+    /// The FC's UTC is apart from its boot clock ([`Pace::Apart`]): the estimator starts
+    /// again on SYSTEM_TIME's UTC alone; a mapping through the boot clock is dropped (its
+    /// error is the boot clock's wander, which no bound covers).
+    fn system_time_alone(&mut self) {
+        self.clock = ClockEstimator::new();
+        self.path = Some(Path::Direct);
+        if self.source == Some(Path::ViaFc) {
+            self.output = None;
+            self.source = None;
+            self.last_fresh = None;
+        }
     }
 
     /// The source of time changes (the engine takes UTC from another link): the clock
@@ -589,7 +629,11 @@ impl TimeDiscipline {
     /// disagrees with the current one by more than the jump tolerance replaces it (the
     /// FC's UTC jumped, e.g. after a reboot) and is reported as such.
     fn refresh_via_fc(&mut self, local: Instant) {
-        if self.direct_valid() {
+        // Not before SYSTEM_TIME showed UTC in step with the boot clock.
+        if self.direct_valid()
+            || (self.fc_offset.shift.line().is_some()
+                && self.fc_offset.shift.pace() != Pace::InStep)
+        {
             return;
         }
         let Some(fc) = self.clock.usable(&self.config) else {

@@ -42,7 +42,7 @@ protocol_core::wire_derive! {
         pub lower: bool,
         /// The remote clock may run at any rate against the local one, not only a
         /// crystal's ppm: a MAVLink autopilot's boot clock may be a simulator's (PX4 SITL
-        /// in lockstep runs about 1.2 % slow). An estimator takes it from its first sample.
+        /// in lockstep runs 0.87 % slow). An estimator takes it from its first sample.
         pub any_rate: bool,
     }
 }

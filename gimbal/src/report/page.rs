@@ -193,9 +193,10 @@ pub fn summary_rows(f: &Figures) -> Vec<(&'static str, String)> {
     rows.push((
         "frames FC link",
         format!(
-            "{} FC → bridge, {} bridge → FC ({} rejected, {} garbage bytes)",
+            "{} FC → bridge, {} bridge → FC ({} of kinds the bridge does not read, {} rejected, {} garbage bytes)",
             c("fc_frames"),
             c("fc_sent"),
+            c("fc_unknown_frames"),
             c("fc_rejected"),
             c("fc_garbage_bytes")
         ),

@@ -539,8 +539,8 @@ pub struct SimFcArgs {
     /// answers no SET_MESSAGE_INTERVAL and no TIMESYNC.
     #[arg(long, value_enum, default_value_t = Px4ModeArg::Normal)]
     pub px4_mode: Px4ModeArg,
-    /// MAVLink, PX4: SITL in lockstep (its boot clock 1.2 % slow against UTC, which
-    /// follows the host's clock).
+    /// MAVLink, PX4: SITL in lockstep (its boot clock in 4 ms steps, 0.87 % slow against
+    /// UTC, which follows the host's clock, and wandering by tens of ms).
     #[arg(long)]
     pub px4_lockstep: bool,
     /// MAVLink: a ground app's link on UDP, `udp:HOST:PORT` (the app listens there, e.g.

@@ -90,8 +90,9 @@ fn new_fc(args: &SimFcArgs, start_us: u64) -> Result<AnyFc, String> {
     };
     if args.px4_lockstep {
         let lockstep = Px4Config::sitl_lockstep();
-        config.ppm = lockstep.ppm;
         config.sitl_lockstep = true;
+        config.lockstep = lockstep.lockstep;
+        config.timesync_targets = lockstep.timesync_targets;
     }
     Ok(AnyFc::px4(config, start_us, utc))
 }

@@ -30,7 +30,7 @@
 //!   its own burst: tc1 = `hrt_absolute_time()` × 1000 read when the receive thread
 //!   parses the frame, the frame's end arrival plus a latency uniform in
 //!   `0..parse_latency_us`; ts1 echoed; target = the requester's system and component
-//!   (PR #25949). Every answer is recorded ([`Px4::timesync_answers`]); replies to this
+//!   (PR #25949), or left unset by PX4 1.16 ([`Px4Config::timesync_targets`]). Every answer is recorded ([`Px4::timesync_answers`]); replies to this
 //!   PX4's own requests are recorded too ([`Px4::timesync_replies`]).
 //! - **Camera** (`TRIG_INTERFACE` 3): camera commands re-emitted as COMMAND_LONG to the
 //!   camera ([`Px4Config::camera_target_component`]).
@@ -48,9 +48,14 @@
 //! - **PX4 1.16 in mode Gimbal** ([`Px4Config::gimbal_link_only`]): the link handles
 //!   only the gimbal messages: no answer to SET_MESSAGE_INTERVAL (not even an ACK) or to
 //!   TIMESYNC, so a device there has neither time nor position.
-//! - **SITL in lockstep** ([`Px4Config::sitl_lockstep`]): the boot clock (`time_boot_ms`,
-//!   TIMESYNC) is the simulation's, here [`Px4Config::ppm`] (−12 000: 1.2 % slow), while
-//!   `time_unix_usec` follows the host's clock (the true rate).
+//! - **SITL in lockstep** ([`Px4Config::sitl_lockstep`]), as a capture of PX4 v1.16 SITL
+//!   shows it (`lockstep.rs`): the boot clock (`time_boot_ms`, TIMESYNC) is the
+//!   simulation's, in 4 ms steps, 0.87 % slow against the host's clock with a wander of
+//!   tens of ms ([`LockstepConfig`]); `time_unix_usec` is the host's clock (true time).
+//!   The MAVLink threads run at every step, so the streams are scheduled on simulation
+//!   time (SYSTEM_TIME's `time_boot_ms` advances by exactly 100 ms); TIMESYNC's `tc1`
+//!   lags the streams' boot clock by one step; its reply fills only `tc1` and `ts1`
+//!   (PX4 1.16: [`TimesyncTargets::Unset`]). Reboots are not simulated in this mode.
 //! - **Health** (this simulator's own rule; PX4 has none found): the information came and
 //!   an attitude status within the last second.
 
@@ -73,7 +78,10 @@ use super::pilot::Pilot;
 use super::qgc::Qgc;
 use super::{FcClock, XorShift};
 
+mod lockstep;
 mod manager;
+
+pub use lockstep::{Lockstep, LockstepConfig};
 
 /// The port's mode (`MAV_n_MODE`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,6 +92,17 @@ pub enum Px4Mode {
     Normal,
     /// 2: Onboard.
     Onboard,
+}
+
+/// The target fields of PX4's TIMESYNC replies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimesyncTargets {
+    /// The requester's system and component (PX4 since PR #25949, late 2025).
+    Requester,
+    /// Not filled (PX4 1.16 fills only `tc1` and `ts1`): what the memory held, here the
+    /// values a real PX4 1.16 SITL sent, as often as it sent them (208/17 in 607 of 611
+    /// replies; 17/0, 1/0 and 40/126 once or twice each).
+    Unset,
 }
 
 /// Settings of the simulated PX4.
@@ -119,8 +138,13 @@ pub struct Px4Config {
     /// PX4 1.16's link in mode Gimbal: only the gimbal messages are handled (no answer
     /// to SET_MESSAGE_INTERVAL or TIMESYNC).
     pub gimbal_link_only: bool,
-    /// SITL in lockstep: the boot clock runs at [`Px4Config::ppm`], UTC at the true rate.
+    /// SITL in lockstep: the boot clock is [`Px4Config::lockstep`]'s, UTC the host's (true
+    /// time); [`Px4Config::ppm`] is not used.
     pub sitl_lockstep: bool,
+    /// The lockstep clock of SITL.
+    pub lockstep: LockstepConfig,
+    /// The target fields of TIMESYNC replies.
+    pub timesync_targets: TimesyncTargets,
 }
 
 impl Px4Config {
@@ -135,14 +159,17 @@ impl Px4Config {
         }
     }
 
-    /// PX4 SITL in lockstep with the port in mode Normal: its boot clock 1.2 % slow
-    /// against UTC, which follows the host's clock.
+    /// PX4 v1.16 SITL in lockstep with the port in mode Normal, as the capture shows it:
+    /// its boot clock in 4 ms steps, 0.87 % slow against UTC (the host's clock) with a
+    /// wander of tens of ms; TIMESYNC replies with unset targets; a pseudo-terminal's
+    /// transport delays (the capture's: p50 144 µs, p99 814 µs).
     #[must_use]
     pub fn sitl_lockstep() -> Self {
         Px4Config {
             mode: Px4Mode::Normal,
-            ppm: -12_000.0,
             sitl_lockstep: true,
+            timesync_targets: TimesyncTargets::Unset,
+            jitter_us: 1_000,
             ..Px4Config::default()
         }
     }
@@ -166,6 +193,8 @@ impl Default for Px4Config {
             baud: 115_200,
             gimbal_link_only: false,
             sitl_lockstep: false,
+            lockstep: LockstepConfig::default(),
+            timesync_targets: TimesyncTargets::Requester,
         }
     }
 }
@@ -246,6 +275,10 @@ pub struct Px4 {
     pub timesync_replies: Vec<(u64, i64)>,
     /// ts1 of this PX4's latest own TIMESYNC requests.
     own_ts1: std::collections::VecDeque<i64>,
+    /// SITL's lockstep clock.
+    lockstep: Option<Lockstep>,
+    /// SITL: the true time of the next lockstep step (a run of the MAVLink threads).
+    next_step_us: u64,
 }
 
 impl Px4 {
@@ -262,7 +295,16 @@ impl Px4 {
             gcs: None,
             ground: None,
             manager: manager::Manager::default(),
-            board: Board::new(clock, XorShift::new(config.seed), MainLoop::ticks(5_000)),
+            board: Board::new(
+                clock,
+                XorShift::new(config.seed),
+                // SITL's threads run at every lockstep step (`Autopilot::run_due` below).
+                if config.sitl_lockstep {
+                    MainLoop::None
+                } else {
+                    MainLoop::ticks(5_000)
+                },
+            ),
             me: Endpoint::new(config.sysid, AUTOPILOT),
             rx: Rx::default(),
             intervals: BTreeMap::new(),
@@ -284,6 +326,10 @@ impl Px4 {
             timesync_answers: Vec::new(),
             timesync_replies: Vec::new(),
             own_ts1: std::collections::VecDeque::new(),
+            lockstep: config
+                .sitl_lockstep
+                .then(|| Lockstep::new(config.lockstep.clone(), config.boot_us, config.seed)),
+            next_step_us: 0,
             config,
         };
         p.mode_streams();
@@ -322,6 +368,31 @@ impl Px4 {
     pub fn mount_angles(&self) -> Option<(f64, f64, f64)> {
         let (_, _, s) = self.statuses.last()?;
         mav::euler_deg(s.q)
+    }
+
+    /// PX4's boot clock (µs) at true time `t`: the board's, or SITL's lockstep clock.
+    fn boot_us(&self, t: u64) -> u64 {
+        match &self.lockstep {
+            Some(l) => l.boot_us(t),
+            None => self.board.fc_us(t),
+        }
+    }
+
+    /// The boot clock TIMESYNC's `tc1` reads at true time `t` (µs).
+    fn timesync_us(&self, t: u64) -> u64 {
+        match &self.lockstep {
+            Some(l) => l.timesync_us(t),
+            None => self.board.fc_us(t),
+        }
+    }
+
+    /// The clock the MAVLink threads schedule on (µs): true time, or SITL's simulation
+    /// time.
+    fn schedule_us(&self, t: u64) -> u64 {
+        match &self.lockstep {
+            Some(l) => l.boot_us(t),
+            None => t,
+        }
     }
 
     /// The UTC PX4 reports at true time `t`: its clock's, or with SITL in lockstep the
@@ -493,7 +564,7 @@ impl Px4 {
 
     fn stream_message(&self, id: u32) -> Option<MavMessage> {
         let t = self.board.now_us();
-        let us = self.board.fc_us(t);
+        let us = self.boot_us(t);
         let a = AircraftState::of(self.board.aircraft(), t, us);
         let (lat, lon) = a.lat_lon_e7;
         Some(match id {
@@ -516,8 +587,9 @@ impl Px4 {
                 target_component: 0,
             }),
             GLOBAL_POSITION_INT_DATA::ID => a.global_position(58_000),
+            // PX4 stamps it with its boot clock (hrt), not UTC.
             GPS_RAW_INT_DATA::ID => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
-                time_usec: self.utc_us(t),
+                time_usec: us,
                 lat,
                 lon,
                 alt: a.alt_mm,
@@ -562,8 +634,16 @@ impl Px4 {
             {
                 // The receive thread parses it, reads hrt and answers at once.
                 let parse = end + self.board.rng().uniform(self.config.parse_latency_us);
-                let tc1 = (self.board.fc_us(parse) * 1000) as i64;
-                let target = (h.system_id, h.component_id);
+                let tc1 = (self.timesync_us(parse) * 1000) as i64;
+                let target = match self.config.timesync_targets {
+                    TimesyncTargets::Requester => (h.system_id, h.component_id),
+                    TimesyncTargets::Unset => match self.board.rng().uniform(611) {
+                        0 => (17, 0),
+                        1 => (1, 0),
+                        2 => (40, 126),
+                        _ => (208, 17),
+                    },
+                };
                 let at = parse.max(now);
                 let msg = MavMessage::TIMESYNC(TIMESYNC_DATA {
                     tc1,
@@ -610,6 +690,38 @@ impl Px4 {
 impl Autopilot for Px4 {
     board_field!();
 
+    /// The boot clock: the board's, or SITL's lockstep clock.
+    fn fc_us(&self, t_us: u64) -> u64 {
+        self.boot_us(t_us)
+    }
+
+    /// SITL: the next lockstep step.
+    fn next_work_us(&self) -> u64 {
+        match self.lockstep {
+            Some(_) => self.next_step_us,
+            None => self.board.next_run_us(),
+        }
+    }
+
+    /// SITL: a run at every lockstep step up to `now_us`.
+    fn run_due(&mut self, now_us: u64) {
+        if self.lockstep.is_some() {
+            while self.next_step_us <= now_us {
+                let at = self.next_step_us;
+                self.board.set_now(at);
+                self.run();
+                self.next_step_us = self
+                    .lockstep
+                    .as_ref()
+                    .map_or(u64::MAX, |l| l.next_step_after(at));
+            }
+        } else {
+            self.run_loop_until(now_us, true);
+        }
+        self.board.set_now(now_us);
+        self.update_health();
+    }
+
     /// Frames the MAVLink receiver dropped for a bad checksum or length.
     fn parse_errors(&self) -> u32 {
         self.rx.errors()
@@ -627,15 +739,20 @@ impl Autopilot for Px4 {
     /// One 5 ms tick of the MAVLink threads.
     fn run(&mut self) {
         let now = self.board.now_us();
-        if self.last_heartbeat_us.is_none_or(|l| now - l >= 1_000_000) {
-            self.last_heartbeat_us = Some(now);
+        // What the threads schedule on (SITL: simulation time).
+        let clock = self.schedule_us(now);
+        if self
+            .last_heartbeat_us
+            .is_none_or(|l| clock - l >= 1_000_000)
+        {
+            self.last_heartbeat_us = Some(clock);
             self.send(&mav::autopilot_heartbeat(
                 MavType::MAV_TYPE_QUADROTOR,
                 MavAutopilot::MAV_AUTOPILOT_PX4,
             ));
         }
-        if self.info.is_none() && self.last_info_req_us.is_none_or(|l| now - l >= 1_000_000) {
-            self.last_info_req_us = Some(now);
+        if self.info.is_none() && self.last_info_req_us.is_none_or(|l| clock - l >= 1_000_000) {
+            self.last_info_req_us = Some(clock);
             self.send(&mav::request_message(
                 GIMBAL_DEVICE_INFORMATION_DATA::ID,
                 (0, 0),
@@ -644,9 +761,9 @@ impl Autopilot for Px4 {
         self.integrate();
         let ids: Vec<(u32, u64)> = self.intervals.iter().map(|(k, v)| (*k, *v)).collect();
         for (id, interval) in ids {
-            let due = self.next_due.get(&id).copied().unwrap_or(now);
-            if now >= due {
-                self.next_due.insert(id, (due + interval).max(now));
+            let due = self.next_due.get(&id).copied().unwrap_or(clock);
+            if clock >= due {
+                self.next_due.insert(id, (due + interval).max(clock));
                 if let Some(m) = self.stream_message(id) {
                     if let MavMessage::GIMBAL_DEVICE_SET_ATTITUDE(s) = &m {
                         self.set_attitudes.push((now, s.clone()));
@@ -864,6 +981,64 @@ mod tests {
                 assert!((0..1000).contains(&d), "{d}");
             }
         }
+    }
+
+    /// SITL in lockstep as the capture shows it: its threads run at every 4 ms step of
+    /// simulation time, so SYSTEM_TIME's `time_boot_ms` advances by exactly 100 ms while
+    /// its `time_unix_usec` (the host's clock) advances by 100.0–103 ms (the capture:
+    /// 100.14–102.50); every boot-clock value a whole step; TIMESYNC's tc1 one step behind
+    /// the streams' boot clock, the reply's targets unset (mostly 208/17).
+    #[test]
+    fn px4_sitl_streams_on_simulation_time_and_answers_as_1_16() {
+        let mut px4 = Px4::new(Px4Config {
+            jitter_us: 0,
+            ..Px4Config::sitl_lockstep()
+        });
+        let mut d = Driver::new();
+        let mut dev = Endpoint::new(1, mav::GIMBAL);
+        d.send(
+            &mut px4,
+            1_000,
+            &mut dev,
+            &set_interval(SYSTEM_TIME_DATA::ID, 100_000.0),
+        );
+        for i in 0..40u64 {
+            let t0 = 1_000_000 + i * 123_457;
+            d.send(
+                &mut px4,
+                t0,
+                &mut dev,
+                &timesync_request(7 + i as i64, (1, 1)),
+            );
+        }
+        d.run_until(&mut px4, 12_000_000);
+        let times = system_times(&d);
+        assert!((100..=120).contains(&times.len()), "{}", times.len());
+        for w in times.windows(2) {
+            let (a, b) = (&w[0].1, &w[1].1);
+            assert_eq!(b.time_boot_ms - a.time_boot_ms, 100);
+            let host = b.time_unix_usec - a.time_unix_usec;
+            assert!((100_000..=103_000).contains(&host), "{host}");
+        }
+        // Sent at the step: the boot clock then is the one it carries; UTC the host's.
+        for (at, t) in &times {
+            assert_eq!(px4.fc_us(*at), u64::from(t.time_boot_ms) * 1000);
+            assert_eq!(t.time_unix_usec, px4.true_utc_us(*at));
+        }
+        assert!(d.frames().iter().all(|(_, r)| match &r.message {
+            MavMessage::ATTITUDE(a) => a.time_boot_ms % 4 == 0,
+            MavMessage::GLOBAL_POSITION_INT(p) => p.time_boot_ms % 4 == 0,
+            _ => true,
+        }));
+        assert_eq!(px4.timesync_answers.len(), 40);
+        let mut usual = 0;
+        for a in &px4.timesync_answers {
+            assert_eq!(a.tc1 % 4_000_000, 0);
+            assert_eq!(a.tc1 as u64, (px4.fc_us(a.handled_at_us) - 4_000) * 1000);
+            assert_ne!(a.target, (1, mav::GIMBAL));
+            usual += usize::from(a.target == (208, 17));
+        }
+        assert!(usual >= 38, "{usual}");
     }
 
     #[test]

@@ -16,7 +16,8 @@ pub enum Ev {
     Frame(Vec<u8>),
     /// A rejected candidate.
     Rejected(Error, Vec<u8>),
-    /// A valid frame the framing skips (MAVLink 1 on a MAVLink 2 link).
+    /// A frame the framing skips whole (MAVLink 1 on a MAVLink 2 link, a well-framed
+    /// frame of an unknown id).
     Skipped(Vec<u8>),
 }
 
@@ -197,7 +198,8 @@ pub struct Spec<'a> {
     /// size limit).
     pub valid: &'a dyn Fn(&[u8]) -> Option<usize>,
     /// The reference scan's test for a frame the framing skips whole (MAVLink 1 on a
-    /// MAVLink 2 link): its length, if one is at the start of the bytes.
+    /// MAVLink 2 link, a well-framed frame of an unknown id): its length, if one is at the
+    /// start of the bytes (the rest of the stream).
     pub skipped: &'a dyn Fn(&[u8]) -> Option<usize>,
     /// The protocol's checked parse of a delivered frame (panics when it fails).
     pub checked: &'a dyn Fn(&[u8]),
@@ -272,7 +274,18 @@ pub fn check<F: Framing + Clone, const N: usize>(
     let rejected = chunked.len() - frames.len() - skipped;
     let framed: usize = frames.iter().map(|(_, f)| f.len()).sum();
     assert_eq!(stats.frames_ok as usize, frames.len());
-    assert_eq!(stats.frames_skipped as usize, skipped);
+    assert_eq!(
+        (stats.frames_skipped + stats.frames_unknown) as usize,
+        skipped
+    );
+    let skipped_bytes: usize = chunked
+        .iter()
+        .map(|e| match e {
+            Ev::Skipped(f) => f.len(),
+            _ => 0,
+        })
+        .sum();
+    assert_eq!(stats.bytes_skipped as usize, skipped_bytes);
     assert_eq!(
         (stats.checksum_errors + stats.length_errors) as usize,
         rejected

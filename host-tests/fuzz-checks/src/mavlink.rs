@@ -106,6 +106,26 @@ pub fn valid_v1(b: &[u8]) -> Option<usize> {
     (oracle_checksum(&b[1..6 + len], extra) == crc).then_some(n)
 }
 
+/// The reference: the length of the well-framed MAVLink 2 frame of an id outside the set
+/// at the start of `b` (the rest of the stream): flags 0 or 1, no compatibility flag, an
+/// id below 65 536, followed at once by 0xFD or 0xFE or by the end of the stream, and no
+/// frame that checks wholly inside it after its first byte (every frame is under the
+/// deframer's 281 bytes).
+#[must_use]
+pub fn unknown_frame(b: &[u8]) -> Option<usize> {
+    if b.len() < 12 || b[0] != 0xFD || b[2] & !1 != 0 || b[3] != 0 || b[9] != 0 {
+        return None;
+    }
+    let n = 12 + usize::from(b[1]) + if b[2] & 1 == 1 { 13 } else { 0 };
+    let id = u32::from_le_bytes([b[7], b[8], b[9], 0]);
+    if b.len() < n || spec_crc_extra(id).is_some() {
+        return None;
+    }
+    let followed = b.get(n).is_none_or(|x| *x == 0xFD || *x == 0xFE);
+    let hides = (1..n).any(|i| valid_v2(&b[i..n]).or_else(|| valid_v1(&b[i..n])).is_some());
+    (followed && !hides).then_some(n)
+}
+
 /// Target `mavlink_decode`.
 pub fn decode(data: &[u8]) {
     if let Ok(p) = Packet::decode(data) {
@@ -191,15 +211,18 @@ pub fn checked(f: &[u8]) {
     }
 }
 
-/// Target `mavlink_deframe`: selector bit 0 delivers unknown ids (the reference then
-/// runs only over streams without frames of unknown ids, which it cannot tell from
-/// noise: the property is checked for the default framing).
+/// The deframer of the engine's MAVLink links: the largest frame and the byte after it.
+const DEFRAMER: usize = MAX_FRAME_LEN + 1;
+
+/// Target `mavlink_deframe`: the default framing (frames of unknown ids skipped when well
+/// framed) against the reference; selector bit 1 also rejecting unknown ids; bit 0
+/// delivering them (no reference: it cannot tell them from noise).
 pub fn deframe(data: &[u8]) {
     let mut input = Input::new(data);
     let (selector, plan) = Plan::read(&mut input);
     let stream = input.rest();
     let valid = |b: &[u8]| valid_v2(b);
-    let skipped = |b: &[u8]| valid_v1(b);
+    let skipped = |b: &[u8]| valid_v1(b).or_else(|| unknown_frame(b));
     let spec = Spec {
         valid: &valid,
         skipped: &skipped,
@@ -207,13 +230,24 @@ pub fn deframe(data: &[u8]) {
         compare_scanner: true,
     };
     let framing = MavlinkFraming::new();
-    deframe::check::<_, MAX_FRAME_LEN>(&framing, stream, &plan, &spec);
+    deframe::check::<_, DEFRAMER>(&framing, stream, &plan, &spec);
+    if selector & 2 == 2 {
+        let skipped = |b: &[u8]| valid_v1(b);
+        let spec = Spec {
+            skipped: &skipped,
+            ..spec
+        };
+        let framing = MavlinkFraming {
+            unknown_ids: UnknownIds::Reject,
+        };
+        deframe::check::<_, DEFRAMER>(&framing, stream, &plan, &spec);
+    }
     if selector & 1 == 1 {
         // Delivering unknown ids: no panic, every frame of the set still valid.
         let framing = MavlinkFraming {
             unknown_ids: UnknownIds::Deliver,
         };
-        let (events, _) = deframe::run_push::<_, MAX_FRAME_LEN>(framing, stream, Some(&plan));
+        let (events, _) = deframe::run_push::<_, DEFRAMER>(framing, stream, Some(&plan));
         for f in events.iter().filter_map(deframe::Ev::frame) {
             let frame = Frame::new_checked(f).expect("a delivered frame passes new_checked");
             if message_info(frame.message_id()).is_some() {

@@ -334,10 +334,21 @@ wire_derive! {
     /// What the deframer does with a frame whose message id is outside the dialect: its
     /// checksum cannot be verified (CRC_EXTRA is per message).
     pub enum UnknownIds {
+        /// Skip a MAVLink 2 frame of an unknown id whole when its header is plausible (no
+        /// compatibility flag, an id below 65 536) and it is well framed: the byte right
+        /// after it starts a frame (0xFD or 0xFE) or the line went idle right after it, and
+        /// no frame that checks lies inside it ([`Event::Skipped`](crate::wire::Event::Skipped),
+        /// counted in `frames_unknown`: an autopilot's ordinary messages the dialect does
+        /// not know are neither errors nor garbage); reject any other (and every MAVLink 1
+        /// frame of an unknown id) as [`UnknownIds::Reject`] does. A false 0xFD in noise
+        /// passes once in about 4·10⁹ (its flags, compatibility flags, the id's high byte
+        /// and the byte at its end); a frame starting inside it and ending past it is then
+        /// hidden. The default.
+        #[default]
+        Skip,
         /// Reject it as a candidate ([`Error::UnknownId`], counted with the checksum
         /// errors) and scan on from the byte after its STX: an unverifiable "frame" can
-        /// then never swallow a valid frame behind it. The default, for firmware.
-        #[default]
+        /// then never swallow a valid frame behind it, and its bytes count as garbage.
         Reject,
         /// Deliver it unverified (for a router or a capture tool that forwards what it does
         /// not know). A false STX in noise with a plausible length is then delivered as a
@@ -356,8 +367,10 @@ wire_derive! {
     /// as MAVLink 2. A MAVLink 1 candidate that does not check is rejected like any other,
     /// so a 0xFE inside noise or a corrupted MAVLink 2 frame cannot hide what follows it.
     ///
-    /// Use a deframer of [`MAX_FRAME_LEN`] (280) bytes:
-    /// `Deframer::<MavlinkFraming, MAX_FRAME_LEN>::new(MavlinkFraming::new())`.
+    /// Use a deframer of [`MAX_FRAME_LEN`] + 1 (281) bytes, the largest frame and the
+    /// byte that shows a frame of an unknown id followed by another:
+    /// `Deframer::<MavlinkFraming, { MAX_FRAME_LEN + 1 }>::new(MavlinkFraming::new())`
+    /// (with 280, a signed frame of an unknown id and a 255-byte payload is rejected).
     pub struct MavlinkFraming {
         /// What to do with message ids outside the dialect.
         pub unknown_ids: UnknownIds,
@@ -365,11 +378,12 @@ wire_derive! {
 }
 
 impl MavlinkFraming {
-    /// Framing that rejects ids outside the dialect ([`UnknownIds::Reject`]).
+    /// Framing that skips well-framed frames of ids outside the dialect
+    /// ([`UnknownIds::Skip`]).
     #[must_use]
     pub const fn new() -> Self {
         MavlinkFraming {
-            unknown_ids: UnknownIds::Reject,
+            unknown_ids: UnknownIds::Skip,
         }
     }
 
@@ -386,7 +400,7 @@ impl MavlinkFraming {
     fn check_crc(self, id: u32, covered: &[u8], received: u16) -> Result<()> {
         let Some(info) = message_info(id) else {
             return match self.unknown_ids {
-                UnknownIds::Reject => Err(Error::UnknownId),
+                UnknownIds::Skip | UnknownIds::Reject => Err(Error::UnknownId),
                 UnknownIds::Deliver => Ok(()),
             };
         };
@@ -454,5 +468,18 @@ impl Framing for MavlinkFraming {
 
     fn skip(&self, frame: &[u8]) -> bool {
         frame.first() == Some(&STX_V1)
+    }
+
+    /// A MAVLink 2 frame of an unknown id whose header is otherwise as every MAVLink 2
+    /// sender writes it: no compatibility flag (none is defined) and an id below 65 536
+    /// (every dialect's). A MAVLink 1 header has nothing more to check: a MAVLink 1 frame
+    /// of an unknown id stays rejected (a 0xFE in noise would pass too often).
+    fn uncheckable(&self, frame: &[u8], error: &Error) -> bool {
+        let view = Frame::new_unchecked(frame);
+        self.unknown_ids == UnknownIds::Skip
+            && matches!(error, Error::UnknownId)
+            && frame.first() == Some(&STX_V2)
+            && view.compat_flags() == 0
+            && view.message_id() <= 0xFFFF
     }
 }

@@ -32,7 +32,9 @@
 //!   one that does not check is rejected like any candidate, so neither a 0xFD inside a
 //!   MAVLink 1 payload nor a 0xFE inside a damaged MAVLink 2 frame can hide a frame.
 //! - **Unknown ids** cannot have their checksum verified (CRC_EXTRA is per message): the
-//!   default framing rejects them ([`UnknownIds`]); [`Packet::decode`] of such bytes gives
+//!   default framing skips a well-framed MAVLink 2 frame of one whole and counts it apart,
+//!   neither rejected nor garbage, and rejects any other ([`UnknownIds`]: what "well
+//!   framed" means); [`Packet::decode`] of such bytes gives
 //!   [`Message::Raw`] (id, payload) and verifies nothing. A known id whose content the
 //!   dialect cannot represent (an enumeration value common.xml does not list, e.g. an
 //!   ArduPilot-only `MAV_CMD`) is [`Message::Raw`] too, never an error.

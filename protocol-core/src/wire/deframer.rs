@@ -19,6 +19,15 @@
 //! scanning resumes at the byte after the failed sync position, not after the claimed
 //! frame. A false sync inside garbage, or a frame cut short by a following frame, can
 //! therefore never hide a valid frame that starts inside the failed candidate.
+//!
+//! Frames whose checksum cannot be checked (a MAVLink message id outside the dialect:
+//! its CRC_EXTRA is unknown, [`Framing::uncheckable`]) are **well framed** when the byte
+//! right after them starts a frame, or the line went idle right after them, and no frame
+//! that checks lies inside them: they are skipped whole ([`Event::Skipped`], counted in
+//! [`Stats::frames_unknown`]), neither rejected nor garbage. Any other such candidate is
+//! rejected like one with a bad checksum. The byte after a frame is waited for, so a
+//! deframer needs one byte more than the protocol's largest frame to see it (a frame that
+//! fills the buffer cannot be seen followed: it is rejected).
 
 use crate::Error;
 
@@ -63,6 +72,19 @@ pub trait Framing {
         let _ = frame;
         false
     }
+
+    /// Whether `frame`, which [`Framing::check`] failed with `error`, is a frame whose
+    /// checksum cannot be checked (a MAVLink 2 message id outside the dialect, its header
+    /// otherwise plausible). Such a candidate is skipped whole ([`Event::Skipped`],
+    /// counted in [`Stats::frames_unknown`]) when it is well framed: the byte right after
+    /// it starts a frame, or the line went idle right after it, and no frame that checks
+    /// lies wholly inside it after its first byte; otherwise it is rejected like one with
+    /// a bad checksum. The byte after it is waited for, so the deframer needs one byte
+    /// more than the protocol's largest frame. By default, never.
+    fn uncheckable(&self, frame: &[u8], error: &Error) -> bool {
+        let _ = (frame, error);
+        false
+    }
 }
 
 /// The outcome of looking at the front of a buffer.
@@ -72,6 +94,9 @@ enum Step {
     Frame(usize),
     /// A valid frame of this length that the framing does not deliver starts at the front.
     Skipped(usize),
+    /// A well-framed frame of this length whose checksum cannot be checked starts at the
+    /// front.
+    Unknown(usize),
     /// The candidate at the front (this many bytes of it) failed.
     Rejected(Error, usize),
     /// This many bytes at the front cannot start a frame.
@@ -85,8 +110,9 @@ fn starts_like_sync(buf: &[u8], sync: &[u8]) -> bool {
     buf.iter().zip(sync).all(|(a, b)| a == b)
 }
 
-/// Looks at the front of `buf`; frames longer than `capacity` are rejected.
-fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
+/// Looks at the front of `buf`; frames longer than `capacity` are rejected. `idle`: no
+/// byte follows `buf` for now (the line went idle, or the capture ends).
+fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize, idle: bool) -> Step {
     let sync = framing.sync();
     if buf.is_empty() {
         return Step::NeedMore;
@@ -118,8 +144,42 @@ fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize) -> Step {
     match framing.check(frame) {
         Ok(()) if framing.skip(frame) => Step::Skipped(len),
         Ok(()) => Step::Frame(len),
+        Err(e) if framing.uncheckable(frame, &e) => match buf.get(len..) {
+            // Its following byte is waited for, if the buffer has room for it.
+            Some([]) if !idle && len < capacity => Step::NeedMore,
+            Some(next) if (next.is_empty() && idle) || framing.starts_like_frame(next) => {
+                if checks_inside(framing, frame) {
+                    Step::Rejected(e, len)
+                } else {
+                    Step::Unknown(len)
+                }
+            }
+            _ => Step::Rejected(e, len),
+        },
         Err(e) => Step::Rejected(e, len),
     }
+}
+
+/// Whether a frame that checks (delivered or skipped) lies wholly inside `frame` after
+/// its first byte: then `frame` is no frame but a false start hiding it.
+fn checks_inside<F: Framing + ?Sized>(framing: &F, frame: &[u8]) -> bool {
+    let header_len = framing.header_len().max(framing.sync().len());
+    (1..frame.len()).any(|i| {
+        let Some(rest) = frame.get(i..) else {
+            return false;
+        };
+        if !framing.starts_like_frame(rest) {
+            return false;
+        }
+        let Some(len) = rest
+            .get(..header_len)
+            .and_then(|h| framing.frame_len(h).ok())
+            .filter(|&n| n >= header_len)
+        else {
+            return false;
+        };
+        rest.get(..len).is_some_and(|f| framing.check(f).is_ok())
+    })
 }
 
 /// What a [`Deframer`] found.
@@ -128,7 +188,8 @@ pub enum Event<'a> {
     /// A complete frame whose length and checksum are valid, sync bytes to checksum.
     Frame(&'a [u8]),
     /// A complete, valid frame of a kind the framing recognises but does not deliver (a
-    /// MAVLink 1 frame on a MAVLink 2 link, see [`Framing::skip`]), consumed whole.
+    /// MAVLink 1 frame on a MAVLink 2 link, see [`Framing::skip`]), or a well-framed frame
+    /// whose checksum cannot be checked ([`Framing::uncheckable`]), consumed whole.
     Skipped(&'a [u8]),
     /// A candidate that started with the sync bytes but failed: `raw` is the candidate
     /// (its header, or its full claimed length when the checksum failed). Its first byte
@@ -149,14 +210,22 @@ wire_derive! {
         pub frames_ok: u32,
         /// Valid frames recognised and skipped whole ([`Event::Skipped`]: MAVLink 1).
         pub frames_skipped: u32,
-        /// Candidates rejected for their checksum, or whose checksum cannot be checked (a
-        /// MAVLink message id outside the dialect: [`Error::UnknownId`]).
+        /// Well-framed frames whose checksum cannot be checked, skipped whole
+        /// ([`Event::Skipped`]: MAVLink message ids outside the dialect; see
+        /// [`Framing::uncheckable`]).
+        pub frames_unknown: u32,
+        /// Candidates rejected for their checksum, or whose checksum cannot be checked and
+        /// that are not well framed (a MAVLink message id outside the dialect:
+        /// [`Error::UnknownId`]).
         pub checksum_errors: u32,
         /// Candidates rejected for an impossible length (or longer than the buffer), or
         /// left incomplete when the line went idle.
         pub length_errors: u32,
         /// Bytes that were not part of any delivered frame (skipped frames included).
         pub bytes_discarded: u32,
+        /// The bytes of the frames skipped whole (part of `bytes_discarded`; the rest of
+        /// it is garbage).
+        pub bytes_skipped: u32,
     }
 }
 
@@ -234,9 +303,11 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
             stats: Stats {
                 frames_ok: 0,
                 frames_skipped: 0,
+                frames_unknown: 0,
                 checksum_errors: 0,
                 length_errors: 0,
                 bytes_discarded: 0,
+                bytes_skipped: 0,
             },
         }
     }
@@ -359,7 +430,7 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
         let reported = loop {
             let held = self.end.saturating_sub(self.start);
             let window = self.buf.get(self.start..self.end).unwrap_or_default();
-            match step(&self.framing, window, N) {
+            match step(&self.framing, window, N, idle) {
                 Step::NeedMore if held == 0 => return None,
                 Step::NeedMore if idle => break Step::Rejected(Error::Truncated, held),
                 Step::NeedMore if held < N => return None,
@@ -389,9 +460,14 @@ impl<F: Framing, const N: usize> Deframer<F, N> {
                 self.release = n;
                 Some((Event::Frame(window.get(..n).unwrap_or(window)), behind(n)))
             }
-            Step::Skipped(n) => {
-                bump(&mut self.stats.frames_skipped, 1);
+            Step::Skipped(n) | Step::Unknown(n) => {
+                let counter = match reported {
+                    Step::Unknown(_) => &mut self.stats.frames_unknown,
+                    _ => &mut self.stats.frames_skipped,
+                };
+                bump(counter, 1);
                 bump(&mut self.stats.bytes_discarded, n);
+                bump(&mut self.stats.bytes_skipped, n);
                 self.release = n;
                 Some((Event::Skipped(window.get(..n).unwrap_or(window)), behind(n)))
             }
@@ -462,7 +538,8 @@ pub enum Scanned<'a> {
         /// Why it failed.
         error: Error,
     },
-    /// A valid frame the framing does not deliver ([`Event::Skipped`]).
+    /// A valid frame the framing does not deliver, or a well-framed one whose checksum
+    /// cannot be checked ([`Event::Skipped`]).
     Skipped {
         /// Offset of its first sync byte.
         offset: usize,
@@ -513,7 +590,7 @@ impl<'a, F: Framing> Iterator for Scanner<'a, F> {
     fn next(&mut self) -> Option<Scanned<'a>> {
         let offset = self.pos;
         let rest = self.data.get(offset..).filter(|r| !r.is_empty())?;
-        let (item, advance) = match step(&self.framing, rest, usize::MAX) {
+        let (item, advance) = match step(&self.framing, rest, usize::MAX, true) {
             Step::Frame(n) => (
                 Scanned::Frame {
                     offset,
@@ -521,7 +598,7 @@ impl<'a, F: Framing> Iterator for Scanner<'a, F> {
                 },
                 n,
             ),
-            Step::Skipped(n) => (
+            Step::Skipped(n) | Step::Unknown(n) => (
                 Scanned::Skipped {
                     offset,
                     bytes: rest.get(..n)?,

@@ -33,7 +33,14 @@
 //!   phase truncated off `time_boot_ms`, so the least `d` over a few seconds is the shift
 //!   (the discipline's `system_time`); the transport delay cancels. `time_unix_usec` 0
 //!   (ArduPilot before its clock is set) is no time; a `d` that steps makes UTC invalid
-//!   until the new shift is confirmed.
+//!   until the new shift is confirmed. The discipline uses the boot clock only once `d`
+//!   shows UTC in step with it; a `d` that runs apart (a simulator in lockstep: PX4 SITL)
+//!   makes each SYSTEM_TIME a direct UTC sample, timed by its arrival less its serial
+//!   time.
+//! - **A faster link.** A TIMESYNC reply back in less than half the time the request and
+//!   the reply take at the configured rate shows a link faster than that UART (a
+//!   pseudo-terminal, a socket to a simulator): its frames are then taken to spend no
+//!   serial time (SYSTEM_TIME's transit, PX4's tc1 correction).
 //! - **No TIMESYNC.** If the autopilot answers none within [`TIMESYNC_GRACE`] of its
 //!   first SYSTEM_TIME, SYSTEM_TIME is used alone as a direct UTC sample, timed from the
 //!   frame's first byte (the earlier, coarser estimate); a later reply switches to the
@@ -186,6 +193,10 @@ struct Timesync {
     /// The last reply's tc1 (µs of the autopilot's 64-bit boot clock) and the local
     /// instant its request was queued: SYSTEM_TIME's `time_boot_ms` is unwrapped to it.
     clock: Option<(Instant, u64)>,
+    /// A reply came back in less than half the time the request and the reply take on a
+    /// line at the configured rate: the link is faster (a pseudo-terminal or a socket to
+    /// a simulator), its frames take no serial time worth counting.
+    fast_link: bool,
 }
 
 /// What [`Autopilot::message`] did with a message.
@@ -267,6 +278,7 @@ impl Autopilot {
                 sent: 0,
                 rng: 0x9E37_79B9,
                 clock: None,
+                fast_link: false,
             },
             signing: LinkSigning::new(config, 0),
         }
@@ -809,8 +821,16 @@ impl Autopilot {
         }
         self.sync.outstanding = None;
         self.silent_since = None;
-        if ctx.now.saturating_duration_since(req.sent) > TIMESYNC_MAX_RTT {
+        let rtt = ctx.now.saturating_duration_since(req.sent);
+        if rtt > TIMESYNC_MAX_RTT {
             return Took::Yes;
+        }
+        // At the configured rate the request and the reply (`ctx.transit`: its own serial
+        // time and what followed it) take this long on the line at least; a reply in half
+        // of it (a pseudo-terminal's: a quarter of a millisecond) came over a faster link.
+        let line_least = serial_time(req.len, ctx.baud).saturating_add(ctx.transit);
+        if rtt.as_micros().saturating_mul(2) < line_least.as_micros() {
+            self.sync.fast_link = true;
         }
         let Ok(tc1_us) = u64::try_from(t.tc1 / 1000) else {
             return Took::Yes;
@@ -833,16 +853,26 @@ impl Autopilot {
             // and PX4's, read when the request had ended, at most tc1 less its serial
             // time.
             let read_after = match self.kind {
-                AutopilotKind::Px4 => serial_time(req.len, ctx.baud).as_micros(),
+                AutopilotKind::Px4 => self.transit(serial_time(req.len, ctx.baud)).as_micros(),
                 AutopilotKind::ArduPilot | AutopilotKind::Other => 0,
             };
-            // The boot clock may be a simulator's (PX4 SITL in lockstep: 1.2 % slow).
+            // The boot clock may be a simulator's (PX4 SITL in lockstep: 0.87 % slow).
             let s = Sample::new(req.sent, tc1_us.saturating_sub(read_after), 1)
                 .lower_bound()
                 .any_rate();
             ctx.time.fc_clock_sample(s);
         }
         Took::Yes
+    }
+
+    /// The serial time of bytes on this link: `serial` at the configured rate, none on a
+    /// faster link.
+    fn transit(&self, serial: Duration) -> Duration {
+        if self.sync.fast_link {
+            Duration::ZERO
+        } else {
+            serial
+        }
     }
 
     /// SYSTEM_TIME: the boot clock against UTC (or, without TIMESYNC, a UTC sample).
@@ -854,6 +884,7 @@ impl Autopilot {
         if !ctx.feeds {
             return;
         }
+        let utc = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(self.transit(ctx.transit));
         if self.sync.answered {
             // `time_boot_ms` wraps every 49.7 days, TIMESYNC's clock does not.
             let boot_ms = self
@@ -864,10 +895,9 @@ impl Autopilot {
                         tc1_us.saturating_add(ctx.now.saturating_duration_since(at).as_micros());
                     crate::time::nearest_wrap_ms(t.time_boot_ms, expected_us / 1000)
                 });
-            ctx.time.system_time(ctx.now, t.time_unix_usec, boot_ms);
+            ctx.time.system_time(utc, boot_ms);
         } else if ctx.now.saturating_duration_since(first) > TIMESYNC_GRACE {
-            let s = Sample::new(ctx.now, t.time_unix_usec, 1).with_transit(ctx.transit);
-            ctx.time.utc_sample(s);
+            ctx.time.utc_sample(utc);
         }
     }
 

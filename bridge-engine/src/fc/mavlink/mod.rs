@@ -92,8 +92,9 @@ use autopilot::{Autopilot, Heartbeat, Took, Vehicle};
 
 use super::{Ctx, FcHandler, TimedFrom, geo, math};
 
-/// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload).
-pub(crate) const BUF: usize = MAX_FRAME_LEN;
+/// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload) and the byte
+/// after it, which shows a frame of an unknown id well framed (`MavlinkFraming`).
+pub(crate) const BUF: usize = MAX_FRAME_LEN.saturating_add(1);
 
 /// HEARTBEAT period of each component.
 const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
