@@ -23,6 +23,7 @@ use core::future::Future;
 use core::sync::atomic::Ordering;
 
 use bridge_engine::store::{Key, MAX_VALUE, Problem};
+use bridge_engine::{Config, Restore, Restored, Sides};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embedded_storage_async::nor_flash::NorFlash;
 use sequential_storage::cache::{Cache, Uncached};
@@ -135,6 +136,32 @@ pub async fn restore<M: RawMutex, E: BridgeEngine>(
         }
     }
     false
+}
+
+/// Reads the settings' records from `store` ([`Restore::keys`]) before the engine is made:
+/// the configuration to start with (`defaults` with the settings kept) and what the engine
+/// reports ([`Engine::restored`](bridge_engine::Engine::restored)). `true` with it: the
+/// store could not be read (the caller may start it afresh).
+pub async fn restore_settings(
+    store: &mut impl RecordStore,
+    defaults: Config,
+    sides: Sides,
+) -> (Restored, bool) {
+    let mut restore = Restore::new(defaults, sides);
+    let mut buf = [0u8; MAX_VALUE];
+    let mut unreadable = false;
+    for key in Restore::keys() {
+        match store.load(key, &mut buf).await {
+            Ok(Some(n)) => restore.record(key, buf.get(..n).unwrap_or_default()),
+            Ok(None) => {}
+            Err(()) => {
+                restore.unreadable();
+                unreadable = true;
+                break;
+            }
+        }
+    }
+    (restore.finish(), unreadable)
 }
 
 /// Writes every record the engine gives ([`BridgeEngine::take_record`]) to `store`, woken
