@@ -267,10 +267,12 @@ fn every_key_is_read_and_checked() {
                 assert!(got.is_ok(), "{} = {value}: {got:?}", limit.key);
             } else {
                 let e = got.unwrap_err();
-                // Beyond the field's type (below zero, a u16 above 65535): the
-                // deserializer's message, with the key; else the key's own range.
-                let beyond_type =
-                    value < 0 && limit.min >= 0 || value > 65_535 && key == "max_zoom_x10";
+                // Beyond the field's type (below zero, a u8 above 255, a u16 above
+                // 65535): the deserializer's message, with the key; else the key's own
+                // range.
+                let beyond_type = value < 0 && limit.min >= 0
+                    || value > 255 && limit.max == 255
+                    || value > 65_535 && key == "max_zoom_x10";
                 let expected = if beyond_type {
                     format!("in `{}`", limit.key)
                 } else {
