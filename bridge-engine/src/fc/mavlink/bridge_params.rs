@@ -16,7 +16,8 @@
 //!   PARAM_VALUE follows the pinned autopilot (PX4: byte-wise; any other: the cast, exact
 //!   for every value here, all below 2^24). A PARAM_SET is read either way: a value whose
 //!   float is zero or subnormal is read byte-wise (every whole number here below 2^23 is
-//!   subnormal as bytes), any other as a cast, which must be a whole number.
+//!   subnormal as bytes; bytes beyond the type's width make the whole word the value, for
+//!   the range to refuse), any other as a cast, which must be a whole number.
 //! - **PARAM_SET** is checked as the console's `set` is, and kept at once (the protocol has
 //!   no save step); the answer is PARAM_VALUE with the value in force as set, the old one
 //!   after a refusal, with a STATUSTEXT saying why (MAVLink's parameter service names no
@@ -73,7 +74,19 @@ fn bit(index: usize) -> u64 {
 fn set_value(bits: u32, ty: ParamType) -> Option<i64> {
     let f = f32::from_bits(bits);
     if f == 0.0 || f.is_subnormal() {
-        return Some(ty.from_bytes(bits));
+        let narrow = ty.from_bytes(bits);
+        if ty.to_bytes(narrow) == bits {
+            return Some(narrow);
+        }
+        // Bytes beyond the type's width: the whole word, for the range to judge (never
+        // its low bytes alone: 100 000 as a UINT8 is no 160).
+        let word = match ty {
+            ParamType::Int8 | ParamType::Int16 | ParamType::Int32 => {
+                i64::from(i32::from_le_bytes(bits.to_le_bytes()))
+            }
+            ParamType::Uint8 | ParamType::Uint16 | ParamType::Uint32 => i64::from(bits),
+        };
+        return Some(word);
     }
     // Every value of a setting's range is below 2^24, exact in a float.
     if !(f.is_finite() && f.abs() < 16_777_216.0) {
@@ -281,6 +294,9 @@ mod tests {
                 );
             }
         }
+        // Byte-wise, wider than its type: the whole word (refused by the range).
+        assert_eq!(set_value(100_000, ParamType::Uint8), Some(100_000));
+        assert_eq!(set_value(0x0001_0000, ParamType::Int16), Some(65_536));
         assert_eq!(set_value(1.5f32.to_bits(), ParamType::Uint8), None);
         assert_eq!(set_value(f32::NAN.to_bits(), ParamType::Uint8), None);
         assert_eq!(set_value(f32::INFINITY.to_bits(), ParamType::Uint32), None);
