@@ -186,8 +186,9 @@ pub struct BridgeArgs {
     /// Make the pod cable faulty (see FAULTS below; not RTC_IO).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
     pub pod_faults: Option<Faults>,
-    /// Where the bridge keeps what it must remember across restarts (the MAVLink signing
-    /// timestamp, a key set by SETUP_SIGNING): the file DIR/state.bin, written atomically
+    /// Where the bridge keeps what it must remember across restarts (the settings set on
+    /// its console or by PARAM_SET, the MAVLink signing timestamp, a key set by
+    /// SETUP_SIGNING): the file DIR/state.bin, written atomically
     /// [default: $XDG_STATE_HOME/k40t-bridge, else ~/.local/state/k40t-bridge].
     #[arg(long, value_name = "DIR")]
     pub state_dir: Option<PathBuf>,
