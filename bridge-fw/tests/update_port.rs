@@ -1,7 +1,9 @@
 //! The firmware's update task on the host: pipes as the update port, the flash model as the
 //! chip, virtual time. A whole transfer through the task (the client on the other end of
 //! the pipes), the reset it asks for, and the new image's trial: confirmed once both links
-//! are up, or after 60 s of running, and not before.
+//! are up, or after 60 s of running, and not before. The console task on the same port:
+//! commands typed and answered, a setting saved through the store task and restored at
+//! the next start, and a transfer handed over from the console.
 #![allow(
     clippy::unwrap_used,
     clippy::expect_used,
