@@ -661,7 +661,7 @@ pub fn removed_key(has: impl Fn(&str, &str) -> bool) -> Result<(), RemovedKey> {
 }
 
 /// A time in whole milliseconds, as the configuration file gives it.
-fn millis(d: Duration) -> i64 {
+pub(crate) fn millis(d: Duration) -> i64 {
     i64::try_from(d.as_millis()).unwrap_or(i64::MAX)
 }
 
@@ -764,7 +764,7 @@ impl Limit {
         Self::AUTOPILOT_FORGET_MS,
     ];
 
-    const fn new(key: &'static str, min: i64, max: i64) -> Self {
+    pub(crate) const fn new(key: &'static str, min: i64, max: i64) -> Self {
         Self { key, min, max }
     }
 
@@ -848,6 +848,35 @@ protocol_core::wire_derive! {
             /// The id given.
             value: i64,
         },
+        /// A value of another form than the key's (a setting given at run time: a text
+        /// where a number is wanted, a list where a word is).
+        Form(Form),
+        /// An FC side this bridge does not have (not compiled in; `gimbal bridge`: not its
+        /// `--fc`).
+        NoSuchSide,
+        /// A value that cannot be read back (the signing key is write-only).
+        WriteOnly,
+    }
+}
+
+protocol_core::wire_derive! {
+    custom_serde [Eq]
+    /// The form a setting's value must have ([`Problem::Form`]).
+    pub enum Form {
+        /// A whole number.
+        Number,
+        /// A whole number, or `"off"`.
+        NumberOrOff,
+        /// `true` or `false`.
+        Bool,
+        /// One of these names.
+        OneOf(&'static [&'static str]),
+        /// A text (quoted, or a word).
+        Text,
+        /// A list of whole numbers, `[a, b]`.
+        List,
+        /// The value's text itself is malformed.
+        Syntax(crate::settings::value::ValueError),
     }
 }
 
@@ -889,6 +918,30 @@ impl fmt::Display for Problem {
                 f,
                 "{value:#08x} is not one of the pod's destructive requests (docs/src/security.md)"
             ),
+            Problem::Form(form) => form.fmt(f),
+            Problem::NoSuchSide => f.write_str("not an FC side of this bridge"),
+            Problem::WriteOnly => f.write_str("write-only: never read back"),
+        }
+    }
+}
+
+impl fmt::Display for Form {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Form::Number => f.write_str("expected a whole number"),
+            Form::NumberOrOff => f.write_str("expected a whole number or \"off\""),
+            Form::Bool => f.write_str("expected true or false"),
+            Form::OneOf(names) => {
+                f.write_str("expected one of")?;
+                for (i, n) in names.iter().enumerate() {
+                    let sep = if i == 0 { " " } else { ", " };
+                    write!(f, "{sep}\"{n}\"")?;
+                }
+                Ok(())
+            }
+            Form::Text => f.write_str("expected a text"),
+            Form::List => f.write_str("expected a list of whole numbers, [a, b]"),
+            Form::Syntax(e) => e.fmt(f),
         }
     }
 }

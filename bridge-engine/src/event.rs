@@ -215,6 +215,17 @@ protocol_core::wire_derive! {
             /// What was wrong.
             problem: crate::store::Problem,
         },
+        /// A setting changed, was refused, was kept, or every setting went back to its
+        /// default (docs/src/console.md; [`crate::settings`]).
+        Setting {
+            /// The setting's record key (`0x0100 + id`; [`crate::settings::HEADER`] for
+            /// `save` and `defaults`, which concern every setting).
+            key: u16,
+            /// Who changed it.
+            source: SettingSource,
+            /// What happened.
+            outcome: SettingOutcome,
+        },
         /// Output frames dropped because a queue was full.
         Dropped {
             /// The queue's port.
@@ -222,6 +233,49 @@ protocol_core::wire_derive! {
             /// Frames dropped.
             frames: u8,
         },
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// Who changed a setting ([`Event::Setting`]).
+    pub enum SettingSource {
+        /// The console.
+        Console,
+        /// A MAVLink PARAM_SET on this link (the MAVLink side's, or the telemetry link).
+        Parameter(Port),
+    }
+}
+
+protocol_core::wire_derive! {
+    [Eq, Hash]
+    /// What became of a setting ([`Event::Setting`]).
+    pub enum SettingOutcome {
+        /// Set, and in force at once (a live setting).
+        Applied,
+        /// Set; in force at the next start.
+        AtRestart,
+        /// Refused (its form, its range, or the configuration it would make).
+        Refused,
+        /// The settings set since the last save were kept (`save`; a PARAM_SET keeps its
+        /// own at once).
+        Saved,
+        /// Every setting back to its default, kept.
+        Defaults,
+    }
+}
+
+impl SettingOutcome {
+    /// The outcome as a word, for logs.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            SettingOutcome::Applied => "applied",
+            SettingOutcome::AtRestart => "at_restart",
+            SettingOutcome::Refused => "refused",
+            SettingOutcome::Saved => "saved",
+            SettingOutcome::Defaults => "defaults",
+        }
     }
 }
 
@@ -378,6 +432,46 @@ protocol_core::wire_derive! {
         pub refusals_unreported: u32,
         /// HEARTBEATs of an autopilot other than the one the link is pinned to.
         pub other_autopilots: u32,
+    }
+}
+
+impl Counters {
+    /// Every counter with its name (the JSON log's), in order.
+    #[must_use]
+    pub const fn named(&self) -> [(&'static str, u32); 31] {
+        [
+            ("fc_frames", self.fc_frames),
+            ("fc_rejected", self.fc_rejected),
+            ("fc_ignored", self.fc_ignored),
+            ("fc_garbage_bytes", self.fc_garbage_bytes),
+            ("fc_sent", self.fc_sent),
+            ("pod_frames", self.pod_frames),
+            ("pod_rejected", self.pod_rejected),
+            ("pod_garbage_bytes", self.pod_garbage_bytes),
+            ("pod_sent", self.pod_sent),
+            ("telemetry_frames", self.telemetry_frames),
+            ("telemetry_sent", self.telemetry_sent),
+            ("pod_retries", self.pod_retries),
+            ("dropped", self.dropped),
+            ("events_dropped", self.events_dropped),
+            ("time_syncs", self.time_syncs),
+            ("geotags", self.geotags),
+            ("geotags_failed", self.geotags_failed),
+            ("pps_edges", self.pps_edges),
+            ("pps_unlabelled", self.pps_unlabelled),
+            ("pps_conflicts", self.pps_conflicts),
+            ("pps_rejected", self.pps_rejected),
+            ("signature_failures", self.signature_failures),
+            ("unsigned_refused", self.unsigned_refused),
+            ("commands_refused", self.commands_refused),
+            ("refused_bad_signature", self.refused_bad_signature),
+            ("refused_replayed", self.refused_replayed),
+            ("refused_stale", self.refused_stale),
+            ("refused_sender", self.refused_sender),
+            ("refused_guarded", self.refused_guarded),
+            ("refusals_unreported", self.refusals_unreported),
+            ("other_autopilots", self.other_autopilots),
+        ]
     }
 }
 

@@ -23,7 +23,8 @@
 //! | --- | --- |
 //! | 0x0001, 0x0002 | the signing timestamp of the MAVLink side's link, of the telemetry link ([`Key::SIGNING_FC`], [`Key::SIGNING_TELEMETRY`]) |
 //! | 0x0011, 0x0012 | the signing key set by SETUP_SIGNING on those links ([`Key::SIGNING_KEY_FC`], [`Key::SIGNING_KEY_TELEMETRY`]) |
-//! | 0x0100..=0x01FF | reserved: the settings changed at run time ([`Key::SETTINGS`]) |
+//! | 0x0100 | the settings' header: the store holds the bridge's settings ([`crate::settings::HEADER`]) |
+//! | 0x0101..=0x01FF | each setting kept at run time, `0x0100 + id` ([`crate::settings`], [`Key::SETTINGS`]) |
 //! | 0xFFFF | no record: the whole store, in [`Event::StoreRecord`](crate::Event::StoreRecord) ([`Key::WHOLE_STORE`]) |
 //!
 //! # Values
@@ -34,6 +35,7 @@
 //! | --- | --- |
 //! | signing timestamp | 1, the 48-bit timestamp (10 µs since 2015-01-01 UTC), 6 bytes little-endian: 7 bytes |
 //! | signing key | 1, a state byte (0: signing off on the link, 1: a key), the key (32 bytes; zero when off), the fingerprint of the configured key it replaced (6 bytes): 40 bytes |
+//! | setting | 1, then 0 ("default") or 1 and the value's text (up to 160 bytes: [`crate::settings`]) |
 
 use crate::event::Port;
 
@@ -52,7 +54,7 @@ impl Key {
     pub const SIGNING_KEY_FC: Self = Self(0x0011);
     /// The signing key set by SETUP_SIGNING on the telemetry link.
     pub const SIGNING_KEY_TELEMETRY: Self = Self(0x0012);
-    /// Reserved for the settings changed at run time (the field issue).
+    /// The settings kept at run time: the header and each setting ([`crate::settings`]).
     pub const SETTINGS: core::ops::RangeInclusive<u16> = 0x0100..=0x01FF;
     /// Not a record: the whole store ([`Event::StoreRecord`](crate::Event::StoreRecord)).
     pub const WHOLE_STORE: Self = Self(0xFFFF);
@@ -143,8 +145,8 @@ impl Problem {
     }
 }
 
-/// The longest value of a record.
-pub const MAX_VALUE: usize = 40;
+/// The longest value of a record (a setting's: [`crate::settings::MAX_RECORD`]).
+pub const MAX_VALUE: usize = crate::settings::MAX_RECORD;
 /// The format version this bridge writes.
 pub const VERSION: u8 = 1;
 /// Bytes of a signing timestamp's value.
@@ -162,6 +164,13 @@ pub struct Record {
 }
 
 impl Record {
+    /// A record of `key` with `value` as it is (at most [`MAX_VALUE`] bytes: the rest is
+    /// cut).
+    #[must_use]
+    pub fn raw(key: Key, value: &[u8]) -> Self {
+        Self::new(key, value)
+    }
+
     fn new(key: Key, value: &[u8]) -> Self {
         let mut bytes = [0u8; MAX_VALUE];
         let n = value.len().min(MAX_VALUE);
@@ -254,6 +263,11 @@ impl Pending {
     /// `key` is to be written.
     pub(crate) fn mark(&mut self, key: Key) {
         self.0 |= key.bit();
+    }
+
+    /// A record waits.
+    pub(crate) const fn is_pending(self) -> bool {
+        self.0 != 0
     }
 
     /// The next record to write, taken off.

@@ -412,6 +412,12 @@ impl UtcTime {
         }
     }
 
+    /// The UTC calendar date of this instant: year, month (1..=12), day (1..=31).
+    #[must_use]
+    pub fn date(self) -> (u64, u8, u8) {
+        civil_from_days(self.0 / US_PER_DAY)
+    }
+
     /// The start (00:00:00.000) of this instant's UTC day.
     #[must_use]
     pub const fn start_of_day(self) -> Self {
@@ -505,6 +511,42 @@ impl UtcTime {
 
 /// Days from 1970-01-01 to the given date (proleptic Gregorian), for years 1970..=9999.
 /// After H. Hinnant's `days_from_civil`, restricted to non-negative results.
+/// The date of `days` days after 1970-01-01 (the inverse of [`days_from_civil`], by the
+/// same shift of the year to March).
+fn civil_from_days(days: u64) -> (u64, u8, u8) {
+    // 1970-03-01 is day 60 of the era that starts 0000-03-01 at day 719 468 before the
+    // epoch; no step below overflows for any u64 day count divided this way.
+    let z = days.saturating_add(719_468);
+    let era = z / 146_097;
+    let doe = z % 146_097;
+    let yoe = doe
+        .saturating_sub(doe / 1_460)
+        .saturating_add(doe / 36_524)
+        .saturating_sub(doe / 146_096)
+        / 365;
+    let y = yoe.saturating_add(era.saturating_mul(400));
+    let doy = doe.saturating_sub(
+        yoe.saturating_mul(365)
+            .saturating_add(yoe / 4)
+            .saturating_sub(yoe / 100),
+    );
+    let mp = doy.saturating_mul(5).saturating_add(2) / 153;
+    let day = doy
+        .saturating_sub(mp.saturating_mul(153).saturating_add(2) / 5)
+        .saturating_add(1);
+    let month = if mp < 10 {
+        mp.saturating_add(3)
+    } else {
+        mp.saturating_sub(9)
+    };
+    let year = y.saturating_add(u64::from(month <= 2));
+    (
+        year,
+        u8::try_from(month).unwrap_or(1),
+        u8::try_from(day).unwrap_or(1),
+    )
+}
+
 fn days_from_civil(year: u16, month: u8, day: u8) -> Option<u64> {
     if !(1970..=9999).contains(&year) || !(1..=12).contains(&month) || day < 1 {
         return None;
@@ -637,6 +679,26 @@ mod bake {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The date of an instant is the one it was made from, every day from 1970 to 2400
+    /// (leap years, their centuries, the year's ends).
+    #[test]
+    fn dates_round_trip() {
+        let mut day = 0u64;
+        for year in 1970u16..2400 {
+            for month in 1u8..=12 {
+                for d in 1u8..=31 {
+                    if let Some(t) = UtcTime::from_date_time(year, month, d, TimeOfDay::MIDNIGHT) {
+                        assert_eq!(t.as_unix_micros() / US_PER_DAY, day, "{year}-{month}-{d}");
+                        assert_eq!(t.date(), (u64::from(year), month, d));
+                        day += 1;
+                    }
+                }
+            }
+        }
+        let (_, month, day) = UtcTime::from_unix_micros(u64::MAX).date();
+        assert!((1..=12).contains(&month) && (1..=31).contains(&day));
+    }
 
     #[test]
     fn the_nearest_wrap() {

@@ -16,6 +16,7 @@ assertions. Prints one line per check and `N passed, M failed`.
 
 import argparse
 import os
+import re
 import socket
 import struct
 import zlib
@@ -140,8 +141,31 @@ def main():
     check("through the bootloader (its line first, the active slot at 0x0800a000)",
           first == "bootloader: boot, active slot at 0x0800a000", first)
 
-    # The update port (USART3 here): Hello is answered with Info (bridge_update::wire).
+    # The console on the update port (USART3 here; docs/src/console.md): a command typed
+    # is echoed and answered, a setting saved to the store (a RAM model on QEMU).
     update = connect(args.update)
+
+    def console(line):
+        update.sendall(line.encode() + b"\r")
+        text, deadline = "", time.time() + TIMEOUT
+        while time.time() < deadline and alive() and not (
+                text.endswith("> ") and ("\nok" in text or "\nerror" in text)):
+            try:
+                text += update.recv(1024).decode(errors="replace")
+            except socket.timeout:
+                pass
+        return text
+
+    answer = console("version")
+    check("the console answers version with the build's line",
+          re.match(r"version\r\n\d+\.\d+\.\d+\S* commit \w+", answer) is not None
+          and "qemu: fc-siyi" in answer and "\r\nok\r\n> " in answer,
+          repr(answer))
+    answer = console("set leap_seconds 19") + console("save")
+    check("the console sets and saves a setting", "ok: 1 settings kept" in answer, repr(answer))
+
+    # The update protocol on the same port: an update frame at a line's start hands it
+    # over. Hello is answered with Info (bridge_update::wire).
     hello = b"\x01\x00\x00"
     update.sendall(b"\xb7\x4d" + hello + struct.pack("<I", zlib.crc32(hello)))
     info, deadline = b"", time.time() + TIMEOUT

@@ -72,10 +72,7 @@ pub type BoardFlash = Mutex<ThreadModeRawMutex, RefCell<Flash<'static, Blocking>
 /// a partition of [`BoardFlash`] seen through sequential-storage's async traits (each
 /// operation completes before it returns: a page erase holds the executor for about
 /// 22 ms, once per several hours of signing).
-#[cfg(all(
-    not(feature = "qemu"),
-    any(feature = "fc-mavlink", feature = "telemetry")
-))]
+#[cfg(not(feature = "qemu"))]
 pub type StoreFlash = embassy_embedded_hal::adapter::BlockingAsync<
     embassy_embedded_hal::flash::partition::BlockingPartition<
         'static,
@@ -86,12 +83,11 @@ pub type StoreFlash = embassy_embedded_hal::adapter::BlockingAsync<
 /// The emulated board's store: a RAM model of two 512-byte pages (QEMU's flash is
 /// read-only memory and its flash controller is not modelled: the store forgets at each
 /// start).
-#[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
+#[cfg(feature = "qemu")]
 pub type StoreFlash = bridge_fw::ram_flash::RamFlash<'static, 512>;
 
 /// The store's range in [`StoreFlash`] (offsets from its start: the partition is the
 /// store's own range).
-#[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
 #[must_use]
 pub const fn store_range() -> core::ops::Range<u32> {
     #[cfg(not(feature = "qemu"))]
@@ -150,9 +146,8 @@ pub struct Board {
     pub reset: ResetCause,
     /// HCLK, Hz.
     pub hclk: u32,
-    /// The persistent store's flash (builds with a MAVLink link: its records are the
-    /// signing timestamp and key).
-    #[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
+    /// The persistent store's flash: the settings (every build), and the signing
+    /// timestamps and keys (builds with a MAVLink link).
     pub store: StoreFlash,
 }
 
@@ -388,10 +383,7 @@ pub fn init() -> Board {
         config,
         reset: ResetCause::from_rcc_csr(csr),
         hclk,
-        #[cfg(all(
-            not(feature = "qemu"),
-            any(feature = "fc-mavlink", feature = "telemetry")
-        ))]
+        #[cfg(not(feature = "qemu"))]
         store: {
             let r = bridge_fw::layout::store_offsets();
             embassy_embedded_hal::adapter::BlockingAsync::new(
@@ -402,7 +394,7 @@ pub fn init() -> Board {
                 ),
             )
         },
-        #[cfg(all(feature = "qemu", any(feature = "fc-mavlink", feature = "telemetry")))]
+        #[cfg(feature = "qemu")]
         store: {
             static STORE: StaticCell<[u8; 1024]> = StaticCell::new();
             bridge_fw::ram_flash::RamFlash::new(STORE.init([0xFF; 1024]))

@@ -2,7 +2,9 @@
 //! methods; tests put doubles in its place (a spy around the engine, a scripted engine
 //! that plans RTC_IO edges without an FC side).
 
-use bridge_engine::{Changes, Engine, Event, Instant, InstantNs, Level, PinAction, Port};
+use bridge_engine::{
+    Changes, ConsoleAction, Engine, Event, Instant, InstantNs, Level, PinAction, Port,
+};
 
 /// Link and time status, for the LED ([`crate::led`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -62,6 +64,24 @@ pub trait BridgeEngine {
         let _ = problem;
         Changes::NONE
     }
+    /// [`Engine::console_receive`] (a double has no console).
+    fn console_receive(&mut self, now: Instant, bytes: &[u8]) -> (Changes, Option<ConsoleAction>) {
+        let _ = (now, bytes);
+        (Changes::NONE, None)
+    }
+    /// [`Engine::console_transmit`].
+    fn console_transmit(&mut self, buf: &mut [u8]) -> usize {
+        let _ = buf;
+        0
+    }
+    /// [`Engine::console_resume`].
+    fn console_resume(&mut self) -> Changes {
+        Changes::NONE
+    }
+    /// [`Engine::records_due`].
+    fn records_due(&self) -> bool {
+        false
+    }
 }
 
 impl BridgeEngine for Engine {
@@ -115,6 +135,22 @@ impl BridgeEngine for Engine {
 
     fn restore_failed(&mut self, problem: bridge_engine::store::Problem) -> Changes {
         Engine::restore_failed(self, problem)
+    }
+
+    fn console_receive(&mut self, now: Instant, bytes: &[u8]) -> (Changes, Option<ConsoleAction>) {
+        Engine::console_receive(self, now, bytes)
+    }
+
+    fn console_transmit(&mut self, buf: &mut [u8]) -> usize {
+        Engine::console_transmit(self, buf)
+    }
+
+    fn console_resume(&mut self) -> Changes {
+        Engine::console_resume(self)
+    }
+
+    fn records_due(&self) -> bool {
+        Engine::records_due(self)
     }
 
     fn status(&self) -> Status {

@@ -15,6 +15,7 @@
 //! | [`pps_task`] | PPS edges ([`PpsInput`]: the instants a timer captured) → [`Engine::pps`] |
 //! | [`watchdog_task`] | feeds the watchdog only while the engine task and every link loop (FC, pod and, where it runs, telemetry: reader and writer) make progress |
 //! | [`led_task`] | boot, the FC side, then FC link, pod link, UTC and faults as blink codes ([`led::LED_CODES`]) |
+//! | [`console_task`] | the console on the update port (the ST-LINK virtual COM port): bytes to [`Engine::console_receive`](bridge_engine::Engine::console_receive), its answers back; the port to the update protocol on `update` or an update frame's sync; returns for a restart once the store has written what waits |
 //! | [`update_task`] | the update protocol on the update port (the ST-LINK virtual COM port) to the sans-IO [`bridge_update::Receiver`], and the confirmation of an image on trial |
 //! | [`log_task`] | engine events and the tasks' own [`LogRecord`]s to an [`EventSink`] (defmt on the MCU, print/JSON on the host) |
 //! | [`store_task`] | the engine's records to keep ([`Engine::take_record`](bridge_engine::Engine::take_record)) to a [`RecordStore`] (a flash range on the MCU, a state file on Linux); [`restore`] gives them back at start |
@@ -49,6 +50,7 @@
 #![cfg_attr(not(feature = "host"), no_std)]
 
 pub mod config;
+mod console;
 mod engine;
 mod engine_task;
 pub mod layout;
@@ -68,6 +70,7 @@ mod watchdog;
 #[cfg(feature = "host")]
 pub mod host;
 
+pub use console::{ConsoleEnd, console, console_task};
 pub use engine::{BridgeEngine, Status};
 pub use engine_task::engine_task;
 pub use led::{Blink, Fault, Faults, led_task, strap_error_led};
@@ -76,7 +79,7 @@ pub use log::{EventSink, log_task};
 pub use pps::{NoPps, PpsInput, pps_task};
 pub use rtc_io::RtcIo;
 pub use shared::{Heartbeat, LogKind, LogRecord, Shared, Timing};
-pub use store::{FlashStore, RecordStore, restore, store_task};
+pub use store::{FlashStore, RecordStore, restore, restore_settings, store_task};
 pub use tick_clock::TickClock;
 pub use update::{UpdateLog, update_task};
 pub use watchdog::watchdog_task;

@@ -117,6 +117,33 @@ fn start(spawner: Spawner) {
         FAULTS.raise(bridge_fw::Fault::WatchdogReset);
     }
 
+    // The settings kept in the store, before the engine: the configuration to start with.
+    let mut store = bridge_fw::FlashStore::new(b.store, board::store_range())
+        .expect("the store's range is whole pages");
+    let sides = bridge_engine::Sides::of(bridge_fw::config::COMPILED);
+    let (mut restored, mut unreadable) =
+        embassy_futures::block_on(bridge_fw::restore_settings(&mut store, config, sides));
+    // The UARTs were made at the defaults' rates: a rate set differently is applied here,
+    // or, one the UART cannot make, falls back to its default (the setting stays set).
+    let (fc, pod) = (b.fc, b.pod);
+    let started = *restored.config();
+    if started.fc_baud != config.fc_baud && fc.set_baudrate(started.fc_baud).is_err() {
+        restored.fall_back("fc_baud");
+    }
+    if started.pod_baud != config.pod_baud && pod.set_baudrate(started.pod_baud).is_err() {
+        restored.fall_back("pod_baud");
+    }
+    #[cfg(feature = "telemetry")]
+    let telemetry = b.telemetry;
+    #[cfg(feature = "telemetry")]
+    if started.telemetry_baud != config.telemetry_baud
+        && telemetry.set_baudrate(started.telemetry_baud).is_err()
+    {
+        restored.fall_back("telemetry_baud");
+    }
+    let store_reset = restored.store_reset();
+    let config = *restored.config();
+
     #[cfg(feature = "qemu")]
     semihosting::println!(
         "bridge-fw (qemu): up, HCLK {} Hz, FC {:?}",
@@ -134,41 +161,44 @@ fn start(spawner: Spawner) {
     );
     static SHARED: StaticCell<BoardShared> = StaticCell::new();
     let shared: &'static BoardShared =
-        SHARED.init_with(|| Shared::new(Engine::with_build(config, build), timing));
+        SHARED.init_with(|| Shared::new(Engine::restored(restored, build), timing));
 
-    let (fc_tx, fc_rx) = b.fc.split();
-    let (pod_tx, pod_rx) = b.pod.split();
+    let (fc_tx, fc_rx) = fc.split();
+    let (pod_tx, pod_rx) = pod.split();
     spawner.spawn(fc_link(shared, fc_rx, fc_tx).expect("task fc_link"));
     spawner.spawn(pod_link(shared, pod_rx, pod_tx).expect("task pod_link"));
     #[cfg(feature = "telemetry")]
     {
-        let (tel_tx, tel_rx) = b.telemetry.split();
+        let (tel_tx, tel_rx) = telemetry.split();
         spawner.spawn(telemetry_link(shared, tel_rx, tel_tx).expect("task telemetry_link"));
     }
-    // The records kept across restarts go to the engine before its first input.
-    #[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
-    {
-        let mut store = bridge_fw::FlashStore::new(b.store, board::store_range())
-            .expect("the store's range is whole pages");
-        let unreadable = embassy_futures::block_on(bridge_fw::restore(shared, &mut store));
-        if unreadable {
-            // Found corrupt: started on defaults (the engine said so); a blank store.
-            let erased = embassy_futures::block_on(store.erase());
-            defmt::warn!("store: unreadable, erased ({})", erased.is_ok());
-            FAULTS.raise(bridge_fw::Fault::StoreReset);
-        }
-        #[cfg(feature = "qemu")]
-        semihosting::println!(
-            "bridge-fw (qemu): store on a RAM model (QEMU cannot program flash): nothing kept across restarts"
-        );
-        spawner.spawn(store_records(shared, store).expect("task store"));
+    // The other records kept across restarts (the signing state) go to the engine before
+    // its first input.
+    if !unreadable {
+        unreadable = embassy_futures::block_on(bridge_fw::restore(shared, &mut store));
     }
+    if unreadable {
+        // Found corrupt: started on defaults (the engine said so); a blank store.
+        let erased = embassy_futures::block_on(store.erase());
+        defmt::warn!("store: unreadable, erased ({})", erased.is_ok());
+    }
+    if unreadable || store_reset {
+        // Blank (a first start), unreadable, or its settings invalid together: the
+        // defaults run, and the LED says so until the next start.
+        defmt::warn!("store: reset, the settings are the defaults");
+        FAULTS.raise(bridge_fw::Fault::StoreReset);
+    }
+    #[cfg(feature = "qemu")]
+    semihosting::println!(
+        "bridge-fw (qemu): store on a RAM model (QEMU cannot program flash): nothing kept across restarts"
+    );
+    spawner.spawn(store_records(shared, store).expect("task store"));
     spawner.spawn(engine(shared, b.rtc_io).expect("task engine"));
     spawner.spawn(pps(shared, b.pps).expect("task pps"));
     spawner.spawn(watchdog_task(shared, watchdog).expect("task watchdog"));
     spawner.spawn(led(shared, &FAULTS, config.fc, b.led).expect("task led"));
     spawner.spawn(log(shared).expect("task log"));
-    spawner.spawn(update(shared, b.update, b.flash).expect("task update"));
+    spawner.spawn(console(shared, b.update, b.flash).expect("task console"));
     spawner.spawn(stack_watch().expect("task stack_watch"));
 }
 
@@ -183,10 +213,11 @@ impl core::fmt::Display for DisplayBuild<'_> {
     }
 }
 
-/// The update port ([`bridge_fw::update_task`]) over the update slot of the flash layout;
-/// resets the board when the client asks (the bootloader then swaps a verified image in).
+/// The console and the update port ([`bridge_fw::console_task`]) over the update slot of
+/// the flash layout; resets the board on `reboot` or when the update client asks (the
+/// bootloader then swaps a verified image in).
 #[embassy_executor::task]
-async fn update(
+async fn console(
     shared: &'static BoardShared,
     port: embassy_stm32::usart::BufferedUart<'static>,
     flash: &'static board::BoardFlash,
@@ -208,7 +239,7 @@ async fn update(
         Ok(mut slot) => {
             let mut receiver =
                 bridge_update::Receiver::new(UPDATE_KEY, UPDATE_KEY_IS_DEV, FIRMWARE_VERSION);
-            bridge_fw::update_task(shared, &mut rx, &mut tx, &mut slot, &mut receiver).await;
+            bridge_fw::console_task(shared, &mut rx, &mut tx, &mut slot, &mut receiver).await;
             // Let the answer leave the UART (a few bytes at 115200 baud).
             embassy_time::Timer::after_millis(20).await;
             cortex_m::peripheral::SCB::sys_reset()
@@ -307,7 +338,6 @@ type PpsPin = tim2::PpsCapture;
 type PpsPin = qemu_pps::PpsOverSerial;
 
 /// The persistent store's writer.
-#[cfg(any(feature = "fc-mavlink", feature = "telemetry"))]
 #[embassy_executor::task]
 async fn store_records(
     shared: &'static BoardShared,

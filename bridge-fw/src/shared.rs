@@ -1,7 +1,7 @@
 //! What the tasks share: the engine, the wake-ups between tasks, the heartbeat.
 
 use core::cell::RefCell;
-use core::sync::atomic::{AtomicU8, AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU8, AtomicU32, Ordering};
 
 use bridge_engine::{Changes, Config, Duration, Event, Instant, Level, Port};
 use embassy_sync::blocking_mutex::Mutex;
@@ -214,7 +214,10 @@ pub struct Shared<M: RawMutex, E> {
     pub(crate) wake_pod_tx: Signal<M, ()>,
     pub(crate) wake_log: Signal<M, ()>,
     pub(crate) wake_store: Signal<M, ()>,
+    pub(crate) wake_console: Signal<M, ()>,
     pub(crate) records: Channel<M, LogRecord, RECORDS>,
+    /// The store task is writing a record it took.
+    pub(crate) store_busy: AtomicBool,
     alive: AtomicU8,
     records_dropped: AtomicU32,
 }
@@ -235,7 +238,9 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
             wake_pod_tx: Signal::new(),
             wake_log: Signal::new(),
             wake_store: Signal::new(),
+            wake_console: Signal::new(),
             records: Channel::new(),
+            store_busy: AtomicBool::new(false),
             alive: AtomicU8::new(0),
             records_dropped: AtomicU32::new(0),
         }
@@ -272,6 +277,21 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         changes
     }
 
+    /// An input of the console ([`BridgeEngine::console_receive`]): wakes the tasks it
+    /// concerns as [`Shared::input`] does; returns what the console asks of its task.
+    pub fn console_input(
+        &self,
+        f: impl FnOnce(&mut E) -> (Changes, Option<bridge_engine::ConsoleAction>),
+    ) -> Option<bridge_engine::ConsoleAction> {
+        let mut action = None;
+        self.input(|e| {
+            let (changes, a) = f(e);
+            action = a;
+            changes
+        });
+        action
+    }
+
     /// Runs `f` on the state, waking nobody.
     pub(crate) fn with_state<R>(&self, f: impl FnOnce(&mut State<E>) -> R) -> R {
         self.state.lock(|s| f(&mut s.borrow_mut()))
@@ -294,6 +314,9 @@ impl<M: RawMutex, E: BridgeEngine> Shared<M, E> {
         }
         if changes.contains(Changes::STORE) {
             self.wake_store.signal(());
+        }
+        if changes.contains(Changes::CONSOLE) {
+            self.wake_console.signal(());
         }
     }
 

@@ -20,8 +20,10 @@
 //! every 7 hours of signing.
 
 use core::future::Future;
+use core::sync::atomic::Ordering;
 
 use bridge_engine::store::{Key, MAX_VALUE, Problem};
+use bridge_engine::{Config, Restore, Restored, Sides};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embedded_storage_async::nor_flash::NorFlash;
 use sequential_storage::cache::{Cache, Uncached};
@@ -136,6 +138,32 @@ pub async fn restore<M: RawMutex, E: BridgeEngine>(
     false
 }
 
+/// Reads the settings' records from `store` ([`Restore::keys`]) before the engine is made:
+/// the configuration to start with (`defaults` with the settings kept) and what the engine
+/// reports ([`Engine::restored`](bridge_engine::Engine::restored)). `true` with it: the
+/// store could not be read (the caller may start it afresh).
+pub async fn restore_settings(
+    store: &mut impl RecordStore,
+    defaults: Config,
+    sides: Sides,
+) -> (Restored, bool) {
+    let mut restore = Restore::new(defaults, sides);
+    let mut buf = [0u8; MAX_VALUE];
+    let mut unreadable = false;
+    for key in Restore::keys() {
+        match store.load(key, &mut buf).await {
+            Ok(Some(n)) => restore.record(key, buf.get(..n).unwrap_or_default()),
+            Ok(None) => {}
+            Err(()) => {
+                restore.unreadable();
+                unreadable = true;
+                break;
+            }
+        }
+    }
+    (restore.finish(), unreadable)
+}
+
 /// Writes every record the engine gives ([`BridgeEngine::take_record`]) to `store`, woken
 /// by [`Changes::STORE`](bridge_engine::Changes::STORE). A write that fails is logged
 /// ([`LogKind::StoreError`]); the engine asks again at its next save. Not supervised by the
@@ -146,10 +174,19 @@ pub async fn store_task<M: RawMutex, E: BridgeEngine>(
 ) -> ! {
     loop {
         shared.wake_store.wait().await;
-        while let Some(record) = shared.with(BridgeEngine::take_record) {
+        loop {
+            // Marked busy in the same lock that takes the record: a restart waits for
+            // the write it started (`records_due` no longer shows the record).
+            let taken = shared.with(|e| {
+                let r = e.take_record();
+                shared.store_busy.store(r.is_some(), Ordering::Release);
+                r
+            });
+            let Some(record) = taken else { break };
             if store.save(record.key.0, record.value()).await.is_err() {
                 shared.record(crate::now(), LogKind::StoreError(record.key.0));
             }
         }
+        shared.store_busy.store(false, Ordering::Release);
     }
 }

@@ -391,3 +391,53 @@ fn the_linker_map_leaves_the_store_to_the_store() {
     assert_eq!(layout::STORE_START, 0x080F_C000);
     assert_eq!(layout::STORE_END, 0x0810_0000);
 }
+
+/// The settings through the store's flash model, as the firmware starts: a blank store
+/// starts on the defaults and says so (the store-reset LED code), and writes its header;
+/// a setting set and saved on the console is the next start's configuration; a corrupt
+/// store starts on the defaults again.
+#[test]
+fn a_setting_survives_a_restart_through_the_flash() {
+    let start = |st: &mut FlashStore<MockFlash>| {
+        block_on(bridge_fw::restore_settings(
+            st,
+            Config::DEFAULT,
+            bridge_engine::Sides::COMPILED,
+        ))
+    };
+    let mut st = store_of(MockFlash::blank());
+    let (restored, unreadable) = start(&mut st);
+    assert!(!unreadable);
+    assert_eq!(restored.reset, Some(Problem::Missing), "blank: a reset");
+    let mut e = Engine::restored(restored, bridge_engine::BuildInfo::ENGINE);
+    let (_, action) = e.console_receive(Instant::ZERO, b"set pod_baud 230400\rsave\r");
+    assert_eq!(action, None);
+    let mut out = [0u8; 512];
+    let mut said = Vec::new();
+    while let n @ 1.. = e.console_transmit(&mut out) {
+        said.extend_from_slice(&out[..n]);
+    }
+    let said = String::from_utf8_lossy(&said);
+    assert!(said.contains("ok: 1 settings kept"), "{said}");
+    let mut written = 0;
+    while let Some(r) = e.take_record() {
+        block_on(st.save(r.key.0, r.value())).unwrap();
+        written += 1;
+    }
+    assert_eq!(written, 2, "the header, then the setting");
+
+    // The next start (a fresh map over the same flash).
+    let mut st = store_of(st.into_flash());
+    let (restored, unreadable) = start(&mut st);
+    assert!(!unreadable);
+    assert_eq!(restored.reset, None);
+    assert_eq!(restored.config().pod_baud, 230_400);
+    assert_ne!(Config::DEFAULT.pod_baud, 230_400);
+
+    let garbage: Vec<u8> = (0..SIZE).map(|i| (i * 151 % 251) as u8).collect();
+    let mut st = store_of(MockFlash::of(garbage, vec![true; SIZE / WORD]));
+    let (restored, unreadable) = start(&mut st);
+    assert!(unreadable);
+    assert_eq!(restored.reset, Some(Problem::Unreadable));
+    assert_eq!(*restored.config(), Config::DEFAULT);
+}

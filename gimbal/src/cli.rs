@@ -88,6 +88,14 @@ pub enum Command {
     /// one). A lost link resumes where the board stopped. Exit 1 when the board refuses
     /// the image, does not come back, or rolls the image back.
     Update(UpdateArgs),
+    /// The bridge's settings through its console (docs/src/console.md): on a board's
+    /// ST-LINK virtual COM port, or `gimbal bridge --console`'s port.
+    ///
+    /// `get` prints one setting or every one; `set` checks and sets one (kept by `save` on
+    /// the console, or `load`); `dump` prints every setting as a configuration file
+    /// (the signing key as a comment: it is write-only); `load FILE` sets each setting of
+    /// such a file, then saves them. Exit 1 when the console refuses a value.
+    Config(ConfigCommandArgs),
     /// Sign a firmware image for `gimbal update`: writes IMAGE.sig (the ed25519 signature of
     /// the image's SHA-512 and the signer's public key).
     ///
@@ -131,6 +139,45 @@ pub struct UpdateArgs {
     pub wait: u64,
     /// The image (a `.bin` of the release folder).
     pub image: PathBuf,
+}
+
+/// `gimbal config`.
+#[derive(Debug, clap::Args)]
+pub struct ConfigCommandArgs {
+    /// The console's port: a serial device (the board's ST-LINK virtual COM port), or
+    /// `tcp:HOST:PORT` (`gimbal bridge --console tcp-listen:PORT`).
+    #[arg(long)]
+    pub port: String,
+    /// The serial device's baud rate.
+    #[arg(long, default_value_t = 115_200)]
+    pub baud: u32,
+    /// What to do.
+    #[command(subcommand)]
+    pub action: ConfigAction,
+}
+
+/// `gimbal config`'s actions.
+#[derive(Debug, Subcommand)]
+pub enum ConfigAction {
+    /// Print a setting, or every one.
+    Get {
+        /// The setting's key (as in the configuration file: `fc_baud`, `video.uri`).
+        key: Option<String>,
+    },
+    /// Set a setting (checked as the configuration file is; kept by `save` or `load`).
+    Set {
+        /// The setting's key.
+        key: String,
+        /// Its value, as the configuration file writes it (texts in quotes or not).
+        value: String,
+    },
+    /// Print every setting as a configuration file (`load` takes it back).
+    Dump,
+    /// Set every setting of FILE (a dump, or a configuration file of flat keys), then save.
+    Load {
+        /// The file.
+        file: PathBuf,
+    },
 }
 
 /// `gimbal sign`.

@@ -149,6 +149,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 .map(|_| ())
                 .map_err(|e| Failure::Runtime(format!("update: {e}")))
         }
+        Command::Config(a) => {
+            write_lines(config(&a).map_err(|e| Failure::Runtime(format!("config: {e}")))?)
+        }
         Command::Sign(a) => {
             gimbal::update::sign(a.key.as_deref(), &a.image, &mut std::io::stdout().lock())
                 .map(|_| ())
@@ -197,4 +200,36 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// `gimbal config`: the console's client.
+fn config(a: &gimbal::cli::ConfigCommandArgs) -> Result<Vec<String>, String> {
+    use gimbal::cli::ConfigAction;
+    use gimbal::console_client::{ConsolePort, load};
+    let mut port = ConsolePort::open(&a.port, a.baud)?;
+    let lines = match &a.action {
+        ConfigAction::Get { key } => {
+            let answer = port.command(&format!("get {}", key.as_deref().unwrap_or("")))?;
+            if !answer.ok() {
+                return Err(answer.last);
+            }
+            answer.lines
+        }
+        ConfigAction::Dump => {
+            let answer = port.command("get")?;
+            if !answer.ok() {
+                return Err(answer.last);
+            }
+            answer.lines
+        }
+        ConfigAction::Set { key, value } => {
+            let answer = port.command(&format!("set {key} {value}"))?;
+            if !answer.ok() {
+                return Err(answer.last);
+            }
+            answer.lines.into_iter().chain([answer.last]).collect()
+        }
+        ConfigAction::Load { file } => load(&mut port, file)?,
+    };
+    Ok(lines)
 }

@@ -525,3 +525,177 @@ fn the_security_options_set_their_keys() {
     assert!(e.contains("expected 64 hexadecimal characters"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `gimbal bridge --console` and its client `gimbal config`: settings set through the
+/// console, dumped, loaded back (the same settings again), saved in the state directory;
+/// `reboot` ends the run, and the next run starts with them.
+#[test]
+fn gimbal_config_through_the_bridges_console_and_a_setting_kept_across_a_restart() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    use std::time::Duration as StdDuration;
+
+    let dir = std::env::temp_dir().join(format!("k40t-console-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let state = dir.join("state");
+    let state = state.to_str().unwrap();
+    // A bridge with its console on a free port; returns it and the console's address.
+    let start = || {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_gimbal"))
+            .args([
+                "bridge",
+                "--fc",
+                "siyi",
+                "--fc-port",
+                "sim",
+                "--pod-port",
+                "sim",
+            ])
+            .args(["--console", "tcp-listen:127.0.0.1:0", "--state-dir", state])
+            .args(["--events", "json", "--seconds", "60"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        let address = loop {
+            let line = lines
+                .next()
+                .expect("the bridge says where it listens")
+                .unwrap();
+            let v: serde_json::Value = serde_json::from_str(&line).unwrap();
+            if v["event"] == "port_listening" && v["port"] == "console" {
+                break v["address"].as_str().unwrap().to_owned();
+            }
+        };
+        (child, lines, format!("tcp:{address}"))
+    };
+    let config = |port: &str, args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_gimbal"))
+            .args(["config", "--port", port])
+            .args(args)
+            .output()
+            .unwrap();
+        let text = String::from_utf8(out.stdout).unwrap();
+        let err = String::from_utf8(out.stderr).unwrap();
+        (out.status.success(), text, err)
+    };
+
+    let (mut bridge, mut events, port) = start();
+    let (ok, said, err) = config(&port, &["set", "leap_seconds", "19"]);
+    assert!(ok, "{said} {err}");
+    assert!(said.contains("leap_seconds = 19"), "{said}");
+    let (ok, _, err) = config(&port, &["set", "video.uri", "rtsp://10.0.0.9:554/live"]);
+    assert!(ok, "{err}");
+    // A refusal: the value's reason, exit 1, nothing changed.
+    let (ok, _, err) = config(&port, &["set", "leap_seconds", "300"]);
+    assert!(!ok && err.contains("error"), "{err}");
+    let (ok, said, _) = config(&port, &["get", "leap_seconds"]);
+    assert!(ok && said.trim() == "leap_seconds = 19", "{said}");
+
+    let (ok, dump, err) = config(&port, &["dump"]);
+    assert!(ok, "{err}");
+    assert!(dump.contains("leap_seconds = 19\n"), "{dump}");
+    assert!(
+        dump.contains("video.uri = \"rtsp://10.0.0.9:554/live\""),
+        "{dump}"
+    );
+    assert!(dump.contains("# signing_key: write-only"), "{dump}");
+    let file = dir.join("dump.toml");
+    std::fs::write(&file, &dump).unwrap();
+    // Changed after the dump; the dump loads back to the same settings (and saves them).
+    let (ok, _, _) = config(&port, &["set", "leap_seconds", "25"]);
+    assert!(ok);
+    let (ok, said, err) = config(&port, &["load", file.to_str().unwrap()]);
+    assert!(ok, "{said} {err}");
+    assert!(said.contains("settings kept"), "{said}");
+    let (_, again, _) = config(&port, &["dump"]);
+    assert_eq!(again, dump, "a dump loads back to the same settings");
+
+    // `reboot`: the run ends (a service manager starts it again).
+    let mut console = gimbal::console_client::ConsolePort::open(&port, 115_200).unwrap();
+    let a = console.command("reboot").unwrap();
+    assert!(a.ok(), "{a:?}");
+    let status = bridge.wait().unwrap();
+    assert!(status.success());
+    let stopped = events
+        .by_ref()
+        .map_while(Result::ok)
+        .find(|l| l.contains("\"stopped\""))
+        .unwrap();
+    assert!(stopped.contains("\"reboot\""), "{stopped}");
+
+    // The next start: the settings kept in the state directory.
+    let (mut bridge, _, port) = start();
+    let (ok, said, _) = config(&port, &["get", "leap_seconds"]);
+    assert!(ok && said.trim() == "leap_seconds = 19", "{said}");
+    let (_, again, _) = config(&port, &["dump"]);
+    assert_eq!(again, dump, "every setting kept");
+    let _ = bridge.kill();
+    let _ = bridge.wait();
+    std::thread::sleep(StdDuration::from_millis(10));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The settings table's row of `s`, as the book writes it (docs/src/firmware/
+/// configuration.md, "Settings at run time").
+fn settings_row(s: &bridge_engine::settings::Setting) -> String {
+    use bridge_engine::settings::table::{Access, SIDE_NAMES};
+    let param = s.param.map_or("—".to_owned(), |p| format!("`{p}`"));
+    let ty = s
+        .param_type()
+        .map_or("console, file".to_owned(), |t| t.name().to_owned());
+    let range = match (s.access, s.param_range()) {
+        (_, None) => "—".to_owned(),
+        (Access::Bool { .. }, _) => "0, 1 (`false`, `true`)".to_owned(),
+        (Access::Choice { names, .. }, Some((a, b))) => format!("{a}..={b}: {}", names.join(", ")),
+        (Access::Side, Some((a, b))) => format!("{a}..={b}: {}", SIDE_NAMES.join(", ")),
+        (Access::MsOrOff { limit, .. }, _) => {
+            format!("{}..={}, 0 for `\"off\"`", limit.min, limit.max)
+        }
+        (Access::K40tAllow, Some((a, b))) => format!("{a}..={b}: a bit per request"),
+        (_, Some((a, b))) => format!("{a}..={b}"),
+    };
+    let default = if s.secret() {
+        "none".to_owned()
+    } else if matches!(s.access, Access::Side) {
+        "`auto`".to_owned()
+    } else {
+        let mut d = String::new();
+        s.write(&Config::DEFAULT, &mut d).unwrap();
+        format!("`{d}`")
+    };
+    let secret = if s.secret() { "write-only" } else { "" };
+    format!(
+        "| `{}` | {param} | {ty} | {range} | {default} | {} | {secret} |",
+        s.key,
+        s.applies.name()
+    )
+}
+
+/// The book's settings table is the engine's one table of keys, row for row.
+#[test]
+fn the_books_settings_table_is_the_engines() {
+    let start = README
+        .find("### The settings\n")
+        .expect("the book's settings section");
+    let section = &README[start..];
+    let book: Vec<&str> = section
+        .lines()
+        .skip_while(|l| !l.starts_with("| `"))
+        .take_while(|l| l.starts_with("| `"))
+        .collect();
+    let code: Vec<String> = bridge_engine::settings::SETTINGS
+        .iter()
+        .map(settings_row)
+        .collect();
+    assert_eq!(
+        book.join("\n"),
+        code.join("\n"),
+        "docs/src/firmware/configuration.md's settings table differs from \
+         bridge_engine::SETTINGS; the table as the code has it:\n{}",
+        code.join("\n")
+    );
+}

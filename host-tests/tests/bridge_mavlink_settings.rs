@@ -6,6 +6,9 @@
 //! as the K40T document describes (`gimbal/src/sim/pod/settings.rs`).
 
 mod engine_scenarios;
+// The bridge's own settings as parameters (the engine alone).
+#[path = "bridge_mavlink_settings/bridge_params.rs"]
+mod bridge_params;
 
 use bridge_engine::{Config, Event, FcProtocol};
 use gimbal::sim::Autopilot;

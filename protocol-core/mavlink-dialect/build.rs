@@ -47,6 +47,11 @@ const MESSAGES: &[&str] = &[
     "PARAM_EXT_VALUE",
     "PARAM_EXT_SET",
     "PARAM_EXT_ACK",
+    // The bridge's own settings as parameters (bridge-engine/src/fc/mavlink/bridge_params.rs).
+    "PARAM_REQUEST_READ",
+    "PARAM_REQUEST_LIST",
+    "PARAM_VALUE",
+    "PARAM_SET",
     // Signing: the autopilot's system gives the device a new key (docs/src/security.md).
     "SETUP_SIGNING",
     // The bridge's version, asked of its components (bridge-engine/src/version.rs).

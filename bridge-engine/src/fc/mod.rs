@@ -40,6 +40,9 @@ pub(crate) struct Ctx<'a> {
     pub(crate) fixes: &'a mut FixHistory,
     pub(crate) geotag: &'a mut Geotagger,
     pub(crate) out: &'a mut Outputs,
+    /// The settings (the parameter protocol sets them).
+    #[cfg_attr(not(feature = "mavlink"), allow(dead_code))]
+    pub(crate) settings: &'a mut crate::settings::Settings,
     /// Set when a valid FC frame was seen (the FC link is up).
     pub(crate) fc_seen: bool,
     /// The serial time from the first byte written after the FC read the current frame's

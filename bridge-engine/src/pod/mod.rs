@@ -171,6 +171,14 @@ impl PodDriver {
         }
     }
 
+    /// The settings the driver holds that apply live: the pod's axis conventions and
+    /// the destructive requests FC commands may become.
+    pub(crate) fn set_live(&mut self, pod: &PodConfig, allow: crate::access::K40tAllow) {
+        self.cfg.yaw_positive_left = pod.yaw_positive_left;
+        self.cfg.pitch_positive_down = pod.pitch_positive_down;
+        self.allow = allow;
+    }
+
     pub(crate) const fn state(&self) -> &PodState {
         &self.state
     }

@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bridge_engine::{Config, Duration, Engine, Event};
 use bridge_fw::host::{self, Clock, HostLinks, HostShared};
-use bridge_fw::{LogKind, LogRecord, Timing};
+use bridge_fw::{ConsoleEnd, LogKind, LogRecord, Timing};
 use embassy_futures::select::{Either, Either4, select, select4};
 use embassy_time::{Duration as EmbassyDuration, Timer};
 use serde_json::{Value, json};
@@ -188,6 +188,9 @@ pub enum Ended {
     Interrupted,
     /// Stdout was closed.
     OutputClosed,
+    /// The console's `reboot` (a service manager starts the bridge again: the settings
+    /// that apply at restart then run).
+    Reboot,
 }
 
 impl Ended {
@@ -198,6 +201,7 @@ impl Ended {
             Ended::Time => "seconds_elapsed",
             Ended::Interrupted => "interrupted",
             Ended::OutputClosed => "output_closed",
+            Ended::Reboot => "reboot",
         }
     }
 }
@@ -250,7 +254,32 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
     } else {
         HostLinks::new()
     }));
-    let shared = HostShared::new(Engine::with_build(config, bridge_fw::config::BUILD), timing);
+    // The settings kept in the state directory, before the engine: the configuration
+    // file and the options are their defaults, as bridge.toml is the firmware's.
+    let state_dir = args
+        .state_dir
+        .clone()
+        .or_else(state::default_dir)
+        .ok_or("--state-dir: neither XDG_STATE_HOME nor HOME is set; give a directory")?;
+    let (mut state_file, set_aside) = StateFile::open(&state_dir)?;
+    let sides = bridge_engine::Sides::COMPILED;
+    let mut restored = if set_aside.is_some() {
+        let mut r = bridge_engine::Restore::new(config, sides);
+        r.unreadable();
+        r.finish()
+    } else {
+        embassy_futures::block_on(bridge_fw::restore_settings(&mut state_file, config, sides)).0
+    };
+    // `--fc` names the side (its simulator, its codec in the events): a kept `fc` waits.
+    if restored.config().fc != config.fc {
+        restored.fall_back("fc");
+    }
+    let config = *restored.config();
+    let timing = Timing {
+        idle_min: timing.idle_min,
+        ..Timing::from_config(&config)
+    };
+    let shared = HostShared::new(Engine::restored(restored, bridge_fw::config::BUILD), timing);
     let fc_codec = args.fc.name();
     let trace = |port: &'static str, dir: &'static str| {
         let codec = match port {
@@ -281,23 +310,37 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
         }),
     );
 
-    // The records kept across restarts go to the engine before its first input.
-    let state_dir = args
-        .state_dir
-        .clone()
-        .or_else(state::default_dir)
-        .ok_or("--state-dir: neither XDG_STATE_HOME nor HOME is set; give a directory")?;
-    let (mut state_file, set_aside) = StateFile::open(&state_dir)?;
+    // The other records kept across restarts (the signing state) go to the engine before
+    // its first input (a file set aside: the engine said so, restoring the settings).
     if let Some(bad) = &set_aside {
         out.emit(
             EventName::StateFileSetAside,
             json!({"file": state_file.path().display().to_string(), "problem": bad.problem,
                    "aside": bad.aside.as_ref().map(|p| p.display().to_string())}),
         );
-        shared.input(|e| e.restore_failed(bridge_engine::store::Problem::Unreadable));
     } else {
         embassy_futures::block_on(bridge_fw::restore(&shared, &mut state_file));
     }
+    // The console on a port of its own (docs/src/console.md).
+    let console_pipes = match &args.console {
+        Some(spec) => {
+            let rx: &'static host::HostPipe = Box::leak(Box::new(host::HostPipe::new()));
+            let tx: &'static host::HostPipe = Box::leak(Box::new(host::HostPipe::new()));
+            port::start(Pump {
+                label: "console",
+                spec: spec.clone(),
+                baud: 115_200,
+                out: out.clone(),
+                incoming: Some(rx),
+                outgoing: Some(tx),
+                tap_in: None,
+                tap_out: None,
+                faults: None,
+            })?;
+            Some((rx, tx))
+        }
+        None => None,
+    };
 
     // The RTC_IO outputs: opened first, so that a missing GPIO line is an error before
     // any connection is made.
@@ -464,6 +507,33 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
             host::bridge_with_pps(&shared, links, pin, pps, sink, || {}),
             bridge_fw::store_task(&shared, state_file),
         );
+        // `reboot` ends the run once the state file holds what waited; `update` (no
+        // update protocol here) gives the console back at once.
+        let console = async {
+            let Some((rx, tx)) = console_pipes else {
+                return core::future::pending().await;
+            };
+            let mut buf = [0u8; 64];
+            loop {
+                match bridge_fw::console(&shared, &mut &*rx, &mut &*tx, &mut buf, || {}).await {
+                    ConsoleEnd::Restart => {
+                        // The answer leaves before the run ends (the port's writer thread
+                        // takes it from the pipe).
+                        for _ in 0..50 {
+                            if tx.is_empty() {
+                                break;
+                            }
+                            Timer::after(EmbassyDuration::from_millis(10)).await;
+                        }
+                        Timer::after(EmbassyDuration::from_millis(50)).await;
+                        return Ended::Reboot;
+                    }
+                    ConsoleEnd::Update(_) => {
+                        shared.input(Engine::console_resume);
+                    }
+                }
+            }
+        };
         // A simulated peer on its side's wires (the bridge's output and input, their
         // sinks), traced both ways; or nothing.
         macro_rules! sim_peer {
@@ -526,6 +596,11 @@ pub fn run(args: &BridgeArgs, out: &Output, stop: &AtomicBool) -> Result<Value, 
                 next_status = now + 500_000;
             }
         });
+        let monitor = async {
+            match select(monitor, console).await {
+                Either::First(ended) | Either::Second(ended) => ended,
+            }
+        };
         match select4(bridge, fc_peer, pod_peer, monitor).await {
             Either4::First(Either::First(never) | Either::Second(never)) => match never {},
             Either4::Second(Err(e)) | Either4::Third(Err(e)) => {

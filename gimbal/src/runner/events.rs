@@ -5,7 +5,7 @@
 //! against.
 
 use bridge_engine::fixes::Fix;
-use bridge_engine::{Counters, Event, Refusal};
+use bridge_engine::{Counters, Event, Refusal, SettingSource};
 use bridge_fw::{Heartbeat, Level, LogKind, LogRecord, Port};
 use protocol_core::k40t::{Address, CrcCoverage};
 use serde_json::{Value, json};
@@ -208,6 +208,21 @@ pub fn engine_event(e: &Event) -> (EventName, Value) {
         Event::StoreRecord { key, problem } => (
             EventName::StoreRecord,
             json!({"key": format!("0x{key:04x}"), "problem": problem.name()}),
+        ),
+        Event::Setting {
+            key,
+            source,
+            outcome,
+        } => (
+            "setting",
+            json!({
+                "key": bridge_engine::settings::table::by_record(key).map_or("*", |s| s.key),
+                "source": match source {
+                    SettingSource::Console => "console",
+                    SettingSource::Parameter(port) => port_name(port),
+                },
+                "outcome": outcome.name(),
+            }),
         ),
         Event::Dropped { port, frames } => (
             EventName::Dropped,

@@ -186,11 +186,17 @@ pub struct BridgeArgs {
     /// Make the pod cable faulty (see FAULTS below; not RTC_IO).
     #[arg(long, value_name = "FAULTS", value_parser = parse_faults)]
     pub pod_faults: Option<Faults>,
-    /// Where the bridge keeps what it must remember across restarts (the MAVLink signing
-    /// timestamp, a key set by SETUP_SIGNING): the file DIR/state.bin, written atomically
+    /// Where the bridge keeps what it must remember across restarts (the settings set on
+    /// its console or by PARAM_SET, the MAVLink signing timestamp, a key set by
+    /// SETUP_SIGNING): the file DIR/state.bin, written atomically
     /// [default: $XDG_STATE_HOME/k40t-bridge, else ~/.local/state/k40t-bridge].
     #[arg(long, value_name = "DIR")]
     pub state_dir: Option<PathBuf>,
+    /// Serve the bridge's console (docs/src/console.md; `gimbal config --port`) on this
+    /// port: a serial device, `tcp:HOST:PORT` or `tcp-listen:[HOST:]PORT`. What it sets
+    /// is kept in --state-dir and overrides --config and the options at the next start.
+    #[arg(long, value_name = "PORT", value_parser = parse_port)]
+    pub console: Option<PortSpec>,
     /// The bridge's configuration from a file: the firmware's TOML
     /// (`bridge-fw/bridge.toml`, every key optional). The options below, a port's
     /// `:BAUD` and --fc override its keys (its `fc` is not used).

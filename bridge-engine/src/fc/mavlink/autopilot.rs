@@ -473,6 +473,12 @@ impl Autopilot {
         Took::Yes
     }
 
+    /// Parameters are encoded byte-wise on this link: the pinned autopilot is PX4 (whose
+    /// ground stations decode every component so; see `bridge_params`).
+    pub(super) fn params_bytewise(&self) -> bool {
+        self.kind == AutopilotKind::Px4
+    }
+
     /// The sender is the autopilot.
     pub(super) fn is_autopilot(&self, h: Header) -> bool {
         h.component_id == AUTOPILOT && self.sysid == Some(h.system_id)

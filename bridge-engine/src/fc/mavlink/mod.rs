@@ -52,6 +52,7 @@
 //!   answered with the bridge's clock in ns.
 
 mod autopilot;
+mod bridge_params;
 mod camera;
 mod capture;
 #[cfg(test)]
@@ -279,6 +280,8 @@ pub(crate) struct MavlinkSide {
     sensors: sensors::Sensors,
     tracking: tracking::Tracking,
     roi: roi::Roi,
+    /// The bridge's settings as parameters of the gimbal's component.
+    bridge_params: bridge_params::BridgeParams,
 }
 
 impl MavlinkSide {
@@ -297,6 +300,7 @@ impl MavlinkSide {
             sensors: sensors::Sensors::default(),
             tracking: tracking::Tracking::default(),
             roi: roi::Roi::default(),
+            bridge_params: bridge_params::BridgeParams::default(),
         }
     }
 }
@@ -353,6 +357,21 @@ impl FcHandler for MavlinkSide {
                 self.param_request(ctx, header, id, frame.payload_ref());
                 return;
             }
+            // The bridge's own parameters, on the gimbal's component.
+            id @ (bridge_params::REQUEST_READ
+            | bridge_params::REQUEST_LIST
+            | bridge_params::SET)
+                if self.ap.sysid.is_some() =>
+            {
+                let own = Comp::Gimbal.id();
+                if !self
+                    .bridge_params
+                    .request(ctx, &mut self.ap, own, id, frame.payload_ref())
+                {
+                    ctx.ignored();
+                }
+                return;
+            }
             _ => {}
         }
         match Packet::parse(&frame).map(|p| p.message) {
@@ -380,6 +399,8 @@ impl FcHandler for MavlinkSide {
             }
             self.ap.poll(ctx);
             self.params_poll(ctx);
+            self.bridge_params
+                .poll(ctx, &mut self.ap, Comp::Gimbal.id());
             self.ftp_poll(ctx);
             self.sensors_poll(ctx);
         }
@@ -398,6 +419,7 @@ impl FcHandler for MavlinkSide {
             self.ap.poll_at(),
             self.camera.poll_at(),
             self.ap.sysid.and(self.params.poll_at()),
+            self.ap.sysid.and(self.bridge_params.poll_at()),
             self.ap.sysid.and(self.ftp.poll_at()),
             self.destructive.poll_at(),
             sensors,

@@ -133,6 +133,11 @@ impl LinkSigning {
         protocol_core::mavlink::signature_value(key.unwrap_or(&zero), FINGERPRINT_LABEL)
     }
 
+    /// The fingerprint of a configured key (`None`: no key), as the console shows it.
+    pub(crate) fn key_fingerprint(key: Option<&crate::access::SigningKey>) -> Option<[u8; 6]> {
+        key.map(|k| Self::fingerprint(Some(&SecretKey::new(k.0))))
+    }
+
     /// The link signs or checks: its timestamp is worth keeping.
     pub(crate) fn active(&self) -> bool {
         self.mode != SigningMode::Off && self.key.is_some()

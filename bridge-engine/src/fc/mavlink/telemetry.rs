@@ -31,7 +31,7 @@ use protocol_core::mavlink::{Frame, Header, MavMessage, MavlinkFraming, Message,
 
 use super::super::{Ctx, FcHandler, TimedFrom};
 use super::autopilot::{Autopilot, Heartbeat, Took};
-use super::{Cmd, ack, result, version};
+use super::{Cmd, ack, bridge_params, result, version};
 use crate::access::Refusal;
 
 /// MAV_COMP_ID_PERIPHERAL: the bridge's component on the telemetry link.
@@ -46,6 +46,8 @@ pub(crate) struct TelemetrySide {
     next_heartbeat: Instant,
     /// Photos reported (the next image index).
     images: i32,
+    /// The bridge's settings as parameters of this component.
+    params: super::bridge_params::BridgeParams,
 }
 
 impl TelemetrySide {
@@ -54,6 +56,7 @@ impl TelemetrySide {
             ap: Autopilot::new(TELEMETRY_COMPONENT, config),
             next_heartbeat: Instant::ZERO,
             images: 0,
+            params: super::bridge_params::BridgeParams::default(),
         }
     }
 
@@ -169,6 +172,17 @@ impl FcHandler for TelemetrySide {
             self.command(ctx, &c);
             return;
         }
+        if let id @ (bridge_params::REQUEST_READ
+        | bridge_params::REQUEST_LIST
+        | bridge_params::SET) = frame.message_id()
+        {
+            if self.ap.sysid.is_some() {
+                let p = frame.payload_ref();
+                self.params
+                    .request(ctx, &mut self.ap, TELEMETRY_COMPONENT, id, p);
+            }
+            return;
+        }
         let Ok(Message::Known(m)) = Packet::parse(&frame).map(|p| p.message) else {
             return;
         };
@@ -196,10 +210,12 @@ impl FcHandler for TelemetrySide {
             self.heartbeat(ctx);
         }
         self.ap.poll(ctx);
+        self.params.poll(ctx, &mut self.ap, TELEMETRY_COMPONENT);
     }
 
     fn poll_at(&self) -> Option<Instant> {
         let hb = self.ap.sysid.map(|_| self.next_heartbeat);
-        [hb, self.ap.poll_at()].into_iter().flatten().min()
+        let params = self.ap.sysid.and(self.params.poll_at());
+        [hb, self.ap.poll_at(), params].into_iter().flatten().min()
     }
 }
