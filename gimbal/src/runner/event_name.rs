@@ -119,6 +119,8 @@ event_names! {
     StoreRecord = "store_record",
     /// A record could not be written to the persistent store.
     StoreError = "store_error",
+    /// A setting set, refused, saved or reset (console or parameter protocol).
+    Setting = "setting",
     /// The update port's progress (the board's).
     Update = "update",
     /// Frames dropped from a full queue.

@@ -214,7 +214,7 @@ pub fn engine_event(e: &Event) -> (EventName, Value) {
             source,
             outcome,
         } => (
-            "setting",
+            EventName::Setting,
             json!({
                 "key": bridge_engine::settings::table::by_record(key).map_or("*", |s| s.key),
                 "source": match source {

@@ -18,9 +18,13 @@ use crate::input::{Input, Plan};
 
 /// CRC_EXTRA of every message of the set, as the MAVLink C library's message tables list
 /// them (`MAVLINK_MESSAGE_CRCS`), written down independently of the generator.
-pub const SPEC_CRC_EXTRA: [(u32, u8); 38] = [
+pub const SPEC_CRC_EXTRA: [(u32, u8); 42] = [
     (0, 50),
     (2, 137),
+    (20, 214),
+    (21, 159),
+    (22, 220),
+    (23, 168),
     (24, 24),
     (30, 39),
     (33, 104),
