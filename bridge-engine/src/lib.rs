@@ -598,7 +598,7 @@ impl Engine {
         &self.core.settings
     }
 
-    /// Bytes from the console's port (see [`settings::console`]): echoed, and each line a
+    /// Bytes from the console's port (the console: docs/src/console.md): echoed, and each line a
     /// command. Returns what changed (the console's output, records to store, events) and
     /// what the caller must do: restart the bridge, or hand the port to the update
     /// protocol (the bytes from [`ConsoleAction::Update`]'s `at` on are its own).

@@ -10,7 +10,7 @@
 //!   type is the narrowest MAV_PARAM_TYPE that holds the range. The texts (the SIYI
 //!   hardware id, the Viewlink model, the video address), the signing key and the list of
 //!   ground stations are not parameters: the console and the file only. `k40t_allow` is a
-//!   bit mask (`BRG_K40T_ALLOW`: bit i allows [`GUARDED`](crate::access::GUARDED)`[i]`),
+//!   bit mask (`BRG_K40T_ALLOW`: bit i allows [`GUARDED`]`[i]`),
 //!   `k40t_geotag_fallback_ms` 0 for `"off"`, the choices their index.
 //! - **Applies.** [`Applies::Live`]: read by the engine where it is used, so a new value
 //!   counts from the next input; [`Applies::Restart`]: built into the engine's parts at
