@@ -293,7 +293,7 @@ impl Console {
             .and_then(|l| core::str::from_utf8(l).ok())
             .unwrap_or("");
         let text = text.trim();
-        let (command, rest) = text.split_once(' ').unwrap_or((text, ""));
+        let (command, rest) = text.split_once(value::is_space).unwrap_or((text, ""));
         let rest = rest.trim();
         match command {
             "" => self.put(PROMPT),
@@ -381,7 +381,7 @@ impl Console {
     }
 
     fn set(&mut self, rest: &str, parts: &mut Parts<'_>, changes: &mut impl FnMut(Change)) {
-        let (key, text) = rest.split_once(' ').unwrap_or((rest, ""));
+        let (key, text) = rest.split_once(value::is_space).unwrap_or((rest, ""));
         let Some(index) = Settings::index_of(key) else {
             self.unknown_key(key);
             return;

@@ -1,6 +1,6 @@
-//! The bridge engine: every public entry point of `Engine` (new, the records restored
-//! from the store, the FC and pod inputs, idle, poll, the RTC_IO pin, the output queues,
-//! the records to store, events, the read-only views) with an
+//! The bridge engine: every public entry point of `Engine` (new, the settings and the
+//! records restored from the store, the FC and pod inputs, the console, idle, poll, the
+//! RTC_IO pin, the output queues, the records to store, events, the read-only views) with an
 //! opaque configuration (so every FC side, SIYI, Viewlink, GCU, K40T and MAVLink, the
 //! telemetry link (the port is opaque too), and every
 //! configured behaviour is reachable), opaque bytes and instants, and the engine's state
@@ -8,11 +8,20 @@
 //! have left).
 
 use bridge_engine::store::Problem;
-use bridge_engine::{Config, Engine, Instant, Level, Port};
+use bridge_engine::{BuildInfo, Config, Engine, Instant, Level, Port, Restore, Sides};
 use core::hint::black_box;
 
 pub fn exercise(input: &[u8], out: &mut [u8]) {
-    let mut engine = Engine::new(black_box(Config::DEFAULT));
+    // The settings from opaque records (any key, any value), or an unreadable store.
+    let mut restore = Restore::new(black_box(Config::DEFAULT), black_box(Sides::COMPILED));
+    for key in Restore::keys() {
+        black_box(&mut restore).record(black_box(key), input);
+    }
+    black_box(&mut restore).record(black_box(0), input);
+    if black_box(false) {
+        black_box(&mut restore).unreadable();
+    }
+    let mut engine = Engine::restored(black_box(restore).finish(), black_box(BuildInfo::ENGINE));
     black_box(black_box(&mut engine).restore(black_box(0), input));
     black_box(black_box(&mut engine).restore_failed(black_box(Problem::Unreadable)));
     let now = || Instant::from_micros(black_box(0));
@@ -22,6 +31,11 @@ pub fn exercise(input: &[u8], out: &mut [u8]) {
     black_box(black_box(&mut engine).receive(now(), black_box(Port::Pod), input));
     black_box(black_box(&mut engine).idle(now(), black_box(Port::Pod)));
     black_box(black_box(&mut engine).poll(now()));
+    // The console: opaque bytes in (any command, any value), its answer out.
+    black_box(black_box(&mut engine).console_receive(now(), input));
+    black_box(black_box(&mut engine).console_resume());
+    black_box(black_box(&mut engine).console_transmit(out));
+    black_box(black_box(&engine).records_due());
     if let Some(p) = black_box(&mut engine).pin() {
         black_box(p);
     }
