@@ -31,9 +31,13 @@
 //!   that may not command: none of it reaches the pod ([`bridge_mavlink::run_forged`]).
 //!   Every bridge target checks that no frame of a destructive request the configuration
 //!   does not allow reaches the pod, whatever its kind.
+//! - **console**: the engine's console fed arbitrary bytes: the signing key never leaves
+//!   through it, both configurations stay valid, and what it keeps restores to what was
+//!   set (see [`console`]).
 
 pub mod bridge;
 pub mod bridge_mavlink;
+pub mod console;
 pub mod deframe;
 pub mod gcu;
 pub mod input;
@@ -108,6 +112,10 @@ pub const TARGETS: &[Target] = &[
     Target {
         name: "bridge_forged",
         run: bridge_mavlink::run_forged,
+    },
+    Target {
+        name: "console",
+        run: console::run,
     },
     Target {
         name: "gcu_deframe",

@@ -206,6 +206,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         "bridge_signed" => crate::bridge_mavlink::signed_seeds(),
         "bridge_k40t_allow" => crate::bridge::k40t_allow_seeds(),
         "bridge_forged" => crate::bridge_mavlink::forged_seeds(),
+        "console" => crate::console::seeds(),
         _ => panic!("no target {name}"),
     }
 }
