@@ -13,6 +13,7 @@ import json
 import os
 import socket
 import subprocess
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -133,11 +134,14 @@ class Rig:
              "--port", f"tcp-listen:127.0.0.1:{fc_port}",
              "--gcs", f"udp:127.0.0.1:{self.gcs_port}", *self.sim_args],
         )
+        # A state directory of the rig's own: what a test sets (PARAM_SET, signing
+        # timestamps) is kept there, never in the user's, and never reaches another rig.
+        self.state_dir = tempfile.TemporaryDirectory(prefix="bridge-rig-")
         self.bridge = Process(
             "bridge",
             [str(GIMBAL), "bridge", "--fc", "mavlink",
              "--fc-port", f"tcp:127.0.0.1:{fc_port}", "--pod-port", "sim",
-             "--events", "json", *self.bridge_args],
+             "--events", "json", "--state-dir", self.state_dir.name, *self.bridge_args],
         )
         if client == "pymavlink":
             from pymavlink import mavutil

@@ -66,18 +66,13 @@ pub enum ParamType {
 }
 
 impl ParamType {
-    /// The narrowest type that holds `min..=max`.
+    /// The narrowest signed type that holds `min..=max` (INT32 beyond INT16's range).
+    /// Signed only, as ArduPilot's and PX4's parameters are: MAVSDK's parameter client
+    /// lists INT8, INT16, INT32 and REAL32 and leaves the unsigned types out
+    /// (docs/src/firmware/configuration.md, "The parameters").
     #[must_use]
     pub const fn holding(min: i64, max: i64) -> Self {
-        if min >= 0 {
-            if max <= 0xFF {
-                ParamType::Uint8
-            } else if max <= 0xFFFF {
-                ParamType::Uint16
-            } else {
-                ParamType::Uint32
-            }
-        } else if min >= -0x80 && max <= 0x7F {
+        if min >= -0x80 && max <= 0x7F {
             ParamType::Int8
         } else if min >= -0x8000 && max <= 0x7FFF {
             ParamType::Int16
