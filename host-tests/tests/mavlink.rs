@@ -13,8 +13,8 @@ use protocol_core::mavlink::dialect::{
     HEARTBEAT_DATA, MavAutopilot, MavCmd, MavModeFlag, MavState, MavType,
 };
 use protocol_core::mavlink::{
-    self, CATALOG, Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
-    Signature, UnknownIds, message_info,
+    self, CATALOG, DEFRAMER_LEN, Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message,
+    Packet, Signature, UnknownIds, message_info,
 };
 use protocol_core::wire::{Deframer, Event, Scanned, Scanner};
 
@@ -504,7 +504,7 @@ proptest! {
         let last = heartbeat_bytes();
         stream.extend_from_slice(&last);
         want.push(last);
-        let mut d = Deframer::<MavlinkFraming, MAX_FRAME_LEN>::new(MavlinkFraming::new());
+        let mut d = Deframer::<MavlinkFraming, DEFRAMER_LEN>::new(MavlinkFraming::new());
         let mut got = Vec::new();
         for piece in stream.chunks(chunk) {
             d.push(piece, |e| if let Event::Frame(f) = e { got.push(f.to_vec()) });

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 
 use bridge_engine::{Config, Engine, FcProtocol, Instant, MAX_FRAME_LEN as ENGINE_FRAME, Port};
 use protocol_core::mavlink::{
-    CATALOG, Frame, IFLAG_SIGNED, MAX_FRAME_LEN, MavlinkFraming, UnknownIds, checksum, message_info,
+    CATALOG, DEFRAMER_LEN, Frame, IFLAG_SIGNED, MavlinkFraming, UnknownIds, checksum, message_info,
 };
 use protocol_core::wire::{Deframer, Event};
 use quick_xml::Reader;
@@ -376,7 +376,35 @@ fn the_deframer_skips_well_framed_unknown_ids_whole() {
         f.extend([0x33, 0x44]);
         f
     };
+    // A frame cut short after six bytes, then a valid frame whose component id is 0xFD.
+    // The cut frame's header reads on into that frame (its component id that frame's STX,
+    // its message id that frame's LEN and flags: an id outside the dialect, its checksum
+    // uncheckable), and its length (0) ends it on that frame's 0xFD, a frame start. Not a
+    // frame: a valid frame starts inside it and runs past its end (CI found the case,
+    // 2026-12-06; before, it was skipped whole and the valid frame lost).
+    let cut = [0xFD, 0, 0, 0, 0x71, 1];
+    let after_cut = {
+        let mut f = good.clone();
+        f[6] = 0xFD;
+        let n = f.len();
+        let crc = checksum(&f[1..n - 2], message_info(0).expect("HEARTBEAT").crc_extra);
+        f[n - 2..].copy_from_slice(&crc.to_le_bytes());
+        f
+    };
+    let cut_id = u32::from_le_bytes([after_cut[1], after_cut[2], after_cut[3], 0]);
+    assert!(
+        message_info(cut_id).is_none(),
+        "id {cut_id} is in the dialect"
+    );
     let cases: Vec<Case> = vec![
+        (
+            [&cut[..], &after_cut, &good].concat(),
+            ids,
+            vec![after_cut.clone(), good.clone()],
+            0,
+            1,
+            cut.len(),
+        ),
         (
             [&unknown[..], &good].concat(),
             ids,
@@ -453,7 +481,7 @@ fn the_deframer_skips_well_framed_unknown_ids_whole() {
     for (i, (stream, unknown_ids, want, skipped, rejected, want_garbage)) in
         cases.into_iter().enumerate()
     {
-        let mut d = Deframer::<_, { MAX_FRAME_LEN + 1 }>::new(MavlinkFraming { unknown_ids });
+        let mut d = Deframer::<_, DEFRAMER_LEN>::new(MavlinkFraming { unknown_ids });
         let mut frames = Vec::new();
         let mut take = |e: Event<'_>| {
             if let Event::Frame(f) = e {

@@ -13,7 +13,7 @@ use protocol_core::mavlink::dialect::{
     Message as _, MessageData as _,
 };
 use protocol_core::mavlink::{
-    self, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
+    self, DEFRAMER_LEN, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
 };
 use protocol_core::wire::{Deframer, Event};
 
@@ -77,7 +77,7 @@ pub struct Received {
 /// A MAVLink 2 receiver.
 #[derive(Debug, Clone)]
 pub struct Rx {
-    deframer: Deframer<MavlinkFraming, MAX_FRAME_LEN>,
+    deframer: Deframer<MavlinkFraming, DEFRAMER_LEN>,
     /// Frames whose content the dialect could not represent.
     pub undecodable: u32,
 }

@@ -9,8 +9,8 @@ use std::hint::black_box;
 use codec_cases::oracle::k40t_crc;
 use protocol_core::mavlink::dialect::{self, MavMessage, Message as _};
 use protocol_core::mavlink::{
-    CATALOG, Frame, HEADER_LEN, Header, MAX_FRAME_LEN, MavlinkFraming, Message, Packet, UnknownIds,
-    message_info,
+    CATALOG, DEFRAMER_LEN, Frame, HEADER_LEN, Header, MAX_FRAME_LEN, MavlinkFraming, Message,
+    Packet, UnknownIds, message_info,
 };
 
 use crate::deframe::{self, Spec};
@@ -114,8 +114,9 @@ pub fn valid_v1(b: &[u8]) -> Option<usize> {
 /// The reference: the length of the well-framed MAVLink 2 frame of an id outside the set
 /// at the start of `b` (the rest of the stream): flags 0 or 1, no compatibility flag, an
 /// id below 65 536, followed at once by 0xFD or 0xFE or by the end of the stream, and no
-/// frame that checks wholly inside it after its first byte (every frame is under the
-/// deframer's 281 bytes).
+/// frame that checks starting inside it after its first byte: a MAVLink 2 frame whether
+/// it ends inside it or after it (the deframer's 561 bytes hold both), a MAVLink 1 frame
+/// (skipped anyway) ending inside it.
 #[must_use]
 pub fn unknown_frame(b: &[u8]) -> Option<usize> {
     if b.len() < 12 || b[0] != 0xFD || b[2] & !1 != 0 || b[3] != 0 || b[9] != 0 {
@@ -127,7 +128,7 @@ pub fn unknown_frame(b: &[u8]) -> Option<usize> {
         return None;
     }
     let followed = b.get(n).is_none_or(|x| *x == 0xFD || *x == 0xFE);
-    let hides = (1..n).any(|i| valid_v2(&b[i..n]).or_else(|| valid_v1(&b[i..n])).is_some());
+    let hides = (1..n).any(|i| valid_v2(&b[i..]).or_else(|| valid_v1(&b[i..n])).is_some());
     (followed && !hides).then_some(n)
 }
 
@@ -216,8 +217,8 @@ pub fn checked(f: &[u8]) {
     }
 }
 
-/// The deframer of the engine's MAVLink links: the largest frame and the byte after it.
-const DEFRAMER: usize = MAX_FRAME_LEN + 1;
+/// The deframer of the engine's MAVLink links.
+const DEFRAMER: usize = DEFRAMER_LEN;
 
 /// Target `mavlink_deframe`: the default framing (frames of unknown ids skipped when well
 /// framed) against the reference; selector bit 1 also rejecting unknown ids; bit 0

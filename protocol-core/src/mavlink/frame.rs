@@ -23,8 +23,13 @@ pub const SIGNATURE_LEN: usize = 13;
 pub const MAX_PAYLOAD_LEN: usize = 255;
 /// Smallest MAVLink 2 frame (empty payload, unsigned).
 pub const MIN_FRAME_LEN: usize = HEADER_LEN + CHECKSUM_LEN;
-/// Largest MAVLink 2 frame (255 payload bytes, signed): 280 bytes, a good deframer size.
+/// Largest MAVLink 2 frame (255 payload bytes, signed): 280 bytes.
 pub const MAX_FRAME_LEN: usize = MIN_FRAME_LEN + MAX_PAYLOAD_LEN + SIGNATURE_LEN;
+/// The deframer size for [`MavlinkFraming::new`] (561 bytes): a frame of an unknown id
+/// (up to [`MAX_FRAME_LEN`]), a frame starting inside it at its last byte and running past
+/// it (up to [`MAX_FRAME_LEN`] more), and the byte after. With it every frame of an
+/// unknown id is judged on all the bytes that can decide it.
+pub const DEFRAMER_LEN: usize = 2 * MAX_FRAME_LEN + 1;
 /// Incompatibility flag: the frame carries a signature.
 pub const IFLAG_SIGNED: u8 = 0x01;
 
@@ -337,13 +342,13 @@ wire_derive! {
         /// Skip a MAVLink 2 frame of an unknown id whole when its header is plausible (no
         /// compatibility flag, an id below 65 536) and it is well framed: the byte right
         /// after it starts a frame (0xFD or 0xFE) or the line went idle right after it, and
-        /// no frame that checks lies inside it ([`Event::Skipped`](crate::wire::Event::Skipped),
+        /// no frame that checks starts inside it ([`Event::Skipped`](crate::wire::Event::Skipped),
         /// counted in `frames_unknown`: an autopilot's ordinary messages the dialect does
         /// not know are neither errors nor garbage); reject any other (and every MAVLink 1
-        /// frame of an unknown id) as [`UnknownIds::Reject`] does. A false 0xFD in noise
-        /// passes once in about 4·10⁹ (its flags, compatibility flags, the id's high byte
-        /// and the byte at its end); a frame starting inside it and ending past it is then
-        /// hidden. The default.
+        /// frame of an unknown id) as [`UnknownIds::Reject`] does. A frame starting inside
+        /// it counts whether it ends inside it or past its end (a frame cut short whose
+        /// header reads on into the next frame's bytes hides nothing): see
+        /// [`DEFRAMER_LEN`]. The default.
         #[default]
         Skip,
         /// Reject it as a candidate ([`Error::UnknownId`], counted with the checksum
@@ -367,10 +372,13 @@ wire_derive! {
     /// as MAVLink 2. A MAVLink 1 candidate that does not check is rejected like any other,
     /// so a 0xFE inside noise or a corrupted MAVLink 2 frame cannot hide what follows it.
     ///
-    /// Use a deframer of [`MAX_FRAME_LEN`] + 1 (281) bytes, the largest frame and the
-    /// byte that shows a frame of an unknown id followed by another:
-    /// `Deframer::<MavlinkFraming, { MAX_FRAME_LEN + 1 }>::new(MavlinkFraming::new())`
-    /// (with 280, a signed frame of an unknown id and a 255-byte payload is rejected).
+    /// Use a deframer of [`DEFRAMER_LEN`] (561) bytes:
+    /// `Deframer::<MavlinkFraming, DEFRAMER_LEN>::new(MavlinkFraming::new())`. A frame of
+    /// an unknown id is judged by the byte after it and by every frame starting inside it,
+    /// which may run up to [`MAX_FRAME_LEN`] bytes past its end. With a smaller buffer
+    /// (at least [`MAX_FRAME_LEN`] + 1), no valid frame is lost either, but a frame of an
+    /// unknown id whose deciding bytes do not fit is rejected and its bytes scanned again
+    /// (counted as a checksum error and garbage).
     pub struct MavlinkFraming {
         /// What to do with message ids outside the dialect.
         pub unknown_ids: UnknownIds,

@@ -71,7 +71,7 @@
 //! assert_eq!(&buf[..4], &[0xFD, 9, 0, 0]);
 //!
 //! // Deframe, with some noise in front.
-//! let mut deframer = Deframer::<MavlinkFraming, { mavlink::MAX_FRAME_LEN }>::new(MavlinkFraming::new());
+//! let mut deframer = Deframer::<MavlinkFraming, { mavlink::DEFRAMER_LEN }>::new(MavlinkFraming::new());
 //! let mut stream = vec![0x00, 0xFD, 0x55];
 //! stream.extend_from_slice(&buf[..n]);
 //! let mut decoded = None;
@@ -93,8 +93,9 @@ mod frame;
 mod signing;
 
 pub use frame::{
-    CHECKSUM_LEN, Frame, HEADER_LEN, IFLAG_SIGNED, MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MIN_FRAME_LEN,
-    MavlinkFraming, SIGNATURE_LEN, STX_V1, STX_V2, Signature, UnknownIds, V1_HEADER_LEN, checksum,
+    CHECKSUM_LEN, DEFRAMER_LEN, Frame, HEADER_LEN, IFLAG_SIGNED, MAX_FRAME_LEN, MAX_PAYLOAD_LEN,
+    MIN_FRAME_LEN, MavlinkFraming, SIGNATURE_LEN, STX_V1, STX_V2, Signature, UnknownIds,
+    V1_HEADER_LEN, checksum,
 };
 /// The generated message types (rust-mavlink's), trimmed to this crate's message set.
 pub use gimbal_mavlink_dialect as dialect;

@@ -144,42 +144,82 @@ fn step<F: Framing + ?Sized>(framing: &F, buf: &[u8], capacity: usize, idle: boo
     match framing.check(frame) {
         Ok(()) if framing.skip(frame) => Step::Skipped(len),
         Ok(()) => Step::Frame(len),
-        Err(e) if framing.uncheckable(frame, &e) => match buf.get(len..) {
+        Err(e) if framing.uncheckable(frame, &e) => {
+            let next = buf.get(len..).unwrap_or_default();
+            let room = buf.len() < capacity;
             // Its following byte is waited for, if the buffer has room for it.
-            Some([]) if !idle && len < capacity => Step::NeedMore,
-            Some(next) if (next.is_empty() && idle) || framing.starts_like_frame(next) => {
-                if checks_inside(framing, frame) {
-                    Step::Rejected(e, len)
-                } else {
-                    Step::Unknown(len)
-                }
+            if next.is_empty() && !idle && room {
+                return Step::NeedMore;
             }
-            _ => Step::Rejected(e, len),
-        },
+            if !(framing.starts_like_frame(next) || next.is_empty() && idle) {
+                return Step::Rejected(e, len);
+            }
+            // An incomplete frame inside is waited for while the line runs and the buffer
+            // has room; at idle it cannot complete; with the buffer full it cannot be ruled
+            // out, and rescanning loses nothing.
+            let found = inside(framing, buf, len, capacity);
+            let incomplete = found == Inside::Incomplete && !idle;
+            if incomplete && room {
+                Step::NeedMore
+            } else if incomplete || found == Inside::Checks {
+                Step::Rejected(e, len)
+            } else {
+                Step::Unknown(len)
+            }
+        }
         Err(e) => Step::Rejected(e, len),
     }
 }
 
-/// Whether a frame that checks (delivered or skipped) lies wholly inside `frame` after
-/// its first byte: then `frame` is no frame but a false start hiding it.
-fn checks_inside<F: Framing + ?Sized>(framing: &F, frame: &[u8]) -> bool {
+/// What starts inside a candidate whose checksum cannot be checked, after its first byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Inside {
+    /// No frame that checks.
+    Nothing,
+    /// A frame that checks (delivered or skipped), wholly inside the candidate or running
+    /// past its end: the candidate is no frame but a false start, or a frame cut short.
+    Checks,
+    /// A candidate the framing would deliver whose bytes are not all buffered yet.
+    Incomplete,
+}
+
+/// Looks for frames starting inside the first `len` bytes of `buf`, after the first
+/// byte. A candidate the framing would deliver counts whether it ends inside or past
+/// `len` (its bytes are waited for); one it would not deliver ([`Framing::skip`], judged
+/// on its first byte) counts only when it ends inside: waiting for it could only find a
+/// frame that is dropped anyway.
+fn inside<F: Framing + ?Sized>(framing: &F, buf: &[u8], len: usize, capacity: usize) -> Inside {
     let header_len = framing.header_len().max(framing.sync().len());
-    (1..frame.len()).any(|i| {
-        let Some(rest) = frame.get(i..) else {
-            return false;
+    let mut found = Inside::Nothing;
+    for i in 1..len {
+        let Some(rest) = buf.get(i..) else {
+            break;
         };
         if !framing.starts_like_frame(rest) {
-            return false;
+            continue;
         }
-        let Some(len) = rest
-            .get(..header_len)
-            .and_then(|h| framing.frame_len(h).ok())
-            .filter(|&n| n >= header_len)
-        else {
-            return false;
+        let delivered = !framing.skip(rest);
+        let Some(header) = rest.get(..header_len) else {
+            if delivered {
+                found = Inside::Incomplete;
+            }
+            continue;
         };
-        rest.get(..len).is_some_and(|f| framing.check(f).is_ok())
-    })
+        let Some(n) = framing
+            .frame_len(header)
+            .ok()
+            .filter(|&n| n >= header_len && n <= capacity)
+            .filter(|&n| delivered || i.saturating_add(n) <= len)
+        else {
+            continue;
+        };
+        match rest.get(..n) {
+            Some(f) if framing.check(f).is_ok() => return Inside::Checks,
+            Some(_) => {}
+            None => found = Inside::Incomplete,
+        }
+    }
+    found
 }
 
 /// What a [`Deframer`] found.

@@ -85,16 +85,16 @@ use protocol_core::mavlink::dialect::{
     HEARTBEAT_DATA, MavAutopilot, MavModeFlag, MavState, MavType,
 };
 use protocol_core::mavlink::{
-    Frame, Header, MAX_FRAME_LEN, MavMessage, MavlinkFraming, Message, Packet,
+    DEFRAMER_LEN, Frame, Header, MavMessage, MavlinkFraming, Message, Packet,
 };
 
 use autopilot::{Autopilot, Heartbeat, Took, Vehicle};
 
 use super::{Ctx, FcHandler, TimedFrom, geo, math};
 
-/// Deframer buffer: the longest MAVLink 2 frame (signed, 255-byte payload) and the byte
-/// after it, which shows a frame of an unknown id well framed (`MavlinkFraming`).
-pub(crate) const BUF: usize = MAX_FRAME_LEN.saturating_add(1);
+/// Deframer buffer: what judges a frame of an unknown id on every byte that can decide
+/// it (`MavlinkFraming`): the frame, a frame starting inside it and the byte after.
+pub(crate) const BUF: usize = DEFRAMER_LEN;
 
 /// HEARTBEAT period of each component.
 const HEARTBEAT_PERIOD: Duration = Duration::from_secs(1);
