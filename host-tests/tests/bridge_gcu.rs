@@ -3,7 +3,7 @@
 //! scenarios. The scenarios every FC side runs are in `engine_scenarios/mod.rs`; the
 //! bounds and the GCU side's own are here.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use std::sync::{Arc, Mutex};
 

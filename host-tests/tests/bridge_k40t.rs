@@ -3,7 +3,7 @@
 //! geotag fallback, FC silence. The scenarios every FC side runs are in
 //! `engine_scenarios/mod.rs`.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use gimbal::sim::Autopilot;
 use gimbal::sim::fc_k40t::FcK40t;

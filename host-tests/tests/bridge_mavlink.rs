@@ -6,7 +6,7 @@
 //! docs/src/autopilots/qgroundcontrol.md describe; where a source allows two readings
 //! both are run. The scenarios every FC side runs are in `engine_scenarios/mod.rs`.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::Event;
 use gimbal::sim::Autopilot;

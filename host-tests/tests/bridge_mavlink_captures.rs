@@ -5,7 +5,7 @@
 //! the pod's own burst is reported from its status frames; a photo whose geotag could not
 //! be answered is reported with `capture_result` 0 and no position.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use gimbal::sim::Autopilot;
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};

@@ -3,7 +3,7 @@
 //! bookkeeping slots reused. Every photo the pod took is reported once, with its own UTC
 //! and position, and the image indices follow the order the photos were taken.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use std::collections::BTreeMap;
 

@@ -4,7 +4,7 @@
 //! range, tracking, laser, field of view, pointing at a location, and MAVSDK's gimbal
 //! calls through PX4's gimbal manager (docs/src/bridge/mavlink.md).
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::{Config, Decline, Event, FcProtocol};
 use gimbal::sim::Autopilot;

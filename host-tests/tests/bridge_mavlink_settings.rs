@@ -5,9 +5,8 @@
 //! (`gimbal/src/sim/camera_settings.rs`), and the simulated pod, which keeps its settings
 //! as the K40T document describes (`gimbal/src/sim/pod/settings.rs`).
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 // The bridge's own settings as parameters (the engine alone).
-#[path = "bridge_mavlink_settings/bridge_params.rs"]
 mod bridge_params;
 
 use bridge_engine::{Config, Event, FcProtocol};

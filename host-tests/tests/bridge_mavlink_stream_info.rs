@@ -4,7 +4,7 @@
 //! (docs/src/bridge/mavlink.md, "Video stream"): the engine between the simulated
 //! ArduPilot, a ground station on its routing that does not ask, and the simulated pod.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::{Config, FcProtocol};
 use gimbal::sim::ap_mavlink::{ApMavlink, ApMavlinkConfig};

@@ -5,8 +5,8 @@
 //! valid while PX4 sends time, every sync's error bound must be at least its error against
 //! PX4's own UTC, and every stamp within 5 ms of it.
 
-mod engine_scenarios;
-mod px4_capture;
+use crate::engine_scenarios;
+use crate::px4_capture;
 
 use bridge_engine::{Config, Event, FcProtocol};
 use gimbal::sim::line::Line;

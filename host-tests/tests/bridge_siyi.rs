@@ -2,7 +2,7 @@
 //! scenarios of the bridge engine issue, in simulated time. The scenarios every FC side
 //! runs are in `engine_scenarios/mod.rs`; the bounds and the SIYI side's own are here.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::{Event, Level};
 use gimbal::sim::Autopilot;

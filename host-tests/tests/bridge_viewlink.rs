@@ -3,7 +3,7 @@
 //! scenarios every FC side runs are in `engine_scenarios/mod.rs`; the bounds and the
 //! Viewlink side's own are here.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::Event;
 use bridge_engine::gimbal::GimbalMode;

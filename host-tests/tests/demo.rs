@@ -3,7 +3,7 @@
 //! the mount healthy, time syncs reach the pod and are accurate, every photo is
 //! geotagged, nothing is dropped, and it takes seconds, not minutes.
 //!
-//! `DEMO_PRINT=1 cargo test -p host-tests --test demo -- --nocapture` prints the stories.
+//! `DEMO_PRINT=1 cargo test -p host-tests --test suite demo:: -- --nocapture` prints the stories.
 
 use std::time::{Duration, Instant};
 

@@ -1,7 +1,7 @@
 //! Property tests of the GCU codec: lossless decoding of any package of either
 //! direction, and deframing of noisy streams (one framing per direction).
 
-mod common;
+use crate::common;
 
 use codec_cases::oracle::gcu_crc as doc_crc;
 use common::{Piece, build, check_stream, deframe, oracle, piece};

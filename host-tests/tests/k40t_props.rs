@@ -1,7 +1,7 @@
 //! Property tests of the K40T codec: lossless decoding of any payload of every message,
 //! and deframing of noisy streams.
 
-mod common;
+use crate::common;
 
 use codec_cases::oracle::k40t_crc as doc_crc;
 use common::{Piece, check_stream, piece};

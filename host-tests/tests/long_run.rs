@@ -15,7 +15,7 @@
 //! unanswered) outside a fault; no dropped event; the counters sane at the end. The wall
 //! time, the simulated time and the figures are printed.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use std::time::Instant as WallClock;
 

@@ -6,7 +6,7 @@
 //! "Unknown ids"). The frames are built with the CRC_EXTRA of the official definitions
 //! (the XML the dialect is generated from), checked here against the dialect's own.
 
-mod px4_capture;
+use crate::px4_capture;
 
 use std::collections::BTreeMap;
 

@@ -29,7 +29,7 @@ use gimbal::sim::pps_io::PpsWiring;
 use gimbal::sim::px4::{Px4, Px4Config, Px4Mode};
 use gimbal::sim::tasks::{Bench, Outcome};
 
-mod spread;
+use crate::spread;
 use spread::{abs_spread, range};
 
 const S: u64 = 1_000_000;

@@ -3,9 +3,8 @@
 //! and the listed ground stations, SETUP_SIGNING, and the K40T side's allow-list of the
 //! pod's destructive requests.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 // Issue 33's promises, each as an attacker would try it (one test binary with these).
-#[path = "security/promises.rs"]
 mod promises;
 
 use bridge_engine::{

@@ -1,7 +1,7 @@
 //! Property tests of the SIYI codec: lossless decoding of any data of every message in
 //! both directions, exact length rules, and deframing of noisy streams.
 
-mod common;
+use crate::common;
 
 use codec_cases::oracle::xmodem_bitwise as xmodem;
 use common::{Piece, check_stream, piece};

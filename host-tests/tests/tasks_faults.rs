@@ -4,7 +4,7 @@
 //! pod cable pulled for 3 s, the pod rebooting, the FC cable pulled, the FC rebooting with
 //! another UTC. Run with `--nocapture` for the figures.
 
-mod task_scenarios;
+use crate::task_scenarios;
 
 use gimbal::sim::ap_siyi::ApSiyi;
 use gimbal::sim::ap_viewpro::ApViewpro;

@@ -3,7 +3,7 @@
 //! FC silence, pod loss, garbage on both lines. The scenarios are in
 //! `task_scenarios/mod.rs`; the bounds here are this side's.
 
-mod task_scenarios;
+use crate::task_scenarios;
 
 use bridge_engine::{Event, Level};
 use gimbal::sim::Autopilot;

@@ -5,7 +5,7 @@
 //! output in mode Gimbal. The scenarios are in `task_scenarios/mod.rs`; the bounds here
 //! are this side's.
 
-mod task_scenarios;
+use crate::task_scenarios;
 
 use gimbal::sim::ap_mavlink::ApMavlink;
 use gimbal::sim::px4::Px4;

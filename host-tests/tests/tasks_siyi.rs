@@ -18,7 +18,7 @@ use gimbal::sim::pilot::Pilot;
 use gimbal::sim::pod::{PodSimConfig, SimPod, SyncOutcome};
 use task_scenarios::{Bounds, S};
 
-mod task_scenarios;
+use crate::task_scenarios;
 
 struct Run {
     fc: ApSiyi,

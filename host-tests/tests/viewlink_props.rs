@@ -2,7 +2,7 @@
 //! id (M with every data type), frame counters and sync orders, and deframing of noisy
 //! streams (serial frames and TCP envelopes).
 
-mod common;
+use crate::common;
 
 use common::{Piece, check_stream, piece};
 use proptest::prelude::*;

@@ -6,7 +6,7 @@
 //! step and a leap second from the autopilot. Through each: every time sync right, every
 //! geotag right, no stall.
 
-mod engine_scenarios;
+use crate::engine_scenarios;
 
 use bridge_engine::Event;
 use gimbal::sim::Autopilot;
