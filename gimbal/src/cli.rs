@@ -125,7 +125,8 @@ pub enum Command {
 /// `gimbal update`.
 #[derive(Debug, clap::Args)]
 pub struct UpdateArgs {
-    /// The board's update port (a serial device).
+    /// The board's update port: a serial device, or `tcp:HOST:PORT` (one forwarded over
+    /// the network).
     #[arg(long)]
     pub port: String,
     /// The port's baud rate.

@@ -4,10 +4,10 @@
 //! (every setting, as a configuration file) and `load` (a dump's settings set one by one,
 //! then saved).
 
-use std::io::{Read, Write};
-use std::net::TcpStream;
 use std::path::Path;
 use std::time::{Duration, Instant};
+
+use crate::client_port;
 
 /// How long an answer may take (a `get` of every setting is some 2 KiB: 0.2 s at 115200
 /// baud).
@@ -15,13 +15,10 @@ const ANSWER_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// A console's port: a serial device, or `tcp:HOST:PORT`.
 pub struct ConsolePort {
-    io: Box<dyn ReadWrite>,
+    io: Box<dyn client_port::ReadWrite>,
     /// Read but not yet taken.
     pending: Vec<u8>,
 }
-
-trait ReadWrite: Read + Write + Send {}
-impl<T: Read + Write + Send> ReadWrite for T {}
 
 /// One answer: its lines (without the echo, the final line and the prompt), and whether
 /// it ended `ok`.
@@ -48,18 +45,7 @@ impl ConsolePort {
     /// # Errors
     /// The port cannot be opened, or the console does not answer.
     pub fn open(port: &str, baud: u32) -> Result<Self, String> {
-        let io: Box<dyn ReadWrite> = if let Some(addr) = port.strip_prefix("tcp:") {
-            let s = TcpStream::connect(addr).map_err(|e| format!("{port}: {e}"))?;
-            s.set_read_timeout(Some(Duration::from_millis(100)))
-                .map_err(|e| format!("{port}: {e}"))?;
-            Box::new(s)
-        } else {
-            let p = serialport::new(port, baud)
-                .timeout(Duration::from_millis(100))
-                .open()
-                .map_err(|e| format!("{port}: {e}"))?;
-            Box::new(p)
-        };
+        let io = client_port::open(port, baud, Duration::from_millis(100))?;
         let mut c = ConsolePort {
             io,
             pending: Vec::new(),
@@ -89,11 +75,7 @@ impl ConsolePort {
                 Ok(n) => self
                     .pending
                     .extend_from_slice(buf.get(..n).unwrap_or_default()),
-                Err(e)
-                    if matches!(
-                        e.kind(),
-                        std::io::ErrorKind::TimedOut | std::io::ErrorKind::WouldBlock
-                    ) => {}
+                Err(e) if client_port::timed_out(&e) => {}
                 Err(e) => return Err(e.to_string()),
             }
         }

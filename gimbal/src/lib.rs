@@ -5,6 +5,7 @@
 //! (`src/main.rs`) only dispatches; `host-tests` uses the simulators in its scenarios.
 
 pub mod cli;
+pub mod client_port;
 pub mod console_client;
 pub mod demo;
 pub mod report;

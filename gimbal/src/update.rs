@@ -12,6 +12,8 @@ use bridge_update::wire::{BootState, MAX_FRAME, Request, Response, UpdateFraming
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol_core::wire::{Deframer, Event};
 
+use crate::client_port::{self, ReadWrite};
+
 /// How long a request waits for its answer before it is sent again (a 1 KiB chunk takes
 /// 90 ms at 115200 baud, its flash write some 25 ms more).
 const ANSWER_TIMEOUT: Duration = Duration::from_secs(1);
@@ -51,16 +53,13 @@ fn hex(bytes: &[u8]) -> String {
 
 /// One open link to the board: frames out, frames in.
 struct Link {
-    port: Box<dyn serialport::SerialPort>,
+    port: Box<dyn ReadWrite>,
     deframer: Deframer<UpdateFraming, MAX_FRAME>,
 }
 
 impl Link {
     fn open(opts: &UpdateOptions) -> Result<Self, String> {
-        let port = serialport::new(&opts.port, opts.baud)
-            .timeout(Duration::from_millis(50))
-            .open()
-            .map_err(|e| format!("{}: {e}", opts.port))?;
+        let port = client_port::open(&opts.port, opts.baud, Duration::from_millis(50))?;
         Ok(Link {
             port,
             deframer: Deframer::new(UpdateFraming),
@@ -88,6 +87,7 @@ impl Link {
             }
             let mut buf = [0u8; 256];
             match self.port.read(&mut buf) {
+                Ok(0) => return Err("read: the port closed".into()),
                 Ok(n) => {
                     let mut input = &buf[..n];
                     while !input.is_empty() {
@@ -101,7 +101,7 @@ impl Link {
                         }
                     }
                 }
-                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+                Err(e) if client_port::timed_out(&e) => {}
                 Err(e) => return Err(format!("read: {e}")),
             }
         }
