@@ -12,7 +12,8 @@ use std::collections::BTreeMap;
 
 use bridge_engine::{Config, Engine, FcProtocol, Instant, MAX_FRAME_LEN as ENGINE_FRAME, Port};
 use protocol_core::mavlink::{
-    CATALOG, DEFRAMER_LEN, Frame, IFLAG_SIGNED, MavlinkFraming, UnknownIds, checksum, message_info,
+    CATALOG, DEFRAMER_LEN, Frame, IFLAG_SIGNED, MAX_FRAME_LEN, MavlinkFraming, UnknownIds,
+    checksum, message_info,
 };
 use protocol_core::wire::{Deframer, Event};
 use quick_xml::Reader;
@@ -510,4 +511,77 @@ fn the_deframer_skips_well_framed_unknown_ids_whole() {
             Frame::new_checked(&f[..]).expect("a frame");
         }
     }
+}
+
+/// The deframer's buffer decides how an unknown frame with a frame starting inside it and
+/// running past its end is judged, never whether a valid frame is lost
+/// (`mavlink::DEFRAMER_LEN`, docs/src/protocols/mavlink.md "Unknown message ids"). The
+/// unknown frame (200 bytes, an id outside the dialect) holds the first 50 bytes of a
+/// CAMERA_INFORMATION frame (152 bytes) as its last 50, and that frame's 51st byte is a
+/// 0xFD, so the unknown one looks well framed. With 561 bytes the deframer sees the frame
+/// inside check and rejects the unknown one; with 281 it cannot hold both, rejects it all
+/// the same, and finds the frame. With the frame inside damaged, 561 bytes skip the unknown
+/// frame whole, while 281 bytes reject it (the trade-off the codec's page states).
+#[test]
+fn a_frame_running_past_an_unknown_one_is_found_whatever_the_buffer() {
+    fn run<const N: usize>(stream: &[u8]) -> (Vec<Vec<u8>>, protocol_core::wire::Stats) {
+        let mut d = Deframer::<_, N>::new(MavlinkFraming::new());
+        let mut frames = Vec::new();
+        let mut take = |e: Event<'_>| {
+            if let Event::Frame(f) = e {
+                frames.push(f.to_vec());
+            }
+        };
+        d.push(stream, &mut take);
+        d.flush(&mut take);
+        (frames, d.stats())
+    }
+    /// Payload bytes that never start a frame.
+    fn clean(n: usize, seed: usize) -> Vec<u8> {
+        (0..n).map(|i| ((i * 31 + seed) % 200) as u8).collect()
+    }
+    let inside = {
+        let info = message_info(259).expect("CAMERA_INFORMATION");
+        let mut payload = clean(140, 3);
+        payload[40] = 0xFD;
+        let mut f = vec![0xFD, 140, 0, 0, 9, 1, 100, 0x03, 0x01, 0x00];
+        f.extend(&payload);
+        let crc = checksum(&f[1..], info.crc_extra);
+        f.extend(crc.to_le_bytes());
+        let starts = f[1..].iter().filter(|b| matches!(b, 0xFD | 0xFE)).count();
+        assert_eq!(starts, 1, "a frame start inside it but the one at byte 50");
+        f
+    };
+    assert_eq!(inside.len(), 152);
+    assert_eq!(inside[50], 0xFD);
+    let mut unknown = vec![0xFD, 188, 0, 0, 7, 1, 1, 0x0C, 0x0B, 0];
+    assert!(message_info(0x0B0C).is_none());
+    unknown.extend(clean(140, 5));
+    let good = {
+        let info = message_info(0).expect("HEARTBEAT");
+        let mut f = vec![
+            0xFD, 9, 0, 0, 1, 1, 154, 0, 0, 0, 0, 0, 0, 0, 26, 8, 0, 4, 3,
+        ];
+        let crc = checksum(&f[1..], info.crc_extra);
+        f.extend(crc.to_le_bytes());
+        f
+    };
+    let stream = [&unknown[..], &inside, &good].concat();
+    for (frames, stats) in [
+        run::<DEFRAMER_LEN>(&stream),
+        run::<{ MAX_FRAME_LEN + 1 }>(&stream),
+    ] {
+        assert_eq!(frames, vec![inside.clone(), good.clone()], "{stats:?}");
+        assert_eq!(stats.frames_unknown, 0, "{stats:?}");
+        assert_eq!(stats.checksum_errors, 1, "{stats:?}");
+    }
+    let mut damaged = inside.clone();
+    *damaged.last_mut().unwrap() ^= 1;
+    let stream = [&unknown[..], &damaged, &good].concat();
+    let (frames, judged) = run::<DEFRAMER_LEN>(&stream);
+    assert_eq!(frames, vec![good.clone()], "{judged:?}");
+    assert_eq!(judged.frames_unknown, 1, "{judged:?}");
+    let (frames, rejected) = run::<{ MAX_FRAME_LEN + 1 }>(&stream);
+    assert_eq!(frames, vec![good.clone()], "{rejected:?}");
+    assert_eq!(rejected.frames_unknown, 0, "{rejected:?}");
 }
